@@ -1,0 +1,105 @@
+"""Benchmarks (``dart-reach bench``): speed figures measured as ratios within one run.
+
+Targets are checked here, not in timed tests. Every figure is simulated seconds per wall-clock
+second (real-time factor, RTF) on one core unless its name says otherwise.
+"""
+
+from __future__ import annotations
+
+import os
+import platform
+import time
+from importlib import metadata
+
+import numpy as np
+
+from .scripted import ScriptedReach
+from .world import World, WorldConfig
+
+
+def machine() -> dict:
+    return {
+        "platform": platform.platform(),
+        "processor": platform.processor() or platform.machine(),
+        "cores": os.cpu_count(),
+        "python": platform.python_version(),
+        "dartpy": metadata.version("dartpy"),
+    }
+
+
+def _grasping_world(config: WorldConfig) -> tuple[World, np.ndarray]:
+    """A world whose hand holds the ball (after a scripted reach of 4 s), and the hold targets."""
+    world = World(config)
+    ball = world.sector_point(4, 0.5, 0.5)
+    world.reset(ball)
+    reach = ScriptedReach(world, ball)
+    for _ in range(40):
+        world.step(reach.targets(world.hand_contacts()))
+    return world, reach.targets(world.hand_contacts())
+
+
+def world_rtf(seconds: float = 20.0, repeats: int = 5, config: WorldConfig | None = None) -> dict:
+    """``limit_rtf``: the bare physics step loop with the ball in the hand; ``controlled_rtf``:
+    the same world driven by new targets every 0.1 s. Blocks of both are interleaved ``repeats``
+    times and the medians compared, so that machine noise hits both alike."""
+    config = config or WorldConfig()
+    world, hold = _grasping_world(config)
+    n_control = int(round(seconds / config.control_dt))
+    n_physics = n_control * config.substeps
+    rng = np.random.default_rng(0)
+    # New target vectors every step, close enough to the hold that the physics does the same
+    # work in both loops: the difference is the cost of the control interface.
+    wiggles = np.clip(hold + 1e-3 * rng.standard_normal((n_control, hold.size)), -1, 1)
+    limit, controlled = [], []
+    for _ in range(repeats):
+        step = world.world.step
+        t0 = time.perf_counter()
+        for _ in range(n_physics):
+            step(False)
+        limit.append(seconds / (time.perf_counter() - t0))
+        t0 = time.perf_counter()
+        for k in range(n_control):
+            world.step(wiggles[k])
+        controlled.append(seconds / (time.perf_counter() - t0))
+    limit_rtf, controlled_rtf = float(np.median(limit)), float(np.median(controlled))
+    return {
+        "limit_rtf": limit_rtf,
+        "controlled_rtf": controlled_rtf,
+        "controlled_over_limit": controlled_rtf / limit_rtf,
+        "ball_in_hand": bool(world.hand_contacts().any()),
+    }
+
+
+#: name -> (target, comparison) checked by ``check``; ratios are the headline figures.
+TARGETS = {
+    "controlled_rtf": (300.0, ">="),
+    "controlled_over_limit": (0.9, ">="),
+}
+
+
+def check(results: dict) -> dict[str, bool]:
+    """Which targets of ``TARGETS`` the results meet."""
+    return {name: (results[name] >= target) for name, (target, _) in TARGETS.items()
+            if name in results}
+
+
+def run(seconds: float = 20.0, repeats: int = 5) -> dict:
+    results = {"machine": machine()}
+    results.update(world_rtf(seconds, repeats))
+    results["targets_met"] = check(results)
+    return results
+
+
+def format_table(results: dict) -> str:
+    lines = [f"{'figure':<24}{'value':>12}  target", "-" * 46]
+    for name, value in results.items():
+        if isinstance(value, float):
+            target = TARGETS.get(name)
+            mark = ""
+            if target:
+                mark = f"{target[1]} {target[0]:g}  " + ("met" if value >= target[0] else "MISSED")
+            lines.append(f"{name:<24}{value:>12.3f}  {mark}")
+    m = results["machine"]
+    lines.append(f"machine: {m['processor']}, {m['cores']} cores, {m['platform']}, "
+                 f"Python {m['python']}, dartpy {m['dartpy']}")
+    return "\n".join(lines)

@@ -1,0 +1,376 @@
+"""The DART world of the experiment (paper sections III and III-A, Figs. 1-2).
+
+An iCub upper body welded at the pelvis ("suspended vertically over a stick attached to the
+pelvis"), gravity on, and a red ball hanging from a fixed pivot on a pendulum, placed in one of 9
+sectors of a sphere centred on the robot's neck.
+
+Frames: the world frame is the iCub ``root_link`` frame (pelvis): +x backward, +y to the robot's
+right, +z up. Lengths in metres, angles in radians, time in seconds.
+
+Control (section III-B): every ``control_dt`` = 0.1 s the world takes 14 desired joint positions
+in [-1, 1] (3 neck, 3 torso, 7 arm, 1 hand), scales them linearly into each joint's limits and
+runs the physics substeps. Each joint tracks its target through an implicit spring-damper (DART's
+joint spring with rest position = target, integrated implicitly, stable at any stiffness) plus
+gravity compensation computed once per control step. Targets lie inside the limits, limits are
+enforced by the constraint solver, and no actuator holds a joint at a limit, so no joint can stay
+stuck there (the SERVO actuator can: DART issues #1683, #2422). The 15 finger flexion joints all
+take the hand motor's target: the five fingers follow one motor, as in the paper; each finger
+stops on its own when it meets the ball, like the iCub's tendon-driven fingers.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import dartpy as dart
+import numpy as np
+
+from . import icub
+from .ctrnn import N_MOTORS
+
+N_SECTORS = 9
+POINTS_PER_SECTOR = 5
+
+
+class SkeletonError(ValueError):
+    """The robot model file is missing or cannot be used."""
+
+
+@dataclass(frozen=True)
+class BallConfig:
+    """The target object (sections III, III-A). The paper gives no size: a 7 cm ball of 50 g is
+    the size of the toy balls of the infant studies it replicates (Fig. 1) and fits the iCub hand
+    (palm 8 cm, fingers 6-7 cm)."""
+
+    radius: float = 0.035  # m
+    mass: float = 0.05  # kg
+    string_length: float = 0.40  # m, pivot to ball centre (period 2*pi*sqrt(L/g) = 1.27 s)
+    damping: float = 0.004  # N m s / rad on the pendulum joint: amplitude decays as exp(-t / 4 s)
+    friction: float = 1.0  # Coulomb coefficient of the ball's surface
+    color: tuple[float, float, float] = (0.9, 0.05, 0.05)
+
+
+@dataclass(frozen=True)
+class SectorConfig:
+    """The 9 sectors of Fig. 2: a patch of the sphere of ``radius`` centred on the neck (the
+    origin of ``neck_1`` at the home posture), cut into 3 x 3 cells by azimuth (0 = straight ahead,
+    positive to the robot's right) and elevation (0 = neck height, positive up), in degrees.
+    Sector k has elevation row k // 3 (0 = lowest) and azimuth column k % 3 (0 = leftmost).
+    The paper does not give the bounds; these put every point in front of the right shoulder,
+    below the eyes and within the reach of the right arm (tested)."""
+
+    radius: float = 0.30
+    azimuth_edges: tuple[float, float, float, float] = (0.0, 15.0, 30.0, 45.0)
+    elevation_edges: tuple[float, float, float, float] = (-60.0, -45.0, -30.0, -15.0)
+
+
+@dataclass(frozen=True)
+class WorldConfig:
+    """Everything that defines the physics of a trial."""
+
+    skeleton: Path | None = None  # None: the skeleton shipped with the package
+    physics_dt: float = 0.02  # s per physics substep (5 per control step; see docs/world.md)
+    control_dt: float = 0.1  # s per control step (section III-B)
+    natural_frequency: float = 20.0  # rad/s of each joint's spring at the home posture
+    damping_ratio: float = 1.0  # of each joint's spring-damper
+    gravity: float = 9.81  # m/s^2
+    ball: BallConfig = field(default_factory=BallConfig)
+    sectors: SectorConfig = field(default_factory=SectorConfig)
+
+    def __post_init__(self):
+        ratio = self.control_dt / self.physics_dt
+        if self.physics_dt <= 0 or ratio < 1 or abs(ratio - round(ratio)) > 1e-9:
+            raise ValueError(
+                f"control_dt ({self.control_dt}) must be a whole multiple of physics_dt "
+                f"({self.physics_dt})")
+
+    @property
+    def substeps(self) -> int:
+        return round(self.control_dt / self.physics_dt)
+
+
+# ------------------------------------------------------------------------------------ sectors
+def sector_angles(config: SectorConfig, sector: int, u: float, v: float) -> tuple[float, float]:
+    """(azimuth, elevation) in degrees of the point at fractions (u, v) in [0, 1] of a sector's
+    azimuth and elevation spans."""
+    check_sector(sector)
+    row, col = divmod(sector, 3)
+    az0, az1 = config.azimuth_edges[col], config.azimuth_edges[col + 1]
+    el0, el1 = config.elevation_edges[row], config.elevation_edges[row + 1]
+    return az0 + u * (az1 - az0), el0 + v * (el1 - el0)
+
+
+def sphere_point(centre: np.ndarray, radius: float, azimuth: float, elevation: float) -> np.ndarray:
+    """World point (m) at (azimuth, elevation) degrees on the sphere; +x of the world is backward,
+    so straight ahead is -x and the robot's right +y."""
+    az, el = math.radians(azimuth), math.radians(elevation)
+    return centre + radius * np.array(
+        [-math.cos(el) * math.cos(az), math.cos(el) * math.sin(az), math.sin(el)])
+
+
+def check_sector(sector) -> None:
+    if not isinstance(sector, (int, np.integer)) or not 0 <= sector < N_SECTORS:
+        raise ValueError(f"sector must be an integer in 0..{N_SECTORS - 1}, got {sector!r}")
+
+
+#: Fractions (u, v) of the 5 systematic post-evaluation points of a sector: its centre and the
+#: centres of its four quadrants.
+SYSTEMATIC_FRACTIONS = ((0.5, 0.5), (0.25, 0.25), (0.75, 0.25), (0.25, 0.75), (0.75, 0.75))
+
+
+class World:
+    """The robot, the ball on its pendulum and the physics, stepped one control step at a time.
+
+    Built once per process (DART objects cannot be pickled: send a ``WorldConfig`` to workers).
+    """
+
+    def __init__(self, config: WorldConfig | None = None):
+        self.config = config = config or WorldConfig()
+        self.robot = _load_skeleton(config.skeleton or icub.default_skeleton())
+        self.world = dart.simulation.World()
+        self.world.setTimeStep(config.physics_dt)
+        self.world.setGravity([0.0, 0.0, -config.gravity])
+        self.world.getConstraintSolver().setCollisionDetector(
+            dart.collision.DARTCollisionDetector())
+        self.world.addSkeleton(self.robot)
+        self._resolve_robot()
+        self.ball_skeleton, self._ball_joint, self.ball_body = _make_ball(config.ball)
+        self.world.addSkeleton(self.ball_skeleton)
+        self._resolve_contacts()
+        self._set_home()
+        self.neck_centre = self.robot.getBodyNode(icub.NECK).getWorldTransform().translation()
+        self.reset(self.sector_point(4, 0.5, 0.5))
+
+    # ------------------------------------------------------------------ construction helpers
+    def _resolve_robot(self) -> None:
+        r = self.robot
+        try:
+            motor_dofs = [r.getJoint(n).getIndexInSkeleton(0) for n in icub.ARM_HEAD_TORSO_JOINTS]
+            finger_dofs = [r.getJoint(n).getIndexInSkeleton(0) for n in icub.FINGER_JOINTS]
+            self._segments = [r.getBodyNode(n) for n in icub.HAND_SEGMENTS]
+            self.hand = r.getBodyNode(icub.HAND)
+            self.shoulder = r.getBodyNode(icub.SHOULDER)
+            self.camera = r.getBodyNode(icub.CAMERA)
+        except AttributeError as exc:  # dartpy returns None for an unknown name
+            raise SkeletonError(
+                f"skeleton {self.config.skeleton or icub.default_skeleton()} lacks a joint or "
+                f"body the model needs ({exc})") from None
+        if None in self._segments or None in (self.hand, self.shoulder, self.camera):
+            raise SkeletonError("skeleton lacks a hand segment, the shoulder or the camera frame")
+        n = r.getNumDofs()
+        # dof_motor[i]: which of the 14 motors drives dof i (13 = the hand), -1 if none.
+        self._dof_motor = np.full(n, -1)
+        self._dof_motor[motor_dofs] = np.arange(13)
+        self._dof_motor[finger_dofs] = 13
+        if (self._dof_motor < 0).any():
+            raise SkeletonError("skeleton has joints that no motor drives")
+        self._motor_dofs = np.array(motor_dofs)
+        self._finger_dofs = np.array(finger_dofs)
+        self.lower = np.asarray(r.getPositionLowerLimits())
+        self.upper = np.asarray(r.getPositionUpperLimits())
+        if not (np.isfinite(self.lower).all() and np.isfinite(self.upper).all()
+                and (self.upper > self.lower).all()):
+            raise SkeletonError("every joint of the skeleton needs finite limits, lower < upper")
+        # Per-motor limits (the hand motor uses the finger flexion range [0, pi/2]).
+        self.motor_lower = np.append(self.lower[self._motor_dofs], self.lower[finger_dofs].max())
+        self.motor_upper = np.append(self.upper[self._motor_dofs], self.upper[finger_dofs].min())
+        self._half_range = 0.5 * (self.motor_upper - self.motor_lower)
+        self._mid_range = 0.5 * (self.motor_upper + self.motor_lower)
+        self._dofs = [r.getDof(i) for i in range(n)]
+        self._dof_motor_pairs = list(zip(self._dofs, self._dof_motor.tolist()))
+        for j in r.getJoints()[1:]:
+            j.setActuatorType(dart.dynamics.ActuatorType.FORCE)
+            j.setLimitEnforcement(True)
+        # Internal buffers of the control step.
+        self._q_des = np.zeros(N_MOTORS)
+
+    def _resolve_contacts(self) -> None:
+        detector = self.world.getConstraintSolver().getCollisionDetector()
+        self._hand_group = detector.createCollisionGroup()
+        for body in self._segments:
+            self._hand_group.addShapeFramesOf(body)
+        self._ball_group = detector.createCollisionGroup()
+        self._ball_group.addShapeFramesOf(self.ball_body)
+        self._contact_option = dart.collision.CollisionOption()
+        self._contact_result = dart.collision.CollisionResult()
+
+    def _set_home(self) -> None:
+        """Home posture and the per-joint spring gains (from the joint-space inertia there)."""
+        r = self.robot
+        home = np.zeros(r.getNumDofs())
+        for name, value in icub.HOME_POSTURE.items():
+            home[r.getJoint(name).getIndexInSkeleton(0)] = value
+        self.home = np.clip(home, self.lower, self.upper)
+        r.setPositions(self.home)
+        inertia = np.diag(r.getMassMatrix())
+        w, zeta = self.config.natural_frequency, self.config.damping_ratio
+        self.stiffness = inertia * w * w
+        self.damping = 2.0 * zeta * inertia * w
+        for dof, k, c in zip(self._dofs, self.stiffness, self.damping):
+            dof.setSpringStiffness(k)
+            dof.setDampingCoefficient(c)
+        self.home_targets = self.targets_for(self.home)
+
+    # ------------------------------------------------------------------ sectors
+    def sector_point(self, sector: int, u: float, v: float) -> np.ndarray:
+        """World position (m) of the point at fractions (u, v) of a sector (Fig. 2)."""
+        az, el = sector_angles(self.config.sectors, sector, u, v)
+        return sphere_point(self.neck_centre, self.config.sectors.radius, az, el)
+
+    def random_sector_point(self, sector: int, rng: np.random.Generator) -> np.ndarray:
+        """A point drawn uniformly in a sector's azimuth and elevation (training trials)."""
+        check_sector(sector)
+        u, v = rng.random(2)
+        return self.sector_point(sector, u, v)
+
+    def systematic_points(self) -> np.ndarray:
+        """The 45 post-evaluation positions (9 sectors x 5 points), shape (45, 3)."""
+        return np.array([self.sector_point(k, u, v) for k in range(N_SECTORS)
+                         for u, v in SYSTEMATIC_FRACTIONS])
+
+    # ------------------------------------------------------------------ trial control
+    def reset(self, ball_position) -> None:
+        """Start a trial: home posture, every velocity and force zero, the ball at rest at
+        ``ball_position`` (its pivot ``string_length`` straight above), time 0."""
+        p = np.asarray(ball_position, dtype=float)
+        if p.shape != (3,) or not np.isfinite(p).all():
+            raise ValueError(f"ball position must be 3 finite numbers, got {ball_position!r}")
+        r = self.robot
+        r.setPositions(self.home)
+        r.resetVelocities()
+        r.resetAccelerations()
+        r.resetCommands()
+        r.clearExternalForces()
+        r.clearConstraintImpulses()
+        T = dart.math.Isometry3()
+        T.set_translation(p + [0.0, 0.0, self.config.ball.string_length])
+        self._ball_joint.setTransformFromParentBodyNode(T)
+        self.ball_skeleton.resetPositions()
+        self.ball_skeleton.resetVelocities()
+        self.ball_skeleton.resetAccelerations()
+        self.ball_skeleton.clearConstraintImpulses()
+        self.world.setTime(0.0)
+        self.set_targets(self.home_targets)
+
+    def targets_for(self, q: np.ndarray) -> np.ndarray:
+        """The 14 motor targets in [-1, 1] that hold the robot at joint positions ``q``."""
+        q = np.asarray(q, float)
+        motor_q = np.append(q[self._motor_dofs], q[self._finger_dofs].mean())
+        return 2.0 * (motor_q - self.motor_lower) / (self.motor_upper - self.motor_lower) - 1.0
+
+    def set_targets(self, targets) -> None:
+        """Scale 14 targets in [-1, 1] into the joint limits and make them the springs' rest
+        positions; refresh the gravity compensation. Values outside [-1, 1] are clipped."""
+        t = targets if type(targets) is np.ndarray else np.asarray(targets, dtype=float)
+        if t.shape != (N_MOTORS,):
+            raise ValueError(f"expected {N_MOTORS} motor targets, got shape {t.shape}")
+        q_des = self._q_des
+        np.multiply(t, self._half_range, out=q_des)
+        q_des += self._mid_range
+        np.clip(q_des, self.motor_lower, self.motor_upper, out=q_des)
+        values = q_des.tolist()
+        if not math.isfinite(sum(values)):
+            raise ValueError(f"motor targets must be finite, got {t}")
+        for dof, motor in self._dof_motor_pairs:
+            dof.setRestPosition(values[motor])
+        self.robot.setCommands(self.robot.getGravityForces())
+
+    def step(self, targets) -> None:
+        """One control step (0.1 s): new targets, then the physics substeps."""
+        self.set_targets(targets)
+        world = self.world
+        for _ in range(self.config.substeps):
+            world.step(False)
+
+    @property
+    def time(self) -> float:
+        return self.world.getTime()
+
+    # ------------------------------------------------------------------ observations
+    def joint_positions(self) -> np.ndarray:
+        """All joint angles (rad), skeleton order."""
+        return self.robot.getPositions()
+
+    def motor_positions(self, out: np.ndarray | None = None) -> np.ndarray:
+        """The 14 motor-space joint angles (rad): the 13 joints, then the mean finger flexion."""
+        q = self.robot.getPositions()
+        out = np.empty(N_MOTORS) if out is None else out
+        np.take(q, self._motor_dofs, out=out[:13])
+        out[13] = q[self._finger_dofs].mean()
+        return out
+
+    def ball_position(self) -> np.ndarray:
+        return self.ball_body.getWorldTransform().translation()
+
+    def hand_position(self) -> np.ndarray:
+        """World position (m) of the centre of the inner face of the palm."""
+        T = self.hand.getWorldTransform()
+        return T.rotation() @ icub.PALM_POINT + T.translation()
+
+    def shoulder_position(self) -> np.ndarray:
+        return self.shoulder.getWorldTransform().translation()
+
+    def camera_pose(self) -> np.ndarray:
+        """4x4 world pose of the head camera (+z optical axis, +x right, +y down)."""
+        return self.camera.getWorldTransform().matrix()
+
+    def hand_contacts(self, out: np.ndarray | None = None) -> np.ndarray:
+        """Which hand segments (``icub.HAND_SEGMENTS``) touch the ball now, as booleans."""
+        result = self._contact_result
+        result.clear()
+        self._hand_group.collide(self._ball_group, self._contact_option, result)
+        out = np.zeros(len(self._segments), bool) if out is None else out
+        if result.isCollision():
+            for i, body in enumerate(self._segments):
+                out[i] = result.inCollision(body)
+        else:
+            out[:] = False
+        return out
+
+    def is_finite(self) -> bool:
+        """False once the simulation has exploded (NaN or infinite state)."""
+        return bool(np.isfinite(self.robot.getPositions()).all()
+                    and np.isfinite(self.robot.getVelocities()).all()
+                    and np.isfinite(self.ball_skeleton.getPositions()).all())
+
+
+def _load_skeleton(path) -> dart.dynamics.Skeleton:
+    path = Path(path)
+    if not path.is_file():
+        raise SkeletonError(f"skeleton file not found: {path}")
+    text = path.read_text(errors="replace")
+    if "<robot" not in text:
+        raise SkeletonError(f"skeleton file {path} is not a URDF (no <robot> element)")
+    loader = dart.utils.DartLoader()
+    options = dart.utils.DartLoaderOptions()
+    options.mDefaultRootJointType = dart.utils.DartLoaderRootJointType.FIXED
+    loader.setOptions(options)
+    skeleton = loader.parseSkeleton(dart.common.Uri.createFromPath(str(path.resolve())))
+    if skeleton is None or skeleton.getNumDofs() == 0:
+        raise SkeletonError(f"skeleton file {path} could not be parsed as a robot model")
+    return skeleton
+
+
+def _make_ball(config: BallConfig):
+    """A sphere on a ball joint whose centre of rotation (the pivot) is ``string_length`` above
+    the ball's centre: a spherical pendulum with a massless string."""
+    skel = dart.dynamics.Skeleton("ball")
+    joint_props = dart.dynamics.BallJointProperties()
+    joint_props.mName = "pendulum_pivot"
+    joint, body = skel.createBallJointAndBodyNodePair(None, joint_props)
+    body.setName("ball")
+    T = dart.math.Isometry3()
+    T.set_translation([0.0, 0.0, config.string_length])
+    joint.setTransformFromChildBodyNode(T)
+    for i in range(3):
+        joint.setDampingCoefficient(i, config.damping)
+    body.setMass(config.mass)
+    i = 0.4 * config.mass * config.radius ** 2
+    body.setMomentOfInertia(i, i, i, 0.0, 0.0, 0.0)
+    shape = body.createShapeNode(dart.dynamics.SphereShape(config.radius))
+    shape.createVisualAspect().setColor(list(config.color))
+    shape.createCollisionAspect()
+    shape.createDynamicsAspect().setFrictionCoeff(config.friction)
+    return skel, joint, body
