@@ -9,7 +9,7 @@ right, +z up. Lengths in metres, angles in radians, time in seconds.
 
 Control (section III-B): every ``control_dt`` = 0.1 s the world takes 14 desired joint positions
 in [-1, 1] (3 neck, 3 torso, 7 arm, 1 hand), scales them linearly into each joint's limits and
-runs the physics substeps. Each joint tracks its target through an implicit spring-damper (DART's
+runs the physics substeps (the range is the joint's limits less 1 % at each end). Each joint tracks its target through an implicit spring-damper (DART's
 joint spring with rest position = target, integrated implicitly, stable at any stiffness) plus
 gravity compensation computed once per control step. Targets lie inside the limits, limits are
 enforced by the constraint solver, and no actuator holds a joint at a limit, so no joint can stay
@@ -32,6 +32,8 @@ from .ctrnn import N_MOTORS
 
 N_SECTORS = 9
 POINTS_PER_SECTOR = 5
+#: Fraction of each joint's range kept free of targets at both ends (see ``World``).
+LIMIT_MARGIN = 0.01
 
 
 class SkeletonError(ValueError):
@@ -173,9 +175,13 @@ class World:
         if not (np.isfinite(self.lower).all() and np.isfinite(self.upper).all()
                 and (self.upper > self.lower).all()):
             raise SkeletonError("every joint of the skeleton needs finite limits, lower < upper")
-        # Per-motor limits (the hand motor uses the finger flexion range [0, pi/2]).
-        self.motor_lower = np.append(self.lower[self._motor_dofs], self.lower[finger_dofs].max())
-        self.motor_upper = np.append(self.upper[self._motor_dofs], self.upper[finger_dofs].min())
+        # Per-motor target ranges (the hand motor: finger flexion [0, pi/2]): the joint limits
+        # shrunk by LIMIT_MARGIN of the range at each end, so that no joint at rest sits on its
+        # limit (an active limit constraint doubles the cost of a physics step).
+        lo = np.append(self.lower[self._motor_dofs], self.lower[finger_dofs].max())
+        hi = np.append(self.upper[self._motor_dofs], self.upper[finger_dofs].min())
+        self.motor_lower = lo + LIMIT_MARGIN * (hi - lo)
+        self.motor_upper = hi - LIMIT_MARGIN * (hi - lo)
         self._half_range = 0.5 * (self.motor_upper - self.motor_lower)
         self._mid_range = 0.5 * (self.motor_upper + self.motor_lower)
         self._dofs = [r.getDof(i) for i in range(n)]
@@ -202,7 +208,8 @@ class World:
         home = np.zeros(r.getNumDofs())
         for name, value in icub.HOME_POSTURE.items():
             home[r.getJoint(name).getIndexInSkeleton(0)] = value
-        self.home = np.clip(home, self.lower, self.upper)
+        margin = LIMIT_MARGIN * (self.upper - self.lower)
+        self.home = np.clip(home, self.lower + margin, self.upper - margin)
         r.setPositions(self.home)
         inertia = np.diag(r.getMassMatrix())
         w, zeta = self.config.natural_frequency, self.config.damping_ratio
