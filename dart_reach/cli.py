@@ -14,6 +14,26 @@ from pathlib import Path
 import numpy as np
 
 
+def _positive(text: str) -> int:
+    try:
+        value = int(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"expected a positive integer, got {text!r}") from None
+    if value < 1:
+        raise argparse.ArgumentTypeError(f"expected a positive integer, got {value}")
+    return value
+
+
+def _non_negative(text: str) -> int:
+    try:
+        value = int(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"expected an integer >= 0, got {text!r}") from None
+    if value < 0:
+        raise argparse.ArgumentTypeError(f"expected an integer >= 0, got {value}")
+    return value
+
+
 def cmd_reach(args) -> int:
     """Build the world, run a short scripted reach-and-grasp and say what happened."""
     from .icub import HAND_SEGMENTS
@@ -53,8 +73,76 @@ def cmd_bench(args) -> int:
     return 0
 
 
+def _duration(seconds: float) -> str:
+    if not np.isfinite(seconds):
+        return "?"
+    m, s = divmod(int(seconds), 60)
+    h, m = divmod(m, 60)
+    return f"{h}h{m:02d}m" if h else f"{m}m{s:02d}s"
+
+
+def _progress_printer(stream=sys.stderr):
+    tty = stream.isatty()
+
+    def show(p) -> None:
+        line = (f"{p.condition} | {p.phase} | {p.replications} replications | generation "
+                f"{p.generation}/{p.generations} | best {p.best:.4f} mean {p.mean:.4f} | "
+                f"{p.done_generations}/{p.total_generations} generations | ETA "
+                f"{_duration(p.eta_s)}")
+        stream.write(("\r" + line + "\x1b[K") if tty else line + "\n")
+        stream.flush()
+    return show
+
+
+def cmd_conditions(args) -> int:
+    from .conditions import list_conditions
+
+    print(f"{'name':<16}{'paper':<10}{'phases':<34}{'generations':<16}description")
+    for c in list_conditions():
+        phases = " -> ".join(p.name for p in c.phases)
+        budgets = " + ".join(str(p.generations) for p in c.phases)
+        print(f"{c.name:<16}{c.notation:<10}{phases:<34}{budgets:<16}{c.description}")
+    return 0
+
+
+def cmd_train(args) -> int:
+    from .conditions import load_condition, scaled
+    from .experiment import Settings, train
+
+    conditions = [load_condition(c) for c in args.conditions]
+    if args.generations is not None:
+        conditions = [scaled(c, args.generations) for c in conditions]
+    settings = Settings(replications=args.replications, trials=args.trials, steps=args.steps,
+                        seed=args.seed)
+    out = args.out or Path("recordings") / f"{'+'.join(c.name for c in conditions)}-s{args.seed}"
+    if args.workers is not None and args.workers < 1:
+        raise ValueError(f"--workers must be at least 1, got {args.workers}")
+    try:
+        run = train(conditions, settings, out, workers=args.workers, ray_address=args.ray,
+                    resume=args.resume, progress=_progress_printer())
+    except KeyboardInterrupt:
+        again = " ".join([sys.argv[0] if sys.argv else "dart-reach"] + sys.argv[1:])
+        if "--resume" not in again:
+            again += " --resume"
+        if args.out is None:
+            again += f" --out {out}"
+        print(f"\ninterrupted: every finished generation is saved in {out}; continue with:\n"
+              f"  {again}", file=sys.stderr)
+        return 130
+    print(f"\ndone: results in {run.out} (manifest.json, generations.parquet, phases/*/)",
+          file=sys.stderr)
+    return 0
+
+
+class _Parser(argparse.ArgumentParser):
+    """Usage errors as one line and exit code 2, like every other bad input."""
+
+    def error(self, message):
+        self.exit(2, f"{self.prog}: error: {message}\n")
+
+
 def build_parser() -> argparse.ArgumentParser:
-    parser = argparse.ArgumentParser(
+    parser = _Parser(
         prog="dart-reach",
         description="Reaching and grasping development of a simulated iCub "
                     "(Savastano & Nolfi 2013) on DART.")
@@ -65,6 +153,27 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--seconds", type=float, default=4.0, help="simulated seconds (default 4)")
     p.add_argument("--skeleton", type=Path, default=None, help="robot model (URDF)")
     p.set_defaults(func=cmd_reach)
+
+    p = sub.add_parser("conditions", help="list the shipped conditions")
+    p.set_defaults(func=cmd_conditions)
+
+    p = sub.add_parser("train", help="train conditions (shipped names or condition files)")
+    p.add_argument("conditions", nargs="+", metavar="CONDITION",
+                   help="a shipped condition name (see 'conditions') or a condition file")
+    p.add_argument("--out", type=Path, default=None,
+                   help="run directory (default recordings/<conditions>-s<seed>)")
+    p.add_argument("--generations", type=_positive, default=None,
+                   help="generations per standard phase (default: the condition's, 500)")
+    p.add_argument("--replications", type=_positive, default=10)
+    p.add_argument("--trials", type=_positive, default=18, help="trials per evaluation")
+    p.add_argument("--steps", type=_positive, default=200, help="0.1 s steps per trial")
+    p.add_argument("--seed", type=_non_negative, default=0)
+    p.add_argument("--workers", type=_positive, default=None,
+                   help="local processes (default: every core; 1 = serial)")
+    p.add_argument("--ray", default=None, metavar="ADDRESS",
+                   help="evaluate on a Ray cluster ('auto', 'local' or an address)")
+    p.add_argument("--resume", action="store_true", help="continue the run in --out")
+    p.set_defaults(func=cmd_train)
 
     p = sub.add_parser("bench", help="measure simulation speed (see README)")
     p.add_argument("--json", type=Path, default=None, help="also write the figures to FILE")

@@ -57,3 +57,313 @@ class NetworkParams:
     tau_motor: np.ndarray  # (N_MOTORS,)
     gain_hidden: np.ndarray  # (N_HIDDEN,)
     gain_offset: np.ndarray  # (2,)
+
+
+# ---------------------------------------------------------------------------------------------
+# Parameters: shapes, validation, helpers
+# ---------------------------------------------------------------------------------------------
+
+#: Index of each motor neuron and each sensory neuron by name.
+MOTOR_INDEX = {name: i for i, name in enumerate(MOTOR_NAMES)}
+SENSOR_INDEX = {name: i for i, name in enumerate(SENSOR_NAMES)}
+
+#: Expected shape of every field of ``NetworkParams``.
+PARAM_SHAPES = {
+    "w_sensor_motor": (N_MOTORS, N_SENSORS),
+    "w_sensor_hidden": (N_HIDDEN, N_SENSORS),
+    "w_hidden_motor": (N_MOTORS, N_HIDDEN),
+    "bias_hidden": (N_HIDDEN,),
+    "bias_motor": (N_MOTORS,),
+    "tau_hidden": (N_HIDDEN,),
+    "tau_motor": (N_MOTORS,),
+    "gain_hidden": (N_HIDDEN,),
+    "gain_offset": (2,),
+}
+
+
+def validate_params(params: NetworkParams) -> None:
+    """Check a ``NetworkParams`` (section III-B): every field a real array of the shape in
+    ``PARAM_SHAPES``, every value finite, every time constant in [0, 1].
+
+    Raises ``ValueError`` naming the offending field (and the expected shape).
+    """
+    for name, shape in PARAM_SHAPES.items():
+        value = getattr(params, name, None)
+        if value is None:
+            raise ValueError(f"NetworkParams.{name} is missing (expected shape {shape})")
+        try:
+            a = np.asarray(value)
+        except Exception as exc:  # ragged sequences and the like
+            raise ValueError(f"NetworkParams.{name} is not an array of shape {shape}: {exc}"
+                             ) from None
+        if a.shape != shape:
+            raise ValueError(f"NetworkParams.{name} must have shape {shape}, got {a.shape}")
+        if a.dtype.kind not in "biuf":
+            raise ValueError(f"NetworkParams.{name} must hold real numbers, got dtype {a.dtype}")
+        if not np.isfinite(a).all():
+            raise ValueError(f"NetworkParams.{name} holds {int((~np.isfinite(a)).sum())} "
+                             f"non-finite value(s)")
+        if name.startswith("tau_") and ((a < 0.0).any() or (a > 1.0).any()):
+            raise ValueError(f"NetworkParams.{name} must lie in [0, 1] (0 <= tau <= 1, "
+                             f"section III-B), got values in [{a.min()}, {a.max()}]")
+
+
+@dataclass(frozen=True)
+class ParamRanges:
+    """Ranges (low, high) of the uniform draws of ``random_params``. The paper gives none
+    (section III-C: 8-bit genes); these are ours: weights and thresholds in [-5, 5] (the reflex
+    weights below lie inside it), time constants in their full range [0, 1], gains in [0, 1]."""
+
+    weight: tuple[float, float] = (-5.0, 5.0)
+    bias: tuple[float, float] = (-5.0, 5.0)
+    tau: tuple[float, float] = (0.0, 1.0)
+    gain: tuple[float, float] = (0.0, 1.0)
+
+    def __post_init__(self):
+        for name in ("weight", "bias", "tau", "gain"):
+            lo, hi = getattr(self, name)
+            if not (np.isfinite(lo) and np.isfinite(hi) and lo <= hi):
+                raise ValueError(f"ParamRanges.{name} must be finite with low <= high, "
+                                 f"got {(lo, hi)}")
+        if self.tau[0] < 0.0 or self.tau[1] > 1.0:
+            raise ValueError(f"ParamRanges.tau must lie within [0, 1], got {self.tau}")
+
+
+def random_params(rng: np.random.Generator, ranges: ParamRanges = ParamRanges()) -> NetworkParams:
+    """Parameters drawn uniformly within ``ranges`` from the generator ``rng``."""
+    kind = {"w": ranges.weight, "b": ranges.bias, "t": ranges.tau, "g": ranges.gain}
+    return NetworkParams(**{name: rng.uniform(*kind[name[0]], size=shape)
+                            for name, shape in PARAM_SHAPES.items()})
+
+
+def zero_params() -> NetworkParams:
+    """Every weight and threshold 0, every time constant 0 (no memory), every gain 1."""
+    return NetworkParams(**{
+        name: (np.ones(shape) if name.startswith("gain_") else np.zeros(shape))
+        for name, shape in PARAM_SHAPES.items()})
+
+
+# ---------------------------------------------------------------------------------------------
+# Reflexes (sections II-D, III-D 1; full arrows of Fig. 3)
+# ---------------------------------------------------------------------------------------------
+# With threshold 0, a motor neuron driven only by its reflex inputs settles at
+# s = sigma(z) and its target is 2 s - 1 = tanh(z / 2) ~= z / 2 near z = 0.
+#
+# Orienting response: neck motor <- its own proprioceptor (weight ORIENT_SELF_WEIGHT = 2, so that
+# the target reproduces the current position: tanh(p) ~= p) and <- the ball's image coordinate
+# (weight ORIENT_SIGHT_WEIGHT = 2 k): target ~= current + k c. On this robot a target step of 1
+# turns the neck by 50 deg (yaw, range +-50 deg) or 31 deg (pitch, -40..+22 deg), and near the
+# image centre c ~= angle / 85 deg (x) or angle / 61 deg (y): k ~= 1.7 (yaw) or 2 (pitch) would
+# centre the ball in one step if the joint followed at once. k = 1 was chosen by running the
+# reflex alone in ``world.World`` (a = 1, balls in the visible sectors 6-8): the head turns to
+# the ball within 0.3-0.5 s with no overshoot although a joint covers only ~60 % of a target
+# step in 0.1 s; k = 0.5 was as stable but left twice the residual error, k = 1.5 gained
+# little. The residual error comes from tanh(p) < p: far from mid-range the head creeps back
+# until k c = atanh(p) - p, i.e. |c| up to ~0.2 at the sectors' extreme positions. A
+# self-weight above 2 would make the neck bistable (tanh(w p / 2) = p gains non-zero roots), so
+# 2 is the largest safe value. With low acuity (a = 3) the drive is c^3: the reflex stops
+# further from the centre (|c| ~0.35), as a blurrier orienting response would.
+# ORIENT_*_SIGN say in which direction a positive neck target turns the camera relative to +c
+# (a property of the physics world's joint axes). Measured on ``world.World``
+# (skeletons/icub_upper_body.urdf): raising the neck_yaw target turns the camera to the left (a
+# fixed ball's c_x grows), so the yaw sign is -1; raising the neck_pitch target turns it up
+# (c_y falls), so the pitch sign is +1.
+#
+# Grasp reflex: hand motor <- palm touch with GRASP_WEIGHT = 5 (the top of the evolved weight
+# range): palm touched (+1) -> sigma(5) = 0.993, target 0.987 (fingers closed); untouched (-1)
+# -> target -0.987 (fingers open).
+#
+# Thresholds: the three reflex motor neurons get a hand-set threshold of 0 (REFLEX_BIAS) so an
+# evolved threshold cannot shift the orienting set point or hold the hand shut or open. Their
+# time constants, and their other incoming connections, stay evolved: tau only sets how fast the
+# reflex acts (tau = 1 would freeze the neuron), and the other evolved inputs can modulate or,
+# summed, overrule it (the paper does not say the reflexes are immune to learning).
+
+#: Sign of the neck yaw target change that turns the camera toward a ball at +c_x (right).
+ORIENT_YAW_SIGN = -1.0
+#: Sign of the neck pitch target change that turns the camera toward a ball at +c_y (up).
+ORIENT_PITCH_SIGN = 1.0
+ORIENT_SELF_WEIGHT = 2.0
+ORIENT_GAIN = 1.0
+ORIENT_SIGHT_WEIGHT = 2.0 * ORIENT_GAIN
+GRASP_WEIGHT = 5.0
+REFLEX_BIAS = 0.0
+
+_REFLEX_MOTORS = ("neck_yaw", "neck_pitch", "r_hand_fingers")
+
+
+def reflex_weights() -> tuple[np.ndarray, np.ndarray]:
+    """The hand-set sensor-to-motor weights of the orienting and grasp reflexes (sections II-D,
+    III-D 1, full arrows of Fig. 3).
+
+    Returns ``(mask, weights)``, both (N_MOTORS, N_SENSORS) indexed [motor, sensor]: where
+    ``mask`` is True, ``weights`` replaces the evolved ``w_sensor_motor`` when reflexes are on.
+    neck_yaw <- sight/x and proprio/neck_yaw; neck_pitch <- sight/y and proprio/neck_pitch;
+    r_hand_fingers <- touch/palm. Reads the module constants at call time.
+    """
+    mask = np.zeros((N_MOTORS, N_SENSORS), dtype=bool)
+    weights = np.zeros((N_MOTORS, N_SENSORS))
+    m, s = MOTOR_INDEX, SENSOR_INDEX
+    for motor, image_axis, sign in (("neck_yaw", "sight/x", ORIENT_YAW_SIGN),
+                                    ("neck_pitch", "sight/y", ORIENT_PITCH_SIGN)):
+        weights[m[motor], s[image_axis]] = sign * ORIENT_SIGHT_WEIGHT
+        weights[m[motor], s[f"proprio/{motor}"]] = ORIENT_SELF_WEIGHT
+        mask[m[motor], [s[image_axis], s[f"proprio/{motor}"]]] = True
+    weights[m["r_hand_fingers"], s["touch/palm"]] = GRASP_WEIGHT
+    mask[m["r_hand_fingers"], s["touch/palm"]] = True
+    return mask, weights
+
+
+def reflex_biases() -> tuple[np.ndarray, np.ndarray]:
+    """The hand-set thresholds of the three reflex motor neurons (neck_yaw, neck_pitch,
+    r_hand_fingers): ``(mask (N_MOTORS,) bool, biases (N_MOTORS,))``; where ``mask`` is True
+    ``biases`` (REFLEX_BIAS = 0) replaces the evolved ``bias_motor`` when reflexes are on."""
+    mask = np.zeros(N_MOTORS, dtype=bool)
+    mask[[MOTOR_INDEX[n] for n in _REFLEX_MOTORS]] = True
+    return mask, np.where(mask, REFLEX_BIAS, 0.0)
+
+
+# ---------------------------------------------------------------------------------------------
+# The network
+# ---------------------------------------------------------------------------------------------
+
+#: Motor neuron state after ``Network.reset()``: target 0, the middle of every joint's range.
+RESET_MOTOR_STATE = 0.5
+#: Inputs of the logistic are clipped to +-this (sigma(500) == 1.0 in float64; avoids overflow
+#: warnings in exp without changing any representable result that matters).
+_SIGMOID_CLIP = 500.0
+
+
+def sigmoid(z, out=None) -> np.ndarray:
+    """The logistic sigma(z) = 1 / (1 + exp(-z)) of the update equation (section III-B),
+    elementwise; ``out`` may be ``z`` itself (in place)."""
+    out = np.array(z, dtype=float) if out is None else out
+    if out is not z:
+        out[...] = z
+    np.clip(out, -_SIGMOID_CLIP, _SIGMOID_CLIP, out=out)
+    np.negative(out, out=out)
+    np.exp(out, out=out)
+    out += 1.0
+    np.reciprocal(out, out=out)
+    return out
+
+
+def motor_targets(motor_state, out=None) -> np.ndarray:
+    """Joint targets in [-1, 1] for the world from motor neuron states in [0, 1]: 2 x - 1
+    (section III-B: the motor neurons set the desired angle scaled within the joint limits)."""
+    out = np.empty(np.shape(motor_state)) if out is None else out
+    np.multiply(motor_state, 2.0, out=out)
+    out -= 1.0
+    return out
+
+
+class Network:
+    """The controller of Fig. 3 (section III-B), stepped once per 0.1 s.
+
+    25 sensory neurons (the sensor values; the two sight-offset values are multiplied by
+    ``gain_offset``) project to 8 internal and 14 motor neurons; the internal neurons project to
+    the motor neurons. Internal and motor neurons are leaky integrators:
+
+        x_i(t) = tau_i x_i(t-1) + (1 - tau_i) s_i(t),   s_i(t) = g_i sigma(sum_j w_ij x_j(t) - theta_i)
+
+    with g = ``gain_hidden`` for the internal neurons and 1 for the motor neurons. Within a step:
+    sensors (t) -> internal neurons (from the sensors at t) -> motor neurons (from the sensors
+    at t and the internal states at t just computed). No lateral connections: an internal
+    neuron's only memory is its own tau.
+
+    ``reflexes``: the hand-set weights of ``reflex_weights`` and thresholds of ``reflex_biases``
+    replace the evolved ones on their connections. ``hidden_frozen``: the internal neurons are
+    held at 0 (pre-reaching, section III-D 1), so neither ``w_sensor_hidden`` nor
+    ``w_hidden_motor`` has any effect.
+
+    Attributes ``hidden`` (8,) and ``motor`` (14,) are the current states (updated in place);
+    ``step`` returns ``motor`` itself. The parameters are copied at construction.
+    """
+
+    def __init__(self, params: NetworkParams, *, reflexes: bool = False,
+                 hidden_frozen: bool = False):
+        validate_params(params)
+        self.params = params
+        self.reflexes = bool(reflexes)
+        self.hidden_frozen = bool(hidden_frozen)
+        f = lambda a: np.array(a, dtype=float, order="C")  # noqa: E731  (private copies)
+        self._w_sm = f(params.w_sensor_motor)
+        self._bias_m = f(params.bias_motor)
+        if self.reflexes:
+            mask, w = reflex_weights()
+            self._w_sm[mask] = w[mask]
+            bmask, b = reflex_biases()
+            self._bias_m[bmask] = b[bmask]
+        self._w_sh = f(params.w_sensor_hidden)
+        self._w_hm = f(params.w_hidden_motor)
+        self._bias_h = f(params.bias_hidden)
+        self._gain_h = f(params.gain_hidden)
+        self._tau_h = f(params.tau_hidden)
+        self._tau_m = f(params.tau_motor)
+        self._one_minus_tau_h = 1.0 - self._tau_h
+        self._one_minus_tau_m = 1.0 - self._tau_m
+        self._in_scale = np.ones(N_SENSORS)
+        self._in_scale[OFFSET] = params.gain_offset
+        # Preallocated buffers of the step.
+        self._x = np.zeros(N_SENSORS)
+        self._s_h = np.zeros(N_HIDDEN)
+        self._s_m = np.zeros(N_MOTORS)
+        self._from_hidden = np.zeros(N_MOTORS)
+        self.hidden = np.zeros(N_HIDDEN)
+        self.motor = np.full(N_MOTORS, RESET_MOTOR_STATE)
+
+    @property
+    def effective_w_sensor_motor(self) -> np.ndarray:
+        """The sensor-to-motor weights in use (evolved, with the reflex weights if on); a copy."""
+        return self._w_sm.copy()
+
+    @property
+    def effective_bias_motor(self) -> np.ndarray:
+        """The motor thresholds in use (evolved, with the reflex thresholds if on); a copy."""
+        return self._bias_m.copy()
+
+    def reset(self, motor=None) -> None:
+        """Start of a trial: internal states 0; motor states ``motor`` (14 values in [0, 1]) or,
+        by default, RESET_MOTOR_STATE = 0.5 (target 0, mid-range; a state of 0 would mean
+        target -1, every joint at its lower limit). Pass ``(home_targets + 1) / 2`` to start
+        from the robot's posture."""
+        self.hidden[:] = 0.0
+        if motor is None:
+            self.motor[:] = RESET_MOTOR_STATE
+            return
+        m = np.asarray(motor, dtype=float)
+        if m.shape != (N_MOTORS,):
+            raise ValueError(f"motor reset state must have shape ({N_MOTORS},), got {m.shape}")
+        if not (np.isfinite(m).all() and (m >= 0.0).all() and (m <= 1.0).all()):
+            raise ValueError(f"motor reset state must lie in [0, 1], got {m}")
+        self.motor[:] = m
+
+    def step(self, sensors: np.ndarray) -> np.ndarray:
+        """One 0.1 s update from the 25 sensor values at time t; returns ``self.motor`` (14,)
+        in [0, 1] (the same array every call, updated in place). Allocates nothing."""
+        if type(sensors) is not np.ndarray or sensors.shape != (N_SENSORS,):
+            sensors = np.asarray(sensors, dtype=float)
+            if sensors.shape != (N_SENSORS,):
+                raise ValueError(f"expected {N_SENSORS} sensor values, got shape {sensors.shape}")
+        x = self._x
+        np.multiply(sensors, self._in_scale, out=x)
+        s_m = self._s_m
+        np.matmul(self._w_sm, x, out=s_m)
+        if not self.hidden_frozen:
+            h, s_h = self.hidden, self._s_h
+            np.matmul(self._w_sh, x, out=s_h)
+            s_h -= self._bias_h
+            sigmoid(s_h, out=s_h)
+            s_h *= self._gain_h
+            h *= self._tau_h
+            s_h *= self._one_minus_tau_h
+            h += s_h
+            np.matmul(self._w_hm, h, out=self._from_hidden)
+            s_m += self._from_hidden
+        s_m -= self._bias_m
+        sigmoid(s_m, out=s_m)
+        m = self.motor
+        m *= self._tau_m
+        s_m *= self._one_minus_tau_m
+        m += s_m
+        return m

@@ -24,10 +24,11 @@ class ReachSolution:
 
 
 def grasp_posture(world: World, ball_position, standoff: float = 0.0,
-                  x0: np.ndarray | None = None) -> ReachSolution:
+                  x0: np.ndarray | None = None, look: bool = False) -> ReachSolution:
     """Joint angles that put the ball's centre ``radius + standoff`` in front of the palm's
-    inner face, along its normal. Only the trunk and arm joints move; the head and fingers stay
-    at home. The robot's state is restored afterwards."""
+    inner face, along its normal. The trunk and arm joints move; with ``look`` the neck turns
+    the camera toward the ball, else the head stays at home; the fingers stay open. The robot's
+    state is restored afterwards."""
     robot, hand = world.robot, world.hand
     ball = np.asarray(ball_position, float)
     idx = world._motor_dofs[3:]  # torso (3) and arm (7); the neck stays put
@@ -52,6 +53,20 @@ def grasp_posture(world: World, ball_position, standoff: float = 0.0,
             best = sol
     q[idx] = best.x
     err = float(np.linalg.norm(residual(best.x)))
+    if look:
+        # Then the neck, so that the ball projects on the optical axis of the head camera.
+        neck = world._motor_dofs[:3]
+        camera = world.camera
+
+        def off_axis(x):
+            q[neck] = x
+            robot.setPositions(q)
+            T = camera.getWorldTransform()
+            v = T.rotation().T @ (ball - T.translation())
+            return v[:2] / v[2]
+
+        q[neck] = least_squares(off_axis, world.home[neck], bounds=(world.lower[neck],
+                                                                     world.upper[neck])).x
     robot.setPositions(saved)
     return ReachSolution(q=q.copy(), palm_error=err)
 
@@ -59,9 +74,9 @@ def grasp_posture(world: World, ball_position, standoff: float = 0.0,
 class ScriptedReach:
     """Targets for a reach with the open hand, then a grasp when the palm touches the ball."""
 
-    def __init__(self, world: World, ball_position):
+    def __init__(self, world: World, ball_position, look: bool = False):
         self.world = world
-        self.solution = grasp_posture(world, ball_position, standoff=-0.01)
+        self.solution = grasp_posture(world, ball_position, standoff=-0.01, look=look)
         self.open_targets = world.targets_for(self.solution.q)
         self.closed_targets = self.open_targets.copy()
         self.closed_targets[13] = 1.0
@@ -72,3 +87,23 @@ class ScriptedReach:
         if contacts.any():  # some hand segment touches the ball
             self.grasping = True
         return self.closed_targets if self.grasping else self.open_targets
+
+
+class ScriptedController:
+    """A hand-written controller with the interface of ``ctrnn.Network`` (``reset``, ``step``,
+    ``hidden``): it looks at the ball, reaches for it and closes the hand once a touch sensor
+    fires. It knows the ball's position from the world, which the evolved networks do not: it
+    is a yardstick for the fitness function, not a model of the robot."""
+
+    def __init__(self, world: World, ball_position):
+        self._reach = ScriptedReach(world, ball_position, look=True)
+        self.hidden = np.zeros(8)
+        self.motor = np.zeros(14)
+
+    def reset(self, motor=None) -> None:
+        self._reach.grasping = False
+
+    def step(self, sensors: np.ndarray) -> np.ndarray:
+        touching = sensors[14:20] > 0  # touch sensors read +1 on contact
+        self.motor[:] = (self._reach.targets(touching) + 1.0) / 2.0
+        return self.motor

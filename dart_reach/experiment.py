@@ -1,0 +1,400 @@
+"""Training a condition: phases, replications, transitions, checkpoints and the run directory
+(paper sections III-C, III-D, IV-C).
+
+A run trains one or more conditions in one directory. Each phase of a condition is trained with
+``replications`` independent runs of the GA; the first phase starts from random genomes, every
+later phase from the best ``population / replications`` genomes of each replication of the
+previous phase (the best 2 of each of 10 in the paper), with the maturational changes of the new
+phase. A phase shared by several conditions (same content, same preceding phases: the same
+``Phase.key``) is trained once.
+
+Randomness: one ``SeedSequence`` tree per run, addressed by (phase key, replication, purpose,
+generation, individual): nothing depends on the order of evaluation or the number of workers.
+
+Run directory::
+
+    manifest.json              conditions, settings, seeds, package versions, git revision
+    generations.parquet        one row per (condition, phase, replication, generation)
+    checkpoint.npz             the GA states after the last complete generation (atomic)
+    phases/<phase>/final.npz   per replication: final population, lifetime fitness, best genome
+    phases/<phase>/best.parquet  the final populations as a table, best first
+"""
+
+from __future__ import annotations
+
+import json
+import os
+import platform
+import signal
+import subprocess
+import sys
+import tempfile
+import time
+from dataclasses import asdict, dataclass, field, replace
+from importlib import metadata
+from pathlib import Path
+from typing import Callable
+
+import numpy as np
+import polars as pl
+
+from . import __version__
+from .conditions import Condition, Phase
+from .evaluator import Evaluator, Job, make_evaluator
+from .evolution import (GAConfig, GAState, ask, best_k, generation_stats, init_state,
+                        state_from_arrays, state_to_arrays, tell, transition_population)
+from .genome import ParamGroup, as_groups, free_mask, random_genome, release
+from .task import TrialConfig
+from .world import WorldConfig
+
+MANIFEST_FORMAT = 1
+STATS_SCHEMA = {
+    "condition": pl.Utf8, "phase": pl.Utf8, "phase_key": pl.Utf8, "replication": pl.Int64,
+    "generation": pl.Int64, "best": pl.Float64, "mean": pl.Float64, "min": pl.Float64,
+    "wall_s": pl.Float64,
+}
+
+
+class RunError(ValueError):
+    """A run directory cannot be used as asked (exists, foreign, corrupted)."""
+
+
+@dataclass(frozen=True)
+class Settings:
+    """Budgets and seeds of a run: everything besides the conditions that defines its result."""
+
+    replications: int = 10
+    trials: int = 18  # trials per evaluation: 2 per sector (section III-C)
+    steps: int = 200  # control steps per trial (20 s)
+    seed: int = 0
+    ga: GAConfig = field(default_factory=GAConfig)
+    world: WorldConfig = field(default_factory=WorldConfig)
+
+    def __post_init__(self):
+        for name in ("replications", "trials", "steps"):
+            if getattr(self, name) < 1:
+                raise ValueError(f"{name} must be a positive integer, got {getattr(self, name)}")
+        if self.seed < 0:
+            raise ValueError(f"seed must be a non-negative integer, got {self.seed}")
+        if self.ga.population % self.replications:
+            raise ValueError(
+                f"the population ({self.ga.population}) must be a multiple of the number of "
+                f"replications ({self.replications}): the next phase starts from the best "
+                f"population / replications genomes of each (section III-D)")
+
+    def to_json(self) -> dict:
+        d = asdict(self)
+        d["ga"]["scheme"] = self.ga.scheme.value
+        d["world"]["skeleton"] = str(self.world.skeleton) if self.world.skeleton else None
+        return d
+
+
+def trial_config(phase: Phase, settings: Settings) -> TrialConfig:
+    """The maturational state of a phase as the task sees it."""
+    groups = as_groups(phase.free_groups)
+    return TrialConfig(acuity=phase.acuity, offset_sensors=phase.offset_sensors,
+                       hidden_frozen=ParamGroup.HIDDEN not in groups, reflexes=phase.reflexes,
+                       steps=settings.steps, trials=settings.trials)
+
+
+def _phase_id(phase: Phase) -> int:
+    return int(phase.key[:8], 16)
+
+
+def _seed(settings: Settings, phase: Phase, *path: int) -> np.random.SeedSequence:
+    return np.random.SeedSequence(settings.seed, spawn_key=(_phase_id(phase), *path))
+
+
+# purposes of the seed tree
+_INIT, _MUTATE, _EVALUATE = 0, 1, 2
+
+
+# ---------------------------------------------------------------- files, atomically
+def _atomic_write(path: Path, write: Callable[[Path], None]) -> None:
+    """Write through a temporary file in the same directory, then rename: a reader (or a
+    resumed run) sees the old file or the new one, never half of one."""
+    path.parent.mkdir(parents=True, exist_ok=True)
+    fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=f".{path.name}.", suffix=".tmp")
+    os.close(fd)
+    tmp = Path(tmp)
+    try:
+        write(tmp)
+        with open(tmp, "rb") as f:
+            os.fsync(f.fileno())
+        os.replace(tmp, path)
+    finally:
+        tmp.unlink(missing_ok=True)
+
+
+def _git_revision() -> str | None:
+    try:
+        out = subprocess.run(["git", "rev-parse", "HEAD"], capture_output=True, text=True,
+                             cwd=Path(__file__).parent, timeout=10)
+        return out.stdout.strip() or None
+    except (OSError, subprocess.SubprocessError):
+        return None
+
+
+def _versions() -> dict:
+    versions = {"dart_reach": __version__, "python": platform.python_version()}
+    for pkg in ("dartpy", "numpy", "scipy", "polars", "rerun-sdk"):
+        try:
+            versions[pkg] = metadata.version(pkg)
+        except metadata.PackageNotFoundError:
+            versions[pkg] = None
+    return versions
+
+
+# ---------------------------------------------------------------- the run
+@dataclass
+class Progress:
+    """What a progress display is told after each generation."""
+
+    condition: str
+    phase: str
+    generation: int
+    generations: int
+    replications: int
+    best: float
+    mean: float
+    done_generations: int
+    total_generations: int
+    elapsed_s: float
+
+    @property
+    def eta_s(self) -> float:
+        if self.done_generations == 0:
+            return float("nan")
+        return self.elapsed_s / self.done_generations * (
+            self.total_generations - self.done_generations)
+
+
+class Run:
+    """A run directory: creates it, or reopens it to resume."""
+
+    def __init__(self, out: Path, conditions: list[Condition], settings: Settings,
+                 resume: bool = False):
+        self.out = Path(out)
+        self.conditions = conditions
+        self.settings = settings
+        self.manifest = {
+            "format": MANIFEST_FORMAT,
+            "conditions": [c.to_dict() for c in conditions],
+            "settings": settings.to_json(),
+        }
+        manifest_path = self.out / "manifest.json"
+        if manifest_path.exists():
+            if not resume:
+                raise RunError(f"{self.out} already holds a run (manifest.json); use --resume to "
+                               f"continue it or choose another --out")
+            self._check_same_run(manifest_path)
+        elif self.out.exists() and any(self.out.iterdir()):
+            raise RunError(f"{self.out} is not empty and holds no run: choose another --out")
+        else:
+            if resume:
+                raise RunError(f"nothing to resume: {self.out} holds no run")
+            full = dict(self.manifest, created=time.strftime("%Y-%m-%dT%H:%M:%S%z"),
+                        versions=_versions(), git_revision=_git_revision(),
+                        seeds={"root": settings.seed,
+                               "tree": "SeedSequence(seed, spawn_key=(phase key[:8] as int, "
+                                       "replication, purpose 0 init|1 mutate|2 evaluate, "
+                                       "generation, individual))"})
+            _atomic_write(manifest_path, lambda p: p.write_text(json.dumps(full, indent=2)))
+        self.stats = self._load_stats()
+
+    def _check_same_run(self, manifest_path: Path) -> None:
+        try:
+            old = json.loads(manifest_path.read_text())
+        except (OSError, json.JSONDecodeError) as exc:
+            raise RunError(f"{manifest_path}: unreadable manifest ({exc})") from None
+        if old.get("format") != MANIFEST_FORMAT:
+            raise RunError(f"{manifest_path}: written by an incompatible version "
+                           f"(format {old.get('format')}, this version reads {MANIFEST_FORMAT})")
+        for key in ("conditions", "settings"):
+            if old.get(key) != json.loads(json.dumps(self.manifest[key])):
+                raise RunError(f"{manifest_path}: the run there was made with other {key}; "
+                               f"resume it with the same command line")
+
+    # -------------------------------------------------------------- stats and checkpoints
+    def _load_stats(self) -> pl.DataFrame:
+        path = self.out / "generations.parquet"
+        if not path.exists():
+            return pl.DataFrame(schema=STATS_SCHEMA)
+        try:
+            return pl.read_parquet(path)
+        except Exception as exc:  # polars raises several kinds for a damaged file
+            raise RunError(f"{path}: unreadable ({exc})") from None
+
+    def _save_stats(self) -> None:
+        _atomic_write(self.out / "generations.parquet", lambda p: self.stats.write_parquet(p))
+
+    def phase_dir(self, phase: Phase) -> Path:
+        return self.out / "phases" / f"{phase.name}-{phase.key[:8]}"
+
+    def _checkpoint_path(self, phase: Phase) -> Path:
+        return self.phase_dir(phase) / "checkpoint.npz"
+
+    def _save_checkpoint(self, phase: Phase, states: list[GAState]) -> None:
+        arrays = {"phase_key": np.array(phase.key)}
+        for r, s in enumerate(states):
+            arrays.update({f"rep{r}/{k}": v for k, v in state_to_arrays(s).items()})
+        _atomic_write(self._checkpoint_path(phase), lambda p: _savez(p, arrays))
+        # The stats rows of this generation are written after the checkpoint: on resume the
+        # checkpoint decides, and rows past it are dropped.
+        self._save_stats()
+
+    def _load_checkpoint(self, phase: Phase) -> list[GAState] | None:
+        path = self._checkpoint_path(phase)
+        if not path.exists():
+            return None
+        try:
+            with np.load(path, allow_pickle=False) as d:
+                if str(d["phase_key"]) != phase.key:
+                    raise RunError(f"{path}: checkpoint of another phase")
+                states = [state_from_arrays({k.split("/", 1)[1]: d[k] for k in d.files
+                                             if k.startswith(f"rep{r}/")})
+                          for r in range(self.settings.replications)]
+        except RunError:
+            raise
+        except Exception as exc:
+            raise RunError(f"{path}: corrupted or foreign checkpoint ({exc})") from None
+        if len({s.generation for s in states}) != 1:
+            raise RunError(f"{path}: replications at different generations")
+        return states
+
+    def final_path(self, phase: Phase) -> Path:
+        return self.phase_dir(phase) / "final.npz"
+
+    def _save_final(self, condition: Condition, phase: Phase, states: list[GAState]) -> None:
+        pop = self.settings.ga.population
+        ranked = [best_k(s, pop) for s in states]
+        genomes = np.stack([g for g, _ in ranked])
+        fitness = np.stack([f for _, f in ranked])
+        _atomic_write(self.final_path(phase), lambda p: _savez(p, {
+            "population": genomes, "fitness": fitness, "best": genomes[:, 0],
+            "phase_key": np.array(phase.key)}))
+        table = pl.DataFrame({
+            "phase": [phase.name] * genomes.shape[0] * pop,
+            "phase_key": [phase.key] * genomes.shape[0] * pop,
+            "replication": np.repeat(np.arange(genomes.shape[0]), pop),
+            "rank": np.tile(np.arange(pop), genomes.shape[0]),
+            "fitness": fitness.reshape(-1),
+            "genome": [g.tolist() for g in genomes.reshape(-1, genomes.shape[-1])],
+        }, schema_overrides={"genome": pl.List(pl.UInt8)})
+        _atomic_write(self.phase_dir(phase) / "best.parquet", lambda p: table.write_parquet(p))
+
+    def load_final(self, phase: Phase) -> tuple[np.ndarray, np.ndarray]:
+        """Final populations (R, P, L) and lifetime fitness (R, P) of a trained phase, best
+        first within each replication."""
+        path = self.final_path(phase)
+        try:
+            with np.load(path, allow_pickle=False) as d:
+                return d["population"], d["fitness"]
+        except Exception as exc:
+            raise RunError(f"{path}: unreadable phase result ({exc})") from None
+
+    # -------------------------------------------------------------- training
+    def train(self, evaluator: Evaluator, progress: Callable[[Progress], None] | None = None
+              ) -> None:
+        """Train every phase of every condition not trained yet."""
+        s = self.settings
+        total = sum(p.generations for p in self._unique_phases())
+        done = sum(p.generations for p in self._unique_phases() if self.final_path(p).exists())
+        t_start, done_at_start = time.monotonic(), done
+        for condition in self.conditions:
+            previous: Phase | None = None
+            for phase in condition.phases:
+                if not self.final_path(phase).exists():
+                    states = self._load_checkpoint(phase)
+                    if states is None:
+                        states = self._initial_states(phase, previous)
+                    else:
+                        done += states[0].generation
+                        self._drop_stats_after(phase, states[0].generation)
+                    trial = trial_config(phase, s)
+                    mask = free_mask(phase.free_groups)
+                    groups = as_groups(phase.free_groups)
+                    while states[0].generation < phase.generations:
+                        g = states[0].generation
+                        t0 = time.monotonic()
+                        states, rows = self._generation(evaluator, condition, phase, states,
+                                                        trial, mask, groups)
+                        wall = time.monotonic() - t0
+                        self.stats = pl.concat([self.stats, pl.DataFrame(
+                            [dict(r, wall_s=wall) for r in rows], schema=STATS_SCHEMA)])
+                        self._save_checkpoint(phase, states)
+                        done += 1
+                        if progress:
+                            progress(Progress(
+                                condition.name, phase.name, g + 1, phase.generations,
+                                s.replications, max(r["best"] for r in rows),
+                                float(np.mean([r["mean"] for r in rows])), done - done_at_start,
+                                total - done_at_start, time.monotonic() - t_start))
+                    self._save_final(condition, phase, states)
+                previous = phase
+
+    def _unique_phases(self) -> list[Phase]:
+        seen: dict[str, Phase] = {}
+        for c in self.conditions:
+            for p in c.phases:
+                seen.setdefault(p.key, p)
+        return list(seen.values())
+
+    def _drop_stats_after(self, phase: Phase, generation: int) -> None:
+        self.stats = self.stats.filter(
+            (pl.col("phase_key") != phase.key) | (pl.col("generation") <= generation))
+
+    def _initial_states(self, phase: Phase, previous: Phase | None) -> list[GAState]:
+        s = self.settings
+        pop = s.ga.population
+        if previous is None:
+            return [init_state(random_genome(np.random.default_rng(_seed(s, phase, r, _INIT)),
+                                             pop)) for r in range(s.replications)]
+        finals, _ = self.load_final(previous)
+        merged = transition_population(list(finals), n=pop // s.replications, population=pop)
+        newly_free = as_groups(phase.free_groups) - as_groups(previous.free_groups)
+        merged = np.stack([release(g, newly_free) for g in merged])
+        return [init_state(merged) for _ in range(s.replications)]
+
+    def _generation(self, evaluator, condition, phase, states, trial, mask, groups):
+        """One generation of every replication, evaluated in one batch."""
+        s = self.settings
+        asked, candidates = [], []
+        for r, state in enumerate(states):
+            g = state.generation
+            cands, state = ask(state, s.ga, mask,
+                               np.random.default_rng(_seed(s, phase, r, _MUTATE, g)))
+            asked.append(state)
+            candidates.append(cands)
+        jobs = [Job(genome=c, free_groups=frozenset(groups), trial=trial, world=s.world,
+                    seed=(s.seed, _phase_id(phase), r, _EVALUATE, states[r].generation, i))
+                for r, cands in enumerate(candidates) for i, c in enumerate(cands)]
+        fitness = evaluator.map(jobs)
+        new_states, rows, k = [], [], 0
+        for r, state in enumerate(asked):
+            n = candidates[r].shape[0]
+            f = fitness[k:k + n]
+            k += n
+            new_states.append(tell(state, f))
+            rows.append(dict(condition=condition.name, phase=phase.name, phase_key=phase.key,
+                             replication=r, generation=state.generation + 1,
+                             **generation_stats(f)))
+        return new_states, rows
+
+
+def _savez(path: Path, arrays: dict) -> None:
+    with open(path, "wb") as f:
+        np.savez(f, **arrays)
+
+
+def train(conditions: list[Condition], settings: Settings, out: Path, workers: int | None = None,
+          ray_address: str | None = None, resume: bool = False,
+          progress: Callable[[Progress], None] | None = None) -> Run:
+    """Train ``conditions`` into the run directory ``out`` (the function the CLI calls)."""
+    run = Run(out, conditions, settings, resume=resume)
+    evaluator = make_evaluator(workers, ray_address)
+    try:
+        run.train(evaluator, progress)
+    finally:
+        evaluator.close()
+    return run

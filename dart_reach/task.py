@@ -1,0 +1,214 @@
+"""One trial and one evaluation of the reach-and-grasp task (paper sections III-B, III-C).
+
+A trial: the robot is reset to its home posture, the ball placed at rest in a sector, and the
+network drives the robot for 200 steps of 0.1 s (20 s). At each step the sensors are read, the
+fitness terms computed (p_sight, p_touch, p_multimodal = min of the two, Eq. 5), the network
+updated and its 14 motor outputs sent to the world as targets.
+
+An evaluation is 18 trials, 2 per sector at random points, and its fitness the mean of
+p_multimodal over all their steps (a diverged trial counts 0).
+
+Everything the later analysis needs is kept per step in numpy arrays (``TrialData``).
+A trial whose network or physics becomes NaN or infinite stops there with fitness 0 and
+``diverged = True``.
+"""
+
+from __future__ import annotations
+
+import enum
+import math
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from . import sensors
+from .ctrnn import (N_HIDDEN, N_MOTORS, N_SENSORS, OFFSET, PROPRIO, SIGHT, TOUCH, Network,
+                    NetworkParams, motor_targets)
+from .icub import HAND_SEGMENTS, TOUCH_BODIES
+from .world import N_SECTORS, World
+
+#: Indices in ``HAND_SEGMENTS`` of the six touch-sensor bodies (palm, fingertips).
+TOUCH_SEGMENTS = np.array([HAND_SEGMENTS.index(b) for b in TOUCH_BODIES])
+N_SEGMENTS = len(HAND_SEGMENTS)
+
+
+class Senses(enum.Enum):
+    """Sensory conditions of the post-evaluation (section IV-B, Fig. 9): the deprived inputs are
+    clamped to the value that means "nothing sensed"."""
+
+    NORMAL = "normal"
+    NO_TOUCH = "no-touch"
+    NO_SIGHT = "no-sight"
+    NOTHING = "nothing"
+
+
+@dataclass(frozen=True)
+class TrialConfig:
+    """Everything the paper manipulates about the robot's nervous system, as data.
+
+    ``acuity`` is the exponent a of Eqs. 1-2: 3 in pre-reaching (low acuity), 1 afterwards, as
+    the paper's text (section III-B) says; its Table I swaps the two values.
+    """
+
+    acuity: float = 1.0
+    offset_sensors: bool = False  # fine-reaching (section III-D, 3)
+    hidden_frozen: bool = False  # internal neurons held at 0 (pre-reaching, Fig. 3)
+    reflexes: bool = True  # orienting and grasp reflexes (section III-D, 1)
+    senses: Senses = Senses.NORMAL
+    steps: int = 200  # 20 s of 0.1 s steps (section III-C)
+    trials: int = 18  # trials per evaluation: 2 per sector (section III-C)
+
+    def __post_init__(self):
+        if not (self.acuity > 0 and math.isfinite(self.acuity)):
+            raise ValueError(f"acuity must be a positive number, got {self.acuity!r}")
+        if self.steps <= 0 or self.trials <= 0:
+            raise ValueError("steps and trials must be positive")
+        if not isinstance(self.senses, Senses):
+            object.__setattr__(self, "senses", Senses(self.senses))
+
+
+@dataclass
+class TrialData:
+    """Per-step record of one trial; row t is the state observed at time t * 0.1 s."""
+
+    sector: int
+    ball_start: np.ndarray  # (3,) m
+    joints: np.ndarray  # (T, 14) rad: the 13 joints and the mean finger flexion
+    hand: np.ndarray  # (T, 3) m, centre of the palm's inner face
+    shoulder: np.ndarray  # (T, 3) m
+    ball: np.ndarray  # (T, 3) m
+    contacts: np.ndarray  # (T, 16) bool, per hand segment (icub.HAND_SEGMENTS)
+    sensors: np.ndarray  # (T, 25) the network's inputs
+    hidden: np.ndarray  # (T, 8) internal neuron states
+    motor: np.ndarray  # (T, 14) motor neuron states in [0, 1]
+    targets: np.ndarray  # (T, 14) motor targets sent to the world, in [-1, 1]
+    p_sight: np.ndarray  # (T,)
+    p_touch: np.ndarray  # (T,)
+    p_multimodal: np.ndarray  # (T,)
+    diverged: bool = False
+    steps_run: int = 0
+
+    @classmethod
+    def empty(cls, steps: int, sector: int, ball_start: np.ndarray) -> "TrialData":
+        z = lambda *shape: np.zeros((steps, *shape))  # noqa: E731
+        return cls(sector, np.asarray(ball_start, float).copy(), z(N_MOTORS), z(3), z(3), z(3),
+                   np.zeros((steps, N_SEGMENTS), bool), z(N_SENSORS), z(N_HIDDEN), z(N_MOTORS),
+                   z(N_MOTORS), np.zeros(steps), np.zeros(steps), np.zeros(steps))
+
+    @property
+    def fitness(self) -> float:
+        """Mean p_multimodal over the trial's steps; 0 for a diverged trial."""
+        return 0.0 if self.diverged else float(self.p_multimodal.mean())
+
+
+@dataclass
+class Evaluation:
+    fitness: float
+    trials: list[TrialData] = field(default_factory=list)
+
+    @property
+    def diverged(self) -> bool:
+        return any(t.diverged for t in self.trials)
+
+
+class Trial:
+    """Runs trials of one network in one world. Build once, run many (buffers are reused for
+    the observation; each trial gets its own ``TrialData``)."""
+
+    def __init__(self, world: World, config: TrialConfig = TrialConfig()):
+        self.world, self.config = world, config
+        self._x = np.zeros(N_SENSORS)
+        self._q = np.zeros(N_MOTORS)
+        self._contacts = np.zeros(N_SEGMENTS, bool)
+        self._targets = np.zeros(N_MOTORS)
+        self._proprio_lower = np.append(world.lower[world._motor_dofs],
+                                        world.lower[world._finger_dofs].max())
+        self._proprio_upper = np.append(world.upper[world._motor_dofs],
+                                        world.upper[world._finger_dofs].min())
+
+    # ------------------------------------------------------------------ observation
+    def observe(self, data: TrialData, t: int) -> None:
+        """Read the world into the sensor vector and the record's row t."""
+        w, cfg, x = self.world, self.config, self._x
+        q = w.motor_positions(self._q)
+        contacts = w.hand_contacts(self._contacts)
+        hand, ball = w.hand_position(), w.ball_position()
+        cam = w.camera_pose()
+        R, origin = cam[:3, :3], cam[:3, 3]
+        ball_cam = (ball - origin) @ R  # R^T (p - o)
+        hand_cam = (hand - origin) @ R
+        sensors.proprioception(q, self._proprio_lower, self._proprio_upper, out=x[PROPRIO])
+        if cfg.senses in (Senses.NO_TOUCH, Senses.NOTHING):
+            x[TOUCH] = sensors.NO_TOUCH
+        else:
+            sensors.touch(contacts[TOUCH_SEGMENTS], out=x[TOUCH])
+        cx, cy, ball_visible = sensors.project(ball_cam)
+        if cfg.senses in (Senses.NO_SIGHT, Senses.NOTHING):
+            x[SIGHT] = sensors.NO_SIGHT
+        else:
+            sensors.sight(cx, cy, float(np.linalg.norm(ball_cam)), ball_visible, cfg.acuity,
+                          out=x[SIGHT])
+        if cfg.offset_sensors and cfg.senses not in (Senses.NO_SIGHT, Senses.NOTHING):
+            hand_visible = sensors.project(hand_cam)[2]
+            sensors.offset(sensors.visual_angles(ball_cam), sensors.visual_angles(hand_cam),
+                           ball_visible and hand_visible, out=x[OFFSET])
+        else:
+            x[OFFSET] = sensors.NO_SIGHT
+        # The fitness is about the world, whatever the robot is deprived of (Eq. 5).
+        p_s = sensors.p_sight(cx, cy, ball_visible)
+        p_t = sensors.p_touch(int(contacts.sum()), N_SEGMENTS)
+        data.joints[t] = q
+        data.hand[t] = hand
+        data.shoulder[t] = w.shoulder_position()
+        data.ball[t] = ball
+        data.contacts[t] = contacts
+        data.sensors[t] = x
+        data.p_sight[t] = p_s
+        data.p_touch[t] = p_t
+        data.p_multimodal[t] = sensors.p_multimodal(p_s, p_t)
+
+    # ------------------------------------------------------------------ one trial
+    def run(self, network: Network, sector: int, ball_position) -> TrialData:
+        """One trial of ``config.steps`` steps with the ball at ``ball_position`` (in
+        ``sector``). The network is reset to the state that holds the home posture."""
+        w = self.world
+        w.reset(ball_position)
+        network.reset(motor=(w.home_targets + 1.0) / 2.0)
+        data = TrialData.empty(self.config.steps, sector, ball_position)
+        targets = self._targets
+        for t in range(self.config.steps):
+            self.observe(data, t)
+            motor = network.step(self._x)
+            motor_targets(motor, out=targets)
+            data.hidden[t] = network.hidden
+            data.motor[t] = motor
+            data.targets[t] = targets
+            data.steps_run = t + 1
+            if not (np.isfinite(targets).all()):
+                data.diverged = True
+                break
+            w.step(targets)
+            if not w.is_finite():
+                data.diverged = True
+                break
+        return data
+
+
+def trial_positions(world: World, rng: np.random.Generator, trials: int = 18
+                    ) -> list[tuple[int, np.ndarray]]:
+    """(sector, ball position) of each trial of an evaluation: the sectors in turn (18 trials =
+    2 per sector, section III-C), each at a random point of the sector. When ``trials`` is not a
+    multiple of 9 the turn starts at a random sector, so no sector is favoured on average."""
+    start = int(rng.integers(N_SECTORS)) if trials % N_SECTORS else 0
+    sectors = [(start + i) % N_SECTORS for i in range(trials)]
+    return [(k, world.random_sector_point(k, rng)) for k in sectors]
+
+
+def evaluate(params: NetworkParams, world: World, config: TrialConfig,
+             rng: np.random.Generator, trial: Trial | None = None) -> Evaluation:
+    """Fitness of one network (section III-C): the mean p_multimodal over 18 trials."""
+    trial = trial if trial is not None and trial.config == config else Trial(world, config)
+    network = Network(params, reflexes=config.reflexes, hidden_frozen=config.hidden_frozen)
+    trials = [trial.run(network, k, p)
+              for k, p in trial_positions(world, rng, config.trials)]
+    return Evaluation(float(np.mean([t.fitness for t in trials])), trials)
