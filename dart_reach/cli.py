@@ -97,11 +97,11 @@ def _progress_printer(stream=sys.stderr):
 def cmd_conditions(args) -> int:
     from .conditions import list_conditions
 
-    print(f"{'name':<16}{'paper':<10}{'phases':<34}{'generations':<16}description")
+    print(f"{'name':<16}{'paper':<22}{'phases':<26}{'generations':<17}description")
     for c in list_conditions():
         phases = " -> ".join(p.name for p in c.phases)
         budgets = " + ".join(str(p.generations) for p in c.phases)
-        print(f"{c.name:<16}{c.notation:<10}{phases:<34}{budgets:<16}{c.description}")
+        print(f"{c.name:<16}{c.notation:<22}{phases:<26}{budgets:<17}{c.description}")
     return 0
 
 

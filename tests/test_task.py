@@ -1,0 +1,129 @@
+"""One trial and one evaluation in the real DART world (sections III-B, III-C, IV-B)."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from dart_reach import ctrnn, sensors
+from dart_reach.ctrnn import SIGHT, TOUCH, OFFSET, Network, random_params, zero_params
+from dart_reach.scripted import ScriptedController
+from dart_reach.task import Senses, Trial, TrialConfig, evaluate
+from dart_reach.world import World
+
+
+@pytest.fixture(scope="module")
+def world():
+    return World()
+
+
+def test_same_seed_same_fitness_to_the_last_bit(world):
+    params = random_params(np.random.default_rng(5))
+    cfg = TrialConfig(trials=3, steps=40)
+    a = evaluate(params, world, cfg, np.random.default_rng(9))
+    b = evaluate(params, world, cfg, np.random.default_rng(9))
+    c = evaluate(params, World(), cfg, np.random.default_rng(9))
+    assert a.fitness == b.fitness == c.fitness
+    for ta, tc in zip(a.trials, c.trials):
+        assert np.array_equal(ta.joints, tc.joints) and np.array_equal(ta.sensors, tc.sensors)
+
+
+def test_fitness_tells_a_reaching_grasping_controller_from_zero_and_random(world):
+    trial = Trial(world, TrialConfig(steps=100))
+    scripted = []
+    for k in (0, 4, 8):
+        p = world.sector_point(k, 0.5, 0.5)
+        scripted.append(trial.run(ScriptedController(world, p), k, p).fitness)
+    cfg = TrialConfig(trials=9, steps=100)
+    zero = evaluate(zero_params(), world, cfg, np.random.default_rng(0)).fitness
+    rand = max(evaluate(random_params(np.random.default_rng(s)), world, cfg,
+                        np.random.default_rng(s)).fitness for s in range(3))
+    assert min(scripted) > 0.03
+    assert np.mean(scripted) > 5 * max(zero, rand, 1e-3)
+
+
+def test_trial_data_shapes_and_sensors_finite_and_in_range(world):
+    cfg = TrialConfig(trials=4, steps=60, offset_sensors=True, acuity=3.0)
+    for seed in range(3):
+        ev = evaluate(random_params(np.random.default_rng(seed)), world, cfg,
+                      np.random.default_rng(seed))
+        for t in ev.trials:
+            assert not t.diverged and t.steps_run == 60
+            assert t.sensors.shape == (60, 25) and t.contacts.shape == (60, 16)
+            for arr in (t.sensors, t.hidden, t.motor, t.targets, t.joints, t.hand, t.ball):
+                assert np.isfinite(arr).all()
+            assert np.abs(t.sensors).max() <= 1.0
+            for p in (t.p_sight, t.p_touch, t.p_multimodal):
+                assert ((p >= 0) & (p <= 1)).all()
+            assert np.array_equal(t.p_multimodal, np.minimum(t.p_sight, t.p_touch))
+
+
+def test_deprivations_remove_the_information(world):
+    """With sight off, no input depends on where the ball is; touch off reads -1. Two balls out
+    of the arm's reach (so the physics cannot tell them apart) but both in view."""
+    params = random_params(np.random.default_rng(3))
+    near = world.neck_centre + [-0.6, 0.1, 0.0]
+    far = world.neck_centre + [-1.0, -0.2, 0.1]
+    blind = Trial(world, TrialConfig(steps=30, senses=Senses.NOTHING, offset_sensors=True))
+    a, b = (blind.run(Network(params), 4, p) for p in (near, far))
+    assert np.array_equal(a.sensors, b.sensors)
+    assert (a.sensors[:, TOUCH] == sensors.NO_TOUCH).all()
+    assert (a.sensors[:, SIGHT] == sensors.NO_SIGHT).all()
+    assert (a.sensors[:, OFFSET] == sensors.NO_SIGHT).all()
+    seeing = Trial(world, TrialConfig(steps=30))
+    a, b = (seeing.run(Network(params), 4, p) for p in (near, far))
+    assert not np.array_equal(a.sensors[:, SIGHT], b.sensors[:, SIGHT])
+
+
+def test_orienting_reflex_centres_the_ball(world):
+    """A network with only the reflexes turns the head to an off-centre ball within 3 s."""
+    params = zero_params()
+    trial = Trial(world, TrialConfig(steps=30))
+    net = Network(params, reflexes=True)
+    data = trial.run(net, 8, world.sector_point(8, 1.0, 1.0))
+    cx0 = data.sensors[0, SIGHT.start]
+    assert abs(cx0) > 0.3, "starts off-centre"
+    assert abs(data.sensors[-1, SIGHT.start]) < 0.5 * abs(cx0)
+    assert data.p_sight[-1] > data.p_sight[0]
+    off = trial.run(Network(params, reflexes=False), 8, world.sector_point(8, 1.0, 1.0))
+    assert off.p_sight[-1] < 0.5 * data.p_sight[-1], "without reflexes the ball is not centred"
+
+
+def test_grasp_reflex_closes_the_hand_on_a_palm_touch(world):
+    net = Network(zero_params(), reflexes=True)
+    net.reset()
+    x = np.zeros(ctrnn.N_SENSORS)
+    x[TOUCH] = -1.0
+    open_target = ctrnn.motor_targets(net.step(x).copy())[13]
+    x[TOUCH.start] = 1.0  # the palm sensor fires
+    for _ in range(10):
+        m = net.step(x)
+    assert ctrnn.motor_targets(m.copy())[13] > 0.9 > -0.9 > open_target
+    # and in the world: the hand motor's target closes the fingers
+    world.reset(world.sector_point(6, 0, 0) + [0, -0.5, 0])
+    t = world.home_targets.copy()
+    t[13] = ctrnn.motor_targets(m.copy())[13]
+    for _ in range(10):
+        world.step(t)
+    assert world.motor_positions()[13] > 1.4
+
+
+def test_an_exploding_simulation_scores_zero_with_a_flag(world):
+    params = random_params(np.random.default_rng(1))
+    trial = Trial(world, TrialConfig(steps=20))
+    net = Network(params)
+    original = world.step
+    calls = []
+
+    def exploding(targets):  # the real world, then its state blown up after 5 steps
+        original(targets)
+        calls.append(1)
+        if len(calls) == 5:
+            world.robot.setVelocities(np.full(world.robot.getNumDofs(), np.nan))
+    world.step = exploding
+    try:
+        data = trial.run(net, 4, world.sector_point(4, 0.5, 0.5))
+    finally:
+        del world.step
+    assert data.diverged and data.steps_run == 5 and data.fitness == 0.0
+    assert np.isfinite(data.fitness)
