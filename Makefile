@@ -19,8 +19,19 @@ $(VENV)/.installed-dev: pyproject.toml | $(BIN)/python
 	$(BIN)/python -m pip install -q -e ".[dev]"
 	touch $@ $(VENV)/.installed
 
+# The standard condition (pre -> gross -> fine) at a laptop budget: a few minutes on 2 cores.
+DEMO_OUT := recordings/demo-standard
 demo: $(VENV)/.installed
-	$(BIN)/dart-reach reach
+	$(BIN)/dart-reach reach --seconds 3
+	$(BIN)/dart-reach train standard --generations 3 --replications 2 --trials 6 \
+		--out $(DEMO_OUT) $(if $(wildcard $(DEMO_OUT)/manifest.json),--resume,)
+	@echo
+	@echo "Results in $(DEMO_OUT):"
+	@echo "  manifest.json        every setting, seed, version and the git revision"
+	@echo "  generations.parquet  best/mean/min fitness per phase, replication and generation"
+	@echo "  phases/*/final.npz   final populations (numpy); phases/*/best.parquet (polars)"
+	@echo "Look at the fitness curves with:"
+	@echo "  $(BIN)/python -c \"import polars as pl; print(pl.read_parquet('$(DEMO_OUT)/generations.parquet'))\""
 
 test: $(VENV)/.installed-dev
 	$(BIN)/python -m pytest -q

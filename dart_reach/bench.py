@@ -87,11 +87,45 @@ def closed_loop_rtf(config: WorldConfig | None = None, seed: int = 0) -> dict:
     return {"closed_loop_rtf": simulated / wall, "closed_loop_fitness": result.fitness}
 
 
+def parallel_efficiency(jobs: int = 40, trials: int = 2, seed: int = 0) -> dict:
+    """Speed-up of one generation (``jobs`` evaluations of random genomes) on all cores over
+    one core, divided by the number of cores. The pool is warmed up (worlds built) first."""
+    from .conditions import load_condition
+    from .evaluator import Job, PoolEvaluator, SerialEvaluator
+    from .experiment import Settings, trial_config
+    from .genome import random_genome
+
+    phase = load_condition("standard").phases[1]
+    settings = Settings(trials=trials)
+    trial = trial_config(phase, settings)
+    genomes = random_genome(np.random.default_rng(seed), jobs)
+    batch = [Job(g, frozenset(phase.free_groups), trial, settings.world, (seed, 0, i))
+             for i, g in enumerate(genomes)]
+    cores = os.cpu_count() or 1
+    serial, pool = SerialEvaluator(), PoolEvaluator(cores)
+    try:
+        pool.map(batch[:cores])
+        serial.map(batch[:1])
+        t0 = time.perf_counter()
+        a = serial.map(batch)
+        t_serial = time.perf_counter() - t0
+        t0 = time.perf_counter()
+        b = pool.map(batch)
+        t_pool = time.perf_counter() - t0
+    finally:
+        pool.close()
+    if not np.array_equal(a, b):
+        raise RuntimeError("the pool's results differ from the serial ones")
+    return {"parallel_speedup": t_serial / t_pool, "parallel_efficiency": t_serial / t_pool / cores,
+            "generation_core_s": t_serial * (18 / trials) / jobs}
+
+
 #: name -> (target, comparison) checked by ``check``; ratios are the headline figures.
 TARGETS = {
     "controlled_rtf": (300.0, ">="),
     "controlled_over_limit": (0.9, ">="),
     "closed_loop_over_limit": (0.85, ">="),
+    "parallel_efficiency": (0.9, ">="),
 }
 
 
@@ -106,6 +140,7 @@ def run(seconds: float = 20.0, repeats: int = 5) -> dict:
     results.update(world_rtf(seconds, repeats))
     results.update(closed_loop_rtf())
     results["closed_loop_over_limit"] = results["closed_loop_rtf"] / results["limit_rtf"]
+    results.update(parallel_efficiency())
     results["targets_met"] = check(results)
     return results
 
