@@ -265,7 +265,7 @@ def build(official_path: Path, visuomanip_path: Path) -> ET.Element:
     return robot
 
 
-def child_origin(robot, link: str, child_joint: str) -> np.ndarray:
+def child_origin(robot, child_joint: str) -> np.ndarray:
     for j in robot.findall("joint"):
         if j.get("name") == child_joint:
             return floats(j.find("origin").get("xyz"))
@@ -275,7 +275,7 @@ def child_origin(robot, link: str, child_joint: str) -> np.ndarray:
 def add_shapes(links: dict, robot) -> None:
     """Primitive shapes, placed from the joint offsets of the kinematic chain."""
     grey, dark, white = "0.85 0.85 0.85 1", "0.25 0.25 0.25 1", "0.95 0.95 0.95 1"
-    o = lambda joint: np.asarray(child_origin(robot, "", joint))  # noqa: E731
+    o = lambda joint: np.asarray(child_origin(robot, joint))  # noqa: E731
 
     # Trunk: chest frame has y up the spine; the shoulders sit at x = -/+0.12 (right/left).
     T = np.eye(4)

@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import json
 import os
 import signal
 import subprocess
@@ -15,7 +14,6 @@ import polars as pl
 import pytest
 
 from dart_reach.conditions import load_condition, scaled
-from dart_reach.evaluator import PoolEvaluator, SerialEvaluator
 from dart_reach.experiment import Run, RunError, Settings, train
 
 TINY = Settings(replications=2, trials=1, steps=4, seed=3)
