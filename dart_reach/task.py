@@ -121,10 +121,7 @@ class Trial:
         self._q = np.zeros(N_MOTORS)
         self._contacts = np.zeros(N_SEGMENTS, bool)
         self._targets = np.zeros(N_MOTORS)
-        self._proprio_lower = np.append(world.lower[world._motor_dofs],
-                                        world.lower[world._finger_dofs].max())
-        self._proprio_upper = np.append(world.upper[world._motor_dofs],
-                                        world.upper[world._finger_dofs].min())
+        self._proprio_span = world.motor_limit_upper - world.motor_limit_lower
 
     # ------------------------------------------------------------------ observation
     def observe(self, data: TrialData, t: int) -> None:
@@ -137,7 +134,8 @@ class Trial:
         R, origin = cam[:3, :3], cam[:3, 3]
         ball_cam = (ball - origin) @ R  # R^T (p - o)
         hand_cam = (hand - origin) @ R
-        sensors.proprioception(q, self._proprio_lower, self._proprio_upper, out=x[PROPRIO])
+        sensors.proprioception(q, w.motor_limit_lower, w.motor_limit_upper, out=x[PROPRIO],
+                               span=self._proprio_span)
         if cfg.senses in (Senses.NO_TOUCH, Senses.NOTHING):
             x[TOUCH] = sensors.NO_TOUCH
         else:

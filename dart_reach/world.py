@@ -178,8 +178,10 @@ class World:
         # Per-motor target ranges (the hand motor: finger flexion [0, pi/2]): the joint limits
         # shrunk by LIMIT_MARGIN of the range at each end, so that no joint at rest sits on its
         # limit (an active limit constraint doubles the cost of a physics step).
+        # ``motor_limit_*`` are the joint limits per motor (what the proprioceptors span).
         lo = np.append(self.lower[self._motor_dofs], self.lower[finger_dofs].max())
         hi = np.append(self.upper[self._motor_dofs], self.upper[finger_dofs].min())
+        self.motor_limit_lower, self.motor_limit_upper = lo, hi
         self.motor_lower = lo + LIMIT_MARGIN * (hi - lo)
         self.motor_upper = hi - LIMIT_MARGIN * (hi - lo)
         self._half_range = 0.5 * (self.motor_upper - self.motor_lower)
