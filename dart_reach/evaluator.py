@@ -16,7 +16,7 @@ import multiprocessing
 import os
 from concurrent.futures import ProcessPoolExecutor
 from dataclasses import dataclass
-from typing import Protocol, Sequence
+from typing import Callable, Iterable, Iterator, Sequence, TypeVar
 
 import numpy as np
 
@@ -40,38 +40,51 @@ _WORLDS: dict[WorldConfig, World] = {}
 _TRIALS: dict[tuple[WorldConfig, TrialConfig], Trial] = {}
 
 
+def worker_trial(world: WorldConfig, trial: TrialConfig) -> Trial:
+    """The ``Trial`` of this process for a world and trial configuration, built on first use."""
+    runner = _TRIALS.get((world, trial))
+    if runner is None:
+        if world not in _WORLDS:
+            _WORLDS[world] = World(world)
+        runner = _TRIALS[(world, trial)] = Trial(_WORLDS[world], trial)
+    return runner
+
+
 def run_job(job: Job) -> float:
     """Fitness of one job, in [0, 1]; a diverged evaluation scores 0 (the worst)."""
-    world = _WORLDS.get(job.world)
-    if world is None:
-        world = _WORLDS[job.world] = World(job.world)
-    trial = _TRIALS.get((job.world, job.trial))
-    if trial is None:
-        trial = _TRIALS[(job.world, job.trial)] = Trial(world, job.trial)
+    trial = worker_trial(job.world, job.trial)
+    world = trial.world
     rng = np.random.default_rng(np.random.SeedSequence(job.seed[0], spawn_key=job.seed[1:]))
     result = evaluate(decode(job.genome, job.free_groups), world, job.trial, rng, trial)
     return result.fitness if np.isfinite(result.fitness) else 0.0
 
 
-class Evaluator(Protocol):
-    workers: int
-
-    def map(self, jobs: Sequence[Job]) -> np.ndarray: ...
-
-    def close(self) -> None: ...
+T = TypeVar("T")
+R = TypeVar("R")
 
 
-class SerialEvaluator:
-    workers = 1
+class Evaluator:
+    """Runs a module-level function over items on the workers; results in item order."""
+
+    workers: int = 1
+
+    def imap(self, fn: Callable[[T], R], items: Iterable[T]) -> Iterator[R]:
+        raise NotImplementedError
 
     def map(self, jobs: Sequence[Job]) -> np.ndarray:
-        return np.array([run_job(j) for j in jobs], dtype=float)
+        """The fitness of every job."""
+        return np.fromiter(self.imap(run_job, jobs), dtype=float, count=len(jobs))
 
     def close(self) -> None:
         pass
 
 
-class PoolEvaluator:
+class SerialEvaluator(Evaluator):
+    def imap(self, fn, items):
+        return map(fn, items)
+
+
+class PoolEvaluator(Evaluator):
     """A pool of ``workers`` local processes (default: every core)."""
 
     def __init__(self, workers: int | None = None):
@@ -81,15 +94,15 @@ class PoolEvaluator:
         self._pool = ProcessPoolExecutor(
             self.workers, mp_context=multiprocessing.get_context("forkserver"))
 
-    def map(self, jobs: Sequence[Job]) -> np.ndarray:
-        # One job at a time per worker keeps the load balanced; results come back in job order.
-        return np.fromiter(self._pool.map(run_job, jobs), dtype=float, count=len(jobs))
+    def imap(self, fn, items):
+        # One item at a time per worker keeps the load balanced; results come in item order.
+        return self._pool.map(fn, items)
 
     def close(self) -> None:
         self._pool.shutdown(cancel_futures=True)
 
 
-class RayEvaluator:
+class RayEvaluator(Evaluator):
     """The same jobs as Ray tasks (``--ray auto`` or a cluster address)."""
 
     def __init__(self, address: str = "auto", workers: int | None = None):
@@ -106,13 +119,14 @@ class RayEvaluator:
                 ray.init(address=None if address == "local" else address,
                          include_dashboard=False, log_to_driver=False)
         self.workers = int(ray.cluster_resources().get("CPU", 1))
-        self._remote = ray.remote(num_cpus=1)(run_job)
+        self._remote = {}
 
-    def map(self, jobs: Sequence[Job]) -> np.ndarray:
-        return np.array(self._ray.get([self._remote.remote(j) for j in jobs]), dtype=float)
-
-    def close(self) -> None:
-        pass
+    def imap(self, fn, items):
+        remote = self._remote.get(fn)
+        if remote is None:
+            remote = self._remote[fn] = self._ray.remote(num_cpus=1)(fn)
+        refs = [remote.remote(item) for item in items]
+        return (self._ray.get(ref) for ref in refs)
 
 
 def make_evaluator(workers: int | None = None, ray_address: str | None = None) -> Evaluator:

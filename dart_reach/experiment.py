@@ -23,10 +23,8 @@ Run directory::
 from __future__ import annotations
 
 import json
-import os
 import platform
 import subprocess
-import tempfile
 import time
 from dataclasses import asdict, dataclass, field
 from importlib import metadata
@@ -37,13 +35,15 @@ import numpy as np
 import polars as pl
 
 from . import __version__
-from .conditions import Condition, Phase
-from .evaluator import Evaluator, Job, make_evaluator
-from .evolution import (GAConfig, GAState, ask, best_k, generation_stats, init_state,
+from .conditions import Condition, Phase, condition_from_dict
+from .evaluator import Evaluator, Job, make_evaluator, worker_trial
+from .evolution import (GAConfig, GAState, Scheme, ask, best_k, generation_stats, init_state,
                         state_from_arrays, state_to_arrays, tell, transition_population)
-from .genome import ParamGroup, as_groups, free_mask, random_genome, release
-from .task import TrialConfig
-from .world import WorldConfig
+from .files import atomic_write
+from .genome import ParamGroup, as_groups, decode, free_mask, random_genome, release
+from .recording import RobotModel, TrialInfo, training_rrd, trial_rrd, write_rrd
+from .task import TrialConfig, network_for, trial_positions
+from .world import BallConfig, SectorConfig, WorldConfig
 
 MANIFEST_FORMAT = 1
 STATS_SCHEMA = {
@@ -86,6 +86,18 @@ class Settings:
         d["world"]["skeleton"] = str(self.world.skeleton) if self.world.skeleton else None
         return d
 
+    @classmethod
+    def from_json(cls, d: dict) -> "Settings":
+        """The inverse of ``to_json`` (a manifest's ``settings``)."""
+        w = dict(d["world"])
+        w["skeleton"] = Path(w["skeleton"]) if w.get("skeleton") else None
+        w["ball"] = BallConfig(**{k: tuple(v) if isinstance(v, list) else v
+                                  for k, v in w["ball"].items()})
+        w["sectors"] = SectorConfig(**{k: tuple(v) if isinstance(v, list) else v
+                                       for k, v in w["sectors"].items()})
+        ga = dict(d["ga"], scheme=Scheme(d["ga"]["scheme"]))
+        return cls(**dict(d, ga=GAConfig(**ga), world=WorldConfig(**w)))
+
 
 def trial_config(phase: Phase, settings: Settings) -> TrialConfig:
     """The maturational state of a phase as the task sees it."""
@@ -104,24 +116,7 @@ def _seed(settings: Settings, phase: Phase, *path: int) -> np.random.SeedSequenc
 
 
 # purposes of the seed tree
-_INIT, _MUTATE, _EVALUATE = 0, 1, 2
-
-
-# ---------------------------------------------------------------- files, atomically
-def _atomic_write(path: Path, write: Callable[[Path], None]) -> None:
-    """Write through a temporary file in the same directory, then rename: a reader (or a
-    resumed run) sees the old file or the new one, never half of one."""
-    path.parent.mkdir(parents=True, exist_ok=True)
-    fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=f".{path.name}.", suffix=".tmp")
-    os.close(fd)
-    tmp = Path(tmp)
-    try:
-        write(tmp)
-        with open(tmp, "rb") as f:
-            os.fsync(f.fileno())
-        os.replace(tmp, path)
-    finally:
-        tmp.unlink(missing_ok=True)
+_INIT, _MUTATE, _EVALUATE, _RECORD = 0, 1, 2, 3
 
 
 def _git_revision() -> str | None:
@@ -197,8 +192,48 @@ class Run:
                                "tree": "SeedSequence(seed, spawn_key=(phase key[:8] as int, "
                                        "replication, purpose 0 init|1 mutate|2 evaluate, "
                                        "generation, individual))"})
-            _atomic_write(manifest_path, lambda p: p.write_text(json.dumps(full, indent=2)))
+            atomic_write(manifest_path, lambda p: p.write_text(json.dumps(full, indent=2)))
         self.stats = self._load_stats()
+        self._model: RobotModel | None = None
+
+    @classmethod
+    def open(cls, out) -> "Run":
+        """Reopen an existing run directory to analyse it. Raises ``RunError`` naming the file
+        and the problem when it is missing, not a run, or written by an incompatible version."""
+        out = Path(out)
+        if not out.is_dir():
+            raise RunError(f"{out}: no such run directory" if not out.exists()
+                           else f"{out}: not a directory")
+        path = out / "manifest.json"
+        if not path.is_file():
+            raise RunError(f"{out}: not a run directory (no manifest.json)")
+        try:
+            m = json.loads(path.read_text())
+        except (OSError, UnicodeDecodeError, json.JSONDecodeError) as exc:
+            raise RunError(f"{path}: unreadable manifest ({exc})") from None
+        if not isinstance(m, dict) or m.get("format") != MANIFEST_FORMAT:
+            found = m.get("format") if isinstance(m, dict) else None
+            raise RunError(f"{path}: written by an incompatible version (format {found}, this "
+                           f"version reads {MANIFEST_FORMAT})")
+        try:
+            conditions = []
+            for c in m["conditions"]:
+                plain = dict(c, phases=[{k: v for k, v in p.items()
+                                         if k not in ("generations", "key")}
+                                        for p in c["phases"]])
+                condition = condition_from_dict(plain, str(path))
+                if [p.key for p in condition.phases] != [p["key"] for p in c["phases"]]:
+                    raise ValueError("its phase keys are computed differently")
+                conditions.append(condition)
+            settings = Settings.from_json(m["settings"])
+        except (KeyError, TypeError, ValueError) as exc:
+            raise RunError(f"{path}: written by an incompatible version ({exc})") from None
+        return cls(out, conditions, settings, resume=True)
+
+    def unfinished(self) -> list[str]:
+        """The phases not trained to the end, as "condition/phase"."""
+        return [f"{c.name}/{p.name}" for c in self.conditions for p in c.phases
+                if not self.final_path(p).exists()]
 
     def _check_same_run(self, manifest_path: Path) -> None:
         try:
@@ -224,7 +259,7 @@ class Run:
             raise RunError(f"{path}: unreadable ({exc})") from None
 
     def _save_stats(self) -> None:
-        _atomic_write(self.out / "generations.parquet", lambda p: self.stats.write_parquet(p))
+        atomic_write(self.out / "generations.parquet", lambda p: self.stats.write_parquet(p))
 
     def phase_dir(self, phase: Phase) -> Path:
         return self.out / "phases" / f"{phase.name}-{phase.key[:8]}"
@@ -236,7 +271,7 @@ class Run:
         arrays = {"phase_key": np.array(phase.key)}
         for r, s in enumerate(states):
             arrays.update({f"rep{r}/{k}": v for k, v in state_to_arrays(s).items()})
-        _atomic_write(self._checkpoint_path(phase), lambda p: _savez(p, arrays))
+        atomic_write(self._checkpoint_path(phase), lambda p: _savez(p, arrays))
         # The stats rows of this generation are written after the checkpoint: on resume the
         # checkpoint decides, and rows past it are dropped.
         self._save_stats()
@@ -268,7 +303,7 @@ class Run:
         ranked = [best_k(s, pop) for s in states]
         genomes = np.stack([g for g, _ in ranked])
         fitness = np.stack([f for _, f in ranked])
-        _atomic_write(self.final_path(phase), lambda p: _savez(p, {
+        atomic_write(self.final_path(phase), lambda p: _savez(p, {
             "population": genomes, "fitness": fitness, "best": genomes[:, 0],
             "phase_key": np.array(phase.key)}))
         table = pl.DataFrame({
@@ -279,7 +314,7 @@ class Run:
             "fitness": fitness.reshape(-1),
             "genome": [g.tolist() for g in genomes.reshape(-1, genomes.shape[-1])],
         }, schema_overrides={"genome": pl.List(pl.UInt8)})
-        _atomic_write(self.phase_dir(phase) / "best.parquet", lambda p: table.write_parquet(p))
+        atomic_write(self.phase_dir(phase) / "best.parquet", lambda p: table.write_parquet(p))
 
     def load_final(self, phase: Phase) -> tuple[np.ndarray, np.ndarray]:
         """Final populations (R, P, L) and lifetime fitness (R, P) of a trained phase, best
@@ -292,9 +327,14 @@ class Run:
             raise RunError(f"{path}: unreadable phase result ({exc})") from None
 
     # -------------------------------------------------------------- training
-    def train(self, evaluator: Evaluator, progress: Callable[[Progress], None] | None = None
-              ) -> None:
-        """Train every phase of every condition not trained yet."""
+    def train(self, evaluator: Evaluator, progress: Callable[[Progress], None] | None = None,
+              record_every: int = 0) -> None:
+        """Train every phase of every condition not trained yet. After each generation the
+        fitness statistics are also written to ``training.rrd``; with ``record_every`` = K > 0,
+        one trial of the best individual of each replication is recorded every K generations
+        and at the end of each phase (``phases/<phase>/best/gen<G>-rep<R>.rrd``)."""
+        if record_every < 0:
+            raise ValueError(f"record_every must be >= 0, got {record_every}")
         s = self.settings
         total = sum(p.generations for p in self._unique_phases())
         done = sum(p.generations for p in self._unique_phases() if self.final_path(p).exists())
@@ -321,6 +361,11 @@ class Run:
                         self.stats = pl.concat([self.stats, pl.DataFrame(
                             [dict(r, wall_s=wall) for r in rows], schema=STATS_SCHEMA)])
                         self._save_checkpoint(phase, states)
+                        write_rrd(self.out / "training.rrd", training_rrd(self.stats,
+                                                                          self.out.name))
+                        if record_every and (g + 1 == phase.generations
+                                             or (g + 1) % record_every == 0):
+                            self.record_best(condition, phase, states, trial)
                         done += 1
                         if progress:
                             progress(Progress(
@@ -330,6 +375,29 @@ class Run:
                                 total - done_at_start, time.monotonic() - t_start))
                     self._save_final(condition, phase, states)
                 previous = phase
+
+    def record_best(self, condition: Condition, phase: Phase, states: list[GAState],
+                    trial: TrialConfig) -> list[Path]:
+        """Record one trial of the best individual of each replication (at a random position
+        drawn from the run's seed tree), as ``phases/<phase>/best/gen<G>-rep<R>.rrd``."""
+        runner = worker_trial(self.settings.world, trial)
+        if self._model is None:
+            self._model = RobotModel(runner.world)
+        paths = []
+        for r, state in enumerate(states):
+            g = state.generation
+            genome = best_k(state, 1)[0][0]
+            network = network_for(decode(genome, as_groups(phase.free_groups)), trial)
+            seed = _seed(self.settings, phase, r, _RECORD, g)
+            sector, position = trial_positions(runner.world, np.random.default_rng(seed), 1)[0]
+            data = runner.run(network, sector, position)
+            info = TrialInfo(condition.name, phase.name, r, 0, sector, 0,
+                             trial_seed=f"SeedSequence({seed.entropy}, {seed.spawn_key})",
+                             generation=g)
+            paths.append(write_rrd(self.phase_dir(phase) / "best" / f"gen{g:04d}-rep{r:02d}.rrd",
+                                   trial_rrd(data, info, self._model,
+                                             self.settings.world.control_dt)))
+        return paths
 
     def _unique_phases(self) -> list[Phase]:
         seen: dict[str, Phase] = {}
@@ -387,12 +455,12 @@ def _savez(path: Path, arrays: dict) -> None:
 
 def train(conditions: list[Condition], settings: Settings, out: Path, workers: int | None = None,
           ray_address: str | None = None, resume: bool = False,
-          progress: Callable[[Progress], None] | None = None) -> Run:
+          progress: Callable[[Progress], None] | None = None, record_every: int = 0) -> Run:
     """Train ``conditions`` into the run directory ``out`` (the function the CLI calls)."""
     run = Run(out, conditions, settings, resume=resume)
     evaluator = make_evaluator(workers, ray_address)
     try:
-        run.train(evaluator, progress)
+        run.train(evaluator, progress, record_every)
     finally:
         evaluator.close()
     return run

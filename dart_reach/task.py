@@ -85,15 +85,17 @@ class TrialData:
     p_sight: np.ndarray  # (T,)
     p_touch: np.ndarray  # (T,)
     p_multimodal: np.ndarray  # (T,)
+    dofs: np.ndarray  # (T, ndof) rad, every joint of the skeleton (to draw the robot)
     diverged: bool = False
     steps_run: int = 0
 
     @classmethod
-    def empty(cls, steps: int, sector: int, ball_start: np.ndarray) -> "TrialData":
+    def empty(cls, steps: int, sector: int, ball_start: np.ndarray, n_dofs: int = 0
+              ) -> "TrialData":
         z = lambda *shape: np.zeros((steps, *shape))  # noqa: E731
         return cls(sector, np.asarray(ball_start, float).copy(), z(N_MOTORS), z(3), z(3), z(3),
                    np.zeros((steps, N_SEGMENTS), bool), z(N_SENSORS), z(N_HIDDEN), z(N_MOTORS),
-                   z(N_MOTORS), np.zeros(steps), np.zeros(steps), np.zeros(steps))
+                   z(N_MOTORS), np.zeros(steps), np.zeros(steps), np.zeros(steps), z(n_dofs))
 
     @property
     def fitness(self) -> float:
@@ -156,6 +158,7 @@ class Trial:
         p_s = sensors.p_sight(cx, cy, ball_visible)
         p_t = sensors.p_touch(int(contacts.sum()), N_SEGMENTS)
         data.joints[t] = q
+        data.dofs[t] = w.robot.getPositions()
         data.hand[t] = hand
         data.shoulder[t] = w.shoulder_position()
         data.ball[t] = ball
@@ -172,7 +175,7 @@ class Trial:
         w = self.world
         w.reset(ball_position)
         network.reset(motor=(w.home_targets + 1.0) / 2.0)
-        data = TrialData.empty(self.config.steps, sector, ball_position)
+        data = TrialData.empty(self.config.steps, sector, ball_position, w.robot.getNumDofs())
         targets = self._targets
         for t in range(self.config.steps):
             self.observe(data, t)
@@ -202,11 +205,17 @@ def trial_positions(world: World, rng: np.random.Generator, trials: int = 18
     return [(k, world.random_sector_point(k, rng)) for k in sectors]
 
 
+def network_for(params: NetworkParams, config: TrialConfig) -> Network:
+    """The network of ``params`` in the maturational state of ``config`` (reflexes, frozen
+    internal neurons)."""
+    return Network(params, reflexes=config.reflexes, hidden_frozen=config.hidden_frozen)
+
+
 def evaluate(params: NetworkParams, world: World, config: TrialConfig,
              rng: np.random.Generator, trial: Trial | None = None) -> Evaluation:
     """Fitness of one network (section III-C): the mean p_multimodal over 18 trials."""
     trial = trial if trial is not None and trial.config == config else Trial(world, config)
-    network = Network(params, reflexes=config.reflexes, hidden_frozen=config.hidden_frozen)
+    network = network_for(params, config)
     trials = [trial.run(network, k, p)
               for k, p in trial_positions(world, rng, config.trials)]
     return Evaluation(float(np.mean([t.fitness for t in trials])), trials)

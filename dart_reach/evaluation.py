@@ -1,0 +1,238 @@
+"""Post-evaluation of a trained run (section IV, Figs. 5-9).
+
+The best ``robots`` (5) individuals of each replication of each trained phase are tested on the
+45 systematic ball positions (5 per sector, ``World.systematic_points``) under one or more sensory
+conditions (normal, no-touch, no-sight, nothing: section IV-B). The trials are deterministic:
+positions are fixed and the robot starts every trial from the same state.
+
+Output, in the run directory::
+
+    evaluation.parquet   one row per trial: who (condition, phase, phase_key, notation,
+                         replication, rank, lifetime_fitness), how (senses), where (trial,
+                         sector, ball_x/y/z) and every measure of ``metrics.trial_metrics``,
+                         plus ``recording`` (path of the trial's .rrd relative to the run, or
+                         null)
+    evaluation/<phase>/<senses>/rep<R>-rank<I>/trial<K>-sector<S>.rrd   (see ``Record``)
+
+Evaluating again adds only what is missing (another sensory condition, more robots); rows and
+recordings already saved are kept. The table is saved every few seconds, so an interrupted
+evaluation keeps the robots it finished.
+"""
+
+from __future__ import annotations
+
+import enum
+import time
+from dataclasses import dataclass, replace
+from pathlib import Path
+from typing import Callable, Iterable
+
+import numpy as np
+import polars as pl
+
+from .conditions import Phase
+from .evaluator import make_evaluator, worker_trial
+from .experiment import Run, RunError, trial_config
+from .files import atomic_write
+from .genome import as_groups, decode
+from .metrics import trial_metrics
+from .recording import RobotModel, TrialInfo, trial_rrd, write_rrd
+from .task import Senses, TrialConfig, network_for
+from .world import POINTS_PER_SECTOR, WorldConfig
+
+TABLE = "evaluation.parquet"
+RECORDINGS = "evaluation"
+SENSES = tuple(s.value for s in Senses)
+_KEY = ("phase_key", "senses", "replication", "rank")
+
+
+class Record(enum.Enum):
+    """Which robots get their trials recorded (a trial's recording is ~0.3-0.45 MB): the best
+    robot of the best replication of each phase, as in Figs. 6 and 8 (default), the best robot
+    of each replication, every evaluated robot, or none."""
+
+    BEST = "best"
+    REPLICATIONS = "replications"
+    ALL = "all"
+    NONE = "none"
+
+    def wants(self, replication: int, rank: int, best_replication: int) -> bool:
+        return (self is Record.ALL or (rank == 0 and (
+            self is Record.REPLICATIONS
+            or (self is Record.BEST and replication == best_replication))))
+
+
+@dataclass(frozen=True)
+class RobotJob:
+    """One robot under one sensory condition on the 45 systematic positions."""
+
+    condition: str
+    phase: Phase
+    phase_dir: str
+    replication: int
+    rank: int
+    lifetime_fitness: float
+    genome: np.ndarray
+    trial: TrialConfig
+    world: WorldConfig
+    record: bool
+
+    def recording_path(self, k: int, sector: int) -> str:
+        """Path of trial k's recording, relative to the run directory."""
+        return (f"{RECORDINGS}/{self.phase_dir}/{self.trial.senses.value}/"
+                f"rep{self.replication:02d}-rank{self.rank}/trial{k:02d}-sector{sector}.rrd")
+
+
+_MODELS: dict[WorldConfig, RobotModel] = {}
+
+
+def run_robot(job: RobotJob) -> tuple[list[dict], list[bytes | None]]:
+    """The table rows and recordings (or None) of one robot's 45 trials."""
+    runner = worker_trial(job.world, job.trial)
+    world = runner.world
+    model = _MODELS.get(job.world)
+    if model is None and job.record:
+        model = _MODELS[job.world] = RobotModel(world)
+    network = network_for(decode(job.genome, as_groups(job.phase.free_groups)), job.trial)
+    rows, recordings = [], []
+    for k, position in enumerate(world.systematic_points()):
+        sector = k // POINTS_PER_SECTOR
+        data = runner.run(network, sector, position)
+        path = job.recording_path(k, sector) if job.record else None
+        rows.append({
+            "condition": job.condition, "phase": job.phase.name, "phase_key": job.phase.key,
+            "notation": job.phase.notation, "replication": job.replication, "rank": job.rank,
+            "lifetime_fitness": job.lifetime_fitness, "senses": job.trial.senses.value,
+            "trial": k, "ball_x": float(position[0]), "ball_y": float(position[1]),
+            "ball_z": float(position[2]), **trial_metrics(data, job.world.control_dt),
+            "recording": path})
+        recordings.append(trial_rrd(data, TrialInfo(
+            job.condition, job.phase.name, job.replication, job.rank, sector, k, "systematic",
+            job.trial.senses.value), model, job.world.control_dt) if job.record else None)
+    return rows, recordings
+
+
+@dataclass
+class EvaluationProgress:
+    robots_done: int
+    robots_total: int
+    elapsed_s: float
+    phase: str
+    senses: str
+
+    @property
+    def eta_s(self) -> float:
+        if not self.robots_done:
+            return float("nan")
+        return self.elapsed_s / self.robots_done * (self.robots_total - self.robots_done)
+
+
+def parse_senses(text: str) -> tuple[str, ...]:
+    """``"all"`` or one sensory condition name, as a tuple of names."""
+    if text == "all":
+        return SENSES
+    if text not in SENSES:
+        raise ValueError(f"unknown sensory condition {text!r}: expected one of "
+                         f"{', '.join(SENSES)} or all")
+    return (text,)
+
+
+def open_finished(run_dir) -> Run:
+    """The run in ``run_dir``, refusing one whose training has not finished."""
+    run = Run.open(run_dir)
+    missing = run.unfinished()
+    if missing:
+        raise RunError(f"{run.out}: unfinished run: {', '.join(missing)} not trained to the end "
+                       f"(no final.npz); finish it with 'dart-reach train ... --resume --out "
+                       f"{run.out}'")
+    return run
+
+
+def load_evaluation(run_dir) -> pl.DataFrame:
+    """The post-evaluation table of a run (``evaluation.parquet``)."""
+    path = Path(run_dir) / TABLE
+    if not path.is_file():
+        raise RunError(f"{path}: no post-evaluation yet; run 'dart-reach evaluate {run_dir}'")
+    try:
+        return pl.read_parquet(path)
+    except Exception as exc:  # polars raises several kinds for a damaged file
+        raise RunError(f"{path}: unreadable ({exc})") from None
+
+
+def run_phases(run_dir) -> pl.DataFrame:
+    """Every (condition, phase) of a run in training order, with the phase's notation and key
+    (to join with the evaluation table, in which a phase shared by conditions appears once)."""
+    run = Run.open(run_dir)
+    return pl.DataFrame([
+        {"condition": c.name, "order": i, "phase": p.name, "notation": p.notation,
+         "phase_key": p.key, "generations": p.generations}
+        for c in run.conditions for i, p in enumerate(c.phases)])
+
+
+def evaluate_run(run_dir, senses: Iterable[str] = ("normal",), robots: int = 5,
+                 record: Record | str = Record.BEST, workers: int | None = None,
+                 ray_address: str | None = None,
+                 progress: Callable[[EvaluationProgress], None] | None = None,
+                 save_every_s: float = 10.0) -> pl.DataFrame:
+    """Post-evaluate a finished run (the function ``dart-reach evaluate`` calls) and return its
+    whole evaluation table."""
+    record = Record(record)
+    senses = tuple(Senses(s) for s in senses)
+    run = open_finished(run_dir)
+    population = run.settings.ga.population
+    if not 1 <= robots <= population:
+        raise ValueError(f"robots must be between 1 and the population ({population}), "
+                         f"got {robots}")
+    path = run.out / TABLE
+    table = load_evaluation(run.out) if path.exists() else None
+    done = set() if table is None else set(table.select(_KEY).iter_rows())
+    jobs = []
+    seen: set[str] = set()
+    for condition in run.conditions:
+        for phase in condition.phases:
+            if phase.key in seen:
+                continue
+            seen.add(phase.key)
+            genomes, fitness = run.load_final(phase)
+            best_replication = int(np.argmax(fitness[:, 0]))
+            base = trial_config(phase, run.settings)
+            for s in senses:
+                trial = replace(base, senses=s)
+                for r in range(genomes.shape[0]):
+                    for i in range(robots):
+                        if (phase.key, s.value, r, i) in done:
+                            continue
+                        jobs.append(RobotJob(
+                            condition.name, phase, run.phase_dir(phase).name, r, i,
+                            float(fitness[r, i]), genomes[r, i], trial, run.settings.world,
+                            record.wants(r, i, best_replication)))
+    if not jobs:
+        return table if table is not None else pl.DataFrame()
+    evaluator = make_evaluator(workers, ray_address)
+    rows: list[dict] = []
+    t0 = last_save = time.monotonic()
+    try:
+        for n, (job, (job_rows, recordings)) in enumerate(
+                zip(jobs, evaluator.imap(run_robot, jobs)), start=1):
+            for row, content in zip(job_rows, recordings):
+                if content is not None:
+                    write_rrd(run.out / row["recording"], content)
+            rows.extend(job_rows)
+            if time.monotonic() - last_save > save_every_s:
+                table, rows = _save(path, table, rows), []
+                last_save = time.monotonic()
+            if progress:
+                progress(EvaluationProgress(n, len(jobs), time.monotonic() - t0, job.phase.name,
+                                            job.trial.senses.value))
+    finally:
+        evaluator.close()
+        if rows:
+            table = _save(path, table, rows)
+    return table
+
+
+def _save(path: Path, table: pl.DataFrame | None, rows: list[dict]) -> pl.DataFrame:
+    new = pl.DataFrame(rows, schema_overrides={"recording": pl.Utf8}, infer_schema_length=None)
+    table = new if table is None else pl.concat([table, new], how="diagonal_relaxed")
+    atomic_write(path, lambda p: table.write_parquet(p))
+    return table

@@ -1,0 +1,401 @@
+"""Rerun recordings of trials and of training, and reading them back (the only module that
+imports rerun).
+
+A trial is recorded after it has run, from its ``TrialData``: every signal is sent as one column
+per entity with ``send_columns`` (one ``log`` call costs ~50 µs, so logging step by step would cost
+more than the physics; see ``dart-reach bench``, ``recording_overhead``). Timelines: ``step``
+(control step, 0.1 s) and ``sim_time`` (s).
+
+Entity layout of a trial recording::
+
+    world/robot            the robot's visual boxes (static sizes, poses per step; touching
+                           segments drawn red), world/robot_head its head sphere
+    world/ball             the ball (static radius, centre per step); world/ball_path its path
+    world/hand             the palm point per step; world/hand_path the whole hand path
+    robot/joints           joint encoders (rad), 14 series named after the motors
+    sensors/{proprio,touch,sight,offset}   the network's 25 inputs (section III-B)
+    network/{hidden,motor} internal and motor neuron states
+    motor/targets          targets sent to the joints, in [-1, 1]
+    contacts               1 where a hand segment touches the ball (icub.HAND_SEGMENTS)
+    fitness                p_sight, p_touch, p_multimodal (Eq. 5)
+    positions/{hand,shoulder,ball}   x, y, z (m), world frame = the iCub root frame
+
+Every time series is a ``Scalars`` entity with its series names logged once as static
+``SeriesLines``; ``read_trial`` turns them back into one polars column per series
+(``"sensors/proprio/r_elbow"``), one row per step. The recording's properties (``trial``) say
+condition, phase, replication, individual, sector, trial seed and sensory condition.
+
+The run-level ``training.rrd`` holds best/mean/min fitness per phase and replication on the
+timeline ``generation``.
+"""
+
+from __future__ import annotations
+
+import os
+import subprocess
+import sys
+from dataclasses import asdict, dataclass
+from pathlib import Path
+
+import numpy as np
+import polars as pl
+import rerun as rr
+import rerun.blueprint as rrb
+from rerun.chunk import RrdReader
+
+from .ctrnn import MOTOR_NAMES, N_HIDDEN, OFFSET, PROPRIO, SIGHT, TOUCH, TOUCH_NAMES
+from .files import atomic_write
+from .icub import HAND_SEGMENTS
+from .task import TrialData
+
+APP_ID = "dart_reach"
+#: Version of the entity layout; a reader refuses recordings of another layout.
+LAYOUT = 1
+XYZ = ("x", "y", "z")
+
+#: The time series of a trial: entity path, series names, the (T, n) array of a record.
+SIGNALS = (
+    ("robot/joints", MOTOR_NAMES, lambda d: d.joints),
+    ("sensors/proprio", MOTOR_NAMES, lambda d: d.sensors[:, PROPRIO]),
+    ("sensors/touch", TOUCH_NAMES, lambda d: d.sensors[:, TOUCH]),
+    ("sensors/sight", ("x", "y", "distance"), lambda d: d.sensors[:, SIGHT]),
+    ("sensors/offset", ("x", "y"), lambda d: d.sensors[:, OFFSET]),
+    ("network/hidden", tuple(f"h{i}" for i in range(N_HIDDEN)), lambda d: d.hidden),
+    ("network/motor", MOTOR_NAMES, lambda d: d.motor),
+    ("motor/targets", MOTOR_NAMES, lambda d: d.targets),
+    ("contacts", HAND_SEGMENTS, lambda d: d.contacts.astype(float)),
+    ("fitness", ("p_sight", "p_touch", "p_multimodal"),
+     lambda d: np.stack([d.p_sight, d.p_touch, d.p_multimodal], axis=1)),
+    ("positions/hand", XYZ, lambda d: d.hand),
+    ("positions/shoulder", XYZ, lambda d: d.shoulder),
+    ("positions/ball", XYZ, lambda d: d.ball),
+)
+
+_GREY, _RED, _HAND_COLOUR = (170, 170, 180, 255), (230, 40, 40, 255), (40, 120, 230, 255)
+
+
+class RecordingError(ValueError):
+    """A .rrd file is missing, truncated, or not a recording this version can read."""
+
+
+@dataclass(frozen=True)
+class TrialInfo:
+    """What a trial recording is about (its recording properties)."""
+
+    condition: str
+    phase: str
+    replication: int
+    individual: int  # rank in the final population (post-evaluation) or index (training)
+    sector: int
+    trial: int  # index of the trial in its series (0..44 in the post-evaluation)
+    trial_seed: str  # the seed of the trial's random positions, or "systematic"
+    senses: str = "normal"
+    generation: int = -1  # training recordings: the generation; -1 otherwise
+
+    def name(self) -> str:
+        return (f"{self.condition}/{self.phase} rep {self.replication} #{self.individual} "
+                f"{self.senses} trial {self.trial} (sector {self.sector})")
+
+
+# ------------------------------------------------------------------------------ robot geometry
+class RobotModel:
+    """The robot's kinematic tree and visual shapes, for drawing a trial from its joint record.
+
+    Body poses are computed for all steps at once (vectorised forward kinematics) from
+    ``TrialData.dofs``: asking DART for 24 body transforms per step would cost more than the
+    recording itself. Only revolute and weld joints occur in the skeleton; others are refused.
+    """
+
+    def __init__(self, world):
+        robot = world.robot
+        bodies = list(robot.getBodyNodes())
+        index = {b.getName(): i for i, b in enumerate(bodies)}
+        self.parent, self.dof, self.axis, self.before, self.after = [], [], [], [], []
+        for b in bodies:
+            j = b.getParentJoint()
+            kind = type(j).__name__
+            if kind not in ("RevoluteJoint", "WeldJoint"):
+                raise ValueError(f"cannot draw joint {j.getName()} of type {kind}")
+            p = b.getParentBodyNode()
+            self.parent.append(-1 if p is None else index[p.getName()])
+            self.dof.append(j.getIndexInSkeleton(0) if kind == "RevoluteJoint" else -1)
+            self.axis.append(np.asarray(j.getAxis(), float) if kind == "RevoluteJoint"
+                             else np.zeros(3))
+            self.before.append(np.asarray(j.getTransformFromParentBodyNode().matrix()))
+            self.after.append(np.linalg.inv(np.asarray(j.getTransformFromChildBodyNode().matrix())))
+        self.names = [b.getName() for b in bodies]
+        segment = {name: i for i, name in enumerate(HAND_SEGMENTS)}
+        boxes, spheres = [], []
+        for i, b in enumerate(bodies):
+            for s in b.getShapeNodes():
+                if not s.hasVisualAspect():
+                    continue
+                shape, local = s.getShape(), np.asarray(s.getRelativeTransform().matrix())
+                kind = type(shape).__name__
+                if kind == "BoxShape":
+                    boxes.append((i, local, np.asarray(shape.getSize()) / 2,
+                                  segment.get(b.getName(), -1)))
+                elif kind == "SphereShape":
+                    spheres.append((i, local, shape.getRadius()))
+        self.box_body = np.array([b[0] for b in boxes])
+        self.box_local = np.stack([b[1] for b in boxes])
+        self.box_half = np.stack([b[2] for b in boxes])
+        self.box_segment = np.array([b[3] for b in boxes])
+        self.sphere_body = np.array([s[0] for s in spheres], int)
+        self.sphere_local = np.stack([s[1] for s in spheres]) if spheres else np.zeros((0, 4, 4))
+        self.sphere_radius = np.array([s[2] for s in spheres])
+        self.ball_radius = world.config.ball.radius
+        self.n_dofs = robot.getNumDofs()
+
+    def body_transforms(self, dofs: np.ndarray) -> np.ndarray:
+        """World transforms (T, B, 4, 4) of every body for joint positions ``dofs`` (T, ndof)."""
+        dofs = np.asarray(dofs, float)
+        n = dofs.shape[0]
+        out = np.empty((n, len(self.names), 4, 4))
+        for i, (p, d) in enumerate(zip(self.parent, self.dof)):
+            local = np.broadcast_to(self.before[i], (n, 4, 4))
+            if d >= 0:
+                local = local @ _rotations(self.axis[i], dofs[:, d])
+            local = local @ self.after[i]
+            out[:, i] = local if p < 0 else out[:, p] @ local
+        return out
+
+    def shape_poses(self, dofs: np.ndarray):
+        """Centres (T, n, 3) and xyzw quaternions (T, n, 4) of the boxes, and the sphere centres
+        (T, m, 3)."""
+        bodies = self.body_transforms(dofs)
+        box = bodies[:, self.box_body] @ self.box_local
+        sphere = bodies[:, self.sphere_body] @ self.sphere_local
+        return box[..., :3, 3], quaternions(box[..., :3, :3]), sphere[..., :3, 3]
+
+
+def _rotations(axis: np.ndarray, angles: np.ndarray) -> np.ndarray:
+    """Homogeneous rotations (T, 4, 4) by ``angles`` about the unit ``axis`` (Rodrigues)."""
+    x, y, z = axis
+    K = np.array([[0, -z, y], [z, 0, -x], [-y, x, 0]])
+    s, c = np.sin(angles)[:, None, None], np.cos(angles)[:, None, None]
+    out = np.zeros((angles.shape[0], 4, 4))
+    out[:, :3, :3] = np.eye(3) + s * K + (1 - c) * (K @ K)
+    out[:, 3, 3] = 1.0
+    return out
+
+
+def quaternions(R: np.ndarray) -> np.ndarray:
+    """Unit quaternions (..., 4), xyzw as rerun takes them, of rotation matrices (..., 3, 3).
+    Each is computed from the largest of 1 + trace and the 1 + 2 R_ii - trace terms, which keeps
+    the square root away from 0."""
+    m00, m11, m22 = R[..., 0, 0], R[..., 1, 1], R[..., 2, 2]
+    terms = np.stack([1 + m00 + m11 + m22, 1 + m00 - m11 - m22, 1 - m00 + m11 - m22,
+                      1 - m00 - m11 + m22], axis=-1)
+    k = terms.argmax(axis=-1)
+    s = 2.0 * np.sqrt(np.take_along_axis(terms, k[..., None], -1)[..., 0])
+    a, b = R[..., 2, 1] - R[..., 1, 2], R[..., 0, 2] - R[..., 2, 0]
+    c = R[..., 1, 0] - R[..., 0, 1]
+    d01, d02, d12 = R[..., 0, 1] + R[..., 1, 0], R[..., 0, 2] + R[..., 2, 0], \
+        R[..., 1, 2] + R[..., 2, 1]
+    q = np.stack([  # (x, y, z, w) for each choice of k
+        np.stack([a, b, c, s * s / 4], -1),
+        np.stack([s * s / 4, d01, d02, a], -1),
+        np.stack([d01, s * s / 4, d12, b], -1),
+        np.stack([d02, d12, s * s / 4, c], -1)], axis=-2)
+    q = np.take_along_axis(q, k[..., None, None], -2)[..., 0, :] / s[..., None]
+    return q
+
+
+# ------------------------------------------------------------------------------ blueprints
+def trial_blueprint() -> rrb.Blueprint:
+    """The default layout of a trial: the 3D scene beside sensor, neuron, motor and fitness
+    plots."""
+    return rrb.Blueprint(
+        rrb.Horizontal(
+            rrb.Spatial3DView(name="scene", origin="world"),
+            rrb.Vertical(
+                rrb.Tabs(rrb.TimeSeriesView(name="proprioception", origin="sensors/proprio"),
+                         rrb.TimeSeriesView(name="touch", origin="sensors/touch"),
+                         rrb.TimeSeriesView(name="sight", origin="sensors/sight"),
+                         rrb.TimeSeriesView(name="offset", origin="sensors/offset")),
+                rrb.Tabs(rrb.TimeSeriesView(name="internal neurons", origin="network/hidden"),
+                         rrb.TimeSeriesView(name="motor neurons", origin="network/motor"),
+                         rrb.TimeSeriesView(name="motor targets", origin="motor/targets"),
+                         rrb.TimeSeriesView(name="joints", origin="robot/joints"),
+                         rrb.TimeSeriesView(name="contacts", origin="contacts")),
+                rrb.TimeSeriesView(name="fitness", origin="fitness"),
+            ),
+            column_shares=[3, 2],
+        ),
+        collapse_panels=False,
+    )
+
+
+def _series_names(rec: rr.RecordingStream, entity: str, names) -> None:
+    rec.log(entity, rr.SeriesLines(names=list(names)), static=True)
+
+
+# ------------------------------------------------------------------------------ writing
+def trial_rrd(data: TrialData, info: TrialInfo, model: RobotModel, dt: float = 0.1) -> bytes:
+    """The .rrd bytes of one trial (only its ``steps_run`` steps)."""
+    T = data.steps_run
+    steps = np.arange(T)
+    rec = rr.RecordingStream(APP_ID, recording_id=f"{info.name()}", send_properties=False)
+    stream = rec.binary_stream()
+    rec.send_blueprint(trial_blueprint())
+    rec.send_recording_name(info.name())
+    rec.send_property("trial", rr.AnyValues(layout=LAYOUT, **asdict(info)))
+    index = [rr.TimeColumn("step", sequence=steps), rr.TimeColumn("sim_time", duration=steps * dt)]
+    for entity, names, get in SIGNALS:
+        _series_names(rec, entity, names)
+        rec.send_columns(entity, indexes=index,
+                         columns=rr.Scalars.columns(scalars=np.asarray(get(data)[:T], float)))
+
+    # the 3D scene
+    centres, quats, spheres = model.shape_poses(data.dofs[:T])
+    nb = centres.shape[1]
+    touching = np.zeros((T, nb), bool)
+    on_hand = model.box_segment >= 0
+    touching[:, on_hand] = data.contacts[:T][:, model.box_segment[on_hand]]
+    colours = np.where(touching[..., None], _RED, _GREY).astype(np.uint8).reshape(-1, 4)
+    rec.log("world/robot", rr.Boxes3D(half_sizes=model.box_half, fill_mode="solid"),
+            static=True)
+    rec.send_columns("world/robot", indexes=index, columns=rr.Boxes3D.columns(
+        centers=centres.reshape(-1, 3), quaternions=quats.reshape(-1, 4),
+        colors=colours).partition([nb] * T))
+    if spheres.shape[1]:
+        rec.log("world/robot_head", rr.Ellipsoids3D(half_sizes=np.repeat(
+            model.sphere_radius[:, None], 3, 1), colors=_GREY, fill_mode="solid"), static=True)
+        rec.send_columns("world/robot_head", indexes=index, columns=rr.Ellipsoids3D.columns(
+            centers=spheres.reshape(-1, 3)).partition([spheres.shape[1]] * T))
+    r = model.ball_radius
+    rec.log("world/ball", rr.Ellipsoids3D(half_sizes=[[r, r, r]], colors=_RED,
+                                          fill_mode="solid"), static=True)
+    rec.send_columns("world/ball", indexes=index,
+                     columns=rr.Ellipsoids3D.columns(centers=data.ball[:T]))
+    rec.send_columns("world/hand", indexes=index,
+                     columns=rr.Points3D.columns(positions=data.hand[:T]))
+    rec.log("world/hand", rr.Points3D.from_fields(radii=0.008, colors=_HAND_COLOUR), static=True)
+    rec.log("world/hand_path", rr.LineStrips3D([data.hand[:T]], colors=_HAND_COLOUR,
+                                               radii=0.002), static=True)
+    rec.log("world/ball_path", rr.LineStrips3D([data.ball[:T]], colors=_RED, radii=0.002),
+            static=True)
+    out = stream.read()
+    rec.disconnect()
+    return out or b""
+
+
+def training_rrd(stats: pl.DataFrame, run_name: str) -> bytes:
+    """The .rrd bytes of a run's fitness statistics (``generations.parquet``): per condition,
+    phase and replication the best, mean and min fitness on the timeline ``generation``, counted
+    from the start of the condition (a phase's generations follow its predecessor's)."""
+    rec = rr.RecordingStream(APP_ID, recording_id=f"training {run_name}", send_properties=False)
+    stream = rec.binary_stream()
+    rec.send_recording_name(f"training {run_name}")
+    rec.send_property("run", rr.AnyValues(layout=LAYOUT, run=run_name))
+    views = []
+    for (condition,), rows in stats.sort("condition").group_by("condition", maintain_order=True):
+        offset = 0
+        for phase in rows["phase"].unique(maintain_order=True):
+            p = rows.filter(pl.col("phase") == phase)
+            for (rep,), r in p.sort("replication", "generation").group_by(
+                    "replication", maintain_order=True):
+                entity = f"{condition}/{phase}/rep{rep}"
+                _series_names(rec, entity, ("best", "mean", "min"))
+                rec.send_columns(entity, indexes=[rr.TimeColumn(
+                    "generation", sequence=r["generation"].to_numpy() + offset)],
+                    columns=rr.Scalars.columns(scalars=r.select("best", "mean", "min")
+                                               .to_numpy().astype(float)))
+            offset += int(p["generation"].max())
+        views.append(rrb.TimeSeriesView(name=f"{condition} fitness", origin=condition))
+    rec.send_blueprint(rrb.Blueprint(rrb.Vertical(*views) if views else rrb.Vertical()))
+    out = stream.read()
+    rec.disconnect()
+    return out or b""
+
+
+def write_rrd(path: Path, content: bytes) -> Path:
+    """Write .rrd bytes atomically (a reader sees the old file or the new one, never half)."""
+    return atomic_write(path, lambda p: p.write_bytes(content))
+
+
+# ------------------------------------------------------------------------------ reading
+def _chunks(path: Path):
+    path = Path(path)
+    if not path.is_file():
+        raise RecordingError(f"{path}: no such recording")
+    try:
+        reader = RrdReader(str(path))
+        if not reader.recordings():
+            raise RecordingError(f"{path}: holds no recording")
+        return list(reader.stream().to_chunks())
+    except RecordingError:
+        raise
+    except Exception as exc:  # rerun raises its own error types for damaged files
+        raise RecordingError(f"{path}: not a readable .rrd file ({_first_line(exc)})") from None
+
+
+def _first_line(exc: Exception) -> str:
+    return (str(exc).strip().splitlines() or [type(exc).__name__])[0]
+
+
+def read_properties(path) -> dict:
+    """The recording properties of a .rrd file written by this package, as a dict."""
+    props = {}
+    for chunk in _chunks(path):
+        if chunk.is_static and chunk.entity_path.startswith("/__properties/"):
+            batch = pl.from_arrow(chunk.to_record_batch())
+            for col in batch.columns:
+                if ":" not in col and not col.startswith("rerun."):
+                    value = batch[col][0]
+                    props[col] = value[0] if isinstance(value, pl.Series) else value
+    return props
+
+
+def read_rrd(path) -> pl.DataFrame:
+    """A recording's time series as a polars table: one row per time point, the timeline
+    columns (``step`` and ``sim_time`` in s for a trial, ``generation`` for ``training.rrd``)
+    and one column per series, named ``<entity>/<series>`` (``"network/hidden/h3"``)."""
+    path = Path(path)
+    chunks = _chunks(path)
+    names: dict[str, list[str]] = {}
+    for c in chunks:
+        if c.is_static:
+            batch = c.to_record_batch()
+            if "SeriesLines:names" in batch.schema.names:
+                names[c.entity_path.lstrip("/")] = batch.column("SeriesLines:names")[0].as_py()
+    frames: dict[str, list[pl.DataFrame]] = {}
+    for c in chunks:
+        entity = c.entity_path.lstrip("/")
+        if c.is_static or entity not in names:
+            continue
+        batch = pl.from_arrow(c.to_record_batch())
+        if "Scalars:scalars" not in batch.columns:
+            continue
+        timelines = sorted((c for c in batch.columns if ":" not in c and
+                            not c.startswith("rerun.")), key=lambda c: (c != "step", c))
+        times = {c: batch[c].dt.total_nanoseconds() / 1e9 if batch[c].dtype == pl.Duration
+                 else batch[c].cast(pl.Int64) for c in timelines}
+        cols = [f"{entity}/{n}" for n in names[entity]]
+        values = np.array(batch["Scalars:scalars"].to_list(), float).reshape(
+            batch.height, len(cols))
+        frames.setdefault(entity, []).append(pl.DataFrame(
+            {**times, **{n: values[:, i] for i, n in enumerate(cols)}}))
+    if not frames:
+        raise RecordingError(f"{path}: holds no time series written by dart_reach")
+    table = None
+    for parts in frames.values():
+        part = pl.concat(parts)
+        if table is None:
+            table = part
+        else:
+            on = [c for c in part.columns if c in table.columns]
+            table = table.join(part, on=on, how="full", coalesce=True)
+    return table.sort(table.columns[0])
+
+
+def verify(path) -> None:
+    """Check a .rrd file with rerun's own verifier (``rerun rrd verify``)."""
+    exe = Path(sys.executable).parent / "rerun"
+    cmd = [str(exe) if exe.exists() else "rerun", "rrd", "verify", str(path)]
+    env = dict(os.environ, RERUN_ANALYTICS="0")
+    out = subprocess.run(cmd, capture_output=True, text=True, env=env)
+    if out.returncode != 0:
+        raise RecordingError(f"{path}: rerun rrd verify failed: "
+                             f"{(out.stderr or out.stdout).strip().splitlines()[-1:]}")

@@ -1,0 +1,365 @@
+"""Behavioural measures (section IV-A, Figs. 5-7) on constructed trajectories with known
+answers, worked out by hand in each test."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import polars as pl
+import pytest
+
+from dart_reach import metrics as m
+from dart_reach.ctrnn import MOTOR_NAMES
+from dart_reach.icub import HAND_SEGMENTS
+from dart_reach.task import TrialData
+
+N_SEG = len(HAND_SEGMENTS)
+
+
+def no_contacts(T):
+    return np.zeros((T, N_SEG), bool)
+
+
+def square_path(T=20):
+    """Hand from the origin: 4 steps of +2 cm in x (rows 0..4), 4 steps of +3 cm in y (rows
+    4..8), then large wandering. Path length to row 8 = 0.08 + 0.12 = 0.20 m."""
+    h = np.zeros((T, 3))
+    h[1:5, 0] = 0.02 * np.arange(1, 5)
+    h[5:, 0] = 0.08
+    h[5:9, 1] = 0.03 * np.arange(1, 5)
+    h[9:, 1] = 0.12
+    h[9:, 2] = np.where(np.arange(9, T) % 2, 1.0, -1.0)  # after the touch: must not count
+    return h
+
+
+# ------------------------------------------------------------------ reach and grasp
+
+def test_layout_constants_follow_the_motor_and_segment_names():
+    assert HAND_SEGMENTS[m.PALM] == "r_hand"
+    assert [MOTOR_NAMES[i] for i in m.ELBOW_JOINTS] == ["r_elbow"]
+    assert m.SHOULDER_JOINTS == (6, 7, 8)
+    assert [MOTOR_NAMES[i] for i in m.TRUNK_JOINTS] == ["torso_pitch", "torso_roll", "torso_yaw"]
+
+
+def test_first_touch_and_reached():
+    c = no_contacts(12)
+    assert m.first_touch(c) == -1 and m.reached(c) is False
+    c[7, 0] = True  # the palm at step 7
+    c[4, 9] = True  # a finger phalanx at step 4: earlier
+    assert m.first_touch(c) == 4 and m.reached(c) is True
+    c0 = no_contacts(3)
+    c0[0, 15] = True
+    assert m.first_touch(c0) == 0
+    assert m.first_touch(no_contacts(0)) == -1
+    with pytest.raises(ValueError):
+        m.first_touch(np.zeros(5, bool))
+
+
+def test_grasp_needs_the_palm_and_a_finger_at_the_same_step():
+    c = no_contacts(12)
+    c[2, 0] = True  # palm alone
+    c[3, 5] = True  # finger alone
+    c[5, 0] = True  # palm at 5, finger at 6: not together
+    c[6, 1] = True
+    assert m.first_grasp(c) == -1 and m.grasped(c) is False
+    assert m.reached(c)
+    c[9, [0, 13]] = True  # palm + little finger
+    assert m.first_grasp(c) == 9 and m.grasped(c) is True
+    palm_only = no_contacts(5)
+    palm_only[:, 0] = True
+    assert not m.grasped(palm_only)
+    fingers_only = no_contacts(5)
+    fingers_only[:, 1:] = True
+    assert not m.grasped(fingers_only)
+
+
+# ------------------------------------------------------------------ kinematics
+
+def test_path_length():
+    p = np.array([[0, 0, 0], [3, 4, 0], [3, 4, 12], [3, 4, 12]], float)
+    assert m.path_length(p) == pytest.approx(17.0)  # 5 + 12 + 0
+    assert m.path_length(p[:1]) == 0.0
+    assert m.path_length(np.zeros((0, 3))) == 0.0
+    with pytest.raises(ValueError):
+        m.path_length(np.zeros((4, 2)))
+
+
+def test_reaching_speed_is_the_path_to_the_first_touch_over_its_duration():
+    h = square_path()
+    c = no_contacts(len(h))
+    c[8, 3] = True
+    c[15, 0] = True
+    assert m.reaching_speed(h, c, dt=0.1) == pytest.approx(0.20 / 0.8)  # 0.25 m/s
+    assert m.reaching_speed(h, c, dt=0.05) == pytest.approx(0.20 / 0.4)
+    assert math.isnan(m.reaching_speed(h, no_contacts(len(h)), 0.1))
+    c0 = no_contacts(len(h))
+    c0[0, 0] = True
+    assert math.isnan(m.reaching_speed(h, c0, 0.1))
+
+
+def test_straightness_is_initial_distance_over_path_length():
+    h = square_path()
+    ball = np.tile([0.08, 0.12, 0.0], (len(h), 1))
+    ball[1:] += 0.5  # the ball moves later: only its initial position counts
+    c = no_contacts(len(h))
+    c[8, 0] = True
+    expected = math.hypot(0.08, 0.12) / 0.20  # 0.7211
+    assert m.straightness(h, ball, c) == pytest.approx(expected)
+    # a straight line to a ball 0.3 m away, touched at its surface 0.05 m short of the centre
+    line = np.zeros((11, 3))
+    line[:, 0] = np.linspace(0.0, 0.25, 11)
+    b = np.tile([0.3, 0.0, 0.0], (11, 1))
+    cl = no_contacts(11)
+    cl[10, 0] = True
+    assert m.straightness(line, b, cl) == pytest.approx(0.3 / 0.25)  # > 1, documented
+    assert math.isnan(m.straightness(h, ball, no_contacts(len(h))))
+    c0 = no_contacts(len(h))
+    c0[0, 0] = True
+    assert math.isnan(m.straightness(h, ball, c0))
+
+
+def test_joint_variability_per_group():
+    T = 10
+    q = np.zeros((T, 14))
+    sign = np.where(np.arange(T) % 2, 1.0, -1.0)  # +-1 alternating: std 1 (ddof 0)
+    i = {n: k for k, n in enumerate(MOTOR_NAMES)}
+    q[:, i["r_elbow"]] = 0.2 * sign
+    q[:, i["r_shoulder_roll"]] = 0.3 * sign  # the other two shoulder joints still
+    q[:, i["r_shoulder_pitch"]] = 1.5
+    q[:, i["torso_pitch"]] = 0.6 * sign
+    q[:, i["torso_roll"]] = 5.0
+    q[:, i["torso_yaw"]] = 0.3 * sign - 2.0
+    for other in ("neck_pitch", "r_wrist_prosup", "r_hand_fingers"):  # not in any group
+        q[:, i[other]] = 10.0 * sign
+    v = m.joint_variability(q)
+    assert set(v) == {"elbow", "shoulder", "trunk"}
+    assert v["elbow"] == pytest.approx(0.2)
+    assert v["shoulder"] == pytest.approx(0.3 / 3)
+    assert v["trunk"] == pytest.approx((0.6 + 0.0 + 0.3) / 3)
+    assert all(math.isnan(x) for x in m.joint_variability(np.zeros((0, 14))).values())
+    with pytest.raises(ValueError):
+        m.joint_variability(np.zeros((5, 13)))
+
+
+def test_distances():
+    hand = np.array([[1.0, 2.0, 2.0], [0.0, 0.0, 0.5]])
+    other = np.array([[0.0, 0.0, 0.0], [0.0, 0.0, 0.0]])
+    np.testing.assert_allclose(m.hand_shoulder_distance(hand, other), [3.0, 0.5])
+    np.testing.assert_allclose(m.hand_ball_distance(hand, other + [0, 0, 0.5]),
+                               [math.sqrt(1 + 4 + 2.25), 0.0])
+
+
+def test_elbow_freezing_rigid_lever_vs_bending_arm():
+    rng = np.random.default_rng(0)
+    shoulder = rng.normal(size=(50, 3)) * 0.01  # the shoulder moves with the trunk
+    u = rng.normal(size=(50, 3))
+    u /= np.linalg.norm(u, axis=1, keepdims=True)
+    rigid = shoulder + 0.25 * u  # any direction, always 0.25 m from the shoulder
+    assert m.elbow_freezing(rigid, shoulder) == pytest.approx(0.0, abs=1e-12)
+    radius = np.where(np.arange(50) % 2, 0.3, 0.2)  # 0.2 / 0.3 m alternating: std 0.05
+    bending = shoulder + radius[:, None] * u
+    assert m.elbow_freezing(bending, shoulder) == pytest.approx(0.05)
+
+
+# ------------------------------------------------------------------ periodicity
+
+def circle(f, t, r=0.1):
+    w = 2 * np.pi * f * t
+    return np.column_stack([r * np.cos(w), r * np.sin(w), np.zeros_like(t)])
+
+
+def test_periodicity_of_a_circle_at_half_a_hertz():
+    t = np.arange(200) * 0.1  # 20 s
+    freq, share = m.hand_periodicity(circle(0.5, t), 0.1)
+    assert freq == pytest.approx(0.5)
+    assert share > 0.99
+    # offset and drift do not matter
+    drifting = circle(0.5, t) + [0.2, -0.1, 0.3] + np.outer(t, [0.01, 0.02, -0.01])
+    f2, s2 = m.hand_periodicity(drifting, 0.1)
+    assert f2 == pytest.approx(0.5) and s2 == pytest.approx(share)
+    # a 1.5 Hz circle sampled at 20 Hz for 10 s
+    t2 = np.arange(200) * 0.05
+    f3, s3 = m.hand_periodicity(circle(1.5, t2), 0.05)
+    assert f3 == pytest.approx(1.5) and s3 > 0.99
+    # 0.525 Hz falls between the bins 0.50 and 0.55 Hz: the neighbours hold much of the power,
+    # which the share counts (the strongest bin alone holds about half)
+    f4, s4 = m.hand_periodicity(circle(0.525, t), 0.1)
+    assert f4 in (pytest.approx(0.5), pytest.approx(0.55)) and s4 > 0.8
+
+
+def test_periodicity_share_is_low_for_several_circles_and_noise():
+    t = np.arange(200) * 0.1
+    freqs = (0.3, 0.7, 1.2, 2.0)
+    f, share = m.hand_periodicity(sum(circle(fq, t) for fq in freqs), 0.1)
+    assert any(f == pytest.approx(fq) for fq in freqs)
+    assert 0.2 < share < 0.35  # ~1/4: four equal circles
+    noise = np.random.default_rng(3).normal(scale=0.05, size=(200, 3))
+    assert m.hand_periodicity(noise, 0.1)[1] < 0.2  # 100 bins: ~3/100 expected
+
+
+def test_periodicity_of_a_hand_at_rest_or_on_a_straight_line_is_nan():
+    for hand in (np.full((200, 3), 0.3), np.outer(np.arange(200) * 0.1, [0.01, 0.02, 0.03]),
+                 np.zeros((3, 3))):
+        f, s = m.hand_periodicity(hand, 0.1)
+        assert math.isnan(f) and math.isnan(s)
+
+
+# ------------------------------------------------------------------ one trial
+
+def make_trial():
+    """50-step record that diverged after 30 steps; rows 30.. hold junk that must be ignored."""
+    T, n = 50, 30
+    d = TrialData.empty(T, sector=5, ball_start=[0.08, 0.15, 0.0])
+    d.steps_run, d.diverged = n, True
+    d.hand[:n] = square_path(n)
+    d.hand[8:n] = d.hand[8]  # the hand stays at the touch point after step 8
+    d.ball[:n] = [0.08, 0.15, 0.0]  # 3 cm from the hand's resting point (0.08, 0.12, 0)
+    d.ball[20:n, 1] = 0.13  # pushed towards the hand: 1 cm away from row 20 on
+    d.shoulder[:n] = [0.0, 0.0, 0.3]
+    d.contacts[8, 4] = True  # first touch: a finger phalanx at step 8
+    d.contacts[20, [0, 2]] = True  # grasp at step 20
+    d.joints[:n, MOTOR_NAMES.index("r_elbow")] = np.where(np.arange(n) % 2, 0.1, -0.1)
+    d.p_multimodal[:n] = 0.5
+    # junk after steps_run
+    d.hand[n:] = 100.0
+    d.contacts[n:] = True
+    d.joints[n:] = 50.0
+    return d
+
+
+def test_trial_metrics_uses_only_the_steps_run():
+    d = make_trial()
+    r = m.trial_metrics(d, dt=0.1)
+    assert set(r) == {"sector", "fitness", "reached", "grasped", "first_touch_s", "first_grasp_s",
+                      "speed", "straightness", "var_elbow", "var_shoulder", "var_trunk",
+                      "hand_shoulder_mean", "elbow_freezing", "hand_ball_initial",
+                      "hand_ball_min", "babbling_freq_hz", "babbling_share", "diverged",
+                      "steps_run"}
+    assert r["sector"] == 5 and r["steps_run"] == 30 and r["diverged"] is True
+    assert r["fitness"] == 0.0  # diverged
+    assert r["reached"] is True and r["grasped"] is True
+    assert r["first_touch_s"] == pytest.approx(0.8)
+    assert r["first_grasp_s"] == pytest.approx(2.0)
+    assert r["speed"] == pytest.approx(0.25)
+    assert r["straightness"] == pytest.approx(0.17 / 0.2)  # hypot(0.08, 0.15) = 0.17
+    assert r["var_elbow"] == pytest.approx(0.1)
+    assert r["var_shoulder"] == 0.0 and r["var_trunk"] == 0.0
+    assert r["hand_ball_initial"] == pytest.approx(0.17)
+    assert r["hand_ball_min"] == pytest.approx(0.01)
+    hs = np.linalg.norm(d.hand[:30] - [0.0, 0.0, 0.3], axis=1)
+    assert r["hand_shoulder_mean"] == pytest.approx(hs.mean())
+    assert r["elbow_freezing"] == pytest.approx(hs.std())
+    assert np.isfinite(r["babbling_freq_hz"]) and 0.0 < r["babbling_share"] <= 1.0
+
+
+def test_trial_metrics_of_a_full_trial_without_contact():
+    d = TrialData.empty(200, sector=0, ball_start=[0.3, 0.0, 0.0])
+    d.steps_run = 200
+    t = np.arange(200) * 0.1
+    d.hand[:] = circle(0.5, t) + [0.0, 0.0, 0.1]
+    d.ball[:] = [0.3, 0.0, 0.0]
+    d.p_multimodal[:] = np.linspace(0.0, 0.2, 200)
+    r = m.trial_metrics(d)
+    assert r["fitness"] == pytest.approx(0.1) and r["diverged"] is False
+    assert r["reached"] is False and r["grasped"] is False
+    for k in ("first_touch_s", "first_grasp_s", "speed", "straightness"):
+        assert math.isnan(r[k])
+    assert r["babbling_freq_hz"] == pytest.approx(0.5) and r["babbling_share"] > 0.99
+    assert r["hand_shoulder_mean"] == pytest.approx(math.hypot(0.1, 0.1))
+    assert r["elbow_freezing"] == pytest.approx(0.0, abs=1e-12)
+
+
+def test_trial_metrics_of_a_trial_that_diverged_at_once():
+    d = TrialData.empty(10, sector=2, ball_start=[0.3, 0.0, 0.0])
+    d.diverged = True  # steps_run = 0
+    r = m.trial_metrics(d)
+    assert r["steps_run"] == 0 and r["reached"] is False and r["fitness"] == 0.0
+    assert math.isnan(r["hand_ball_initial"]) and math.isnan(r["var_elbow"])
+
+
+# ------------------------------------------------------------------ tables
+
+def post_table():
+    """Two phases, 2 robots each, a few sectors with known rates.
+
+    pre:   sector 0: reached 1,1,0,0 (0.5), grasped 1,0,0,0 (0.25); sector 4: 1,1 / 0,0;
+           sector 8: 0,0,0 / 0,0,0
+    gross: sector 0: 1,0 (0.5) / 1,0; sector 4: 0,0 / 0,0; sector 8: 1,1,1 / 1,1,0
+    """
+    rows = []
+
+    def add(phase, sector, reached, grasped, robots, fitness):
+        for r, g, rank, f in zip(reached, grasped, robots, fitness):
+            rows.append({"phase": phase, "senses": "normal", "replication": 0, "rank": rank,
+                         "sector": sector, "reached": r, "grasped": g, "fitness": f})
+
+    add("pre", 0, [1, 1, 0, 0], [1, 0, 0, 0], [0, 0, 1, 1], [0.4, 0.2, 0.0, 0.0])
+    add("pre", 4, [1, 1], [0, 0], [0, 1], [0.1, 0.3])
+    add("pre", 8, [0, 0, 0], [0, 0, 0], [0, 1, 1], [0.0, 0.0, 0.0])
+    add("gross", 0, [1, 0], [1, 0], [0, 1], [0.5, 0.0])
+    add("gross", 4, [0, 0], [0, 0], [0, 1], [0.0, 0.0])
+    add("gross", 8, [1, 1, 1], [1, 1, 0], [0, 0, 1], [0.6, 0.4, 0.2])
+    t = pl.DataFrame(rows)
+    return t.with_columns(pl.col("reached").cast(pl.Boolean), pl.col("grasped").cast(pl.Boolean))
+
+
+def test_sector_success_and_grid():
+    s = m.sector_success(post_table())
+    assert s.columns == ["phase", "sector", "n", "reach_rate", "grasp_rate", "row", "col"]
+    pre = s.filter(pl.col("phase") == "pre")
+    assert pre["sector"].to_list() == [0, 4, 8]
+    assert pre["n"].to_list() == [4, 2, 3]
+    assert pre["reach_rate"].to_list() == [0.5, 1.0, 0.0]
+    assert pre["grasp_rate"].to_list() == [0.25, 0.0, 0.0]
+    assert pre["row"].to_list() == [0, 1, 2] and pre["col"].to_list() == [0, 1, 2]
+    grid = m.sector_grid(pre)
+    expected = np.full((3, 3), np.nan)
+    expected[0, 0], expected[1, 1], expected[2, 2] = 0.5, 1.0, 0.0
+    np.testing.assert_array_equal(grid, expected)
+    gross = m.sector_grid(s.filter(pl.col("phase") == "gross"), "grasp_rate")
+    assert gross[0, 0] == 0.5 and gross[2, 2] == pytest.approx(2 / 3) and np.isnan(gross[0, 1])
+    with pytest.raises(ValueError, match="one group"):
+        m.sector_grid(s)
+    with pytest.raises(ValueError):
+        m.sector_success(post_table().drop("reached"))
+
+
+def test_sector_grid_row_and_col_of_sector_five():
+    rates = pl.DataFrame({"sector": [5], "reach_rate": [0.7]})
+    grid = m.sector_grid(rates)
+    assert grid[1, 2] == 0.7 and np.isnan(grid).sum() == 8  # 5 // 3 = 1, 5 % 3 = 2
+
+
+def test_reach_regression():
+    r = m.reach_regression(post_table(), before="pre", after="gross")
+    assert r.columns == ["sector", "row", "col", "n_before", "n_after", "reach_before",
+                         "reach_after", "change"]
+    assert r["sector"].to_list() == [0, 4, 8]
+    assert r["reach_before"].to_list() == [0.5, 1.0, 0.0]
+    assert r["reach_after"].to_list() == [0.5, 0.0, 1.0]
+    assert r["change"].to_list() == [0.0, -1.0, 1.0]
+    assert r["n_before"].to_list() == [4, 2, 3] and r["n_after"].to_list() == [2, 2, 3]
+    by = m.reach_regression(post_table(), by=("senses",))
+    assert by.columns[:2] == ["senses", "sector"] and by["change"].to_list() == [0.0, -1.0, 1.0]
+    with pytest.raises(ValueError, match="fine"):
+        m.reach_regression(post_table(), after="fine")
+
+
+def test_robot_performance():
+    p = m.robot_performance(post_table())
+    assert p.columns == ["phase", "senses", "replication", "rank", "n", "fitness", "reach_rate",
+                         "grasp_rate"]
+    # sorted by phase: "gross" < "pre"
+    assert p["phase"].to_list() == ["gross", "gross", "pre", "pre"]
+    assert p["rank"].to_list() == [0, 1, 0, 1]
+    # pre rank 0: sector 0 rows 1-2, sector 4 row 1, sector 8 row 1
+    pre0 = p.row(2, named=True)
+    assert pre0["n"] == 4
+    assert pre0["fitness"] == pytest.approx((0.4 + 0.2 + 0.1 + 0.0) / 4)
+    assert pre0["reach_rate"] == pytest.approx(3 / 4) and pre0["grasp_rate"] == pytest.approx(1 / 4)
+    gross1 = p.row(1, named=True)  # sector 0 row 2, sector 4 row 2, sector 8 row 3
+    assert gross1["n"] == 3 and gross1["fitness"] == pytest.approx(0.2 / 3)
+    assert gross1["reach_rate"] == pytest.approx(1 / 3) and gross1["grasp_rate"] == 0.0
+    with pytest.raises(ValueError):
+        m.robot_performance(post_table().drop("fitness"))
