@@ -77,17 +77,27 @@ def _duration(seconds: float) -> str:
     return f"{h}h{m:02d}m" if h else f"{m}m{s:02d}s"
 
 
-def _progress_printer(stream=sys.stderr):
+def _progress_printer(describe, stream=sys.stderr):
+    """A progress callback printing ``describe(progress)``: one line updated in place on a
+    terminal, one line per update otherwise (logs)."""
     tty = stream.isatty()
 
     def show(p) -> None:
-        line = (f"{p.condition} | {p.phase} | {p.replications} replications | generation "
-                f"{p.generation}/{p.generations} | best {p.best:.4f} mean {p.mean:.4f} | "
-                f"{p.done_generations}/{p.total_generations} generations | ETA "
-                f"{_duration(p.eta_s)}")
+        line = describe(p)
         stream.write(("\r" + line + "\x1b[K") if tty else line + "\n")
         stream.flush()
     return show
+
+
+def _training_line(p) -> str:
+    return (f"{p.condition} | {p.phase} | {p.replications} replications | generation "
+            f"{p.generation}/{p.generations} | best {p.best:.4f} mean {p.mean:.4f} | "
+            f"{p.done_generations}/{p.total_generations} generations | ETA {_duration(p.eta_s)}")
+
+
+def _evaluation_line(p) -> str:
+    return (f"evaluate | {p.phase} | {p.senses} | robot {p.robots_done}/{p.robots_total} | "
+            f"ETA {_duration(p.eta_s)}")
 
 
 def cmd_conditions(args) -> int:
@@ -115,7 +125,8 @@ def cmd_train(args) -> int:
         raise ValueError(f"--workers must be at least 1, got {args.workers}")
     try:
         run = train(conditions, settings, out, workers=args.workers, ray_address=args.ray,
-                    resume=args.resume, progress=_progress_printer())
+                    resume=args.resume, progress=_progress_printer(_training_line),
+                    record_every=args.record_every)
     except KeyboardInterrupt:
         again = " ".join([sys.argv[0] if sys.argv else "dart-reach"] + sys.argv[1:])
         if "--resume" not in again:
@@ -127,6 +138,44 @@ def cmd_train(args) -> int:
         return 130
     print(f"\ndone: results in {run.out} (manifest.json, generations.parquet, phases/*/)",
           file=sys.stderr)
+    return 0
+
+
+def cmd_evaluate(args) -> int:
+    from .evaluation import RECORDINGS, TABLE, evaluate_run, parse_senses
+
+    senses = parse_senses(args.sensors)
+    try:
+        table = evaluate_run(args.run_dir, senses=senses, robots=args.robots, record=args.record,
+                             workers=args.workers, ray_address=args.ray,
+                             progress=_progress_printer(_evaluation_line))
+    except KeyboardInterrupt:
+        print(f"\ninterrupted: the robots finished so far are saved in {args.run_dir}/{TABLE}; "
+              f"run the same command again to evaluate the rest", file=sys.stderr)
+        return 130
+    out = Path(args.run_dir)
+    print(f"\n{table.height} trials in {out / TABLE}", file=sys.stderr)
+    recorded = table.filter(table["recording"].is_not_null())["recording"] if table.height else []
+    if len(recorded):
+        print(f"{len(recorded)} recordings under {out / RECORDINGS}; open one with:\n"
+              f"  rerun {out / recorded[0]}", file=sys.stderr)
+    return 0
+
+
+def cmd_read(args) -> int:
+    """Print what a .rrd file holds; optionally save its time series as parquet."""
+    from .files import atomic_write
+    from .recording import read_properties, read_rrd
+
+    props, table = read_properties(args.rrd), read_rrd(args.rrd)
+    for k, v in props.items():
+        print(f"{k:>12}: {v}")
+    print(f"{table.height} rows x {table.width} columns: {', '.join(table.columns[:6])}, ...")
+    if args.parquet:
+        if args.parquet.exists():
+            raise FileExistsError(f"{args.parquet} exists; choose another file")
+        atomic_write(args.parquet, lambda p: table.write_parquet(p))
+        print(f"wrote {args.parquet}")
     return 0
 
 
@@ -169,7 +218,34 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--ray", default=None, metavar="ADDRESS",
                    help="evaluate on a Ray cluster ('auto', 'local' or an address)")
     p.add_argument("--resume", action="store_true", help="continue the run in --out")
+    p.add_argument("--record-every", type=_non_negative, default=100, metavar="K",
+                   help="record one trial of each replication's best individual every K "
+                        "generations and at the end of each phase (default 100; 0 = never)")
     p.set_defaults(func=cmd_train)
+
+    p = sub.add_parser("evaluate", help="post-evaluate a trained run on the 45 systematic "
+                                        "positions (section IV)")
+    p.add_argument("run_dir", type=Path, metavar="RUN_DIR", help="a run directory of 'train'")
+    p.add_argument("--sensors", default="normal",
+                   choices=("normal", "no-touch", "no-sight", "nothing", "all"),
+                   help="sensory condition(s) of Fig. 9 (default normal)")
+    p.add_argument("--robots", type=_positive, default=5,
+                   help="best robots of each replication to test (default 5)")
+    p.add_argument("--record", default="best",
+                   choices=("best", "replications", "all", "none"),
+                   help="which robots' trials to record as .rrd: the best robot of the best "
+                        "replication (default), the best of each replication, all, none")
+    p.add_argument("--workers", type=_positive, default=None,
+                   help="local processes (default: every core; 1 = serial)")
+    p.add_argument("--ray", default=None, metavar="ADDRESS",
+                   help="evaluate on a Ray cluster ('auto', 'local' or an address)")
+    p.set_defaults(func=cmd_evaluate)
+
+    p = sub.add_parser("read", help="show a .rrd recording's properties and series; "
+                                    "--parquet saves them as a table")
+    p.add_argument("rrd", type=Path, metavar="FILE.rrd")
+    p.add_argument("--parquet", type=Path, default=None, metavar="OUT.parquet")
+    p.set_defaults(func=cmd_read)
 
     p = sub.add_parser("bench", help="measure simulation speed (see README)")
     p.add_argument("--json", type=Path, default=None, help="also write the figures to FILE")
@@ -183,7 +259,8 @@ def main(argv=None) -> int:
     args = build_parser().parse_args(argv)
     try:
         return args.func(args)
-    except (ValueError, FileNotFoundError, NotADirectoryError, PermissionError) as exc:
+    except (ValueError, FileNotFoundError, FileExistsError, NotADirectoryError,
+            PermissionError) as exc:
         print(f"dart-reach: error: {exc}", file=sys.stderr)
         return 2
     except KeyboardInterrupt:

@@ -34,6 +34,7 @@ from __future__ import annotations
 import os
 import subprocess
 import sys
+import warnings
 from dataclasses import asdict, dataclass
 from pathlib import Path
 
@@ -321,14 +322,20 @@ def _chunks(path: Path):
     if not path.is_file():
         raise RecordingError(f"{path}: no such recording")
     try:
-        reader = RrdReader(str(path))
+        with warnings.catch_warnings():
+            # Every file this package writes ends with a footer; rerun only warns without one.
+            warnings.filterwarnings("error", message=".*no footer", category=Warning)
+            reader = RrdReader(str(path))
         if not reader.recordings():
             raise RecordingError(f"{path}: holds no recording")
         return list(reader.stream().to_chunks())
     except RecordingError:
         raise
+    except Warning:
+        raise RecordingError(f"{path}: truncated .rrd file (its footer is missing)") from None
     except Exception as exc:  # rerun raises its own error types for damaged files
-        raise RecordingError(f"{path}: not a readable .rrd file ({_first_line(exc)})") from None
+        raise RecordingError(f"{path}: truncated or damaged .rrd file "
+                             f"({_first_line(exc)})") from None
 
 
 def _first_line(exc: Exception) -> str:
@@ -390,12 +397,17 @@ def read_rrd(path) -> pl.DataFrame:
     return table.sort(table.columns[0])
 
 
-def verify(path) -> None:
-    """Check a .rrd file with rerun's own verifier (``rerun rrd verify``)."""
+def verify(*paths) -> None:
+    """Check .rrd files with rerun's own verifier (``rerun rrd verify``); raise
+    ``RecordingError`` unless every one of them passes. (The verifier skips a file that is not
+    an .rrd at all without failing: the count of verified files is checked too.)"""
     exe = Path(sys.executable).parent / "rerun"
-    cmd = [str(exe) if exe.exists() else "rerun", "rrd", "verify", str(path)]
-    env = dict(os.environ, RERUN_ANALYTICS="0")
-    out = subprocess.run(cmd, capture_output=True, text=True, env=env)
-    if out.returncode != 0:
-        raise RecordingError(f"{path}: rerun rrd verify failed: "
-                             f"{(out.stderr or out.stdout).strip().splitlines()[-1:]}")
+    cmd = [str(exe) if exe.exists() else "rerun", "rrd", "verify", *map(str, paths)]
+    out = subprocess.run(cmd, capture_output=True, text=True,
+                         env=dict(os.environ, RERUN_ANALYTICS="0"))
+    text = out.stdout + out.stderr
+    n = len(paths)
+    if out.returncode != 0 or f"{n} file{'s' if n != 1 else ''} verified without error" not in text:
+        lines = [line for line in text.strip().splitlines() if line.strip()]
+        raise RecordingError(f"{paths[0] if n == 1 else f'{n} files'}: rerun rrd verify failed: "
+                             f"{' / '.join(lines[-2:])}")

@@ -1,0 +1,148 @@
+"""Post-evaluation (section IV) of a tiny real run: the table, the recordings, incremental
+evaluation, determinism, and bad input."""
+
+from __future__ import annotations
+
+import json
+import shutil
+import subprocess
+import sys
+
+import numpy as np
+import polars as pl
+import pytest
+
+from dart_reach import metrics
+from dart_reach.conditions import load_condition, scaled
+from dart_reach.evaluation import SENSES, evaluate_run
+from dart_reach.experiment import Settings, train
+from dart_reach.recording import read_properties, read_rrd, verify
+
+TRIALS = 45  # systematic positions, 5 per sector
+
+
+def _cli(*args):
+    return subprocess.run([sys.executable, "-m", "dart_reach.cli", *map(str, args)],
+                          capture_output=True, text=True, timeout=600)
+
+
+@pytest.fixture(scope="module")
+def trained(tmp_path_factory):
+    out = tmp_path_factory.mktemp("runs") / "tiny"
+    train([scaled(load_condition("standard"), 1)],
+          Settings(replications=2, trials=1, steps=5, seed=1), out, workers=1)
+    return out
+
+
+@pytest.fixture(scope="module")
+def evaluated(trained, tmp_path_factory):
+    out = tmp_path_factory.mktemp("evaluated") / "run"
+    shutil.copytree(trained, out)
+    result = _cli("evaluate", out, "--sensors", "no-touch", "--robots", "2", "--workers", "1")
+    assert result.returncode == 0, result.stderr
+    return out, result
+
+
+def test_table_and_recordings(evaluated):
+    out, result = evaluated
+    table = pl.read_parquet(out / "evaluation.parquet")
+    assert table.height == 3 * 2 * 2 * TRIALS  # phases x replications x robots x positions
+    assert set(table["senses"]) == {"no-touch"}
+    assert table.group_by("phase", "replication", "rank").len()["len"].to_list() == [TRIALS] * 12
+    assert table["sector"].to_list()[:TRIALS] == [k // 5 for k in range(TRIALS)]
+    assert {"reached", "grasped", "speed", "straightness", "var_elbow", "babbling_share",
+            "lifetime_fitness", "ball_x"} <= set(table.columns)
+    recorded = table.filter(pl.col("recording").is_not_null())
+    # the best robot of the best replication of each phase, every position
+    assert recorded.height == 3 * TRIALS
+    assert (recorded["rank"] == 0).all()
+    files = sorted((out / "evaluation").rglob("*.rrd"))
+    assert sorted(str(out / r) for r in recorded["recording"]) == [str(f) for f in files]
+    verify(*files)
+    assert f"rerun {out / recorded['recording'][0]}" in result.stderr
+    row = recorded.row(7, named=True)
+    props = read_properties(out / row["recording"])
+    assert (props["phase"], props["replication"], props["individual"], props["trial"],
+            props["sector"], props["senses"]) == (row["phase"], row["replication"], 0, 7, 1,
+                                                  "no-touch")
+
+
+def test_table_measures_agree_with_the_recording(evaluated):
+    """The measures in the table, recomputed from the recorded signals, are the same."""
+    out, _ = evaluated
+    table = pl.read_parquet(out / "evaluation.parquet").filter(
+        pl.col("recording").is_not_null())
+    for row in table.sample(5, seed=0).iter_rows(named=True):
+        rec = read_rrd(out / row["recording"])
+        hand = rec.select("^positions/hand/.*$").to_numpy()
+        ball = rec.select("^positions/ball/.*$").to_numpy()
+        contacts = rec.select("^contacts/.*$").to_numpy() > 0.5
+        assert metrics.reached(contacts) == row["reached"]
+        assert metrics.grasped(contacts) == row["grasped"]
+        assert rec["fitness/p_multimodal"].mean() == pytest.approx(row["fitness"], abs=1e-15)
+        assert metrics.elbow_freezing(hand, rec.select("^positions/shoulder/.*$").to_numpy()) \
+            == pytest.approx(row["elbow_freezing"])
+        assert np.linalg.norm(hand[0] - ball[0]) == pytest.approx(row["hand_ball_initial"])
+
+
+def test_evaluating_again_adds_only_what_is_missing(evaluated, tmp_path):
+    src, _ = evaluated
+    out = tmp_path / "run"
+    shutil.copytree(src, out)
+    before = pl.read_parquet(out / "evaluation.parquet")
+    old = {p: p.stat().st_mtime_ns for p in (out / "evaluation").rglob("*.rrd")}
+    table = evaluate_run(out, senses=SENSES, robots=2, record="none", workers=1)
+    assert table.height == 4 * before.height
+    assert table.filter(pl.col("senses") == "no-touch").equals(before)
+    assert {p: p.stat().st_mtime_ns for p in (out / "evaluation").rglob("*.rrd")} == old
+    saved = (out / "evaluation.parquet").read_bytes()
+    again = evaluate_run(out, senses=SENSES, robots=2, workers=1)
+    assert again.equals(table) and (out / "evaluation.parquet").read_bytes() == saved
+
+
+def test_same_result_whatever_the_number_of_workers(evaluated, trained, tmp_path):
+    src, _ = evaluated
+    serial = pl.read_parquet(src / "evaluation.parquet").drop("recording")
+    out = tmp_path / "pool"
+    shutil.copytree(trained, out)
+    pool = evaluate_run(out, senses=["no-touch"], robots=2, record="none", workers=2)
+    assert pool.drop("recording").equals(serial)
+
+
+def _one_line_error(result, *fragments):
+    assert result.returncode == 2, result.stderr
+    assert result.stderr.count("\n") == 1, result.stderr
+    for f in fragments:
+        assert f in result.stderr, result.stderr
+
+
+def _snapshot(path):
+    return {p: p.read_bytes() for p in sorted(path.rglob("*")) if p.is_file()}
+
+
+def test_bad_input(trained, tmp_path):
+    _one_line_error(_cli("evaluate", tmp_path / "nowhere"), "nowhere: no such run directory")
+    empty = tmp_path / "empty"
+    empty.mkdir()
+    _one_line_error(_cli("evaluate", empty), "empty: not a run directory (no manifest.json)")
+
+    future = tmp_path / "future"
+    shutil.copytree(trained, future)
+    manifest = json.loads((future / "manifest.json").read_text())
+    (future / "manifest.json").write_text(json.dumps(dict(manifest, format=99)))
+    _one_line_error(_cli("evaluate", future), "manifest.json: written by an incompatible version")
+
+    unfinished = tmp_path / "unfinished"
+    shutil.copytree(trained, unfinished)
+    next((unfinished / "phases").glob("fine-*/final.npz")).unlink()
+    before = _snapshot(unfinished)
+    _one_line_error(_cli("evaluate", unfinished), "unfinished run", "standard/fine")
+    assert _snapshot(unfinished) == before  # nothing written
+
+    run = tmp_path / "run"
+    shutil.copytree(trained, run)
+    _one_line_error(_cli("evaluate", run, "--robots", "21"), "robots must be between 1 and")
+    _one_line_error(_cli("evaluate", run, "--sensors", "smell"), "--sensors")
+    (run / "evaluation.parquet").write_bytes(b"not parquet")
+    _one_line_error(_cli("evaluate", run), "evaluation.parquet: unreadable")
+    assert (run / "evaluation.parquet").read_bytes() == b"not parquet"
