@@ -111,7 +111,10 @@ class RobotModel:
         robot = world.robot
         bodies = list(robot.getBodyNodes())
         index = {b.getName(): i for i, b in enumerate(bodies)}
-        self.parent, self.dof, self.axis, self.before, self.after = [], [], [], [], []
+        # A revolute joint's transform from its parent body is before @ R(q) @ after, and
+        # R(q) = I + sin q K + (1 - cos q) K^2 (Rodrigues, K the axis' cross-product matrix):
+        # so it is terms[0] + sin q terms[1] + (1 - cos q) terms[2], three constant matrices.
+        self.parent, self.dof, self.terms = [], [], []
         for b in bodies:
             j = b.getParentJoint()
             kind = type(j).__name__
@@ -119,11 +122,15 @@ class RobotModel:
                 raise ValueError(f"cannot draw joint {j.getName()} of type {kind}")
             p = b.getParentBodyNode()
             self.parent.append(-1 if p is None else index[p.getName()])
+            before = np.asarray(j.getTransformFromParentBodyNode().matrix())
+            after = np.linalg.inv(np.asarray(j.getTransformFromChildBodyNode().matrix()))
+            K = np.zeros((4, 4))
+            if kind == "RevoluteJoint":
+                x, y, z = np.asarray(j.getAxis(), float)
+                K[:3, :3] = [[0, -z, y], [z, 0, -x], [-y, x, 0]]
             self.dof.append(j.getIndexInSkeleton(0) if kind == "RevoluteJoint" else -1)
-            self.axis.append(np.asarray(j.getAxis(), float) if kind == "RevoluteJoint"
-                             else np.zeros(3))
-            self.before.append(np.asarray(j.getTransformFromParentBodyNode().matrix()))
-            self.after.append(np.linalg.inv(np.asarray(j.getTransformFromChildBodyNode().matrix())))
+            self.terms.append(np.stack([before @ after, before @ K @ after,
+                                        before @ K @ K @ after]))
         self.names = [b.getName() for b in bodies]
         segment = {name: i for i, name in enumerate(HAND_SEGMENTS)}
         boxes, spheres = [], []
@@ -153,12 +160,17 @@ class RobotModel:
         dofs = np.asarray(dofs, float)
         n = dofs.shape[0]
         out = np.empty((n, len(self.names), 4, 4))
-        for i, (p, d) in enumerate(zip(self.parent, self.dof)):
-            local = np.broadcast_to(self.before[i], (n, 4, 4))
+        sin, one_minus_cos = np.sin(dofs), 1.0 - np.cos(dofs)
+        for i, (p, d, terms) in enumerate(zip(self.parent, self.dof, self.terms)):
             if d >= 0:
-                local = local @ _rotations(self.axis[i], dofs[:, d])
-            local = local @ self.after[i]
-            out[:, i] = local if p < 0 else out[:, p] @ local
+                local = (terms[0] + sin[:, d, None, None] * terms[1]
+                         + one_minus_cos[:, d, None, None] * terms[2])
+            else:
+                local = np.broadcast_to(terms[0], (n, 4, 4))
+            if p < 0:
+                out[:, i] = local
+            else:
+                np.matmul(out[:, p], local, out=out[:, i])
         return out
 
     def shape_poses(self, dofs: np.ndarray):
@@ -168,17 +180,6 @@ class RobotModel:
         box = bodies[:, self.box_body] @ self.box_local
         sphere = bodies[:, self.sphere_body] @ self.sphere_local
         return box[..., :3, 3], quaternions(box[..., :3, :3]), sphere[..., :3, 3]
-
-
-def _rotations(axis: np.ndarray, angles: np.ndarray) -> np.ndarray:
-    """Homogeneous rotations (T, 4, 4) by ``angles`` about the unit ``axis`` (Rodrigues)."""
-    x, y, z = axis
-    K = np.array([[0, -z, y], [z, 0, -x], [-y, x, 0]])
-    s, c = np.sin(angles)[:, None, None], np.cos(angles)[:, None, None]
-    out = np.zeros((angles.shape[0], 4, 4))
-    out[:, :3, :3] = np.eye(3) + s * K + (1 - c) * (K @ K)
-    out[:, 3, 3] = 1.0
-    return out
 
 
 def quaternions(R: np.ndarray) -> np.ndarray:
@@ -205,21 +206,15 @@ def quaternions(R: np.ndarray) -> np.ndarray:
 
 # ------------------------------------------------------------------------------ blueprints
 def trial_blueprint() -> rrb.Blueprint:
-    """The default layout of a trial: the 3D scene beside sensor, neuron, motor and fitness
-    plots."""
+    """The default layout of a trial: the 3D scene beside the sensor, neuron, motor and fitness
+    time series."""
     return rrb.Blueprint(
         rrb.Horizontal(
             rrb.Spatial3DView(name="scene", origin="world"),
             rrb.Vertical(
-                rrb.Tabs(rrb.TimeSeriesView(name="proprioception", origin="sensors/proprio"),
-                         rrb.TimeSeriesView(name="touch", origin="sensors/touch"),
-                         rrb.TimeSeriesView(name="sight", origin="sensors/sight"),
-                         rrb.TimeSeriesView(name="offset", origin="sensors/offset")),
-                rrb.Tabs(rrb.TimeSeriesView(name="internal neurons", origin="network/hidden"),
-                         rrb.TimeSeriesView(name="motor neurons", origin="network/motor"),
-                         rrb.TimeSeriesView(name="motor targets", origin="motor/targets"),
-                         rrb.TimeSeriesView(name="joints", origin="robot/joints"),
-                         rrb.TimeSeriesView(name="contacts", origin="contacts")),
+                rrb.TimeSeriesView(name="sensors", origin="sensors"),
+                rrb.TimeSeriesView(name="neurons", origin="network"),
+                rrb.TimeSeriesView(name="motor targets", origin="motor"),
                 rrb.TimeSeriesView(name="fitness", origin="fitness"),
             ),
             column_shares=[3, 2],
