@@ -1,11 +1,11 @@
 # dart_reach: two commands on a fresh machine with Python 3.11 and make.
-#   make demo   creates .venv, installs the package, runs the main job on its defaults
+#   make demo   creates .venv, installs the package, trains and post-evaluates a small run
 #   make test   creates .venv, installs the dev extras, runs the whole test suite
 PY ?= $(shell command -v python3.11 || command -v python3)
 VENV := .venv
 BIN := $(VENV)/bin
 
-.PHONY: demo test bench skeleton clean
+.PHONY: demo test bench skeleton clean notebooks
 
 $(BIN)/python:
 	$(PY) -m venv $(VENV)
@@ -19,19 +19,35 @@ $(VENV)/.installed-dev: pyproject.toml | $(BIN)/python
 	$(BIN)/python -m pip install -q -e ".[dev]"
 	touch $@ $(VENV)/.installed
 
-# The standard condition (pre -> gross -> fine) at a laptop budget: a few minutes on 2 cores.
+# The standard condition (pre -> gross -> fine) at a laptop budget, then its post-evaluation
+# (section IV) under the four sensory conditions: about 10 minutes on 2 cores.
 DEMO_OUT := recordings/demo-standard
 demo: $(VENV)/.installed
 	$(BIN)/dart-reach reach --seconds 3
-	$(BIN)/dart-reach train standard --generations 3 --replications 2 --trials 6 \
+	$(BIN)/dart-reach train standard --generations 3 --replications 2 --trials 6 --record-every 1 \
 		--out $(DEMO_OUT) $(if $(wildcard $(DEMO_OUT)/manifest.json),--resume,)
+	$(BIN)/dart-reach evaluate $(DEMO_OUT) --sensors all
 	@echo
 	@echo "Results in $(DEMO_OUT):"
 	@echo "  manifest.json        every setting, seed, version and the git revision"
 	@echo "  generations.parquet  best/mean/min fitness per phase, replication and generation"
-	@echo "  phases/*/final.npz   final populations (numpy); phases/*/best.parquet (polars)"
-	@echo "Look at the fitness curves with:"
-	@echo "  $(BIN)/python -c \"import polars as pl; print(pl.read_parquet('$(DEMO_OUT)/generations.parquet'))\""
+	@echo "  training.rrd         the same as Rerun time series (timeline: generation)"
+	@echo "  phases/*/best/*.rrd  one trial of each replication's best individual per generation"
+	@echo "  evaluation.parquet   one row per post-evaluation trial with the paper's measures"
+	@echo "  evaluation/**/*.rrd  the trials of the best robot of the best replication"
+	@echo "Watch a trial in the Rerun viewer (scene, sensors, neurons, motors, fitness):"
+	@echo "  $(BIN)/rerun $$(ls $(DEMO_OUT)/evaluation/fine-*/normal/*/trial20-*.rrd | head -1)"
+	@echo "  $(BIN)/rerun $(DEMO_OUT)/training.rrd"
+	@echo "Redraw the paper's figures 5-10 in Jupyter:"
+	@echo "  make notebooks"
+
+# Jupyter Lab on the analysis notebooks (installs the 'notebooks' extra on first use).
+notebooks: $(VENV)/.installed-notebooks
+	$(BIN)/jupyter lab notebooks/
+
+$(VENV)/.installed-notebooks: pyproject.toml | $(BIN)/python
+	$(BIN)/python -m pip install -q -e ".[notebooks]"
+	touch $@
 
 test: $(VENV)/.installed-dev
 	$(BIN)/python -m pytest -q

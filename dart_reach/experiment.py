@@ -15,9 +15,13 @@ Run directory::
 
     manifest.json              conditions, settings, seeds, package versions, git revision
     generations.parquet        one row per (condition, phase, replication, generation)
-    checkpoint.npz             the GA states after the last complete generation (atomic)
+    training.rrd               the same statistics as Rerun time series (timeline generation)
+    phases/<phase>/checkpoint.npz  the GA states after the last complete generation (atomic)
     phases/<phase>/final.npz   per replication: final population, lifetime fitness, best genome
     phases/<phase>/best.parquet  the final populations as a table, best first
+    phases/<phase>/best/gen<G>-rep<R>.rrd  a trial of each replication's best individual,
+                               every ``record_every`` generations
+    evaluation.parquet, evaluation/   the post-evaluation (``evaluation.py``)
 """
 
 from __future__ import annotations

@@ -372,3 +372,98 @@ def robot_performance(table: pl.DataFrame,
             .agg(pl.len().alias("n"), pl.col("fitness").cast(pl.Float64).mean().alias("fitness"),
                  *_rates())
             .sort(by))
+
+
+# ---------------------------------------------------------------------------------------------
+# Summaries for the figures (Figs. 5, 6, 8, 10)
+# ---------------------------------------------------------------------------------------------
+
+def robot_means(table: pl.DataFrame, values: Sequence[str],
+                by: Sequence[str] = ("phase", "senses", "replication", "rank")) -> pl.DataFrame:
+    """One row per robot (group of ``by``): the mean over its trials of each column of
+    ``values``, ignoring NaN and null (a reaching speed is NaN in a trial without a reach).
+
+    Booleans count as 0/1 (the mean of ``reached`` is the reach rate). Columns: ``*by``, n
+    (trials), then one Float64 column per value: NaN when none of the robot's trials has a
+    finite value. Sorted by ``by``. The robot is the unit of the bars and statistics of Figs. 5,
+    6 and 9 ("post-evaluating 50 robots ... for 45 trials").
+    """
+    by, values = list(by), list(values)
+    if not by:
+        raise ValueError("robot_means needs at least one column that identifies a robot")
+    if not values:
+        raise ValueError("robot_means needs at least one value column")
+    _require(table, [*by, *values])
+    return (table.group_by(by)
+            .agg(pl.len().alias("n"),
+                 *[pl.col(v).cast(pl.Float64).fill_nan(None).mean().alias(v) for v in values])
+            .with_columns([pl.col(v).fill_null(math.nan) for v in values])
+            .sort(by))
+
+
+def group_summary(units: pl.DataFrame, values: Sequence[str],
+                  by: Sequence[str] = ("phase",)) -> pl.DataFrame:
+    """Mean, standard deviation and standard error of each column of ``values`` over the units
+    (rows, e.g. robots of ``robot_means``) of each group of ``by``: the bars and error bars of
+    Figs. 5 and 6.
+
+    Long table, one row per group and measure: ``*by``, measure (the value's column name), n
+    (units with a finite value; NaN and null are left out), mean, sd (ddof = 1), sem
+    (sd / sqrt(n)). mean is NaN when n = 0, sd and sem when n < 2. Sorted by ``by``, then
+    measures in the order of ``values``.
+    """
+    by, values = list(by), list(values)
+    if not values:
+        raise ValueError("group_summary needs at least one value column")
+    _require(units, [*by, *values])
+    order = {v: i for i, v in enumerate(values)}
+    long = (units.select([*by, *[pl.col(v).cast(pl.Float64) for v in values]])
+            .unpivot(index=by or None, on=values, variable_name="measure", value_name="value")
+            .with_columns(pl.col("value").fill_nan(None)))
+    keys = [*by, "measure"]
+    out = (long.group_by(keys)
+           .agg(pl.col("value").count().alias("n"), pl.col("value").mean().alias("mean"),
+                pl.col("value").std(ddof=1).alias("sd"))
+           .with_columns(pl.col("mean").fill_null(math.nan),
+                         pl.when(pl.col("n") >= 2).then(pl.col("sd")).otherwise(math.nan)
+                         .fill_null(math.nan).alias("sd"))
+           .with_columns((pl.col("sd") / pl.col("n").cast(pl.Float64).sqrt()).alias("sem"))
+           .with_columns(pl.col("measure").replace_strict(order, return_dtype=pl.Int64)
+                         .alias("_order"))
+           .sort([*by, "_order"]).drop("_order"))
+    return out.select([*keys, "n", "mean", "sd", "sem"])
+
+
+def replication_performance(table: pl.DataFrame, senses: str = "normal", robots: int = 1,
+                            by: Sequence[str] = ("phase",)) -> pl.DataFrame:
+    """One value per replication of each group of ``by``, the unit of Fig. 10 ("the
+    distribution of p_multimodal performances obtained in ten replications").
+
+    A replication's performance is the post-evaluation fitness (mean p_multimodal over the 45
+    systematic trials, sensory condition ``senses``) of its best robot (rank 0), or with
+    ``robots`` = k > 1 the mean of its best k robots' (ranks 0..k-1 that were evaluated). The
+    post-evaluation tests every condition on the same positions, sector by sector, while the
+    lifetime fitness (the last generation's, on 18 random positions) is the maximum of a noisy
+    selection and so biased upwards; it is kept as a column for comparison.
+
+    Columns: ``*by``, replication, robots (robots averaged), fitness, reach_rate, grasp_rate (of
+    those robots' trials), lifetime_fitness (mean of those robots' final training fitness).
+    Sorted by ``by`` then replication. ValueError when no trial matches ``senses`` and
+    ``robots``.
+    """
+    by = list(by)
+    if robots < 1:
+        raise ValueError(f"robots must be at least 1, got {robots}")
+    _require(table, [*by, "senses", "replication", "rank", "fitness", "reached", "grasped",
+                     "lifetime_fitness"])
+    sub = table.filter((pl.col("senses") == senses) & (pl.col("rank") < robots))
+    if sub.height == 0:
+        raise ValueError(f"no trials with senses {senses!r} and rank < {robots} in the table")
+    per_robot = (sub.group_by([*by, "replication", "rank"])
+                 .agg(pl.col("fitness").cast(pl.Float64).mean(), *_rates(),
+                      pl.col("lifetime_fitness").cast(pl.Float64).first()))
+    return (per_robot.group_by([*by, "replication"])
+            .agg(pl.len().alias("robots"),
+                 *[pl.col(c).mean() for c in ("fitness", "reach_rate", "grasp_rate",
+                                              "lifetime_fitness")])
+            .sort([*by, "replication"]))

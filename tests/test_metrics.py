@@ -363,3 +363,79 @@ def test_robot_performance():
     assert gross1["reach_rate"] == pytest.approx(1 / 3) and gross1["grasp_rate"] == 0.0
     with pytest.raises(ValueError):
         m.robot_performance(post_table().drop("fitness"))
+
+
+# ------------------------------------------------------------------ figure summaries
+
+def speed_table():
+    """Robot (pre, rep 0, rank 0): speeds 1.0, NaN, 3.0 -> mean 2.0, reached 1, 0, 1.
+    Robot (pre, rep 0, rank 1): speeds NaN, NaN -> NaN, reached 0, 0.
+    Robot (pre, rep 1, rank 0): speed 4.0, reached 1. Robot (gross, rep 0, rank 0): 0.5, 1."""
+    nan = math.nan
+    return pl.DataFrame({
+        "phase": ["pre"] * 6 + ["gross"],
+        "senses": ["normal"] * 7,
+        "replication": [0, 0, 0, 0, 0, 1, 0],
+        "rank": [0, 0, 0, 1, 1, 0, 0],
+        "speed": [1.0, nan, 3.0, nan, nan, 4.0, 0.5],
+        "reached": [True, False, True, False, False, True, True],
+    })
+
+
+def test_robot_means_ignores_nan_and_counts_booleans():
+    r = m.robot_means(speed_table(), ["speed", "reached"])
+    assert r.columns == ["phase", "senses", "replication", "rank", "n", "speed", "reached"]
+    assert r["phase"].to_list() == ["gross", "pre", "pre", "pre"]
+    assert r["n"].to_list() == [1, 3, 2, 1]
+    speed = r["speed"].to_list()
+    assert speed[0] == 0.5 and speed[1] == 2.0 and math.isnan(speed[2]) and speed[3] == 4.0
+    assert r["reached"].to_list() == [1.0, pytest.approx(2 / 3), 0.0, 1.0]
+    with pytest.raises(ValueError):
+        m.robot_means(speed_table(), ["nope"])
+    with pytest.raises(ValueError):
+        m.robot_means(speed_table(), [])
+
+
+def test_group_summary_mean_sd_sem():
+    robots = m.robot_means(speed_table(), ["speed", "reached"])
+    s = m.group_summary(robots, ["speed", "reached"])
+    assert s.columns == ["phase", "measure", "n", "mean", "sd", "sem"]
+    assert s["phase"].to_list() == ["gross", "gross", "pre", "pre"]
+    assert s["measure"].to_list() == ["speed", "reached"] * 2
+    gross_speed, _, pre_speed, pre_reached = s.iter_rows(named=True)
+    # gross: one robot -> mean 0.5, no sd
+    assert gross_speed["n"] == 1 and gross_speed["mean"] == 0.5 and math.isnan(gross_speed["sd"])
+    assert math.isnan(gross_speed["sem"])
+    # pre speed: robots 2.0 and 4.0 (the NaN robot left out): sd = sqrt(2), sem = 1
+    assert pre_speed["n"] == 2 and pre_speed["mean"] == 3.0
+    assert pre_speed["sd"] == pytest.approx(math.sqrt(2)) and pre_speed["sem"] == pytest.approx(1)
+    # pre reached: 2/3, 0, 1 -> mean 5/9
+    assert pre_reached["n"] == 3 and pre_reached["mean"] == pytest.approx(5 / 9)
+    # a group without any finite value: n 0, mean NaN
+    empty = m.group_summary(robots.filter(pl.col("speed").is_nan()), ["speed"])
+    assert empty["n"].to_list() == [0] and math.isnan(empty["mean"][0])
+    # no grouping: one row per measure
+    assert m.group_summary(robots, ["speed"], by=())["n"].to_list() == [3]
+
+
+def test_replication_performance_best_robot_and_best_k():
+    t = post_table().with_columns(
+        pl.when(pl.col("rank") == 0).then(0.9).otherwise(0.5).alias("lifetime_fitness"))
+    best = m.replication_performance(t)
+    assert best.columns == ["phase", "replication", "robots", "fitness", "reach_rate",
+                            "grasp_rate", "lifetime_fitness"]
+    assert best["phase"].to_list() == ["gross", "pre"]
+    assert best["robots"].to_list() == [1, 1]
+    # pre rank 0: fitness 0.4, 0.2, 0.1, 0.0 (see test_robot_performance); gross rank 0:
+    # sector 0 row 1 (0.5), sector 4 row 1 (0.0), sector 8 rows 1-2 (0.6, 0.4) -> 1.5 / 4
+    assert best["fitness"].to_list() == [pytest.approx(1.5 / 4), pytest.approx(0.7 / 4)]
+    assert best["lifetime_fitness"].to_list() == [0.9, 0.9]
+    two = m.replication_performance(t, robots=2)
+    assert two["robots"].to_list() == [2, 2]
+    # pre: robot 0 -> 0.175, robot 1 -> (0 + 0 + 0.3 + 0 + 0) / 5 = 0.06
+    assert two.filter(pl.col("phase") == "pre")["fitness"][0] == pytest.approx((0.175 + 0.06) / 2)
+    assert two["lifetime_fitness"].to_list() == [pytest.approx(0.7)] * 2
+    with pytest.raises(ValueError, match="no trials"):
+        m.replication_performance(t, senses="nothing")
+    with pytest.raises(ValueError):
+        m.replication_performance(t, robots=0)
