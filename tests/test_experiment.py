@@ -152,3 +152,29 @@ def test_bad_input_is_refused_and_loses_nothing(tmp_path):
     assert after == before, "nothing saved was touched"
     with pytest.raises(RunError, match="nothing to resume"):
         Run(tmp_path / "empty", [load_condition("standard")], TINY, resume=True)
+
+
+def test_training_recordings(tmp_path):
+    """training.rrd mirrors generations.parquet; best-individual recordings every K generations
+    do not change the training's result."""
+    from dart_reach.recording import read_properties, read_rrd, verify
+
+    cond = [scaled(load_condition("standard"), 3)]
+    recorded = train(cond, TINY, tmp_path / "rec", workers=1, record_every=2)
+    plain = train(cond, TINY, tmp_path / "plain", workers=1)
+    assert _same(_result(recorded.out), _result(plain.out))
+    stats = pl.read_parquet(recorded.out / "generations.parquet")
+    series = read_rrd(recorded.out / "training.rrd")
+    for (phase, rep), rows in stats.group_by("phase", "replication"):
+        column = series[f"standard/{phase}/rep{rep}/best"].drop_nulls()
+        assert column.to_list() == rows.sort("generation")["best"].to_list()
+    files = sorted(recorded.out.glob("phases/*/best/*.rrd"))
+    # generations 2 (every 2) and 3 (the end of the phase), 2 replications, 3 phases
+    assert [f.name for f in files if f.parent.parent.name.startswith("pre-")] == [
+        "gen0002-rep00.rrd", "gen0002-rep01.rrd", "gen0003-rep00.rrd", "gen0003-rep01.rrd"]
+    assert len(files) == 12
+    verify(recorded.out / "training.rrd", *files)
+    props = read_properties(files[-1])
+    assert props["generation"] == 3 and props["replication"] == 1
+    assert read_rrd(files[-1]).height == TINY.steps
+    assert not list(plain.out.glob("phases/*/best/*.rrd"))
