@@ -187,21 +187,15 @@ def evaluate_run(run_dir, senses: Iterable[str] = ("normal",), robots: int = 5,
     table = load_evaluation(run.out) if path.exists() else None
     done = set() if table is None else set(table.select(_KEY).iter_rows())
     jobs = []
-    seen: set[str] = set()
-    for condition in run.conditions:
-        for phase in condition.phases:
-            if phase.key in seen:
-                continue
-            seen.add(phase.key)
-            genomes, fitness = run.load_final(phase)
-            best_replication = int(np.argmax(fitness[:, 0]))
-            base = trial_config(phase, run.settings)
-            for s in senses:
-                trial = replace(base, senses=s)
-                for r in range(genomes.shape[0]):
-                    for i in range(robots):
-                        if (phase.key, s.value, r, i) in done:
-                            continue
+    for condition, phase in run.unique_phases():
+        genomes, fitness = run.load_final(phase)
+        best_replication = int(np.argmax(fitness[:, 0]))
+        base = trial_config(phase, run.settings)
+        for s in senses:
+            trial = replace(base, senses=s)
+            for r in range(genomes.shape[0]):
+                for i in range(robots):
+                    if (phase.key, s.value, r, i) not in done:
                         jobs.append(RobotJob(
                             condition.name, phase, run.phase_dir(phase).name, r, i,
                             float(fitness[r, i]), genomes[r, i], trial, run.settings.world,

@@ -340,8 +340,9 @@ class Run:
         if record_every < 0:
             raise ValueError(f"record_every must be >= 0, got {record_every}")
         s = self.settings
-        total = sum(p.generations for p in self._unique_phases())
-        done = sum(p.generations for p in self._unique_phases() if self.final_path(p).exists())
+        total = sum(p.generations for _, p in self.unique_phases())
+        done = sum(p.generations for _, p in self.unique_phases()
+                   if self.final_path(p).exists())
         t_start, done_at_start = time.monotonic(), done
         for condition in self.conditions:
             previous: Phase | None = None
@@ -403,11 +404,13 @@ class Run:
                                              self.settings.world.control_dt)))
         return paths
 
-    def _unique_phases(self) -> list[Phase]:
-        seen: dict[str, Phase] = {}
+    def unique_phases(self) -> list[tuple[Condition, Phase]]:
+        """Each phase trained in this run once (a phase shared by conditions comes with the
+        first of them), in training order."""
+        seen: dict[str, tuple[Condition, Phase]] = {}
         for c in self.conditions:
             for p in c.phases:
-                seen.setdefault(p.key, p)
+                seen.setdefault(p.key, (c, p))
         return list(seen.values())
 
     def _drop_stats_after(self, phase: Phase, generation: int) -> None:
