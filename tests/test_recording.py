@@ -116,3 +116,17 @@ def test_damaged_files_are_named_with_their_problem(tmp_path, world, trial):
                           str(tmp_path / "half.rrd")], capture_output=True, text=True)
     assert cli.returncode == 2
     assert cli.stderr.count("\n") == 1 and "half.rrd: truncated" in cli.stderr
+
+
+def test_cli_read_saves_the_series_as_parquet_without_overwriting(tmp_path, world, trial):
+    path = _write(tmp_path, world, trial)
+    out = tmp_path / "t.parquet"
+    cli = [sys.executable, "-m", "dart_reach.cli", "read", str(path), "--parquet", str(out)]
+    result = subprocess.run(cli, capture_output=True, text=True)
+    assert result.returncode == 0, result.stderr
+    assert "senses: no-touch" in result.stdout and "40 rows" in result.stdout
+    assert pl.read_parquet(out).equals(rec.read_rrd(path))
+    saved = out.read_bytes()
+    again = subprocess.run(cli, capture_output=True, text=True)
+    assert again.returncode == 2 and "t.parquet exists" in again.stderr
+    assert out.read_bytes() == saved
