@@ -1,0 +1,208 @@
+"""The figures of section IV (``dart_reach.figures``) and the six analysis notebooks, on a tiny
+real run (trained and post-evaluated through the library): every figure function returns a
+figure with its panels, renders with degenerate data, and every notebook runs in a real Jupyter
+kernel of this environment and shows at least one image."""
+
+from __future__ import annotations
+
+import io
+import json
+import math
+import shutil
+import sys
+from pathlib import Path
+
+import nbclient
+import nbformat
+import polars as pl
+import pytest
+from matplotlib.figure import Figure
+
+from dart_reach import figures, metrics
+from dart_reach.conditions import load_condition, scaled
+from dart_reach.evaluation import SENSES, evaluate_run, load_evaluation, run_phases
+from dart_reach.experiment import Run, Settings, train
+
+NOTEBOOKS_DIR = Path(__file__).resolve().parents[1] / "notebooks"
+NOTEBOOKS = ("fig5_performance.ipynb", "fig6_distances_variability.ipynb",
+             "fig7_sector_maps.ipynb", "fig8_trajectories.ipynb",
+             "fig9_sensory_deprivation.ipynb", "fig10_conditions.ipynb")
+PHASES = ["pre", "gross", "fine"]
+
+
+@pytest.fixture(scope="module")
+def tiny_run(tmp_path_factory):
+    """The standard condition, 1 generation per phase, 2 replications, trials of 6 steps, then
+    post-evaluated: 2 robots per replication, every sensory condition, the best robot of the
+    best replication of each phase recorded."""
+    out = tmp_path_factory.mktemp("notebooks") / "tiny"
+    train([scaled(load_condition("standard"), 1)],
+          Settings(replications=2, trials=1, steps=6, seed=1), out, workers=1)
+    evaluate_run(out, senses=SENSES, robots=2, workers=1)
+    return out
+
+
+@pytest.fixture(scope="module")
+def table(tiny_run):
+    return load_evaluation(tiny_run)
+
+
+def _render(fig: Figure) -> Figure:
+    """Draw the figure to PNG bytes (runs the layout and every artist)."""
+    buf = io.BytesIO()
+    fig.savefig(buf, format="png", dpi=40)
+    assert buf.getvalue()[:8] == b"\x89PNG\r\n\x1a\n"
+    return fig
+
+
+# ------------------------------------------------------------------------------ figures
+
+def test_phase_order_and_run_settings(tiny_run):
+    assert figures.phase_order(tiny_run) == PHASES
+    assert figures.phase_order(tiny_run, condition="not-there") == PHASES
+    assert figures.sector_config(tiny_run).azimuth_edges[0] == 0.0
+    assert figures.ball_radius(tiny_run) > 0
+
+
+def test_every_figure_has_its_panels(tiny_run, table):
+    stats_table = Run.open(tiny_run).stats
+    counts = {
+        "training": (figures.training_curves(stats_table, run_phases(tiny_run)), 1),
+        "fig5": (figures.fig5_performance(table, PHASES), 4),
+        # top: distances; bottom: elbow, shoulder, trunk, elbow freezing
+        "fig6": (figures.fig6_distances_variability(table, tiny_run, PHASES), 5),
+        # 2 rows x 3 phases + colour bar
+        "fig7": (figures.fig7_sector_maps(table, PHASES), 7),
+        "fig7 regression": (figures.fig7_reach_regression(table), 2),
+        # 4 senses x 3 phases + colour bar
+        "fig8": (figures.fig8_trajectories(table, tiny_run, PHASES), 13),
+        "fig8 side": (figures.fig8_trajectories(table, tiny_run, PHASES, senses=["normal"],
+                                                view="side"), 4),
+        "fig8 babbling": (figures.fig8_babbling(table, PHASES), 2),
+        # bars, significance matrix, bars grouped by senses
+        "fig9": (figures.fig9_sensory_deprivation(table, PHASES), 3),
+        "fig10": (figures.fig10_conditions(metrics.replication_performance(
+            figures.load_runs([tiny_run]), by=("group",))), 2),
+    }
+    for name, (fig, n_axes) in counts.items():
+        assert isinstance(fig, Figure), name
+        assert len(fig.axes) == n_axes, name
+        _render(fig)
+    with pytest.raises(ValueError, match="view"):
+        figures.fig8_trajectories(table, tiny_run, view="below")
+
+
+def test_figure_tables(tiny_run, table):
+    summary = figures.performance_summary(table, ["reached", "speed"], PHASES)
+    assert summary["phase"].to_list() == ["pre", "pre", "gross", "gross", "fine", "fine"]
+    assert summary.filter(pl.col("measure") == "reached")["n"].to_list() == [4, 4, 4]
+    pairs = figures.phase_statistics(table, ["reached", "speed"], PHASES)
+    assert pairs.columns == ["measure", "a", "b", "n_a", "n_b", "U", "p", "significant"]
+    assert pairs.height == 2 * 3
+    st = figures.fig9_statistics(table, PHASES)
+    assert st["robots"].height == 3 * 4 * 2 * 2  # phases x senses x replications x robots
+    assert st["kruskal"]["phase"].to_list() == PHASES
+    assert st["matrix"].width == 1 + 12 and st["pairs"].height == 12 * 11 // 2
+    robot = figures.recorded_robot(table, "pre")
+    assert robot.height == 45 and robot["rank"].unique().to_list() == [0]
+    assert robot["trial"].to_list() == list(range(45))
+    # the recorded robot is the best robot of the best replication (evaluate_run's choice)
+    pre = table.filter((pl.col("phase") == "pre") & (pl.col("rank") == 0))
+    best = pre.sort("lifetime_fitness", descending=True)["replication"][0]
+    assert robot["replication"][0] == best
+
+
+def test_load_runs_labels_groups(tiny_run, tmp_path):
+    one = figures.load_runs([tiny_run])
+    assert one.schema["group"] == pl.Enum(PHASES)
+    assert set(one["run"].unique()) == {"tiny"}
+    reps = metrics.replication_performance(one, by=("group",))
+    assert reps["group"].cast(pl.Utf8).to_list() == ["pre", "pre", "gross", "gross", "fine",
+                                                     "fine"]
+    st = figures.fig10_statistics(reps)
+    assert st["summary"]["group"].to_list() == PHASES
+    assert st["summary"]["replications"].to_list() == [2, 2, 2]
+    # a run given twice is read once
+    assert figures.load_runs([tiny_run, tiny_run]).height == one.height
+    # two runs of the same name: every notation comes from both, so groups name the run
+    other = tmp_path / "copy" / "tiny"
+    other.mkdir(parents=True)
+    for f in ("manifest.json", "generations.parquet", "evaluation.parquet"):
+        shutil.copy(tiny_run / f, other / f)
+    two = figures.load_runs([tiny_run, other])
+    groups = two.schema["group"].categories.to_list()
+    assert groups[:3] == [f"{p} [{tiny_run}]" for p in PHASES]
+    assert groups[3:] == [f"{p} [{other}]" for p in PHASES]
+    reps = metrics.replication_performance(two, by=("group",))
+    assert reps.height == 2 * 3 * 2
+    with pytest.raises(ValueError):
+        figures.load_runs([])
+
+
+def test_figures_survive_missing_and_degenerate_data(tiny_run, table):
+    """One phase only, no reach at all (speed and straightness NaN), zero fitness, one sensory
+    condition, no recordings: every figure still renders, with empty slots."""
+    nan = float("nan")
+    pre = (table.filter((pl.col("phase") == "pre") & (pl.col("senses") == "normal"))
+           .with_columns(pl.lit(nan).alias("speed"), pl.lit(nan).alias("straightness"),
+                         pl.lit(0.0).alias("fitness"), pl.lit(False).alias("reached"),
+                         pl.lit(None, pl.Utf8).alias("recording")))
+    _render(figures.fig5_performance(pre, PHASES))
+    summary = figures.performance_summary(pre, ["speed", "reached"], PHASES)
+    speed = summary.filter(pl.col("measure") == "speed")
+    assert speed["n"].to_list() == [0] and math.isnan(speed["mean"][0])
+    assert figures.phase_statistics(pre, ["speed"], PHASES).height == 0
+    assert len(_render(figures.fig6_distances_variability(pre, tiny_run, PHASES)).axes) == 5
+    assert len(_render(figures.fig7_sector_maps(pre, PHASES)).axes) == 7
+    assert len(_render(figures.fig7_reach_regression(pre)).axes) == 2  # no "gross": a message
+    assert len(_render(figures.fig8_trajectories(pre, tiny_run, PHASES)).axes) == 13
+    _render(figures.fig8_babbling(pre, PHASES))
+    st = figures.fig9_statistics(pre, PHASES)
+    assert math.isnan(st["kruskal"]["p"][0]) and st["pairs"].height == 0
+    _render(figures.fig9_sensory_deprivation(pre, PHASES))
+    _render(figures.fig9_sensory_deprivation(table.head(0), PHASES))
+    reps = metrics.replication_performance(
+        figures.load_runs([tiny_run]).with_columns(pl.lit(0.0).alias("fitness")), by=("group",))
+    st = figures.fig10_statistics(reps)
+    assert st["pairs"]["p"].to_list() == [1.0, 1.0, 1.0]  # all zero: no difference
+    _render(figures.fig10_conditions(reps))
+    _render(figures.fig10_conditions(reps.filter(pl.col("group") == "pre")))
+
+
+# ------------------------------------------------------------------------------ notebooks
+
+def test_the_six_notebooks_are_saved_without_outputs():
+    assert sorted(p.name for p in NOTEBOOKS_DIR.glob("*.ipynb")) == sorted(NOTEBOOKS)
+    assert (NOTEBOOKS_DIR / "README.md").is_file()
+    for name in NOTEBOOKS:
+        nb = nbformat.read(NOTEBOOKS_DIR / name, as_version=4)
+        nbformat.validate(nb)
+        assert nb.cells[0].cell_type == "markdown" and "Savastano" in nb.cells[0].source
+        code = [c for c in nb.cells if c.cell_type == "code"]
+        assert all(c.outputs == [] and c.execution_count is None for c in code), name
+        params = [c for c in code if "parameters" in c.metadata.get("tags", [])]
+        assert len(params) == 1, name
+        env = "DART_REACH_RUNS" if name.startswith("fig10") else "DART_REACH_RUN"
+        assert f'os.environ.get("{env}"' in params[0].source, name
+
+
+@pytest.mark.parametrize("name", NOTEBOOKS)
+def test_notebook_runs(name, tiny_run, monkeypatch):
+    monkeypatch.setenv("DART_REACH_RUN", str(tiny_run))
+    monkeypatch.setenv("DART_REACH_RUNS", str(tiny_run))
+    monkeypatch.setenv("MPLBACKEND", "Agg")  # the notebooks switch to inline themselves
+    nb = nbformat.read(NOTEBOOKS_DIR / name, as_version=4)
+    nb.cells.append(nbformat.v4.new_code_cell(
+        "import json, sys\nprint(json.dumps({'prefix': sys.prefix, 'run': "
+        "RUN_DIRS if 'RUN_DIRS' in globals() else RUN_DIR}))"))
+    client = nbclient.NotebookClient(nb, timeout=300, kernel_name="python3",
+                                     resources={"metadata": {"path": str(NOTEBOOKS_DIR)}})
+    client.execute()  # raises CellExecutionError on any error
+    outputs = [o for c in nb.cells if c.cell_type == "code" for o in c.outputs]
+    assert not [o for o in outputs if o.output_type == "error"]
+    images = [o for o in outputs if "image/png" in o.get("data", {})]
+    assert images, f"{name} shows no image"
+    # the kernel is this environment's Python, and read the run of the environment variable
+    last = json.loads(nb.cells[-1].outputs[0]["text"])
+    assert last["prefix"] == sys.prefix
+    assert last["run"] in (str(tiny_run), [str(tiny_run)])
