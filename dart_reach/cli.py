@@ -136,7 +136,8 @@ def cmd_train(args) -> int:
         print(f"\ninterrupted: every finished generation is saved in {out}; continue with:\n"
               f"  {again}", file=sys.stderr)
         return 130
-    print(f"\ndone: results in {run.out} (manifest.json, generations.parquet, phases/*/)",
+    print(f"\ndone: results in {run.out} (manifest.json, generations.parquet, training.rrd, "
+          f"phases/*/); post-evaluate with: dart-reach evaluate {run.out}",
           file=sys.stderr)
     return 0
 
