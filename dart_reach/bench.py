@@ -120,37 +120,47 @@ def parallel_efficiency(jobs: int = 40, trials: int = 2, seed: int = 0) -> dict:
             "generation_core_s": t_serial * (18 / trials) / jobs}
 
 
-def recording_overhead(repeats: int = 5, config: WorldConfig | None = None) -> dict:
-    """``recording_overhead``: wall time of a post-evaluation trial (20 s, a scripted reach and
-    grasp) with its recording built and written to a .rrd file, over the time without; the
-    nine sectors' centre points, the two kinds of trial interleaved ``repeats`` times and the
-    medians compared. ``rrd_mb_per_sim_min``: size of the recordings per simulated minute."""
+def recording_overhead(robots: int = 2, seed: int = 0) -> dict:
+    """``recording_overhead``: wall time of a post-evaluation trial (the trial and its
+    measures) plus building and writing its .rrd file, over the time of the trial alone; the
+    median over the 45 systematic positions of ``robots`` random gross-reaching robots. Each
+    trial is timed and then immediately recorded, so that both see the same machine load (this
+    machine's speed drifts by 10-20% within seconds). ``rrd_mb_per_sim_min``: size of the
+    recordings per simulated minute."""
     import tempfile
     from pathlib import Path
 
+    from .conditions import load_condition
+    from .evaluator import worker_trial
+    from .experiment import Settings, trial_config
+    from .genome import as_groups, decode, random_genome
+    from .metrics import trial_metrics
     from .recording import RobotModel, TrialInfo, trial_rrd, write_rrd
-    from .scripted import ScriptedController
-    from .task import Trial, TrialConfig
+    from .task import network_for
 
-    world = World(config or WorldConfig())
-    trial = Trial(world, TrialConfig())
-    model = RobotModel(world)
-    points = [(k, world.sector_point(k, 0.5, 0.5)) for k in range(9)]
-    controllers = [ScriptedController(world, p) for _, p in points]
-    plain, recorded, size = [], [], 0
+    settings = Settings()
+    phase = load_condition("standard").phases[1]
+    trial = trial_config(phase, settings)
+    runner = worker_trial(settings.world, trial)
+    model = RobotModel(runner.world)
+    ratios, size, steps = [], 0, 0
     with tempfile.TemporaryDirectory() as tmp:
-        for r in range(repeats):
-            for record in (False, True):
+        for i, genome in enumerate(random_genome(np.random.default_rng(seed), robots)):
+            network = network_for(decode(genome, as_groups(phase.free_groups)), trial)
+            for k, position in enumerate(runner.world.systematic_points()):
                 t0 = time.perf_counter()
-                for (k, p), controller in zip(points, controllers):
-                    data = trial.run(controller, k, p)
-                    if record:
-                        info = TrialInfo("bench", "scripted", 0, 0, k, k, "systematic")
-                        path = write_rrd(Path(tmp) / f"{r}-{k}.rrd", trial_rrd(data, info, model))
-                        size += path.stat().st_size
-                (recorded if record else plain).append(time.perf_counter() - t0)
-    minutes = repeats * len(points) * trial.config.steps * world.config.control_dt / 60
-    return {"recording_overhead": float(np.median(recorded) / np.median(plain)),
+                data = runner.run(network, k // 5, position)
+                trial_metrics(data)
+                t1 = time.perf_counter()
+                info = TrialInfo("bench", phase.name, 0, i, k // 5, k, "systematic")
+                path = write_rrd(Path(tmp) / f"{i}-{k}.rrd",
+                                 trial_rrd(data, info, model, blueprint=False))
+                t2 = time.perf_counter()
+                ratios.append((t2 - t0) / (t1 - t0))
+                size += path.stat().st_size
+                steps += data.steps_run
+    minutes = steps * settings.world.control_dt / 60
+    return {"recording_overhead": float(np.median(ratios)),
             "rrd_mb_per_sim_min": size / 1e6 / minutes}
 
 

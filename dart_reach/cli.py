@@ -143,7 +143,7 @@ def cmd_train(args) -> int:
 
 
 def cmd_evaluate(args) -> int:
-    from .evaluation import RECORDINGS, TABLE, evaluate_run, parse_senses
+    from .evaluation import BLUEPRINT, RECORDINGS, TABLE, evaluate_run, parse_senses
 
     senses = parse_senses(args.sensors)
     try:
@@ -158,8 +158,8 @@ def cmd_evaluate(args) -> int:
     print(f"\n{table.height} trials in {out / TABLE}", file=sys.stderr)
     recorded = table.filter(table["recording"].is_not_null())["recording"] if table.height else []
     if len(recorded):
-        print(f"{len(recorded)} recordings under {out / RECORDINGS}; open one with:\n"
-              f"  rerun {out / recorded[0]}", file=sys.stderr)
+        print(f"{len(recorded)} recordings under {out / RECORDINGS}; open one with its layout:"
+              f"\n  rerun {out / recorded[0]} {out / BLUEPRINT}", file=sys.stderr)
     return 0
 
 

@@ -13,6 +13,7 @@ Output, in the run directory::
                          plus ``recording`` (path of the trial's .rrd relative to the run, or
                          null)
     evaluation/<phase>/<senses>/rep<R>-rank<I>/trial<K>-sector<S>.rrd   (see ``Record``)
+    evaluation/trial.rbl  their layout in the viewer: rerun TRIAL.rrd evaluation/trial.rbl
 
 Evaluating again adds only what is missing (another sensory condition, more robots); rows and
 recordings already saved are kept. The table is saved every few seconds, so an interrupted
@@ -36,12 +37,14 @@ from .experiment import Run, RunError, trial_config
 from .files import atomic_write
 from .genome import as_groups, decode
 from .metrics import trial_metrics
-from .recording import RobotModel, TrialInfo, trial_rrd, write_rrd
+from .recording import RobotModel, TrialInfo, trial_rrd, write_blueprint, write_rrd
 from .task import Senses, TrialConfig, network_for
 from .world import POINTS_PER_SECTOR, WorldConfig
 
 TABLE = "evaluation.parquet"
 RECORDINGS = "evaluation"
+#: The layout of the post-evaluation's recordings: ``rerun TRIAL.rrd evaluation/trial.rbl``.
+BLUEPRINT = f"{RECORDINGS}/trial.rbl"
 SENSES = tuple(s.value for s in Senses)
 _KEY = ("phase_key", "senses", "replication", "rank")
 
@@ -108,7 +111,8 @@ def run_robot(job: RobotJob) -> tuple[list[dict], list[bytes | None]]:
             "recording": path})
         recordings.append(trial_rrd(data, TrialInfo(
             job.condition, job.phase.name, job.replication, job.rank, sector, k, "systematic",
-            job.trial.senses.value), model, job.world.control_dt) if job.record else None)
+            job.trial.senses.value), model, job.world.control_dt, blueprint=False)
+            if job.record else None)
     return rows, recordings
 
 
@@ -202,6 +206,8 @@ def evaluate_run(run_dir, senses: Iterable[str] = ("normal",), robots: int = 5,
                             record.wants(r, i, best_replication)))
     if not jobs:
         return table if table is not None else pl.DataFrame()
+    if any(job.record for job in jobs) and not (run.out / BLUEPRINT).exists():
+        write_blueprint(run.out / BLUEPRINT)
     evaluator = make_evaluator(workers, ray_address)
     rows: list[dict] = []
     t0 = last_save = time.monotonic()

@@ -160,7 +160,7 @@ def recorded_robot(table: pl.DataFrame, phase: str, senses: str = "normal") -> p
 
 
 def _xyz(rec: pl.DataFrame, entity: str) -> np.ndarray:
-    return rec.select([f"positions/{entity}/{a}" for a in "xyz"]).to_numpy().astype(float)
+    return rec.select([f"robot/positions/{entity}/{a}" for a in "xyz"]).to_numpy().astype(float)
 
 
 # ---------------------------------------------------------------------------------------------

@@ -9,19 +9,19 @@ more than the physics; see ``dart-reach bench``, ``recording_overhead``). Timeli
 Entity layout of a trial recording::
 
     world/robot            the robot's visual boxes (static sizes, poses per step; touching
-                           segments drawn red), world/robot_head its head sphere
-    world/ball             the ball (static radius, centre per step); world/ball_path its path
-    world/hand             the palm point per step; world/hand_path the whole hand path
-    robot/joints           joint encoders (rad), 14 series named after the motors
-    sensors/{proprio,touch,sight,offset}   the network's 25 inputs (section III-B)
-    network/{hidden,motor} internal and motor neuron states
-    motor/targets          targets sent to the joints, in [-1, 1]
-    contacts               1 where a hand segment touches the ball (icub.HAND_SEGMENTS)
+                           segments drawn red)
+    world/spheres          the head, the ball (red) and the palm point (blue), per step
+    world/paths            the whole paths of the hand and of the ball
+    robot                  joints/<motor> (rad), contacts/<segment> (1 = touching the ball,
+                           icub.HAND_SEGMENTS), positions/{hand,shoulder,ball}/{x,y,z} (m, the
+                           iCub root frame)
+    sensors                the network's 25 inputs: proprio/*, touch/*, sight/*, offset/*
+    network                internal and motor neuron states: hidden/h0..h7, motor/<motor>
+    motor                  targets/<motor>: the targets sent to the joints, in [-1, 1]
     fitness                p_sight, p_touch, p_multimodal (Eq. 5)
-    positions/{hand,shoulder,ball}   x, y, z (m), world frame = the iCub root frame
 
-Every time series is a ``Scalars`` entity with its series names logged once as static
-``SeriesLines``; ``read_trial`` turns them back into one polars column per series
+Every group of time series is one ``Scalars`` entity with its series names logged once as static
+``SeriesLines``; ``read_rrd`` turns them back into one polars column per series
 (``"sensors/proprio/r_elbow"``), one row per step. The recording's properties (``trial``) say
 condition, phase, replication, individual, sector, trial seed and sensory condition.
 
@@ -31,6 +31,7 @@ timeline ``generation``.
 
 from __future__ import annotations
 
+import functools
 import os
 import subprocess
 import sys
@@ -50,27 +51,41 @@ from .icub import HAND_SEGMENTS
 from .task import TrialData
 
 APP_ID = "dart_reach"
-#: Version of the entity layout; a reader refuses recordings of another layout.
-LAYOUT = 1
+#: Version of the entity layout, in every recording's properties (2: the five signal entities).
+LAYOUT = 2
 XYZ = ("x", "y", "z")
 
-#: The time series of a trial: entity path, series names, the (T, n) array of a record.
+#: The time series of a trial, as few entities as possible (every entity's column carries its
+#: own copy of the timelines, ~6 kB and ~0.2 ms per trial): entity -> groups of series (group
+#: name, series names, the (T, n) array of a record). Series are named "<group>/<name>", or
+#: "<name>" for the group "".
 SIGNALS = (
-    ("robot/joints", MOTOR_NAMES, lambda d: d.joints),
-    ("sensors/proprio", MOTOR_NAMES, lambda d: d.sensors[:, PROPRIO]),
-    ("sensors/touch", TOUCH_NAMES, lambda d: d.sensors[:, TOUCH]),
-    ("sensors/sight", ("x", "y", "distance"), lambda d: d.sensors[:, SIGHT]),
-    ("sensors/offset", ("x", "y"), lambda d: d.sensors[:, OFFSET]),
-    ("network/hidden", tuple(f"h{i}" for i in range(N_HIDDEN)), lambda d: d.hidden),
-    ("network/motor", MOTOR_NAMES, lambda d: d.motor),
-    ("motor/targets", MOTOR_NAMES, lambda d: d.targets),
-    ("contacts", HAND_SEGMENTS, lambda d: d.contacts.astype(float)),
-    ("fitness", ("p_sight", "p_touch", "p_multimodal"),
-     lambda d: np.stack([d.p_sight, d.p_touch, d.p_multimodal], axis=1)),
-    ("positions/hand", XYZ, lambda d: d.hand),
-    ("positions/shoulder", XYZ, lambda d: d.shoulder),
-    ("positions/ball", XYZ, lambda d: d.ball),
+    ("robot", (
+        ("joints", MOTOR_NAMES, lambda d: d.joints),
+        ("contacts", HAND_SEGMENTS, lambda d: d.contacts),
+        ("positions/hand", XYZ, lambda d: d.hand),
+        ("positions/shoulder", XYZ, lambda d: d.shoulder),
+        ("positions/ball", XYZ, lambda d: d.ball))),
+    ("sensors", (
+        ("proprio", MOTOR_NAMES, lambda d: d.sensors[:, PROPRIO]),
+        ("touch", TOUCH_NAMES, lambda d: d.sensors[:, TOUCH]),
+        ("sight", ("x", "y", "distance"), lambda d: d.sensors[:, SIGHT]),
+        ("offset", ("x", "y"), lambda d: d.sensors[:, OFFSET]))),
+    ("network", (
+        ("hidden", tuple(f"h{i}" for i in range(N_HIDDEN)), lambda d: d.hidden),
+        ("motor", MOTOR_NAMES, lambda d: d.motor))),
+    ("motor", (
+        ("targets", MOTOR_NAMES, lambda d: d.targets),)),
+    ("fitness", (
+        ("", ("p_sight", "p_touch", "p_multimodal"),
+         lambda d: np.stack([d.p_sight, d.p_touch, d.p_multimodal], axis=1)),)),
 )
+
+
+def series_names(groups) -> list[str]:
+    """The names of an entity's series, for its groups of ``SIGNALS``."""
+    return [f"{g}/{n}" if g else n for g, names, _ in groups for n in names]
+
 
 _GREY, _RED, _HAND_COLOUR = (170, 170, 180, 255), (230, 40, 40, 255), (40, 120, 230, 255)
 
@@ -114,7 +129,7 @@ class RobotModel:
         # A revolute joint's transform from its parent body is before @ R(q) @ after, and
         # R(q) = I + sin q K + (1 - cos q) K^2 (Rodrigues, K the axis' cross-product matrix):
         # so it is terms[0] + sin q terms[1] + (1 - cos q) terms[2], three constant matrices.
-        self.parent, self.dof, self.terms = [], [], []
+        self.parent, self.dof, terms = [], [], []
         for b in bodies:
             j = b.getParentJoint()
             kind = type(j).__name__
@@ -129,9 +144,9 @@ class RobotModel:
                 x, y, z = np.asarray(j.getAxis(), float)
                 K[:3, :3] = [[0, -z, y], [z, 0, -x], [-y, x, 0]]
             self.dof.append(j.getIndexInSkeleton(0) if kind == "RevoluteJoint" else -1)
-            self.terms.append(np.stack([before @ after, before @ K @ after,
-                                        before @ K @ K @ after]))
+            terms.append(np.stack([before @ after, before @ K @ after, before @ K @ K @ after]))
         self.names = [b.getName() for b in bodies]
+        self.terms = terms
         segment = {name: i for i, name in enumerate(HAND_SEGMENTS)}
         boxes, spheres = [], []
         for i, b in enumerate(bodies):
@@ -160,11 +175,11 @@ class RobotModel:
         dofs = np.asarray(dofs, float)
         n = dofs.shape[0]
         out = np.empty((n, len(self.names), 4, 4))
-        sin, one_minus_cos = np.sin(dofs), 1.0 - np.cos(dofs)
+        # (T, ndof, 3): the coefficients 1, sin q, 1 - cos q of each joint's three terms
+        coefficients = np.stack([np.ones_like(dofs), np.sin(dofs), 1.0 - np.cos(dofs)], axis=-1)
         for i, (p, d, terms) in enumerate(zip(self.parent, self.dof, self.terms)):
             if d >= 0:
-                local = (terms[0] + sin[:, d, None, None] * terms[1]
-                         + one_minus_cos[:, d, None, None] * terms[2])
+                local = (coefficients[:, d] @ terms.reshape(3, 16)).reshape(n, 4, 4)
             else:
                 local = np.broadcast_to(terms[0], (n, 4, 4))
             if p < 0:
@@ -184,30 +199,48 @@ class RobotModel:
 
 def quaternions(R: np.ndarray) -> np.ndarray:
     """Unit quaternions (..., 4), xyzw as rerun takes them, of rotation matrices (..., 3, 3).
-    Each is computed from the largest of 1 + trace and the 1 + 2 R_ii - trace terms, which keeps
-    the square root away from 0."""
+
+    Each component's magnitude comes from the diagonal and, relative to w, its sign from the
+    off-diagonal differences. Near half-turns (w small) those differences vanish, and the
+    signs are taken relative to the largest component instead."""
+    R = np.asarray(R, float)
     m00, m11, m22 = R[..., 0, 0], R[..., 1, 1], R[..., 2, 2]
-    terms = np.stack([1 + m00 + m11 + m22, 1 + m00 - m11 - m22, 1 - m00 + m11 - m22,
-                      1 - m00 - m11 + m22], axis=-1)
-    k = terms.argmax(axis=-1)
-    s = 2.0 * np.sqrt(np.take_along_axis(terms, k[..., None], -1)[..., 0])
-    a, b = R[..., 2, 1] - R[..., 1, 2], R[..., 0, 2] - R[..., 2, 0]
-    c = R[..., 1, 0] - R[..., 0, 1]
-    d01, d02, d12 = R[..., 0, 1] + R[..., 1, 0], R[..., 0, 2] + R[..., 2, 0], \
-        R[..., 1, 2] + R[..., 2, 1]
-    q = np.stack([  # (x, y, z, w) for each choice of k
-        np.stack([a, b, c, s * s / 4], -1),
-        np.stack([s * s / 4, d01, d02, a], -1),
-        np.stack([d01, s * s / 4, d12, b], -1),
-        np.stack([d02, d12, s * s / 4, c], -1)], axis=-2)
-    q = np.take_along_axis(q, k[..., None, None], -2)[..., 0, :] / s[..., None]
+    q = np.empty(R.shape[:-2] + (4,))
+    q[..., 0] = np.sqrt(np.maximum(0.0, 1 + m00 - m11 - m22))
+    q[..., 1] = np.sqrt(np.maximum(0.0, 1 - m00 + m11 - m22))
+    q[..., 2] = np.sqrt(np.maximum(0.0, 1 - m00 - m11 + m22))
+    q[..., 3] = np.sqrt(np.maximum(0.0, 1 + m00 + m11 + m22))
+    q *= 0.5
+    diffs = (R[..., 2, 1] - R[..., 1, 2], R[..., 0, 2] - R[..., 2, 0], R[..., 1, 0] - R[..., 0, 1])
+    for i, d in enumerate(diffs):
+        q[..., i] = np.copysign(q[..., i], d)
+    small = q[..., 3] < 0.25
+    if small.any():
+        # sums: 4 x y = m01 + m10, 4 x z = m02 + m20, 4 y z = m12 + m21, 4 w x_i = diff_i
+        Rs, qs = R[small], q[small]
+        k = np.argmax(np.abs(qs[:, :3]), axis=1)
+        rows = np.arange(len(k))
+        big = np.abs(qs[rows, k])
+        sums = {(0, 1): Rs[:, 0, 1] + Rs[:, 1, 0], (0, 2): Rs[:, 0, 2] + Rs[:, 2, 0],
+                (1, 2): Rs[:, 1, 2] + Rs[:, 2, 1]}
+        out = np.empty_like(qs)
+        for j in range(3):
+            other = np.select([k == i for i in range(3)],
+                              [sums[tuple(sorted((i, j)))] if i != j else 4 * big ** 2
+                               for i in range(3)])
+            out[:, j] = other / (4 * big)
+        out[:, 3] = np.select([k == i for i in range(3)],
+                              [Rs[:, 2, 1] - Rs[:, 1, 2], Rs[:, 0, 2] - Rs[:, 2, 0],
+                               Rs[:, 1, 0] - Rs[:, 0, 1]]) / (4 * big)
+        q[small] = out
     return q
 
 
 # ------------------------------------------------------------------------------ blueprints
+@functools.cache
 def trial_blueprint() -> rrb.Blueprint:
     """The default layout of a trial: the 3D scene beside the sensor, neuron, motor and fitness
-    time series."""
+    time series (built once per process)."""
     return rrb.Blueprint(
         rrb.Horizontal(
             rrb.Spatial3DView(name="scene", origin="world"),
@@ -228,20 +261,25 @@ def _series_names(rec: rr.RecordingStream, entity: str, names) -> None:
 
 
 # ------------------------------------------------------------------------------ writing
-def trial_rrd(data: TrialData, info: TrialInfo, model: RobotModel, dt: float = 0.1) -> bytes:
-    """The .rrd bytes of one trial (only its ``steps_run`` steps)."""
+def trial_rrd(data: TrialData, info: TrialInfo, model: RobotModel, dt: float = 0.1,
+              blueprint: bool = True) -> bytes:
+    """The .rrd bytes of one trial (only its ``steps_run`` steps). With ``blueprint`` the file
+    carries the default layout (``trial_blueprint``); that costs ~2.5 ms, a quarter of the
+    recording's time, so the post-evaluation writes the layout once beside its recordings
+    instead (``write_blueprint``)."""
     T = data.steps_run
     steps = np.arange(T)
     rec = rr.RecordingStream(APP_ID, recording_id=f"{info.name()}", send_properties=False)
     stream = rec.binary_stream()
-    rec.send_blueprint(trial_blueprint())
+    if blueprint:
+        rec.send_blueprint(trial_blueprint())
     rec.send_recording_name(info.name())
     rec.send_property("trial", rr.AnyValues(layout=LAYOUT, **asdict(info)))
     index = [rr.TimeColumn("step", sequence=steps), rr.TimeColumn("sim_time", duration=steps * dt)]
-    for entity, names, get in SIGNALS:
-        _series_names(rec, entity, names)
-        rec.send_columns(entity, indexes=index,
-                         columns=rr.Scalars.columns(scalars=np.asarray(get(data)[:T], float)))
+    for entity, groups in SIGNALS:
+        _series_names(rec, entity, series_names(groups))
+        values = np.concatenate([get(data)[:T] for _, _, get in groups], axis=1, dtype=float)
+        rec.send_columns(entity, indexes=index, columns=rr.Scalars.columns(scalars=values))
 
     # the 3D scene
     centres, quats, spheres = model.shape_poses(data.dofs[:T])
@@ -255,23 +293,19 @@ def trial_rrd(data: TrialData, info: TrialInfo, model: RobotModel, dt: float = 0
     rec.send_columns("world/robot", indexes=index, columns=rr.Boxes3D.columns(
         centers=centres.reshape(-1, 3), quaternions=quats.reshape(-1, 4),
         colors=colours).partition([nb] * T))
-    if spheres.shape[1]:
-        rec.log("world/robot_head", rr.Ellipsoids3D(half_sizes=np.repeat(
-            model.sphere_radius[:, None], 3, 1), colors=_GREY, fill_mode="solid"), static=True)
-        rec.send_columns("world/robot_head", indexes=index, columns=rr.Ellipsoids3D.columns(
-            centers=spheres.reshape(-1, 3)).partition([spheres.shape[1]] * T))
-    r = model.ball_radius
-    rec.log("world/ball", rr.Ellipsoids3D(half_sizes=[[r, r, r]], colors=_RED,
-                                          fill_mode="solid"), static=True)
-    rec.send_columns("world/ball", indexes=index,
-                     columns=rr.Ellipsoids3D.columns(centers=data.ball[:T]))
-    rec.send_columns("world/hand", indexes=index,
-                     columns=rr.Points3D.columns(positions=data.hand[:T]))
-    rec.log("world/hand", rr.Points3D.from_fields(radii=0.008, colors=_HAND_COLOUR), static=True)
-    rec.log("world/hand_path", rr.LineStrips3D([data.hand[:T]], colors=_HAND_COLOUR,
-                                               radii=0.002), static=True)
-    rec.log("world/ball_path", rr.LineStrips3D([data.ball[:T]], colors=_RED, radii=0.002),
-            static=True)
+    # round things, one entity: the head's spheres, the ball, the palm point
+    radii = np.concatenate([model.sphere_radius, [model.ball_radius, 0.008]])
+    rec.log("world/spheres", rr.Ellipsoids3D(
+        half_sizes=np.repeat(radii[:, None], 3, 1), fill_mode="solid",
+        colors=[_GREY] * len(model.sphere_radius) + [_RED, _HAND_COLOUR],
+        labels=["head"] * len(model.sphere_radius) + ["ball", "palm"], show_labels=False),
+        static=True)
+    rec.send_columns("world/spheres", indexes=index, columns=rr.Ellipsoids3D.columns(
+        centers=np.concatenate([spheres, data.ball[:T, None], data.hand[:T, None]], axis=1)
+        .reshape(-1, 3)).partition([len(radii)] * T))
+    rec.log("world/paths", rr.LineStrips3D([data.hand[:T], data.ball[:T]], radii=0.002,
+                                           colors=[_HAND_COLOUR, _RED],
+                                           labels=["hand path", "ball path"]), static=True)
     out = stream.read()
     rec.disconnect()
     return out or b""
@@ -304,6 +338,14 @@ def training_rrd(stats: pl.DataFrame, run_name: str) -> bytes:
     out = stream.read()
     rec.disconnect()
     return out or b""
+
+
+def write_blueprint(path: Path) -> Path:
+    """Save the default trial layout as a blueprint file (``.rbl``): ``rerun TRIAL.rrd
+    PATH.rbl`` opens a recording with it."""
+    def save(tmp: Path) -> None:
+        trial_blueprint().save(APP_ID, str(tmp))
+    return atomic_write(path, save)
 
 
 def write_rrd(path: Path, content: bytes) -> Path:

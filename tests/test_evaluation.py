@@ -58,8 +58,9 @@ def test_table_and_recordings(evaluated):
     assert (recorded["rank"] == 0).all()
     files = sorted((out / "evaluation").rglob("*.rrd"))
     assert sorted(str(out / r) for r in recorded["recording"]) == [str(f) for f in files]
-    verify(*files)
-    assert f"rerun {out / recorded['recording'][0]}" in result.stderr
+    verify(*files, out / "evaluation" / "trial.rbl")
+    assert f"rerun {out / recorded['recording'][0]} {out / 'evaluation/trial.rbl'}" \
+        in result.stderr
     row = recorded.row(7, named=True)
     props = read_properties(out / row["recording"])
     assert (props["phase"], props["replication"], props["individual"], props["trial"],
@@ -74,14 +75,14 @@ def test_table_measures_agree_with_the_recording(evaluated):
         pl.col("recording").is_not_null())
     for row in table.sample(5, seed=0).iter_rows(named=True):
         rec = read_rrd(out / row["recording"])
-        hand = rec.select("^positions/hand/.*$").to_numpy()
-        ball = rec.select("^positions/ball/.*$").to_numpy()
-        contacts = rec.select("^contacts/.*$").to_numpy() > 0.5
+        hand = rec.select("^robot/positions/hand/.*$").to_numpy()
+        ball = rec.select("^robot/positions/ball/.*$").to_numpy()
+        contacts = rec.select("^robot/contacts/.*$").to_numpy() > 0.5
         assert metrics.reached(contacts) == row["reached"]
         assert metrics.grasped(contacts) == row["grasped"]
         assert rec["fitness/p_multimodal"].mean() == pytest.approx(row["fitness"], abs=1e-15)
-        assert metrics.elbow_freezing(hand, rec.select("^positions/shoulder/.*$").to_numpy()) \
-            == pytest.approx(row["elbow_freezing"])
+        shoulder = rec.select("^robot/positions/shoulder/.*$").to_numpy()
+        assert metrics.elbow_freezing(hand, shoulder) == pytest.approx(row["elbow_freezing"])
         assert np.linalg.norm(hand[0] - ball[0]) == pytest.approx(row["hand_ball_initial"])
 
 

@@ -44,11 +44,13 @@ def test_what_is_read_equals_what_was_logged(tmp_path, world, trial):
     assert table["step"].to_list() == list(range(40))
     assert np.allclose(table["sim_time"].to_numpy(), np.arange(40) * 0.1)
     n_series = 0
-    for entity, names, get in rec.SIGNALS:
-        logged = np.asarray(get(trial), float)
-        read = table.select([f"{entity}/{n}" for n in names]).to_numpy()
-        assert np.array_equal(read, logged), entity  # bit for bit
-        n_series += len(names)
+    for entity, groups in rec.SIGNALS:
+        for group, names, get in groups:
+            logged = np.asarray(get(trial), float)
+            columns = [f"{entity}/{group}/{n}" if group else f"{entity}/{n}" for n in names]
+            read = table.select(columns).to_numpy()
+            assert np.array_equal(read, logged), columns[0]  # bit for bit
+            n_series += len(names)
     assert table.width == 2 + n_series
     props = rec.read_properties(path)
     assert props == {"layout": rec.LAYOUT, "condition": "standard", "phase": "pre",
@@ -77,8 +79,12 @@ def test_scene_follows_the_skeleton(world, trial):
 
 def test_quaternions_match_scipy():
     rotations = Rotation.random(2000, random_state=3)
-    special = Rotation.from_rotvec(np.concatenate([np.eye(3) * np.pi, np.eye(3) * np.pi / 2,
-                                                   np.zeros((1, 3))]))
+    axes = Rotation.random(200, random_state=4).as_rotvec()
+    axes /= np.linalg.norm(axes, axis=1)[:, None]
+    # half-turns (w = 0), where the signs must come from the largest component
+    special = Rotation.from_rotvec(np.concatenate([
+        np.eye(3) * np.pi, np.eye(3) * np.pi / 2, np.zeros((1, 3)), axes * np.pi,
+        axes * (np.pi - 1e-9), [[np.pi / np.sqrt(2), -np.pi / np.sqrt(2), 0]]]))
     for r in (rotations, special):
         q = rec.quaternions(r.as_matrix())
         assert np.allclose(np.abs(np.sum(q * r.as_quat(), axis=-1)), 1.0, atol=1e-12)
