@@ -118,7 +118,7 @@ class RobotModel:
     """The robot's kinematic tree and visual shapes, for drawing a trial from its joint record.
 
     Body poses are computed for all steps at once (vectorised forward kinematics) from
-    ``TrialData.dofs``: asking DART for 24 body transforms per step would cost more than the
+    ``TrialData.dofs``: asking DART for 28 body transforms per step would cost more than the
     recording itself. Only revolute and weld joints occur in the skeleton; others are refused.
     """
 
@@ -129,7 +129,7 @@ class RobotModel:
         # A revolute joint's transform from its parent body is before @ R(q) @ after, and
         # R(q) = I + sin q K + (1 - cos q) K^2 (Rodrigues, K the axis' cross-product matrix):
         # so it is terms[0] + sin q terms[1] + (1 - cos q) terms[2], three constant matrices.
-        self.parent, self.dof, terms = [], [], []
+        self.parent, self.dof, self.terms = [], [], []
         for b in bodies:
             j = b.getParentJoint()
             kind = type(j).__name__
@@ -144,9 +144,9 @@ class RobotModel:
                 x, y, z = np.asarray(j.getAxis(), float)
                 K[:3, :3] = [[0, -z, y], [z, 0, -x], [-y, x, 0]]
             self.dof.append(j.getIndexInSkeleton(0) if kind == "RevoluteJoint" else -1)
-            terms.append(np.stack([before @ after, before @ K @ after, before @ K @ K @ after]))
+            self.terms.append(np.stack([before @ after, before @ K @ after,
+                                        before @ K @ K @ after]))
         self.names = [b.getName() for b in bodies]
-        self.terms = terms
         segment = {name: i for i, name in enumerate(HAND_SEGMENTS)}
         boxes, spheres = [], []
         for i, b in enumerate(bodies):
@@ -168,7 +168,6 @@ class RobotModel:
         self.sphere_local = np.stack([s[1] for s in spheres]) if spheres else np.zeros((0, 4, 4))
         self.sphere_radius = np.array([s[2] for s in spheres])
         self.ball_radius = world.config.ball.radius
-        self.n_dofs = robot.getNumDofs()
 
     def body_transforms(self, dofs: np.ndarray) -> np.ndarray:
         """World transforms (T, B, 4, 4) of every body for joint positions ``dofs`` (T, ndof)."""
