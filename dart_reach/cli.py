@@ -187,6 +187,13 @@ class _Parser(argparse.ArgumentParser):
         self.exit(2, f"{self.prog}: error: {message}\n")
 
 
+def _add_workers(p: argparse.ArgumentParser) -> None:
+    p.add_argument("--workers", type=_positive, default=None,
+                   help="local processes (default: every core; 1 = serial)")
+    p.add_argument("--ray", default=None, metavar="ADDRESS",
+                   help="evaluate on a Ray cluster ('auto', 'local' or an address)")
+
+
 def build_parser() -> argparse.ArgumentParser:
     parser = _Parser(
         prog="dart-reach",
@@ -214,10 +221,7 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--trials", type=_positive, default=18, help="trials per evaluation")
     p.add_argument("--steps", type=_positive, default=200, help="0.1 s steps per trial")
     p.add_argument("--seed", type=_non_negative, default=0)
-    p.add_argument("--workers", type=_positive, default=None,
-                   help="local processes (default: every core; 1 = serial)")
-    p.add_argument("--ray", default=None, metavar="ADDRESS",
-                   help="evaluate on a Ray cluster ('auto', 'local' or an address)")
+    _add_workers(p)
     p.add_argument("--resume", action="store_true", help="continue the run in --out")
     p.add_argument("--record-every", type=_non_negative, default=100, metavar="K",
                    help="record one trial of each replication's best individual every K "
@@ -236,10 +240,7 @@ def build_parser() -> argparse.ArgumentParser:
                    choices=("best", "replications", "all", "none"),
                    help="which robots' trials to record as .rrd: the best robot of the best "
                         "replication (default), the best of each replication, all, none")
-    p.add_argument("--workers", type=_positive, default=None,
-                   help="local processes (default: every core; 1 = serial)")
-    p.add_argument("--ray", default=None, metavar="ADDRESS",
-                   help="evaluate on a Ray cluster ('auto', 'local' or an address)")
+    _add_workers(p)
     p.set_defaults(func=cmd_evaluate)
 
     p = sub.add_parser("read", help="show a .rrd recording's properties and series; "
