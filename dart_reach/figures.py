@@ -82,14 +82,28 @@ _ROBOT = ("phase", "replication", "rank")
 # Run helpers
 # ---------------------------------------------------------------------------------------------
 
-def phase_order(run_dir, condition: str = "standard") -> list[str]:
-    """The phases of ``condition`` in the run, in training order (default the standard
-    pre -> gross -> fine of Figs. 5-9); every phase of the run when it lacks the condition."""
+def _condition_phases(run_dir, condition: str) -> pl.DataFrame:
     phases = run_phases(run_dir)
     sel = phases.filter(pl.col("condition") == condition)
     if sel.height == 0:
-        sel = phases
-    return list(dict.fromkeys(sel["phase"].to_list()))
+        sel = phases.filter(pl.col("condition") == phases["condition"][0])
+    return sel
+
+
+def phase_order(run_dir, condition: str = "standard") -> list[str]:
+    """The phases of ``condition`` in the run, in training order (default the standard
+    pre -> gross -> fine of Figs. 5-9); the run's first condition when it lacks that one."""
+    return _condition_phases(run_dir, condition)["phase"].to_list()
+
+
+def condition_trials(run_dir, condition: str = "standard") -> tuple[pl.DataFrame, list[str]]:
+    """The post-evaluation trials of one condition's phases and those phases in training
+    order (Figs. 5-9 draw one condition). Rows are chosen by phase key, so a phase of another
+    condition with the same name (the gross of ``gross-hat``) is not mixed in."""
+    phases = _condition_phases(run_dir, condition)
+    keys = phases["phase_key"].to_list()
+    table = load_evaluation(run_dir).filter(pl.col("phase_key").is_in(keys))
+    return table, phases["phase"].to_list()
 
 
 def sector_config(run_dir) -> SectorConfig:

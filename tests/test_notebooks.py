@@ -206,3 +206,24 @@ def test_notebook_runs(name, tiny_run, monkeypatch):
     last = json.loads(nb.cells[-1].outputs[0]["text"])
     assert last["prefix"] == sys.prefix
     assert last["run"] in (str(tiny_run), [str(tiny_run)])
+
+
+def test_condition_trials_keeps_same_named_phases_of_other_conditions_apart(tmp_path):
+    """A user condition whose first phase is also called "pre" (but differs) must not be
+    mixed into the standard condition's figures: rows are chosen by phase key."""
+    text = (Path(load_condition("standard").source).read_text()
+            .replace('name = "standard"', 'name = "sharp"').replace("acuity = 3.0", "acuity = 1.0"))
+    sharp = tmp_path / "sharp.toml"
+    sharp.write_text(text)
+    run = tmp_path / "two"
+    conditions = [scaled(load_condition(c), 1) for c in ("standard", str(sharp))]
+    train(conditions, Settings(replications=1, trials=1, steps=2, seed=2), run, workers=1)
+    evaluate_run(run, robots=1, record="none", workers=1)
+    everything = load_evaluation(run)
+    assert everything.filter(pl.col("phase") == "pre")["phase_key"].n_unique() == 2
+    for name in ("standard", "sharp"):
+        table, phases = figures.condition_trials(run, name)
+        assert phases == ["pre", "gross", "fine"]
+        keys = run_phases(run).filter(pl.col("condition") == name)["phase_key"]
+        assert set(table["phase_key"]) == set(keys)
+        assert table.height == 3 * 45
