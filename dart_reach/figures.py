@@ -346,6 +346,17 @@ def _bar_panel(ax, summary: pl.DataFrame, measure: str, phases: Sequence[str], s
     ax.grid(axis="y", alpha=0.3)
 
 
+def _bars_figure(table, measures, phases, senses, grid, size):
+    """A figure of one bar panel per (measure, label, scale) of ``measures``, phases as bars."""
+    summary = performance_summary(table, [m for m, _, _ in measures], phases, senses)
+    colours = _phase_colours(phases)
+    fig = Figure(figsize=size, layout="constrained")
+    axes = fig.subplots(*grid)
+    for ax, (m, label, scale) in zip(axes.ravel(), measures):
+        _bar_panel(ax, summary, m, phases, scale, label, colours)
+    return fig, axes
+
+
 def _draw_matrix(ax, matrix: pl.DataFrame, title: str) -> None:
     names = matrix["group"].to_list()
     n = len(names)
@@ -432,13 +443,7 @@ def fig5_performance(table: pl.DataFrame, phases: Sequence[str] | None = None,
     over robots of each robot's mean over its trials (speed and straightness over its reaching
     trials only); error bars: s.e.m. over robots; n = robots with a value."""
     phases = _phases(table, phases)
-    names = [m for m, _, _ in FIG5_MEASURES]
-    summary = performance_summary(table, names, phases, senses)
-    colours = _phase_colours(phases)
-    fig = Figure(figsize=(8, 6.5), layout="constrained")
-    axes = fig.subplots(2, 2)
-    for ax, (m, label, scale) in zip(axes.ravel(), FIG5_MEASURES):
-        _bar_panel(ax, summary, m, phases, scale, label, colours)
+    fig, axes = _bars_figure(table, FIG5_MEASURES, phases, senses, (2, 2), (8, 6.5))
     for ax in axes[0]:
         ax.set_ylim(0, 100)
     fig.suptitle(f"Fig. 5 - grasping and reaching at the end of each phase\n"
@@ -732,13 +737,7 @@ def fig8_babbling(table: pl.DataFrame, phases: Sequence[str] | None = None,
     the movement's power at that frequency (near 1 for one steady oscillation, small for
     irregular movement); mean $\\pm$ s.e.m. over robots."""
     phases = _phases(table, phases)
-    names = [m for m, _, _ in BABBLING_MEASURES]
-    summary = performance_summary(table, names, phases, senses)
-    colours = _phase_colours(phases)
-    fig = Figure(figsize=(8, 3.6), layout="constrained")
-    axes = fig.subplots(1, 2)
-    for ax, (m, label, scale) in zip(axes, BABBLING_MEASURES):
-        _bar_panel(ax, summary, m, phases, scale, label, colours)
+    fig, axes = _bars_figure(table, BABBLING_MEASURES, phases, senses, (1, 2), (8, 3.6))
     axes[1].set_ylim(0, 1)
     fig.suptitle(f"Motor babbling: periodicity of the hand's movement ({senses} senses; beyond "
                  "the paper)", fontsize=10)
