@@ -268,7 +268,7 @@ def trial_rrd(data: TrialData, info: TrialInfo, model: RobotModel, dt: float = 0
     instead (``write_blueprint``)."""
     T = data.steps_run
     steps = np.arange(T)
-    rec = rr.RecordingStream(APP_ID, recording_id=f"{info.name()}", send_properties=False)
+    rec = rr.RecordingStream(APP_ID, recording_id=info.name(), send_properties=False)
     stream = rec.binary_stream()
     if blueprint:
         rec.send_blueprint(trial_blueprint())
