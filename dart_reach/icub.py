@@ -32,12 +32,38 @@ NECK = "neck_1"
 #: -y of that frame; the palm box is 2 cm thick and centred at y = +0.006 m.
 PALM_POINT = np.array([-0.041, -0.004, 0.018])
 
-#: Posture at the start of every trial (rad), the iCub's usual "home" for the arm (shoulder
-#: pitch -30 deg, roll 30 deg, elbow 45 deg), trunk and head straight, fingers open.
+#: Inner (palmar) face of each kind of hand segment (sections III-B, III-C: touch sensors "in
+#: the right hand palm and fingertips", p_touch counts "inner hand/fingers segments"): its
+#: outward direction in the segment's body frame and the half-angle (deg) of the cone of
+#: surface directions that count as that face. The palm's inner face is -y of ``r_hand`` (the
+#: fingers close toward it); a phalanx flexes about its +z, so its pad faces +y. The thumb,
+#: welded in a slight opposition, meets a held ball with its flexion side (+y) or its side
+#: that faces the palm (+z): its cone is centred between the two and takes both faces.
+INNER_FACES = {
+    "palm": ((0.0, -1.0, 0.0), 45.0),
+    "finger": ((0.0, 1.0, 0.0), 45.0),
+    "thumb": ((0.0, 0.5 ** 0.5, 0.5 ** 0.5), 67.5),
+}
+
+
+def segment_kind(body: str) -> str:
+    """The key of ``INNER_FACES`` for a hand segment's body name."""
+    if body == HAND:
+        return "palm"
+    return "thumb" if body.startswith("r_hand_thumb") else "finger"
+
+
+#: Rest posture at the start of every trial (rad; docs/world.md, III): the arm hangs at the
+#: side, slightly abducted, the forearm a little forward (shoulder pitch 0, roll 20 deg, elbow
+#: 34 deg), away from the ball (palm at least 10 cm from it in every sector); the trunk
+#: straight; the head bent 32 deg down and turned 17 deg right, toward the sectors, so that the
+#: ball is in the field of view wherever it starts; fingers open.
 HOME_POSTURE = {
-    "r_shoulder_pitch": -0.5236,
-    "r_shoulder_roll": 0.5236,
-    "r_elbow": 0.7854,
+    "neck_pitch": -0.55,
+    "neck_yaw": -0.30,
+    "r_shoulder_pitch": 0.0,
+    "r_shoulder_roll": 0.35,
+    "r_elbow": 0.60,
 }
 
 

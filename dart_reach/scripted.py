@@ -1,9 +1,13 @@
-"""A hand-written reach-and-grasp, for demos, benchmarks and tests (not part of the paper's model).
+"""A hand-written reach-and-grasp, for demos, benchmarks, tests and ``dart-reach validate``
+(not part of the paper's model: it knows the ball's position, which the robots do not).
 
 ``grasp_posture`` solves, by bounded least squares on the skeleton's forward kinematics, for
-joint angles within the limits that put the inner face of the palm against the ball, facing it.
-``ScriptedReach`` then drives the world toward that posture with the fingers open and closes the
-hand once any hand segment touches the ball.
+joint angles within the limits that put the inner face of the palm against the ball from below
+and from the robot's side (palm normal between straight up and the shoulder-to-ball direction,
+fingers pointing away from the shoulder), like the robots' palm-up swipes of section IV-A-2.
+``ScriptedReach`` drives the world through postures 8 and 4 cm back along the palm's normal
+(fingers open), slowly onto the ball (it hangs free and swings away if hit), and closes the hand
+as soon as an inner face touches the ball, or once the hand has arrived.
 """
 
 from __future__ import annotations
@@ -16,6 +20,31 @@ from scipy.optimize import least_squares
 from . import icub
 from .world import World
 
+#: The palm's inner normal in the ``r_hand`` frame (``icub.INNER_FACES``).
+PALM_NORMAL = np.array(icub.INNER_FACES["palm"][0])
+#: Metres of palm-normal alignment error that weigh as much as one metre of position error.
+ORIENTATION_WEIGHT = 0.03
+#: The palm's normal is this blend of straight up and the shoulder-to-ball direction.
+UP_BLEND = 0.6
+#: Where the ball is put against the palm (``r_hand`` frame, m): the inner face, 3 cm from its
+#: centre toward the fingers, so that they close around the ball.
+GRASP_POINT = icub.PALM_POINT + np.array([-0.03, 0.0, 0.0])
+#: The fingers' direction in the ``r_hand`` frame, and the weight (m per unit) of its
+#: alignment with the direction from the shoulder to the ball.
+FINGER_AXIS = np.array([-1.0, 0.0, 0.0])
+FINGER_WEIGHT = 0.01
+#: Stand-offs of the approach postures (m, along the palm's normal), one after the other.
+APPROACH_STANDOFFS = (0.08, 0.04)
+#: Stand-off of the grasp posture (m): the palm's face on the ball's surface.
+GRASP_STANDOFF = 0.0
+#: Control steps per stage: at each approach posture, on the way (linearly) from the last one
+#: onto the ball, and at the grasp posture; then the hand closes even if it felt nothing.
+STAGE_STEPS = 10
+
+
+def _unit(v):
+    return v / np.linalg.norm(v)
+
 
 @dataclass(frozen=True)
 class ReachSolution:
@@ -26,7 +55,7 @@ class ReachSolution:
 def grasp_posture(world: World, ball_position, standoff: float = 0.0,
                   x0: np.ndarray | None = None, look: bool = False) -> ReachSolution:
     """Joint angles that put the ball's centre ``radius + standoff`` in front of the palm's
-    inner face, along its normal. The trunk and arm joints move; with ``look`` the neck turns
+    inner face (at ``GRASP_POINT``), along its normal, oriented as the module says. The trunk and arm joints move; with ``look`` the neck turns
     the camera toward the ball, else the head stays at home; the fingers stay open. The robot's
     state is restored afterwards."""
     robot, hand = world.robot, world.hand
@@ -36,14 +65,23 @@ def grasp_posture(world: World, ball_position, standoff: float = 0.0,
     saved = robot.getPositions()
     q = world.home.copy()
     reach = world.config.ball.radius + standoff
-    normal = np.array([0.0, -1.0, 0.0])  # the palm's inner normal in the r_hand frame
+    approach = _unit(UP_BLEND * np.array([0.0, 0.0, 1.0])
+                     + (1.0 - UP_BLEND) * _unit(ball - world.shoulder_position()))
 
-    def residual(x):
+    def palm_residual(x):
         q[idx] = x
         robot.setPositions(q)
         T = hand.getWorldTransform()
         R = T.rotation()
-        return R @ (icub.PALM_POINT + reach * normal) + T.translation() - ball
+        return R @ (GRASP_POINT + reach * PALM_NORMAL) + T.translation() - ball, R
+
+    forward = ball - world.shoulder_position()
+    forward = _unit(forward - (forward @ approach) * approach)
+
+    def residual(x):
+        position, R = palm_residual(x)
+        return np.concatenate([position, ORIENTATION_WEIGHT * (R @ PALM_NORMAL - approach),
+                               FINGER_WEIGHT * (R @ FINGER_AXIS - forward)])
 
     start = world.home[idx] if x0 is None else x0
     best = None
@@ -52,7 +90,7 @@ def grasp_posture(world: World, ball_position, standoff: float = 0.0,
         if best is None or sol.cost < best.cost:
             best = sol
     q[idx] = best.x
-    err = float(np.linalg.norm(residual(best.x)))
+    err = float(np.linalg.norm(palm_residual(best.x)[0]))
     if look:
         # Then the neck, so that the ball projects on the optical axis of the head camera.
         neck = world._motor_dofs[:3]
@@ -72,28 +110,50 @@ def grasp_posture(world: World, ball_position, standoff: float = 0.0,
 
 
 class ScriptedReach:
-    """Targets for a reach with the open hand, then a grasp when the palm touches the ball."""
+    """Targets for an approach with the open hand along the palm's normal (through
+    ``APPROACH_STANDOFFS``), then a grasp: the hand closes as soon as the palm touches the ball,
+    or once the hand has arrived."""
 
     def __init__(self, world: World, ball_position, look: bool = False):
         self.world = world
-        self.solution = grasp_posture(world, ball_position, standoff=-0.01, look=look)
+        self.solution = grasp_posture(world, ball_position, standoff=GRASP_STANDOFF, look=look)
+        x0 = self.solution.q[world._motor_dofs[3:]]
+        self.waypoints = [world.targets_for(grasp_posture(world, ball_position, standoff=s,
+                                                          x0=x0, look=look).q)
+                          for s in APPROACH_STANDOFFS]
         self.open_targets = world.targets_for(self.solution.q)
+        self.waypoints.append(self.open_targets)
         self.closed_targets = self.open_targets.copy()
         self.closed_targets[13] = 1.0
+        self.reset()
+
+    def reset(self) -> None:
+        self.steps = 0
         self.grasping = False
 
     def targets(self, contacts: np.ndarray) -> np.ndarray:
-        """Motor targets for the next control step given the current hand contacts."""
-        if contacts.any():  # some hand segment touches the ball
+        """Motor targets for the next control step given the current inner-face touches
+        (``World.hand_contacts``, palm first)."""
+        stage = self.steps // STAGE_STEPS
+        self.steps += 1
+        if contacts.any() or stage > len(self.waypoints):
             self.grasping = True
-        return self.closed_targets if self.grasping else self.open_targets
+        if self.grasping:
+            return self.closed_targets
+        last = len(self.waypoints) - 1
+        if stage < last - 1:
+            return self.waypoints[stage]
+        if stage == last - 1:  # the last stretch, slowly: the ball hangs free
+            f = (self.steps % STAGE_STEPS) / STAGE_STEPS
+            return (1 - f) * self.waypoints[last - 1] + f * self.waypoints[last]
+        return self.waypoints[last]
 
 
 class ScriptedController:
     """A hand-written controller with the interface of ``ctrnn.Network`` (``reset``, ``step``,
-    ``hidden``): it looks at the ball, reaches for it and closes the hand once a touch sensor
-    fires. It knows the ball's position from the world, which the evolved networks do not: it
-    is a yardstick for the fitness function, not a model of the robot."""
+    ``hidden``): it looks at the ball, reaches for it and closes the hand once the palm's
+    touch sensor fires. It knows the ball's position from the world, which the evolved
+    networks do not: it is a yardstick for the fitness function, not a model of the robot."""
 
     def __init__(self, world: World, ball_position):
         self._reach = ScriptedReach(world, ball_position, look=True)
@@ -101,9 +161,9 @@ class ScriptedController:
         self.motor = np.zeros(14)
 
     def reset(self, motor=None) -> None:
-        self._reach.grasping = False
+        self._reach.reset()
 
     def step(self, sensors: np.ndarray) -> np.ndarray:
-        touching = sensors[14:20] > 0  # touch sensors read +1 on contact
+        touching = sensors[14:20] > 0  # touch sensors read +1 on contact, palm first
         self.motor[:] = (self._reach.targets(touching) + 1.0) / 2.0
         return self.motor

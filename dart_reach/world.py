@@ -50,6 +50,9 @@ class BallConfig:
     mass: float = 0.05  # kg
     string_length: float = 0.40  # m, pivot to ball centre (period 2*pi*sqrt(L/g) = 1.27 s)
     damping: float = 0.004  # N m s / rad on the pendulum joint: amplitude decays as exp(-t / 4 s)
+    #: deg, the largest swing about each of the pendulum's two axes (enforced limits): the ball
+    #: stays at least 90 - acos(cos^2 75) = 4 deg below its pivot, as on a string.
+    max_swing: float = 75.0
     friction: float = 1.0  # Coulomb coefficient of the ball's surface
     color: tuple[float, float, float] = (0.9, 0.05, 0.05)
 
@@ -60,12 +63,14 @@ class SectorConfig:
     origin of ``neck_1`` at the home posture), cut into 3 x 3 cells by azimuth (0 = straight ahead,
     positive to the robot's right) and elevation (0 = neck height, positive up), in degrees.
     Sector k has elevation row k // 3 (0 = lowest) and azimuth column k % 3 (0 = leftmost).
-    The paper does not give the bounds; these put every point in front of the right shoulder,
-    below the eyes and within the reach of the right arm (tested)."""
+    The paper does not give the bounds; these put every point, corners included, in front of
+    the right shoulder, inside the head camera's field of view at the home posture, 22-33 cm
+    from the eyes (inside the 50 cm of the distance sensor, Eq. 3), clear of the resting arm and
+    within the reach of the right arm (``dart-reach validate``; docs/world.md)."""
 
     radius: float = 0.30
     azimuth_edges: tuple[float, float, float, float] = (0.0, 15.0, 30.0, 45.0)
-    elevation_edges: tuple[float, float, float, float] = (-60.0, -45.0, -30.0, -15.0)
+    elevation_edges: tuple[float, float, float, float] = (-45.0, -30.0, -15.0, 0.0)
 
 
 @dataclass(frozen=True)
@@ -77,6 +82,10 @@ class WorldConfig:
     control_dt: float = 0.1  # s per control step (section III-B)
     natural_frequency: float = 20.0  # rad/s of each joint's spring at the home posture
     damping_ratio: float = 1.0  # of each joint's spring-damper
+    #: rad/s, the fastest a motor's commanded position may move (docs/world.md, III-B): the
+    #: springs' rest positions step toward the network's targets by at most this times
+    #: ``control_dt`` per control step.
+    max_joint_speed: float = 2.0
     gravity: float = 9.81  # m/s^2
     ball: BallConfig = field(default_factory=BallConfig)
     sectors: SectorConfig = field(default_factory=SectorConfig)
@@ -87,6 +96,8 @@ class WorldConfig:
             raise ValueError(
                 f"control_dt ({self.control_dt}) must be a whole multiple of physics_dt "
                 f"({self.physics_dt})")
+        if not self.max_joint_speed > 0:
+            raise ValueError(f"max_joint_speed must be positive, got {self.max_joint_speed}")
 
     @property
     def substeps(self) -> int:
@@ -193,16 +204,21 @@ class World:
             j.setLimitEnforcement(True)
         # Internal buffers of the control step.
         self._q_des = np.zeros(N_MOTORS)
+        self._q_cmd = np.zeros(N_MOTORS)  # the springs' rest positions per motor (rad)
+        self._max_move = self.config.max_joint_speed * self.config.control_dt
 
     def _resolve_contacts(self) -> None:
-        detector = self.world.getConstraintSolver().getCollisionDetector()
-        self._hand_group = detector.createCollisionGroup()
-        for body in self._segments:
-            self._hand_group.addShapeFramesOf(body)
-        self._ball_group = detector.createCollisionGroup()
-        self._ball_group.addShapeFramesOf(self.ball_body)
-        self._contact_option = dart.collision.CollisionOption()
-        self._contact_result = dart.collision.CollisionResult()
+        """Touch (III-B, III-C): for the collision shape of each hand segment, its index and the
+        direction of its inner (palmar) face in the shape's frame (``icub.INNER_FACES``)."""
+        self._touch_faces = {}
+        for i, body in enumerate(self._segments):
+            direction, half_angle = icub.INNER_FACES[icub.segment_kind(body.getName())]
+            cos_limit = math.cos(math.radians(half_angle))
+            for shape in body.getShapeNodes():
+                if shape.getCollisionAspect() is not None:
+                    inner = shape.getRelativeTransform().rotation().T @ np.asarray(direction)
+                    self._touch_faces[shape.getName()] = (i, inner, cos_limit)
+        self._touch = np.zeros(len(self._segments), bool)
 
     def _set_home(self) -> None:
         """Home posture and the per-joint spring gains (from the joint-space inertia there)."""
@@ -221,6 +237,8 @@ class World:
             dof.setSpringStiffness(k)
             dof.setDampingCoefficient(c)
         self.home_targets = self.targets_for(self.home)
+        self.home_motor = np.append(self.home[self._motor_dofs],
+                                    self.home[self._finger_dofs].mean())
 
     # ------------------------------------------------------------------ sectors
     def sector_point(self, sector: int, u: float, v: float) -> np.ndarray:
@@ -261,6 +279,8 @@ class World:
         self.ball_skeleton.resetAccelerations()
         self.ball_skeleton.clearConstraintImpulses()
         self.world.setTime(0.0)
+        self._touch[:] = False
+        self._q_cmd[:] = self.home_motor
         self.set_targets(self.home_targets)
 
     def targets_for(self, q: np.ndarray) -> np.ndarray:
@@ -270,28 +290,54 @@ class World:
         return 2.0 * (motor_q - self.motor_lower) / (self.motor_upper - self.motor_lower) - 1.0
 
     def set_targets(self, targets) -> None:
-        """Scale 14 targets in [-1, 1] into the joint limits and make them the springs' rest
-        positions; refresh the gravity compensation. Values outside [-1, 1] are clipped."""
+        """Scale 14 targets in [-1, 1] into the joint limits and move the springs' rest
+        positions toward them, by at most ``max_joint_speed * control_dt`` per motor; refresh
+        the gravity compensation. Values outside [-1, 1] are clipped."""
         t = targets if type(targets) is np.ndarray else np.asarray(targets, dtype=float)
         if t.shape != (N_MOTORS,):
             raise ValueError(f"expected {N_MOTORS} motor targets, got shape {t.shape}")
-        q_des = self._q_des
+        q_des, q_cmd = self._q_des, self._q_cmd
         np.multiply(t, self._half_range, out=q_des)
         q_des += self._mid_range
         np.clip(q_des, self.motor_lower, self.motor_upper, out=q_des)
-        values = q_des.tolist()
-        if not math.isfinite(sum(values)):
+        if not math.isfinite(q_des.sum()):
             raise ValueError(f"motor targets must be finite, got {t}")
+        q_des -= q_cmd
+        np.clip(q_des, -self._max_move, self._max_move, out=q_des)
+        q_cmd += q_des
+        values = q_cmd.tolist()
         for dof, motor in self._dof_motor_pairs:
             dof.setRestPosition(values[motor])
         self.robot.setCommands(self.robot.getGravityForces())
 
     def step(self, targets) -> None:
-        """One control step (0.1 s): new targets, then the physics substeps."""
+        """One control step (0.1 s): new targets, then the physics substeps. The inner-face
+        touches of every substep are gathered (``hand_contacts``)."""
         self.set_targets(targets)
-        world = self.world
+        world, touch = self.world, self._touch
+        touch[:] = False
         for _ in range(self.config.substeps):
             world.step(False)
+            result = world.getLastCollisionResult()
+            if result.getNumContacts():
+                self._gather_touch(result, touch)
+
+    def _gather_touch(self, result, touch: np.ndarray) -> None:
+        """Mark the hand segments that touch the ball on their inner face in one substep's
+        contacts: the direction from the contact point to the ball's centre (the outward
+        normal of the segment's surface there) must lie within the face's cone."""
+        ball = self.ball_body.getWorldTransform().translation()
+        faces = self._touch_faces
+        for contact in result.getContacts():
+            for obj in (contact.collisionObject1, contact.collisionObject2):
+                frame = obj.getShapeFrame()
+                face = faces.get(frame.getName())
+                if face is None:
+                    continue
+                index, inner, cos_limit = face
+                outward = frame.getWorldTransform().rotation().T @ (ball - contact.point)
+                if outward @ inner >= cos_limit * math.sqrt(outward @ outward):
+                    touch[index] = True
 
     @property
     def time(self) -> float:
@@ -326,16 +372,11 @@ class World:
         return self.camera.getWorldTransform().matrix()
 
     def hand_contacts(self, out: np.ndarray | None = None) -> np.ndarray:
-        """Which hand segments (``icub.HAND_SEGMENTS``) touch the ball now, as booleans."""
-        result = self._contact_result
-        result.clear()
-        self._hand_group.collide(self._ball_group, self._contact_option, result)
-        out = np.zeros(len(self._segments), bool) if out is None else out
-        if result.isCollision():
-            for i, body in enumerate(self._segments):
-                out[i] = result.inCollision(body)
-        else:
-            out[:] = False
+        """Which hand segments (``icub.HAND_SEGMENTS``) touched the ball on their inner face
+        in any physics substep of the last control step, as booleans (III-B, III-C)."""
+        if out is None:
+            return self._touch.copy()
+        out[:] = self._touch
         return out
 
     def is_finite(self) -> bool:
@@ -363,18 +404,26 @@ def _load_skeleton(path) -> dart.dynamics.Skeleton:
 
 
 def _make_ball(config: BallConfig):
-    """A sphere on a ball joint whose centre of rotation (the pivot) is ``string_length`` above
-    the ball's centre: a spherical pendulum with a massless string."""
+    """A sphere hung from a fixed pivot ``string_length`` above its centre on a universal joint
+    (two perpendicular horizontal axes): a spherical pendulum with a massless string. Each
+    axis's swing is limited to ``max_swing`` by the constraint solver, so the ball can never
+    rise to its pivot, whatever hits it (a taut string); damping brings a swing to rest."""
     skel = dart.dynamics.Skeleton("ball")
-    joint_props = dart.dynamics.BallJointProperties()
+    joint_props = dart.dynamics.UniversalJointProperties()
     joint_props.mName = "pendulum_pivot"
-    joint, body = skel.createBallJointAndBodyNodePair(None, joint_props)
+    joint, body = skel.createUniversalJointAndBodyNodePair(None, joint_props)
+    joint.setAxis1([1.0, 0.0, 0.0])
+    joint.setAxis2([0.0, 1.0, 0.0])
     body.setName("ball")
     T = dart.math.Isometry3()
     T.set_translation([0.0, 0.0, config.string_length])
     joint.setTransformFromChildBodyNode(T)
-    for i in range(3):
+    swing = math.radians(config.max_swing)
+    for i in range(2):
         joint.setDampingCoefficient(i, config.damping)
+        joint.setPositionLowerLimit(i, -swing)
+        joint.setPositionUpperLimit(i, swing)
+    joint.setLimitEnforcement(True)
     body.setMass(config.mass)
     i = 0.4 * config.mass * config.radius ** 2
     body.setMomentOfInertia(i, i, i, 0.0, 0.0, 0.0)
