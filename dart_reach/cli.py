@@ -69,6 +69,21 @@ def cmd_bench(args) -> int:
     return 0
 
 
+def cmd_validate(args) -> int:
+    """The model checks of ``validate.py`` on the shipped world; exit 0 when all pass."""
+    from . import validate
+
+    if args.json is not None and args.json.exists() and not args.json.is_file():
+        raise ValueError(f"--json {args.json} exists and is not a file")
+    results = validate.run(grid=args.grid, networks=args.networks,
+                           chance_networks=args.chance_networks)
+    print(validate.format_report(results))
+    if args.json:
+        Path(args.json).write_text(json.dumps(results, indent=2) + "\n")
+        print(f"wrote {args.json}")
+    return 0 if results["passed"] else 1
+
+
 def _duration(seconds: float) -> str:
     if not np.isfinite(seconds):
         return "?"
@@ -248,6 +263,17 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("rrd", type=Path, metavar="FILE.rrd")
     p.add_argument("--parquet", type=Path, default=None, metavar="OUT.parquet")
     p.set_defaults(func=cmd_read)
+
+    p = sub.add_parser("validate", help="check the model: scene, scripted grasps, reflexes, "
+                                        "chance level (exit 0 when every check passes)")
+    p.add_argument("--json", type=Path, default=None, help="also write the figures to FILE")
+    p.add_argument("--grid", type=_int_at_least(2), default=7,
+                   help="start positions per sector side checked (default 7: 49 per sector)")
+    p.add_argument("--networks", type=_positive, default=40,
+                   help="random networks of the reflex checks (default 40)")
+    p.add_argument("--chance-networks", type=_positive, default=6,
+                   help="random networks post-evaluated for the chance level (default 6)")
+    p.set_defaults(func=cmd_validate)
 
     p = sub.add_parser("bench", help="measure simulation speed (see README)")
     p.add_argument("--json", type=Path, default=None, help="also write the figures to FILE")

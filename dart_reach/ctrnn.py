@@ -149,45 +149,42 @@ def zero_params() -> NetworkParams:
 # With threshold 0, a motor neuron driven only by its reflex inputs settles at
 # s = sigma(z) and its target is 2 s - 1 = tanh(z / 2) ~= z / 2 near z = 0.
 #
-# Orienting response: neck motor <- its own proprioceptor (weight ORIENT_SELF_WEIGHT = 2, so that
-# the target reproduces the current position: tanh(p) ~= p) and <- the ball's image coordinate
-# (weight ORIENT_SIGHT_WEIGHT = 2 k): target ~= current + k c. On this robot a target step of 1
-# turns the neck by 50 deg (yaw, range +-50 deg) or 31 deg (pitch, -40..+22 deg), and near the
-# image centre c ~= angle / 85 deg (x) or angle / 61 deg (y): k ~= 1.7 (yaw) or 2 (pitch) would
-# centre the ball in one step if the joint followed at once. k = 1 was chosen by running the
-# reflex alone in ``world.World`` (a = 1, balls in the visible sectors 6-8): the head turns to
-# the ball within 0.3-0.5 s with no overshoot although a joint covers only ~60 % of a target
-# step in 0.1 s; k = 0.5 was as stable but left twice the residual error, k = 1.5 gained
-# little. The residual error comes from tanh(p) < p: far from mid-range the head creeps back
-# until k c = atanh(p) - p, i.e. |c| up to ~0.2 at the sectors' extreme positions. A
-# self-weight above 2 would make the neck bistable (tanh(w p / 2) = p gains non-zero roots), so
-# 2 is the largest safe value. With low acuity (a = 3) the drive is c^3: the reflex stops
-# further from the centre (|c| ~0.35), as a blurrier orienting response would.
-# ORIENT_*_SIGN say in which direction a positive neck target turns the camera relative to +c
-# (a property of the physics world's joint axes). Measured on ``world.World``
-# (skeletons/icub_upper_body.urdf): raising the neck_yaw target turns the camera to the left (a
-# fixed ball's c_x grows), so the yaw sign is -1; raising the neck_pitch target turns it up
-# (c_y falls), so the pitch sign is +1.
+# Orienting response (a proportional controller around the home posture): neck motor <- the
+# ball's image coordinate with weight W and a hand-set threshold theta = -2 atanh(t_home), so that
+# a centred ball (c = 0) holds the neck at its home target t_home and an off-centre one moves the
+# target by ~ k c: the slope of tanh((W c - theta) / 2) at c = 0 is W (1 - t_home^2) / 2 = k, so
+# W = 2 k / (1 - t_home^2). On this robot a target change of 1 turns the camera by 50 deg (yaw) or
+# 31 deg (pitch), i.e. c by ~0.6 or ~0.5 near the centre: a loop gain of 0.6 k per step. k = 1
+# (ORIENT_GAIN) was chosen by measurement (docs/controller.md, ``dart-reach validate``): stable
+# (no oscillation at 10 Hz with the joints' speed bound), and it halves the image offset of a
+# reflex-only head. With low acuity (a = 3) the drive is c^3: the reflex is weaker near the
+# centre, as a blurrier orienting response would be. ORIENT_HOME_TARGETS are the neck's home
+# targets of ``world.World`` (tested equal). ORIENT_*_SIGN say in which direction a positive
+# neck target turns the camera relative to +c (a property of the world's joint axes, measured
+# on ``world.World``: raising the neck_yaw target turns the camera left, raising the neck_pitch
+# target turns it up).
 #
-# Grasp reflex: hand motor <- palm touch with GRASP_WEIGHT = 5 (the top of the evolved weight
-# range): palm touched (+1) -> sigma(5) = 0.993, target 0.987 (fingers closed); untouched (-1)
-# -> target -0.987 (fingers open).
+# Grasp reflex: hand motor <- palm touch with GRASP_WEIGHT = 5 and threshold 0: palm touched (+1)
+# -> sigma(5) = 0.993, target 0.987 (fingers closed); untouched (-1) -> target -0.987 (open).
 #
-# Thresholds: the three reflex motor neurons get a hand-set threshold of 0 (REFLEX_BIAS) so an
-# evolved threshold cannot shift the orienting set point or hold the hand shut or open. Their
-# time constants, and their other incoming connections, stay evolved: tau only sets how fast the
-# reflex acts (tau = 1 would freeze the neuron), and the other evolved inputs can modulate or,
-# summed, overrule it (the paper does not say the reflexes are immune to learning).
+# What else the three reflex motor neurons receive (docs/controller.md): while the reflexes are
+# on, none of the evolved sensory connections (the reflex arcs are the full arrows of Fig. 3:
+# all of their direct input is hand-set; with evolved direct inputs as well, the 24 other
+# sensors of a random network drive them with a net input of 9-31 against the reflexes' 2-5, and
+# the reflexes do not act). From gross-reaching the internal neurons project to them like to
+# every motor neuron: "the intervention of cortical centers in the mediation of sensory-motor
+# reflexive behavior" (III-D 2). Their thresholds are hand-set; their time constants stay
+# evolved (tau only sets how fast the reflex acts).
 
 #: Sign of the neck yaw target change that turns the camera toward a ball at +c_x (right).
 ORIENT_YAW_SIGN = -1.0
 #: Sign of the neck pitch target change that turns the camera toward a ball at +c_y (up).
 ORIENT_PITCH_SIGN = 1.0
-ORIENT_SELF_WEIGHT = 2.0
+#: Neck targets of the home posture (``world.World.home_targets``; icub.HOME_POSTURE).
+ORIENT_HOME_TARGETS = {"neck_yaw": -0.3508, "neck_pitch": -0.7410}
 ORIENT_GAIN = 1.0
-ORIENT_SIGHT_WEIGHT = 2.0 * ORIENT_GAIN
 GRASP_WEIGHT = 5.0
-REFLEX_BIAS = 0.0
+GRASP_BIAS = 0.0
 
 _REFLEX_MOTORS = ("neck_yaw", "neck_pitch", "r_hand_fingers")
 
@@ -206,21 +203,25 @@ def reflex_weights() -> tuple[np.ndarray, np.ndarray]:
     m, s = MOTOR_INDEX, SENSOR_INDEX
     for motor, image_axis, sign in (("neck_yaw", "sight/x", ORIENT_YAW_SIGN),
                                     ("neck_pitch", "sight/y", ORIENT_PITCH_SIGN)):
-        weights[m[motor], s[image_axis]] = sign * ORIENT_SIGHT_WEIGHT
-        weights[m[motor], s[f"proprio/{motor}"]] = ORIENT_SELF_WEIGHT
-        mask[m[motor], [s[image_axis], s[f"proprio/{motor}"]]] = True
+        home = ORIENT_HOME_TARGETS[motor]
+        weights[m[motor], s[image_axis]] = sign * 2.0 * ORIENT_GAIN / (1.0 - home * home)
     weights[m["r_hand_fingers"], s["touch/palm"]] = GRASP_WEIGHT
-    mask[m["r_hand_fingers"], s["touch/palm"]] = True
+    mask[[m[name] for name in _REFLEX_MOTORS], :] = True
     return mask, weights
 
 
 def reflex_biases() -> tuple[np.ndarray, np.ndarray]:
     """The hand-set thresholds of the three reflex motor neurons (neck_yaw, neck_pitch,
     r_hand_fingers): ``(mask (N_MOTORS,) bool, biases (N_MOTORS,))``; where ``mask`` is True
-    ``biases`` (REFLEX_BIAS = 0) replaces the evolved ``bias_motor`` when reflexes are on."""
+    ``biases`` replaces the evolved ``bias_motor`` when reflexes are on. The neck's hold its
+    home target with the ball centred (theta = -2 atanh(t_home)); the hand's is 0."""
     mask = np.zeros(N_MOTORS, dtype=bool)
+    biases = np.zeros(N_MOTORS)
+    for name, home in ORIENT_HOME_TARGETS.items():
+        biases[MOTOR_INDEX[name]] = -2.0 * np.arctanh(home)
+    biases[MOTOR_INDEX["r_hand_fingers"]] = GRASP_BIAS
     mask[[MOTOR_INDEX[n] for n in _REFLEX_MOTORS]] = True
-    return mask, np.where(mask, REFLEX_BIAS, 0.0)
+    return mask, biases
 
 
 # ---------------------------------------------------------------------------------------------

@@ -121,22 +121,22 @@ def test_reflex_weights_layout():
     mask, w = ctrnn.reflex_weights()
     assert mask.shape == w.shape == (N_MOTORS, N_SENSORS) and mask.dtype == bool
     m, s = MOTOR_INDEX, SENSOR_INDEX
-    expected = {
-        (m["neck_yaw"], s["sight/x"]): ctrnn.ORIENT_YAW_SIGN * ctrnn.ORIENT_SIGHT_WEIGHT,
-        (m["neck_yaw"], s["proprio/neck_yaw"]): ctrnn.ORIENT_SELF_WEIGHT,
-        (m["neck_pitch"], s["sight/y"]): ctrnn.ORIENT_PITCH_SIGN * ctrnn.ORIENT_SIGHT_WEIGHT,
-        (m["neck_pitch"], s["proprio/neck_pitch"]): ctrnn.ORIENT_SELF_WEIGHT,
-        (m["r_hand_fingers"], s["touch/palm"]): ctrnn.GRASP_WEIGHT,
-    }
-    assert set(zip(*np.nonzero(mask))) == set(expected)
-    for (i, j), v in expected.items():
-        assert w[i, j] == v
-    assert (w[~mask] == 0).all()
+    reflex_motors = {m["neck_yaw"], m["neck_pitch"], m["r_hand_fingers"]}
+    # every direct input of the three reflex motors is hand-set, nothing else is
+    assert {i for i, _ in zip(*np.nonzero(mask))} == reflex_motors
+    assert mask[sorted(reflex_motors)].all()
+    nonzero = {(int(i), int(j)) for i, j in zip(*np.nonzero(w))}
+    assert nonzero == {(m["neck_yaw"], s["sight/x"]), (m["neck_pitch"], s["sight/y"]),
+                       (m["r_hand_fingers"], s["touch/palm"])}
+    for motor, sight, sign in (("neck_yaw", "sight/x", ctrnn.ORIENT_YAW_SIGN),
+                               ("neck_pitch", "sight/y", ctrnn.ORIENT_PITCH_SIGN)):
+        home = ctrnn.ORIENT_HOME_TARGETS[motor]
+        assert w[m[motor], s[sight]] == sign * 2 * ctrnn.ORIENT_GAIN / (1 - home ** 2)
+    assert w[m["r_hand_fingers"], s["touch/palm"]] == ctrnn.GRASP_WEIGHT > 0
     assert abs(ctrnn.ORIENT_YAW_SIGN) == abs(ctrnn.ORIENT_PITCH_SIGN) == 1.0
-    assert ctrnn.GRASP_WEIGHT > 0
     bmask, b = ctrnn.reflex_biases()
-    assert set(np.nonzero(bmask)[0]) == {m["neck_yaw"], m["neck_pitch"], m["r_hand_fingers"]}
-    np.testing.assert_array_equal(b[bmask], ctrnn.REFLEX_BIAS)
+    assert set(np.nonzero(bmask)[0]) == reflex_motors
+    assert b[m["r_hand_fingers"]] == ctrnn.GRASP_BIAS
 
 
 def test_reflexes_override_evolved_weights_on_masked_connections_only():
@@ -173,22 +173,28 @@ def test_grasp_reflex_closes_the_hand_on_palm_touch():
     assert ctrnn.motor_targets(net.step(x))[hand] < -0.98  # open
 
 
-def test_orienting_reflex_moves_the_neck_target_by_k_c():
-    net = Network(ctrnn.zero_params(), reflexes=True)
-    k = ctrnn.ORIENT_SIGHT_WEIGHT / 2
+def test_orienting_reflex_holds_home_and_moves_the_neck_target_by_k_c():
+    net = Network(ctrnn.zero_params(), reflexes=True)  # tau = 0
+    k = ctrnn.ORIENT_GAIN
     for motor, sight, sign in (("neck_yaw", "sight/x", ctrnn.ORIENT_YAW_SIGN),
                                ("neck_pitch", "sight/y", ctrnn.ORIENT_PITCH_SIGN)):
+        home = ctrnn.ORIENT_HOME_TARGETS[motor]
         x = np.zeros(N_SENSORS)
-        x[SENSOR_INDEX[f"proprio/{motor}"]] = 0.03
-        x[SENSOR_INDEX[sight]] = 0.02
+        x[SENSOR_INDEX[f"proprio/{motor}"]] = 0.5  # proprioception plays no part
+        # ball centred or not in sight (0): the target is the home posture's
         t = ctrnn.motor_targets(net.step(x))[MOTOR_INDEX[motor]]
-        # 2 sigma(z) - 1 = tanh(z / 2) = tanh(p + sign k c) ~= p + sign k c for small z
-        assert t == pytest.approx(math.tanh(0.03 + sign * k * 0.02), abs=1e-15)
-        assert t == pytest.approx(0.03 + sign * k * 0.02, abs=1e-4)
-        # no ball in sight (0): the target holds the current position
-        x[SENSOR_INDEX[sight]] = 0.0
+        assert t == pytest.approx(home, abs=1e-12)
+        # off centre by c: the target moves by ~ sign k c (the slope of tanh at home)
+        x[SENSOR_INDEX[sight]] = 0.01
         t = ctrnn.motor_targets(net.step(x))[MOTOR_INDEX[motor]]
-        assert t == pytest.approx(0.03, abs=1e-4)
+        assert (t - home) / 0.01 == pytest.approx(sign * k, rel=0.02)
+
+
+def test_orienting_home_targets_are_the_worlds():
+    from dart_reach.world import World
+    world = World()
+    for motor, home in ctrnn.ORIENT_HOME_TARGETS.items():
+        assert world.home_targets[MOTOR_INDEX[motor]] == pytest.approx(home, abs=1e-4)
 
 
 # ------------------------------------------------------------------ reference trajectory
