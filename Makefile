@@ -23,7 +23,7 @@ $(VENV)/.installed-dev: pyproject.toml | $(BIN)/python
 # (section IV) under the four sensory conditions: about 10 minutes on 2 cores.
 DEMO_OUT := recordings/demo-standard
 demo: $(VENV)/.installed
-	$(BIN)/dart-reach reach --seconds 3
+	$(BIN)/dart-reach reach --seconds 5
 	$(BIN)/dart-reach train standard --generations 3 --replications 2 --trials 6 --record-every 1 \
 		--out $(DEMO_OUT) $(if $(wildcard $(DEMO_OUT)/manifest.json),--resume,)
 	$(BIN)/dart-reach evaluate $(DEMO_OUT) --sensors all

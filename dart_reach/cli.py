@@ -218,7 +218,7 @@ def build_parser() -> argparse.ArgumentParser:
 
     p = sub.add_parser("reach", help="run a scripted reach-and-grasp and print what happened")
     p.add_argument("--sector", type=int, default=4, help="ball sector 0..8 (default 4)")
-    p.add_argument("--seconds", type=float, default=4.0, help="simulated seconds (default 4)")
+    p.add_argument("--seconds", type=float, default=5.0, help="simulated seconds (default 5)")
     p.add_argument("--skeleton", type=Path, default=None, help="robot model (URDF)")
     p.set_defaults(func=cmd_reach)
 
