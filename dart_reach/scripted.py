@@ -55,7 +55,8 @@ class ReachSolution:
 def grasp_posture(world: World, ball_position, standoff: float = 0.0,
                   x0: np.ndarray | None = None, look: bool = False) -> ReachSolution:
     """Joint angles that put the ball's centre ``radius + standoff`` in front of the palm's
-    inner face (at ``GRASP_POINT``), along its normal, oriented as the module says. The trunk and arm joints move; with ``look`` the neck turns
+    inner face (at ``GRASP_POINT``), along its normal, oriented as the module says. The trunk
+    and arm joints move; with ``look`` the neck turns
     the camera toward the ball, else the head stays at home; the fingers stay open. The robot's
     state is restored afterwards."""
     robot, hand = world.robot, world.hand

@@ -26,7 +26,7 @@ import numpy as np
 from . import sensors
 from .ctrnn import MOTOR_INDEX, SENSOR_INDEX, motor_targets
 from .task import Trial, TrialConfig, network_for, trial_positions
-from .world import N_SECTORS, World, sector_angles, sphere_point
+from .world import N_SECTORS, World
 
 #: Seconds within which the orienting reflex must bring the ball's image toward the centre.
 ORIENT_SECONDS = 3.0
@@ -125,7 +125,8 @@ def reflex_rates(world: World, reflexes: bool, networks: int = 40, seed: int = 0
     sector. ``head_turn_rate``: the fraction of networks whose neck, at the end, holds the ball's
     image closer to the centre than the home neck angles would with the body where it is (the
     head turned toward the ball), among the ``head_turn_judged`` networks whose trunk left the
-    ball in view with one neck posture or the other. ``image_closer_rate``: the fraction whose ball image is closer
+    ball in view with one neck posture or the other. ``image_closer_rate``: the fraction whose
+    ball image is closer
     to the centre at the end than at the start (p_sight grew; out of view counts as far): this
     counts the trunk's motion too.
     ``grasp_rate_touched`` / ``grasp_rate_untouched``: from the state each network reached at
@@ -159,7 +160,8 @@ def reflex_rates(world: World, reflexes: bool, networks: int = 40, seed: int = 0
             for _ in range(GRASP_STEPS):
                 network.step(x)
             closed[touch] += bool(motor_targets(network.motor)[hand] > 0.0)
-    return {"head_turn_rate": head_turned / max(judged, 1), "head_turn_judged": judged, "image_closer_rate": image_closer / networks,
+    return {"head_turn_rate": head_turned / max(judged, 1), "head_turn_judged": judged,
+            "image_closer_rate": image_closer / networks,
             "grasp_rate_touched": closed[1.0] / networks,
             "grasp_rate_untouched": closed[-1.0] / networks}
 

@@ -9,11 +9,13 @@ right, +z up. Lengths in metres, angles in radians, time in seconds.
 
 Control (section III-B): every ``control_dt`` = 0.1 s the world takes 14 desired joint positions
 in [-1, 1] (3 neck, 3 torso, 7 arm, 1 hand), scales them linearly into each joint's limits and
-runs the physics substeps (the range is the joint's limits less 1 % at each end). Each joint tracks its target through an implicit spring-damper (DART's
-joint spring with rest position = target, integrated implicitly, stable at any stiffness) plus
-gravity compensation computed once per control step. Targets lie inside the limits, limits are
-enforced by the constraint solver, and no actuator holds a joint at a limit, so no joint can stay
-stuck there (the SERVO actuator can: DART issues #1683, #2422). The 15 finger flexion joints all
+runs the physics substeps (the range is the joint's limits less 1 % at each end); a motor's
+commanded position moves toward its target at ``max_joint_speed`` at most. Each joint tracks
+its commanded position through an implicit spring-damper (DART's joint spring with rest
+position = the commanded position, integrated implicitly, stable at any stiffness) plus gravity
+compensation computed once per control step. Targets lie inside the limits, limits are
+enforced by the constraint solver, and no actuator holds a joint at a limit, so no joint can
+stay stuck there (the SERVO actuator can: DART issues #1683, #2422). The 15 finger flexion joints all
 take the hand motor's target: the five fingers follow one motor, as in the paper; each finger
 stops on its own when it meets the ball, like the iCub's tendon-driven fingers.
 """
