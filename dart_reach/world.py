@@ -238,9 +238,8 @@ class World:
         for dof, k, c in zip(self._dofs, self.stiffness, self.damping):
             dof.setSpringStiffness(k)
             dof.setDampingCoefficient(c)
+        self.home_motor = self._motor_angles(self.home)
         self.home_targets = self.targets_for(self.home)
-        self.home_motor = np.append(self.home[self._motor_dofs],
-                                    self.home[self._finger_dofs].mean())
 
     # ------------------------------------------------------------------ sectors
     def sector_point(self, sector: int, u: float, v: float) -> np.ndarray:
@@ -285,10 +284,13 @@ class World:
         self._q_cmd[:] = self.home_motor
         self.set_targets(self.home_targets)
 
+    def _motor_angles(self, q: np.ndarray) -> np.ndarray:
+        """The 14 motor-space angles (rad) of a full joint vector: 13 joints, mean finger flexion."""
+        return np.append(q[self._motor_dofs], q[self._finger_dofs].mean())
+
     def targets_for(self, q: np.ndarray) -> np.ndarray:
         """The 14 motor targets in [-1, 1] that hold the robot at joint positions ``q``."""
-        q = np.asarray(q, float)
-        motor_q = np.append(q[self._motor_dofs], q[self._finger_dofs].mean())
+        motor_q = self._motor_angles(np.asarray(q, float))
         return 2.0 * (motor_q - self.motor_lower) / (self.motor_upper - self.motor_lower) - 1.0
 
     def set_targets(self, targets) -> None:
