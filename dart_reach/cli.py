@@ -61,8 +61,21 @@ def cmd_reach(args) -> int:
 def cmd_bench(args) -> int:
     from . import bench
 
-    results = bench.run(seconds=args.seconds, repeats=args.repeats)
-    print(bench.format_table(results))
+    if args.json is not None and args.json.exists():
+        raise FileExistsError(f"--json {args.json} exists; choose another file")
+    if args.physics:
+        from . import physics_study
+
+        if args.networks < 1:
+            raise ValueError(f"--networks must be at least 1, got {args.networks}")
+        show = _progress_printer(lambda p: f"physics study | {p[0]}/{p[1]} controllers x steps")
+        results = physics_study.study(
+            candidates=args.physics_steps, random=args.networks, runs=args.run,
+            workers=args.workers, progress=lambda n, total: show((n, total)))
+        print("\n" + physics_study.format_study(results))
+    else:
+        results = bench.run(seconds=args.seconds, repeats=args.repeats)
+        print(bench.format_table(results))
     if args.json:
         Path(args.json).write_text(json.dumps(results, indent=2) + "\n")
         print(f"wrote {args.json}")
@@ -164,7 +177,8 @@ def cmd_evaluate(args) -> int:
     try:
         table = evaluate_run(args.run_dir, senses=senses, robots=args.robots, record=args.record,
                              workers=args.workers, ray_address=args.ray,
-                             progress=_progress_printer(_evaluation_line))
+                             progress=_progress_printer(_evaluation_line),
+                             baseline=args.baseline)
     except KeyboardInterrupt:
         print(f"\ninterrupted: the robots finished so far are saved in {args.run_dir}/{TABLE}; "
               f"run the same command again to evaluate the rest", file=sys.stderr)
@@ -255,6 +269,9 @@ def build_parser() -> argparse.ArgumentParser:
                    choices=("best", "replications", "all", "none"),
                    help="which robots' trials to record as .rrd: the best robot of the best "
                         "replication (default), the best of each replication, all, none")
+    p.add_argument("--baseline", type=_non_negative, default=0, metavar="N",
+                   help="also post-evaluate N random genomes per phase, the chance level of "
+                        "every measure (rows flagged 'baseline'; default 0)")
     _add_workers(p)
     p.set_defaults(func=cmd_evaluate)
 
@@ -279,6 +296,17 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--json", type=Path, default=None, help="also write the figures to FILE")
     p.add_argument("--seconds", type=float, default=20.0, help="simulated s per block")
     p.add_argument("--repeats", type=int, default=5, help="interleaved blocks per figure")
+    p.add_argument("--physics", action="store_true",
+                   help="instead: the physics-step study (docs/world.md): a panel of networks "
+                        "post-evaluated at each candidate step and at a quarter of it")
+    p.add_argument("--physics-steps", type=float, nargs="+", default=[0.02, 0.01],
+                   metavar="DT", help="candidate physics steps in s (default 0.02 0.01)")
+    p.add_argument("--networks", type=int, default=20,
+                   help="random networks in the study's panel (default 20)")
+    p.add_argument("--run", type=Path, nargs="*", default=[], metavar="RUN_DIR",
+                   help="finished runs whose best robots join the panel")
+    p.add_argument("--workers", type=_positive, default=None,
+                   help="local processes for the study (default: every core)")
     p.set_defaults(func=cmd_bench)
     return parser
 

@@ -15,6 +15,12 @@ Output, in the run directory::
     evaluation/<phase>/<senses>/rep<R>-rank<I>/trial<K>-sector<S>.rrd   (see ``Record``)
     evaluation/trial.rbl  their layout in the viewer: rerun TRIAL.rrd evaluation/trial.rbl
 
+Random genomes of each phase can be post-evaluated beside the trained robots as the chance
+level of every measure (``baseline``: ``evaluate --baseline N``): they are rows with
+``baseline`` true, replication = the random genome's index, rank 0, lifetime_fitness NaN, drawn
+from the run's seed tree (``experiment.baseline_genomes``) and decoded with the phase's free
+groups and maturational state. ``load_evaluation`` leaves them out unless asked.
+
 Evaluating again adds only what is missing (another sensory condition, more robots); rows and
 recordings already saved are kept. The table is saved every few seconds, so an interrupted
 evaluation keeps the robots it finished.
@@ -33,7 +39,7 @@ import polars as pl
 
 from .conditions import Phase
 from .evaluator import make_evaluator, worker_trial
-from .experiment import Run, RunError, trial_config
+from .experiment import Run, RunError, baseline_genomes, trial_config
 from .files import atomic_write
 from .genome import as_groups, decode
 from .metrics import trial_metrics
@@ -46,7 +52,7 @@ RECORDINGS = "evaluation"
 #: The layout of the post-evaluation's recordings: ``rerun TRIAL.rrd evaluation/trial.rbl``.
 BLUEPRINT = f"{RECORDINGS}/trial.rbl"
 SENSES = tuple(s.value for s in Senses)
-_KEY = ("phase_key", "senses", "replication", "rank")
+_KEY = ("phase_key", "senses", "baseline", "replication", "rank")
 
 
 class Record(enum.Enum):
@@ -79,6 +85,7 @@ class RobotJob:
     trial: TrialConfig
     world: WorldConfig
     record: bool
+    baseline: bool = False
 
     def recording_path(self, k: int, sector: int) -> str:
         """Path of trial k's recording, relative to the run directory."""
@@ -105,7 +112,7 @@ def run_robot(job: RobotJob) -> tuple[list[dict], list[bytes | None]]:
         rows.append({
             "condition": job.condition, "phase": job.phase.name, "phase_key": job.phase.key,
             "notation": job.phase.notation, "replication": job.replication, "rank": job.rank,
-            "lifetime_fitness": job.lifetime_fitness, "senses": job.trial.senses.value,
+            "lifetime_fitness": job.lifetime_fitness, "baseline": job.baseline, "senses": job.trial.senses.value,
             "trial": k, "ball_x": float(position[0]), "ball_y": float(position[1]),
             "ball_z": float(position[2]), **trial_metrics(data, job.world.control_dt),
             "recording": path})
@@ -152,15 +159,19 @@ def open_finished(run_dir) -> Run:
     return run
 
 
-def load_evaluation(run_dir) -> pl.DataFrame:
-    """The post-evaluation table of a run (``evaluation.parquet``)."""
+def load_evaluation(run_dir, baseline: bool | None = False) -> pl.DataFrame:
+    """The post-evaluation table of a run (``evaluation.parquet``): the trained robots'
+    trials (``baseline`` False, the default), the random baseline's (True) or all (None)."""
     path = Path(run_dir) / TABLE
     if not path.is_file():
         raise RunError(f"{path}: no post-evaluation yet; run 'dart-reach evaluate {run_dir}'")
     try:
-        return pl.read_parquet(path)
+        table = pl.read_parquet(path)
     except Exception as exc:  # polars raises several kinds for a damaged file
         raise RunError(f"{path}: unreadable ({exc})") from None
+    if "baseline" not in table.columns:  # written before the baseline existed
+        table = table.with_columns(pl.lit(False).alias("baseline"))
+    return table if baseline is None else table.filter(pl.col("baseline") == baseline)
 
 
 def run_phases(run_dir) -> pl.DataFrame:
@@ -177,9 +188,10 @@ def evaluate_run(run_dir, senses: Iterable[str] = ("normal",), robots: int = 5,
                  record: Record | str = Record.BEST, workers: int | None = None,
                  ray_address: str | None = None,
                  progress: Callable[[EvaluationProgress], None] | None = None,
-                 save_every_s: float = 10.0) -> pl.DataFrame:
+                 save_every_s: float = 10.0, baseline: int = 0) -> pl.DataFrame:
     """Post-evaluate a finished run (the function ``dart-reach evaluate`` calls) and return its
-    whole evaluation table."""
+    whole evaluation table, baseline rows included. ``baseline``: random genomes per phase
+    evaluated beside the trained robots (never recorded)."""
     record = Record(record)
     senses = tuple(Senses(s) for s in senses)
     run = open_finished(run_dir)
@@ -187,8 +199,10 @@ def evaluate_run(run_dir, senses: Iterable[str] = ("normal",), robots: int = 5,
     if not 1 <= robots <= population:
         raise ValueError(f"robots must be between 1 and the population ({population}), "
                          f"got {robots}")
+    if baseline < 0:
+        raise ValueError(f"baseline must be 0 or more random genomes, got {baseline}")
     path = run.out / TABLE
-    table = load_evaluation(run.out) if path.exists() else None
+    table = load_evaluation(run.out, baseline=None) if path.exists() else None
     done = set() if table is None else set(table.select(_KEY).iter_rows())
     jobs = []
     for condition, phase in run.unique_phases():
@@ -199,11 +213,16 @@ def evaluate_run(run_dir, senses: Iterable[str] = ("normal",), robots: int = 5,
             trial = replace(base, senses=s)
             for r in range(genomes.shape[0]):
                 for i in range(robots):
-                    if (phase.key, s.value, r, i) not in done:
+                    if (phase.key, s.value, False, r, i) not in done:
                         jobs.append(RobotJob(
                             condition.name, phase, run.phase_dir(phase).name, r, i,
                             float(fitness[r, i]), genomes[r, i], trial, run.settings.world,
                             record.wants(r, i, best_replication)))
+            for b, genome in enumerate(baseline_genomes(run.settings, phase, baseline)):
+                if (phase.key, s.value, True, b, 0) not in done:
+                    jobs.append(RobotJob(condition.name, phase, run.phase_dir(phase).name, b,
+                                         0, float("nan"), genome, trial, run.settings.world,
+                                         False, baseline=True))
     if not jobs:
         return table if table is not None else pl.DataFrame()
     if any(job.record for job in jobs) and not (run.out / BLUEPRINT).exists():

@@ -120,7 +120,14 @@ def _seed(settings: Settings, phase: Phase, *path: int) -> np.random.SeedSequenc
 
 
 # purposes of the seed tree
-_INIT, _MUTATE, _EVALUATE, _RECORD = 0, 1, 2, 3
+_INIT, _MUTATE, _EVALUATE, _RECORD, _BASELINE = 0, 1, 2, 3, 4
+
+
+def baseline_genomes(settings: Settings, phase: Phase, n: int) -> np.ndarray:
+    """``n`` random genomes for the chance level of ``phase`` (``evaluate --baseline``): drawn
+    like an initial population, from the run's seed tree, so the first k are the same whatever
+    ``n`` >= k."""
+    return random_genome(np.random.default_rng(_seed(settings, phase, _BASELINE)), n)
 
 
 def _git_revision() -> str | None:

@@ -14,7 +14,7 @@ import pytest
 
 from dart_reach import metrics
 from dart_reach.conditions import load_condition, scaled
-from dart_reach.evaluation import SENSES, evaluate_run
+from dart_reach.evaluation import SENSES, evaluate_run, load_evaluation
 from dart_reach.experiment import Settings, train
 from dart_reach.recording import read_properties, read_rrd, verify
 
@@ -99,6 +99,35 @@ def test_evaluating_again_adds_only_what_is_missing(evaluated, tmp_path):
     saved = (out / "evaluation.parquet").read_bytes()
     again = evaluate_run(out, senses=SENSES, robots=2, workers=1)
     assert again.equals(table) and (out / "evaluation.parquet").read_bytes() == saved
+
+
+def test_baseline_random_genomes_are_flagged_and_kept_apart(evaluated, trained, tmp_path):
+    src, _ = evaluated
+    out = tmp_path / "run"
+    shutil.copytree(src, out)
+    before = load_evaluation(out)
+    result = _cli("evaluate", out, "--sensors", "no-touch", "--robots", "2", "--baseline", "2",
+                  "--workers", "1")
+    assert result.returncode == 0, result.stderr
+    every = load_evaluation(out, baseline=None)
+    chance = load_evaluation(out, baseline=True)
+    assert load_evaluation(out).equals(before)  # the trained robots' rows untouched
+    assert chance.height == 3 * 2 * TRIALS  # phases x random genomes x positions
+    assert every.height == before.height + chance.height
+    assert (chance["rank"] == 0).all() and chance["lifetime_fitness"].is_nan().all()
+    assert chance["recording"].is_null().all()
+    assert sorted(set(chance["replication"])) == [0, 1]
+    # the same random genomes as a run with a different budget drawn from the same seed
+    # tree: the first k do not depend on N; and they are not the trained genomes
+    more = evaluate_run(out, senses=["no-touch"], robots=2, baseline=3, workers=1)
+    again = load_evaluation(out, baseline=True).filter(pl.col("replication") < 2)
+    assert again.equals(chance)
+    assert more.filter(pl.col("baseline")).height == 3 * 3 * TRIALS
+    trained_fit = before.group_by("phase", "replication", "rank").agg(pl.col("fitness").sum())
+    random_fit = chance.group_by("phase", "replication").agg(pl.col("fitness").sum())
+    assert not set(trained_fit["fitness"]) & set(random_fit["fitness"]) - {0.0}
+    with pytest.raises(ValueError, match="baseline must be 0 or more"):
+        evaluate_run(out, senses=["no-touch"], baseline=-1)
 
 
 def test_same_result_whatever_the_number_of_workers(evaluated, trained, tmp_path):
