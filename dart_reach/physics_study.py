@@ -55,9 +55,10 @@ class Member:
     trial: TrialConfig
 
 
-def panel(random: int = 20, seed: int = 0, runs=(), steps: int = 200) -> list[Member]:
+def panel(random: int = 20, seed: int = 0, runs=(), steps: int = 200,
+          scripted: bool = True) -> list[Member]:
     """The study's controllers: ``random`` random networks (half pre-, half gross-reaching),
-    the scripted reach-and-grasp, and the best robot of each replication of each phase of the
+    the scripted reach-and-grasp (unless ``scripted`` is False), and the best robot of each replication of each phase of the
     finished run directories ``runs``. Trials last ``steps`` control steps."""
     from .conditions import load_condition
     from .evaluation import open_finished
@@ -72,7 +73,9 @@ def panel(random: int = 20, seed: int = 0, runs=(), steps: int = 200) -> list[Me
         phase = standard[i % 2]
         members.append(Member("random", f"random-{phase.name}-{i}", genome,
                               as_groups(phase.free_groups), trial_config(phase, settings)))
-    members.append(Member("scripted", "scripted", None, frozenset(), TrialConfig(steps=steps)))
+    if scripted:
+        members.append(Member("scripted", "scripted", None, frozenset(),
+                              TrialConfig(steps=steps)))
     for run_dir in runs:
         run = open_finished(run_dir)
         for _, phase in run.unique_phases():
@@ -169,7 +172,8 @@ def tracking_error(physics_dt: float, reference_dt: float, seeds: int = 5,
 
 def study(candidates=(0.02, 0.01), random: int = 20, runs=(), steps: int = 200,
           tolerances: Tolerances = Tolerances(), workers: int | None = None,
-          reference_dt: float = 0.00125, seed: int = 0, progress=None) -> dict:
+          reference_dt: float = 0.00125, seed: int = 0, scripted: bool = True,
+          progress=None) -> dict:
     """Run the panel at every candidate step and at a quarter of it; compare. Returns the
     per-step panel statistics (per kind and over the whole panel), the agreement of each
     candidate with its quarter, the tracking errors, each step's cost (simulated s per core
@@ -180,7 +184,7 @@ def study(candidates=(0.02, 0.01), random: int = 20, runs=(), steps: int = 200,
     dts = sorted(set(candidates) | {c / 4 for c in candidates}, reverse=True)
     for dt in dts:
         WorldConfig(physics_dt=dt)  # a step that does not divide 0.1 s fails here, early
-    members = panel(random, seed, runs, steps)
+    members = panel(random, seed, runs, steps, scripted)
     jobs = [(m, dt) for dt in dts for m in members]
     evaluator = make_evaluator(workers)
     results = []
@@ -221,7 +225,8 @@ def study(candidates=(0.02, 0.01), random: int = 20, runs=(), steps: int = 200,
 def format_study(r: dict) -> str:
     """The study as text tables: statistics per step, agreement, tracking, cost."""
     names = [k for k, _ in STATISTICS]
-    lines = [f"panel: {r['members']['random']} random networks, 1 scripted, "
+    lines = [f"panel: {r['members']['random']} random networks, "
+             f"{r['members']['scripted']} scripted, "
              f"{r['members']['evolved']} evolved; 45 trials of {r['steps']} steps each",
              f"tolerances: rates within {r['tolerances']['rate_abs']:g} absolute, fitness, "
              f"speed and straightness within {r['tolerances']['rel']:.0%} relative", ""]
