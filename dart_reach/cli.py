@@ -8,6 +8,8 @@ from __future__ import annotations
 
 import argparse
 import json
+import shlex
+import signal
 import sys
 from pathlib import Path
 
@@ -30,12 +32,34 @@ def _int_at_least(minimum: int):
 _positive, _non_negative = _int_at_least(1), _int_at_least(0)
 
 
+class Terminated(KeyboardInterrupt):
+    """SIGTERM, handled like Ctrl-C (work saved, a message) but exit code 143."""
+
+
+def _on_sigterm(signum, frame):
+    raise Terminated()
+
+
+def _interrupted(exc: KeyboardInterrupt) -> int:
+    return 143 if isinstance(exc, Terminated) else 130
+
+
+def _write_json(path: Path, results: dict) -> None:
+    """Write ``results`` to a new file (never over an existing one)."""
+    with open(path, "x") as f:
+        f.write(json.dumps(results, indent=2) + "\n")
+    print(f"wrote {path}")
+
+
 def cmd_reach(args) -> int:
     """Build the world, run a short scripted reach-and-grasp and say what happened."""
     from .icub import HAND_SEGMENTS
     from .scripted import ScriptedReach
     from .world import World, WorldConfig
 
+    if not (np.isfinite(args.seconds) and 0 < args.seconds <= 3600):
+        raise ValueError(f"--seconds must be a number of simulated seconds in (0, 3600], got "
+                         f"{args.seconds:g}")
     world = World(WorldConfig(skeleton=args.skeleton))
     ball = world.sector_point(args.sector, 0.5, 0.5)
     world.reset(ball)
@@ -74,11 +98,12 @@ def cmd_bench(args) -> int:
             workers=args.workers, progress=lambda n, total: show((n, total)))
         print("\n" + physics_study.format_study(results))
     else:
+        if not (np.isfinite(args.seconds) and args.seconds > 0):
+            raise ValueError(f"--seconds must be a positive number, got {args.seconds:g}")
         results = bench.run(seconds=args.seconds, repeats=args.repeats)
         print(bench.format_table(results))
     if args.json:
-        Path(args.json).write_text(json.dumps(results, indent=2) + "\n")
-        print(f"wrote {args.json}")
+        _write_json(args.json, results)
     return 0
 
 
@@ -86,14 +111,13 @@ def cmd_validate(args) -> int:
     """The model checks of ``validate.py`` on the shipped world; exit 0 when all pass."""
     from . import validate
 
-    if args.json is not None and args.json.exists() and not args.json.is_file():
-        raise ValueError(f"--json {args.json} exists and is not a file")
+    if args.json is not None and args.json.exists():
+        raise FileExistsError(f"--json {args.json} exists; choose another file")
     results = validate.run(grid=args.grid, networks=args.networks,
                            chance_networks=args.chance_networks)
     print(validate.format_report(results))
     if args.json:
-        Path(args.json).write_text(json.dumps(results, indent=2) + "\n")
-        print(f"wrote {args.json}")
+        _write_json(args.json, results)
     return 0 if results["passed"] else 1
 
 
@@ -155,17 +179,17 @@ def cmd_train(args) -> int:
         run = train(conditions, settings, out, workers=args.workers, ray_address=args.ray,
                     resume=args.resume, progress=_progress_printer(_training_line),
                     record_every=args.record_every)
-    except KeyboardInterrupt:
-        again = " ".join([sys.argv[0] if sys.argv else "dart-reach"] + sys.argv[1:])
+    except KeyboardInterrupt as exc:
+        again = ["dart-reach", *sys.argv[1:]]
         if "--resume" not in again:
-            again += " --resume"
+            again.append("--resume")
         if args.out is None:
-            again += f" --out {out}"
+            again += ["--out", str(out)]
         print(f"\ninterrupted: every finished generation is saved in {out}; continue with:\n"
-              f"  {again}", file=sys.stderr)
-        return 130
+              f"  {shlex.join(again)}", file=sys.stderr)
+        return _interrupted(exc)
     print(f"\ndone: results in {run.out} (manifest.json, generations.parquet, training.rrd, "
-          f"phases/*/); post-evaluate with: dart-reach evaluate {run.out}",
+          f"phases/*/); post-evaluate with: {shlex.join(['dart-reach', 'evaluate', str(run.out)])}",
           file=sys.stderr)
     return 0
 
@@ -179,16 +203,17 @@ def cmd_evaluate(args) -> int:
                              workers=args.workers, ray_address=args.ray,
                              progress=_progress_printer(_evaluation_line),
                              baseline=args.baseline)
-    except KeyboardInterrupt:
+    except KeyboardInterrupt as exc:
         print(f"\ninterrupted: the robots finished so far are saved in {args.run_dir}/{TABLE}; "
               f"run the same command again to evaluate the rest", file=sys.stderr)
-        return 130
+        return _interrupted(exc)
     out = Path(args.run_dir)
     print(f"\n{table.height} trials in {out / TABLE}", file=sys.stderr)
     recorded = table.filter(table["recording"].is_not_null())["recording"] if table.height else []
     if len(recorded):
         print(f"{len(recorded)} recordings under {out / RECORDINGS}; open one with its layout:"
-              f"\n  rerun {out / recorded[0]} {out / BLUEPRINT}", file=sys.stderr)
+              f"\n  {shlex.join(['rerun', str(out / recorded[0]), str(out / BLUEPRINT)])}",
+              file=sys.stderr)
     return 0
 
 
@@ -295,7 +320,8 @@ def build_parser() -> argparse.ArgumentParser:
     p = sub.add_parser("bench", help="measure simulation speed (see README)")
     p.add_argument("--json", type=Path, default=None, help="also write the figures to FILE")
     p.add_argument("--seconds", type=float, default=20.0, help="simulated s per block")
-    p.add_argument("--repeats", type=int, default=5, help="interleaved blocks per figure")
+    p.add_argument("--repeats", type=_positive, default=5,
+                   help="interleaved blocks per figure")
     p.add_argument("--physics", action="store_true",
                    help="instead: the physics-step study (docs/world.md): a panel of networks "
                         "post-evaluated at each candidate step and at a quarter of it")
@@ -311,17 +337,26 @@ def build_parser() -> argparse.ArgumentParser:
     return parser
 
 
+def _message(exc: BaseException) -> str:
+    """One line for an error: an OS error names its file and the problem."""
+    if isinstance(exc, OSError) and exc.filename and exc.strerror:
+        return f"{exc.filename}: {exc.strerror}"
+    return " ".join(str(exc).split())
+
+
 def main(argv=None) -> int:
     args = build_parser().parse_args(argv)
+    signal.signal(signal.SIGTERM, _on_sigterm)
+    from .files import DirectoryBusy
+
     try:
         return args.func(args)
-    except (ValueError, FileNotFoundError, FileExistsError, NotADirectoryError,
-            PermissionError) as exc:
-        print(f"dart-reach: error: {exc}", file=sys.stderr)
+    except (ValueError, OSError, DirectoryBusy) as exc:
+        print(f"dart-reach: error: {_message(exc)}", file=sys.stderr)
         return 2
-    except KeyboardInterrupt:
+    except KeyboardInterrupt as exc:
         print("dart-reach: interrupted", file=sys.stderr)
-        return 130
+        return _interrupted(exc)
 
 
 if __name__ == "__main__":

@@ -40,7 +40,7 @@ import polars as pl
 from .conditions import Phase
 from .evaluator import make_evaluator, worker_trial
 from .experiment import Run, RunError, baseline_genomes, trial_config
-from .files import atomic_write
+from .files import DirectoryLock, atomic_write, remove_temporaries
 from .genome import as_groups, decode
 from .metrics import trial_metrics
 from .recording import RobotModel, TrialInfo, trial_rrd, write_blueprint, write_rrd
@@ -192,9 +192,16 @@ def evaluate_run(run_dir, senses: Iterable[str] = ("normal",), robots: int = 5,
     """Post-evaluate a finished run (the function ``dart-reach evaluate`` calls) and return its
     whole evaluation table, baseline rows included. ``baseline``: random genomes per phase
     evaluated beside the trained robots (never recorded)."""
-    record = Record(record)
-    senses = tuple(Senses(s) for s in senses)
     run = open_finished(run_dir)
+    with DirectoryLock(run.out):
+        remove_temporaries(run.out)
+        return _evaluate(run, senses, robots, Record(record), workers, ray_address, progress,
+                         save_every_s, baseline)
+
+
+def _evaluate(run: Run, senses, robots, record, workers, ray_address, progress, save_every_s,
+              baseline) -> pl.DataFrame:
+    senses = tuple(Senses(s) for s in senses)
     population = run.settings.ga.population
     if not 1 <= robots <= population:
         raise ValueError(f"robots must be between 1 and the population ({population}), "

@@ -14,6 +14,9 @@ from __future__ import annotations
 
 import multiprocessing
 import os
+import socket
+import threading
+import time
 from concurrent.futures import ProcessPoolExecutor
 from dataclasses import dataclass
 from typing import Callable, Iterable, Iterator, Sequence, TypeVar
@@ -92,7 +95,8 @@ class PoolEvaluator(Evaluator):
         if self.workers < 1:
             raise ValueError(f"workers must be at least 1, got {self.workers}")
         self._pool = ProcessPoolExecutor(
-            self.workers, mp_context=multiprocessing.get_context("forkserver"))
+            self.workers, mp_context=multiprocessing.get_context("forkserver"),
+            initializer=_exit_with_parent, initargs=(os.getpid(),))
 
     def imap(self, fn, items):
         # One item at a time per worker keeps the load balanced; results come in item order.
@@ -100,6 +104,39 @@ class PoolEvaluator(Evaluator):
 
     def close(self) -> None:
         self._pool.shutdown(cancel_futures=True)
+
+
+def _exit_with_parent(parent: int, period_s: float = 0.5) -> None:
+    """Pool worker initializer: end this worker as soon as the process that made the pool is
+    gone, however it ended (a SIGKILL runs no clean-up of its own)."""
+    def watch() -> None:
+        while True:
+            time.sleep(period_s)
+            try:
+                os.kill(parent, 0)
+            except ProcessLookupError:
+                os._exit(1)
+            except PermissionError:  # the PID now belongs to another user's process
+                os._exit(1)
+    threading.Thread(target=watch, daemon=True, name="exit-with-parent").start()
+
+
+#: s to wait for a Ray cluster's address to answer before giving up.
+RAY_CONNECT_TIMEOUT_S = 10.0
+
+
+def _check_reachable(address: str) -> None:
+    """ValueError unless something listens at a ``host:port`` (or ``ray://host:port``)
+    address: ``ray.init`` would wait for minutes."""
+    hostport = address.split("://", 1)[-1]
+    host, sep, port = hostport.rpartition(":")
+    if not sep or not port.isdigit():
+        raise ValueError(f"--ray {address}: expected 'auto', 'local' or HOST:PORT")
+    try:
+        socket.create_connection((host, int(port)), timeout=RAY_CONNECT_TIMEOUT_S).close()
+    except OSError as exc:
+        raise ValueError(f"--ray {address}: no Ray cluster answers there "
+                         f"({exc.strerror or exc})") from None
 
 
 class RayEvaluator(Evaluator):
@@ -113,6 +150,8 @@ class RayEvaluator(Evaluator):
                              ) from None
         self._ray = ray
         if not ray.is_initialized():
+            if address not in ("local", "auto"):
+                _check_reachable(address)
             if address in ("local", "auto") and workers:
                 ray.init(num_cpus=workers, include_dashboard=False, log_to_driver=False)
             else:

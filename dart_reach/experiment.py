@@ -22,6 +22,17 @@ Run directory::
     phases/<phase>/best/gen<G>-rep<R>.rrd  a trial of each replication's best individual,
                                every ``record_every`` generations
     evaluation.parquet, evaluation/   the post-evaluation (``evaluation.py``)
+    .lock                      held by the process working in the directory (``files``)
+
+A generation is committed by its phase's checkpoint alone, written atomically (a temporary file
+renamed over the old one). Everything a generation adds is either written before that commit
+(the best-of-generation recordings, which a redone generation rewrites identically) or derived
+from the committed checkpoints and rebuilt from them on resume (generations.parquet and
+training.rrd: each checkpoint carries its phase's statistics rows; best.parquet from final.npz,
+which commits the end of a phase). So however a run stops (a signal, a full disk, a power
+loss), ``--resume`` redoes at most the generation in progress and ends with the same directory
+as an uninterrupted run. Resume refuses, naming the file, what it cannot rebuild: a checkpoint
+missing or older than the generations the table records.
 """
 
 from __future__ import annotations
@@ -43,7 +54,7 @@ from .conditions import Condition, Phase, condition_from_dict
 from .evaluator import Evaluator, Job, make_evaluator, worker_trial
 from .evolution import (GAConfig, GAState, Scheme, ask, best_k, generation_stats, init_state,
                         state_from_arrays, state_to_arrays, tell, transition_population)
-from .files import atomic_write
+from .files import LOCK_NAME, DirectoryLock, atomic_write, remove_temporaries
 from .genome import ParamGroup, as_groups, decode, free_mask, random_genome, release
 from .recording import RobotModel, TrialInfo, training_rrd, trial_rrd, write_rrd
 from .task import TrialConfig, network_for, trial_positions
@@ -192,7 +203,7 @@ class Run:
                 raise RunError(f"{self.out} already holds a run (manifest.json); use --resume to "
                                f"continue it or choose another --out")
             self._check_same_run(manifest_path)
-        elif self.out.exists() and any(self.out.iterdir()):
+        elif self.out.exists() and any(p.name != LOCK_NAME for p in self.out.iterdir()):
             raise RunError(f"{self.out} is not empty and holds no run: choose another --out")
         else:
             if resume:
@@ -204,7 +215,7 @@ class Run:
                                        "replication, purpose 0 init|1 mutate|2 evaluate, "
                                        "generation, individual))"})
             atomic_write(manifest_path, lambda p: p.write_text(json.dumps(full, indent=2)))
-        self.stats = self._load_stats()
+        self.stats = self._committed_stats()
         self._model: RobotModel | None = None
 
     @classmethod
@@ -218,14 +229,7 @@ class Run:
         path = out / "manifest.json"
         if not path.is_file():
             raise RunError(f"{out}: not a run directory (no manifest.json)")
-        try:
-            m = json.loads(path.read_text())
-        except (OSError, UnicodeDecodeError, json.JSONDecodeError) as exc:
-            raise RunError(f"{path}: unreadable manifest ({exc})") from None
-        if not isinstance(m, dict) or m.get("format") != MANIFEST_FORMAT:
-            found = m.get("format") if isinstance(m, dict) else None
-            raise RunError(f"{path}: written by an incompatible version (format {found}, this "
-                           f"version reads {MANIFEST_FORMAT})")
+        m = _read_manifest(path)
         try:
             conditions = []
             for c in m["conditions"]:
@@ -237,8 +241,9 @@ class Run:
                     raise ValueError("its phase keys are computed differently")
                 conditions.append(condition)
             settings = Settings.from_json(m["settings"])
-        except (KeyError, TypeError, ValueError) as exc:
-            raise RunError(f"{path}: written by an incompatible version ({exc})") from None
+        except (KeyError, TypeError, ValueError, AttributeError) as exc:
+            raise RunError(f"{path}: malformed or written by an incompatible version "
+                           f"({type(exc).__name__}: {exc})") from None
         return cls(out, conditions, settings, resume=True)
 
     def unfinished(self) -> list[str]:
@@ -247,30 +252,59 @@ class Run:
                 if not self.final_path(p).exists()]
 
     def _check_same_run(self, manifest_path: Path) -> None:
-        try:
-            old = json.loads(manifest_path.read_text())
-        except (OSError, json.JSONDecodeError) as exc:
-            raise RunError(f"{manifest_path}: unreadable manifest ({exc})") from None
-        if old.get("format") != MANIFEST_FORMAT:
-            raise RunError(f"{manifest_path}: written by an incompatible version "
-                           f"(format {old.get('format')}, this version reads {MANIFEST_FORMAT})")
+        old = _read_manifest(manifest_path)
         for key in ("conditions", "settings"):
             if old.get(key) != json.loads(json.dumps(self.manifest[key])):
                 raise RunError(f"{manifest_path}: the run there was made with other {key}; "
                                f"resume it with the same command line")
 
     # -------------------------------------------------------------- stats and checkpoints
-    def _load_stats(self) -> pl.DataFrame:
-        path = self.out / "generations.parquet"
-        if not path.exists():
-            return pl.DataFrame(schema=STATS_SCHEMA)
-        try:
-            return pl.read_parquet(path)
-        except Exception as exc:  # polars raises several kinds for a damaged file
-            raise RunError(f"{path}: unreadable ({exc})") from None
+    def _committed_stats(self) -> pl.DataFrame:
+        """The statistics rows of every committed generation, from the phases' checkpoints,
+        in training order."""
+        tables = [pl.DataFrame(schema=STATS_SCHEMA)]
+        for _, phase in self.unique_phases():
+            loaded = self._load_checkpoint(phase)
+            if loaded is not None:
+                tables.append(loaded[1])
+        return pl.concat(tables)
 
     def _save_stats(self) -> None:
         atomic_write(self.out / "generations.parquet", lambda p: self.stats.write_parquet(p))
+        write_rrd(self.out / "training.rrd", training_rrd(self.stats, self.out.name))
+
+    def repair(self) -> None:
+        """Before training on: check that the directory agrees with its committed state,
+        rebuild what is derived from it (generations.parquet, training.rrd, best.parquet).
+        Raises ``RunError`` naming the file when
+        something cannot be rebuilt. Call it while holding the directory's lock."""
+        recorded = self._recorded_generations()
+        for _, phase in self.unique_phases():
+            committed = self.stats.filter(pl.col("phase_key") == phase.key)
+            done = int(committed["generation"].max() or 0)
+            checkpoint = self._checkpoint_path(phase)
+            if self.final_path(phase).exists() and done < phase.generations:
+                raise RunError(f"{checkpoint}: missing or older than {self.final_path(phase).name}"
+                               f" (the statistics of phase {phase.name} cannot be rebuilt); "
+                               f"restore it or start a new run")
+            if recorded.get(phase.key, 0) > done:
+                raise RunError(f"{checkpoint}: missing or older than generations.parquet "
+                               f"({recorded[phase.key]} generations of phase {phase.name} "
+                               f"recorded, {done} in the checkpoint); restore it or start a new "
+                               f"run")
+            if self.final_path(phase).exists() and not (self.phase_dir(phase)
+                                                          / "best.parquet").exists():
+                self._save_best_table(phase, *self.load_final(phase))
+        self._save_stats()
+
+    def _recorded_generations(self) -> dict[str, int]:
+        """Generations per phase key that generations.parquet records ({} if it is missing or
+        unreadable: it is rebuilt)."""
+        try:
+            table = pl.read_parquet(self.out / "generations.parquet")
+            return dict(table.group_by("phase_key").agg(pl.col("generation").max()).iter_rows())
+        except Exception:  # missing or damaged: derived, so rebuilt
+            return {}
 
     def phase_dir(self, phase: Phase) -> Path:
         return self.out / "phases" / f"{phase.name}-{phase.key[:8]}"
@@ -278,16 +312,20 @@ class Run:
     def _checkpoint_path(self, phase: Phase) -> Path:
         return self.phase_dir(phase) / "checkpoint.npz"
 
-    def _save_checkpoint(self, phase: Phase, states: list[GAState]) -> None:
+    def _commit(self, phase: Phase, states: list[GAState]) -> None:
+        """Commit a generation: the phase's GA states and its statistics rows, in one atomic
+        checkpoint; then the files derived from it."""
         arrays = {"phase_key": np.array(phase.key)}
         for r, s in enumerate(states):
             arrays.update({f"rep{r}/{k}": v for k, v in state_to_arrays(s).items()})
+        rows = self.stats.filter(pl.col("phase_key") == phase.key)
+        arrays.update({f"stats/{c}": np.array(rows[c].to_list(), dtype=np.str_)
+                       if t == pl.Utf8 else rows[c].to_numpy() for c, t in STATS_SCHEMA.items()})
         atomic_write(self._checkpoint_path(phase), lambda p: _savez(p, arrays))
-        # The stats rows of this generation are written after the checkpoint: on resume the
-        # checkpoint decides, and rows past it are dropped.
         self._save_stats()
 
-    def _load_checkpoint(self, phase: Phase) -> list[GAState] | None:
+    def _load_checkpoint(self, phase: Phase) -> tuple[list[GAState], pl.DataFrame] | None:
+        """The GA states and statistics rows of a phase's last committed generation."""
         path = self._checkpoint_path(phase)
         if not path.exists():
             return None
@@ -298,13 +336,17 @@ class Run:
                 states = [state_from_arrays({k.split("/", 1)[1]: d[k] for k in d.files
                                              if k.startswith(f"rep{r}/")})
                           for r in range(self.settings.replications)]
+                rows = pl.DataFrame({c: d[f"stats/{c}"] for c in STATS_SCHEMA},
+                                    schema=STATS_SCHEMA)
         except RunError:
             raise
         except Exception as exc:
             raise RunError(f"{path}: corrupted or foreign checkpoint ({exc})") from None
         if len({s.generation for s in states}) != 1:
             raise RunError(f"{path}: replications at different generations")
-        return states
+        if rows.height != states[0].generation * len(states):
+            raise RunError(f"{path}: its statistics do not match its generation")
+        return states, rows
 
     def final_path(self, phase: Phase) -> Path:
         return self.phase_dir(phase) / "final.npz"
@@ -314,9 +356,13 @@ class Run:
         ranked = [best_k(s, pop) for s in states]
         genomes = np.stack([g for g, _ in ranked])
         fitness = np.stack([f for _, f in ranked])
+        self._save_best_table(phase, genomes, fitness)  # derived: before the commit
         atomic_write(self.final_path(phase), lambda p: _savez(p, {
             "population": genomes, "fitness": fitness, "best": genomes[:, 0],
             "phase_key": np.array(phase.key)}))
+
+    def _save_best_table(self, phase: Phase, genomes: np.ndarray, fitness: np.ndarray) -> None:
+        pop = genomes.shape[1]
         table = pl.DataFrame({
             "phase": [phase.name] * genomes.shape[0] * pop,
             "phase_key": [phase.key] * genomes.shape[0] * pop,
@@ -355,12 +401,12 @@ class Run:
             previous: Phase | None = None
             for phase in condition.phases:
                 if not self.final_path(phase).exists():
-                    states = self._load_checkpoint(phase)
-                    if states is None:
+                    loaded = self._load_checkpoint(phase)
+                    if loaded is None:
                         states = self._initial_states(phase, previous)
                     else:
+                        states = loaded[0]
                         done += states[0].generation
-                        self._drop_stats_after(phase, states[0].generation)
                     trial = trial_config(phase, s)
                     mask = free_mask(phase.free_groups)
                     groups = as_groups(phase.free_groups)
@@ -372,12 +418,10 @@ class Run:
                         wall = time.monotonic() - t0
                         self.stats = pl.concat([self.stats, pl.DataFrame(
                             [dict(r, wall_s=wall) for r in rows], schema=STATS_SCHEMA)])
-                        self._save_checkpoint(phase, states)
-                        write_rrd(self.out / "training.rrd", training_rrd(self.stats,
-                                                                          self.out.name))
                         if record_every and (g + 1 == phase.generations
                                              or (g + 1) % record_every == 0):
                             self.record_best(condition, phase, states, trial)
+                        self._commit(phase, states)
                         done += 1
                         if progress:
                             progress(Progress(
@@ -420,10 +464,6 @@ class Run:
                 seen.setdefault(p.key, (c, p))
         return list(seen.values())
 
-    def _drop_stats_after(self, phase: Phase, generation: int) -> None:
-        self.stats = self.stats.filter(
-            (pl.col("phase_key") != phase.key) | (pl.col("generation") <= generation))
-
     def _initial_states(self, phase: Phase, previous: Phase | None) -> list[GAState]:
         s = self.settings
         pop = s.ga.population
@@ -462,6 +502,20 @@ class Run:
         return new_states, rows
 
 
+def _read_manifest(path: Path) -> dict:
+    """A run's manifest as a dict of this version's format, or ``RunError`` naming it."""
+    try:
+        m = json.loads(path.read_text())
+    except (OSError, UnicodeDecodeError, json.JSONDecodeError) as exc:
+        raise RunError(f"{path}: unreadable manifest ({exc})") from None
+    if not isinstance(m, dict):
+        raise RunError(f"{path}: malformed manifest (a JSON {type(m).__name__}, not an object)")
+    if m.get("format") != MANIFEST_FORMAT:
+        raise RunError(f"{path}: written by an incompatible version (format "
+                       f"{m.get('format')}, this version reads {MANIFEST_FORMAT})")
+    return m
+
+
 def _savez(path: Path, arrays: dict) -> None:
     with open(path, "wb") as f:
         np.savez(f, **arrays)
@@ -471,10 +525,22 @@ def train(conditions: list[Condition], settings: Settings, out: Path, workers: i
           ray_address: str | None = None, resume: bool = False,
           progress: Callable[[Progress], None] | None = None, record_every: int = 0) -> Run:
     """Train ``conditions`` into the run directory ``out`` (the function the CLI calls)."""
-    run = Run(out, conditions, settings, resume=resume)
-    evaluator = make_evaluator(workers, ray_address)
-    try:
-        run.train(evaluator, progress, record_every)
-    finally:
-        evaluator.close()
+    names = [c.name for c in conditions]
+    twice = sorted({n for n in names if names.count(n) > 1})
+    if twice:
+        raise RunError(f"two conditions are named {', '.join(twice)}: a run's conditions need "
+                       f"distinct names")
+    out = Path(out)
+    if resume and not (out / "manifest.json").is_file():
+        raise RunError(f"nothing to resume: {out} holds no run")
+    with DirectoryLock(out):
+        remove_temporaries(out)  # of a killed write: the lock says no one else is writing
+        run = Run(out, conditions, settings, resume=resume)
+        if resume:
+            run.repair()
+        evaluator = make_evaluator(workers, ray_address)
+        try:
+            run.train(evaluator, progress, record_every)
+        finally:
+            evaluator.close()
     return run

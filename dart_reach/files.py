@@ -1,26 +1,111 @@
-"""Writing result files so that nothing already saved is ever half-overwritten."""
+"""Writing result files so that nothing already saved is ever half-overwritten, and one
+process at a time in a run directory."""
 
 from __future__ import annotations
 
+import errno
+import fcntl
 import os
+import re
 import tempfile
 from pathlib import Path
 from typing import Callable
 
+TEMP_SUFFIX = ".tmp"
+LOCK_NAME = ".lock"
+
+
+def _umask() -> int:
+    mask = os.umask(0)
+    os.umask(mask)
+    return mask
+
 
 def atomic_write(path: Path, write: Callable[[Path], None]) -> Path:
     """Write through a temporary file in the same directory, then rename: a reader (or a
-    resumed run) sees the old file or the new one, never half of one."""
+    resumed run) sees the old file or the new one, never half of one. The file gets the
+    permissions of a plainly created one (0666 less the umask)."""
     path = Path(path)
-    path.parent.mkdir(parents=True, exist_ok=True)
-    fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=f".{path.name}.", suffix=".tmp")
-    os.close(fd)
-    tmp = Path(tmp)
+    tmp = None
     try:
+        path.parent.mkdir(parents=True, exist_ok=True)
+        fd, name = tempfile.mkstemp(dir=path.parent, prefix=f".{path.name}.", suffix=TEMP_SUFFIX)
+        os.close(fd)
+        tmp = Path(name)
         write(tmp)
         with open(tmp, "rb") as f:
             os.fsync(f.fileno())
+        os.chmod(tmp, 0o666 & ~_umask())
         os.replace(tmp, path)
+    except OSError as exc:
+        raise _naming(exc, path) from None
+    except Exception as exc:  # libraries (polars) wrap the OS's error in their own
+        found = re.search(r"os error (\d+)", str(exc))
+        if not found:
+            raise
+        raise _naming(OSError(int(found[1]), os.strerror(int(found[1]))), path) from None
     finally:
-        tmp.unlink(missing_ok=True)
+        if tmp is not None:
+            tmp.unlink(missing_ok=True)
     return path
+
+
+def _naming(exc: OSError, path: Path) -> OSError:
+    """The same error, naming the file being written (a full disk's error names none)."""
+    code = exc.errno if exc.errno is not None else errno.EIO
+    return OSError(code, f"cannot write: {exc.strerror or exc}", str(path))
+
+
+def remove_temporaries(directory: Path) -> list[Path]:
+    """Delete the temporary files ``atomic_write`` leaves when its process is killed
+    mid-write (``.<name>.<random>.tmp``), anywhere under ``directory``. Call it only while
+    holding the directory's ``DirectoryLock``."""
+    removed = []
+    for p in Path(directory).rglob(f".*{TEMP_SUFFIX}"):
+        if p.is_file():
+            p.unlink(missing_ok=True)
+            removed.append(p)
+    return removed
+
+
+class DirectoryBusy(RuntimeError):
+    """Another live process holds the directory's lock."""
+
+
+class DirectoryLock:
+    """An exclusive lock on a directory (``fcntl.flock`` on ``<directory>/.lock``), held by
+    one process at a time and released by the OS when that process ends, however it ends: a
+    lock left by a killed process never blocks. The lock file holds the holder's PID."""
+
+    def __init__(self, directory: Path, what: str = "run"):
+        self.directory, self.what = Path(directory), what
+        self._file = None
+
+    def acquire(self) -> "DirectoryLock":
+        self.directory.mkdir(parents=True, exist_ok=True)
+        f = open(self.directory / LOCK_NAME, "a+")
+        try:
+            fcntl.flock(f, fcntl.LOCK_EX | fcntl.LOCK_NB)
+        except BlockingIOError:
+            f.seek(0)
+            holder = f.read().strip() or "?"
+            f.close()
+            raise DirectoryBusy(f"{self.directory}: in use by another process (PID {holder}); "
+                                f"wait for it to finish or stop it") from None
+        f.seek(0)
+        f.truncate()
+        f.write(f"{os.getpid()}\n")
+        f.flush()
+        self._file = f
+        return self
+
+    def release(self) -> None:
+        if self._file is not None:
+            self._file.close()  # closing the descriptor releases the flock
+            self._file = None
+
+    def __enter__(self) -> "DirectoryLock":
+        return self.acquire()
+
+    def __exit__(self, *exc) -> None:
+        self.release()

@@ -10,7 +10,7 @@ tracking error against a fine reference and the cost of each step in core time.
 
 The panel: random networks of the pre- and gross-reaching phases (reflexes as in those phases),
 the scripted reach-and-grasp (``scripted.ScriptedController``) and, when run directories are
-given, the best evolved robot of each replication of each of their phases.
+given, the best 5 evolved robots of each replication of each of their phases.
 
 The chosen step is the largest candidate whose statistics agree with its quarter step.
 docs/world.md reports the study's figures and the command that reproduces them.
@@ -56,10 +56,11 @@ class Member:
 
 
 def panel(random: int = 20, seed: int = 0, runs=(), steps: int = 200,
-          scripted: bool = True) -> list[Member]:
+          scripted: bool = True, evolved: int = 5) -> list[Member]:
     """The study's controllers: ``random`` random networks (half pre-, half gross-reaching),
-    the scripted reach-and-grasp (unless ``scripted`` is False), and the best robot of each replication of each phase of the
-    finished run directories ``runs``. Trials last ``steps`` control steps."""
+    the scripted reach-and-grasp (unless ``scripted`` is False), and the best ``evolved``
+    robots of each replication of each phase of the finished run directories ``runs``.
+    Trials last ``steps`` control steps."""
     from .conditions import load_condition
     from .evaluation import open_finished
     from .experiment import Settings, trial_config
@@ -82,8 +83,10 @@ def panel(random: int = 20, seed: int = 0, runs=(), steps: int = 200,
             population, _ = run.load_final(phase)
             trial = replace(trial_config(phase, run.settings), steps=steps)
             for r in range(population.shape[0]):
-                members.append(Member("evolved", f"{run.out.name}/{phase.name}/rep{r}",
-                                      population[r, 0], as_groups(phase.free_groups), trial))
+                for i in range(min(evolved, population.shape[1])):
+                    members.append(Member("evolved", f"{run.out.name}/{phase.name}/rep{r}/{i}",
+                                          population[r, i], as_groups(phase.free_groups),
+                                          trial))
     return members
 
 

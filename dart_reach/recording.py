@@ -355,6 +355,8 @@ def write_rrd(path: Path, content: bytes) -> Path:
 # ------------------------------------------------------------------------------ reading
 def _chunks(path: Path):
     path = Path(path)
+    if path.is_dir():
+        raise RecordingError(f"{path}: a directory, not a recording (.rrd file)")
     if not path.is_file():
         raise RecordingError(f"{path}: no such recording")
     try:

@@ -128,6 +128,11 @@ def _one_error_line(result, needle):
     assert "Traceback" not in result.stderr
 
 
+def _saved(out):
+    """Every file of a run directory but its lock, with its content."""
+    return {p: p.read_bytes() for p in out.rglob("*") if p.is_file() and p.name != ".lock"}
+
+
 def test_bad_input_is_refused_and_loses_nothing(tmp_path):
     _one_error_line(_cli("train", "no-such-condition"), "no-such-condition")
     bad = tmp_path / "bad.toml"
@@ -137,7 +142,7 @@ def test_bad_input_is_refused_and_loses_nothing(tmp_path):
     _one_error_line(_cli("train", "standard", "--replications", "-1"), ">= 1")
     out = tmp_path / "run"
     assert _cli(*_train_cmd(out)).returncode == 0
-    before = {p: p.read_bytes() for p in out.rglob("*") if p.is_file()}
+    before = _saved(out)
     _one_error_line(_cli(*_train_cmd(out)), "--resume")
     changed = _train_cmd(out, "--resume")
     changed[changed.index("--seed") + 1] = "6"
@@ -148,8 +153,7 @@ def test_bad_input_is_refused_and_loses_nothing(tmp_path):
     ckpt.write_bytes(b"garbage")
     before[ckpt] = b"garbage"
     _one_error_line(_cli(*_train_cmd(out, "--resume")), "checkpoint")
-    after = {p: p.read_bytes() for p in out.rglob("*") if p.is_file()}
-    assert after == before, "nothing saved was touched"
+    assert _saved(out) == before, "nothing saved was touched"
     with pytest.raises(RunError, match="nothing to resume"):
         Run(tmp_path / "empty", [load_condition("standard")], TINY, resume=True)
 

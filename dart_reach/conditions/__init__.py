@@ -84,11 +84,18 @@ def _typename(x) -> str:
     return type(x).__name__
 
 
+#: Names become directory and file names (``phases/<name>-<key>/``): short enough for any file
+#: system.
+MAX_NAME = 64
+
+
 def _check_name(value, what: str) -> str:
     if not isinstance(value, str) or not _NAME_RE.match(value):
         raise ConditionError(
             f"{what} must be a non-empty string of letters, digits, '.', '_' or '-' "
             f"(command-line friendly), got {value!r}")
+    if len(value) > MAX_NAME:
+        raise ConditionError(f"{what} must be at most {MAX_NAME} characters, got {len(value)}")
     return value
 
 
