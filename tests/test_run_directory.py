@@ -349,3 +349,28 @@ def test_files_honour_the_umask_and_commands_are_quoted(condition, tmp_path):
     for p in out.rglob("*"):
         if p.is_file():
             assert p.stat().st_mode & 0o777 == 0o644, p
+
+
+def test_evaluate_is_locked_and_sigterm_keeps_every_robot_it_reported(reference, tmp_path):
+    out = tmp_path / "run"
+    shutil.copytree(reference[0], out)
+    first = subprocess.Popen([sys.executable, "-m", "dart_reach.cli", "evaluate", str(out),
+                              "--sensors", "all", "--record", "none", "--workers", "1"],
+                             stderr=subprocess.PIPE, text=True)
+    reported = 0
+    for line in first.stderr:
+        if "robot " in line:
+            reported = int(line.split("robot ")[1].split("/")[0])
+            break
+    second = _cli("evaluate", out, "--workers", "1")
+    assert second.returncode == 2 and f"PID {first.pid}" in second.stderr, second.stderr
+    first.send_signal(signal.SIGTERM)
+    rest = first.stderr.read()
+    first.wait(timeout=60)
+    assert first.returncode == 143, rest
+    assert "interrupted" in rest and "Traceback" not in rest
+    for line in rest.splitlines():
+        if "robot " in line:
+            reported = int(line.split("robot ")[1].split("/")[0])
+    table = pl.read_parquet(out / "evaluation.parquet")
+    assert reported >= 1 and table.height == reported * 45
