@@ -12,7 +12,8 @@ The panel: random networks of the pre- and gross-reaching phases (reflexes as in
 the scripted reach-and-grasp (``scripted.ScriptedController``) and, when run directories are
 given, the best 5 evolved robots of each replication of each of their phases.
 
-The chosen step is the largest candidate whose statistics agree with its quarter step.
+The chosen step is the largest candidate whose statistics agree with its quarter step, over
+the whole panel and within each kind of controller.
 docs/world.md reports the study's figures and the command that reproduces them.
 """
 
@@ -180,7 +181,8 @@ def study(candidates=(0.02, 0.01), random: int = 20, runs=(), steps: int = 200,
     """Run the panel at every candidate step and at a quarter of it; compare. Returns the
     per-step panel statistics (per kind and over the whole panel), the agreement of each
     candidate with its quarter, the tracking errors, each step's cost (simulated s per core
-    s) and ``chosen``: the largest candidate that agrees in every statistic, or None."""
+    s) and ``chosen``: the largest candidate that agrees in every statistic, over the whole
+    panel and within each kind of controller (random, scripted, evolved), or None."""
     from .evaluator import make_evaluator
 
     candidates = sorted(set(float(c) for c in candidates), reverse=True)
@@ -214,7 +216,7 @@ def study(candidates=(0.02, 0.01), random: int = 20, runs=(), steps: int = 200,
         checks = {group: agreement(coarse[group], fine[group], tolerances) for group in coarse}
         comparisons[c] = {
             "quarter": c / 4, "checks": checks,
-            "agrees": all(v["ok"] for v in checks["panel"].values()),
+            "agrees": all(v["ok"] for group in checks.values() for v in group.values()),
             "cost_ratio": per_step[c]["rtf_per_core"] / per_step[c / 4]["rtf_per_core"],
             **tracking_error(c, reference_dt)}
     chosen = next((c for c in candidates if comparisons[c]["agrees"]), None)

@@ -67,7 +67,9 @@ def test_tiny_study_is_deterministic_and_complete():
     assert set(r["per_step"]) == {0.02, 0.005}
     assert r["per_step"][0.02]["statistics"]["panel"]["trials"] == 90
     comparison = r["comparisons"][0.02]
-    assert comparison["agrees"] == all(v["ok"] for v in comparison["checks"]["panel"].values())
+    assert comparison["agrees"] == all(v["ok"] for group in comparison["checks"].values()
+                                       for v in group.values())
+    assert set(comparison["checks"]) == {"random", "panel"}
     assert r["chosen"] == (0.02 if comparison["agrees"] else None)
     assert comparison["cost_ratio"] > 1  # the coarse step is the cheaper one
     with pytest.raises(ValueError, match="whole multiple"):
