@@ -24,7 +24,7 @@ from typing import Callable, Iterable, Iterator, Sequence, TypeVar
 import numpy as np
 
 from .genome import decode
-from .task import Trial, TrialConfig, evaluate
+from .task import Trial, TrialConfig, network_for, trial_positions
 from .world import World, WorldConfig
 
 
@@ -53,13 +53,30 @@ def worker_trial(world: WorldConfig, trial: TrialConfig) -> Trial:
     return runner
 
 
-def run_job(job: Job) -> float:
-    """Fitness of one job, in [0, 1]; a diverged evaluation scores 0 (the worst)."""
+def _rng(job: Job) -> np.random.Generator:
+    return np.random.default_rng(np.random.SeedSequence(job.seed[0], spawn_key=job.seed[1:]))
+
+
+_NETWORK: list = [None, None]  # (genome bytes, groups, trial config), Network: the last built
+
+
+def run_trial(unit: tuple[Job, int]) -> float:
+    """The fitness of trial k of a job (the work unit ``Evaluator.map`` schedules): the same
+    trial, at the same position, as trial k of ``task.evaluate`` with the job's generator."""
+    job, k = unit
     trial = worker_trial(job.world, job.trial)
-    world = trial.world
-    rng = np.random.default_rng(np.random.SeedSequence(job.seed[0], spawn_key=job.seed[1:]))
-    result = evaluate(decode(job.genome, job.free_groups), world, job.trial, rng, trial)
-    return result.fitness if np.isfinite(result.fitness) else 0.0
+    sector, position = trial_positions(trial.world, _rng(job), job.trial.trials)[k]
+    key = (job.genome.tobytes(), job.free_groups, job.trial)
+    if _NETWORK[0] != key:
+        _NETWORK[:] = key, network_for(decode(job.genome, job.free_groups), job.trial)
+    return trial.run(_NETWORK[1], sector, position).fitness
+
+
+def fitness_of_trials(trials: Sequence[float]) -> float:
+    """An evaluation's fitness from its trials' fitness, exactly as ``task.evaluate`` computes
+    it; a non-finite result scores 0 (the worst)."""
+    fitness = float(np.mean(trials))
+    return fitness if np.isfinite(fitness) else 0.0
 
 
 T = TypeVar("T")
@@ -75,8 +92,13 @@ class Evaluator:
         raise NotImplementedError
 
     def map(self, jobs: Sequence[Job]) -> np.ndarray:
-        """The fitness of every job."""
-        return np.fromiter(self.imap(run_job, jobs), dtype=float, count=len(jobs))
+        """The fitness of every job. The work is scheduled trial by trial, so that no worker
+        idles at the end of a generation while another finishes a whole evaluation; the
+        result is the same to the last bit as evaluating job by job (``task.evaluate``)."""
+        units = [(job, k) for job in jobs for k in range(job.trial.trials)]
+        trials = iter(self.imap(run_trial, units))
+        return np.array([fitness_of_trials([next(trials) for _ in range(job.trial.trials)])
+                         for job in jobs], dtype=float)
 
     def close(self) -> None:
         pass

@@ -336,8 +336,11 @@ class Run:
                 states = [state_from_arrays({k.split("/", 1)[1]: d[k] for k in d.files
                                              if k.startswith(f"rep{r}/")})
                           for r in range(self.settings.replications)]
-                rows = pl.DataFrame({c: d[f"stats/{c}"] for c in STATS_SCHEMA},
-                                    schema=STATS_SCHEMA)
+                if "stats/generation" in d.files:
+                    rows = pl.DataFrame({c: d[f"stats/{c}"] for c in STATS_SCHEMA},
+                                        schema=STATS_SCHEMA)
+                else:  # written before checkpoints carried their statistics
+                    rows = self._legacy_rows(phase, states[0].generation)
         except RunError:
             raise
         except Exception as exc:
@@ -347,6 +350,14 @@ class Run:
         if rows.height != states[0].generation * len(states):
             raise RunError(f"{path}: its statistics do not match its generation")
         return states, rows
+
+    def _legacy_rows(self, phase: Phase, generation: int) -> pl.DataFrame:
+        """A phase's statistics rows up to ``generation`` from generations.parquet, for a
+        checkpoint written before checkpoints carried them."""
+        path = self.out / "generations.parquet"
+        table = pl.read_parquet(path) if path.exists() else pl.DataFrame(schema=STATS_SCHEMA)
+        return table.filter((pl.col("phase_key") == phase.key)
+                            & (pl.col("generation") <= generation))
 
     def final_path(self, phase: Phase) -> Path:
         return self.phase_dir(phase) / "final.npz"

@@ -182,3 +182,30 @@ def test_training_recordings(tmp_path):
     assert props["generation"] == 3 and props["replication"] == 1
     assert read_rrd(files[-1]).height == TINY.steps
     assert not list(plain.out.glob("phases/*/best/*.rrd"))
+
+
+def test_trial_by_trial_scheduling_equals_whole_evaluations():
+    """Evaluator.map schedules single trials; each job's fitness is exactly task.evaluate's
+    (evolved robots, which touch the ball, so that fitness is not all zeros)."""
+    from dart_reach.data import evolved_pre
+    from dart_reach.evaluator import Job, PoolEvaluator, SerialEvaluator
+    from dart_reach.genome import as_groups, decode
+    from dart_reach.task import TrialConfig, evaluate
+    from dart_reach.world import World, WorldConfig
+
+    trial = TrialConfig(steps=100, trials=3, acuity=3.0, hidden_frozen=True)
+    groups = as_groups({"direct"})
+    genomes = evolved_pre()[0][:4]
+    jobs = [Job(g, groups, trial, WorldConfig(), (7, 1, i)) for i, g in enumerate(genomes)]
+    world = World(WorldConfig())
+    expected = [evaluate(decode(j.genome, groups), world, trial,
+                         np.random.default_rng(np.random.SeedSequence(7, spawn_key=(1, i))))
+                .fitness for i, j in enumerate(jobs)]
+    serial = SerialEvaluator().map(jobs)
+    pool = PoolEvaluator(2)
+    try:
+        pooled = pool.map(jobs)
+    finally:
+        pool.close()
+    assert serial.tolist() == expected and pooled.tolist() == expected
+    assert len(set(expected)) > 1
