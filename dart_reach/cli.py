@@ -100,7 +100,7 @@ def cmd_bench(args) -> int:
     else:
         if not (np.isfinite(args.seconds) and args.seconds > 0):
             raise ValueError(f"--seconds must be a positive number, got {args.seconds:g}")
-        results = bench.run(seconds=args.seconds, repeats=args.repeats)
+        results = bench.run(seconds=args.seconds, pairs=args.repeats)
         print(bench.format_table(results))
     if args.json:
         _write_json(args.json, results)
@@ -319,9 +319,10 @@ def build_parser() -> argparse.ArgumentParser:
 
     p = sub.add_parser("bench", help="measure simulation speed (see README)")
     p.add_argument("--json", type=Path, default=None, help="also write the figures to FILE")
-    p.add_argument("--seconds", type=float, default=20.0, help="simulated s per block")
-    p.add_argument("--repeats", type=_positive, default=5,
-                   help="interleaved blocks per figure")
+    p.add_argument("--seconds", type=float, default=2.0,
+                   help="simulated s per block of the physics pairs (default 2)")
+    p.add_argument("--repeats", type=_positive, default=30,
+                   help="pairs of blocks for the physics ratio (default 30)")
     p.add_argument("--physics", action="store_true",
                    help="instead: the physics-step study (docs/world.md): a panel of networks "
                         "post-evaluated at each candidate step and at a quarter of it")
