@@ -170,8 +170,11 @@ def cmd_train(args) -> int:
     conditions = [load_condition(c) for c in args.conditions]
     if args.generations is not None:
         conditions = [scaled(c, args.generations) for c in conditions]
+    from .world import WorldConfig
+
+    world = WorldConfig() if args.physics_dt is None else WorldConfig(physics_dt=args.physics_dt)
     settings = Settings(replications=args.replications, trials=args.trials, steps=args.steps,
-                        seed=args.seed)
+                        seed=args.seed, world=world)
     out = args.out or Path("recordings") / f"{'+'.join(c.name for c in conditions)}-s{args.seed}"
     if args.workers is not None and args.workers < 1:
         raise ValueError(f"--workers must be at least 1, got {args.workers}")
@@ -275,6 +278,9 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--trials", type=_positive, default=18, help="trials per evaluation")
     p.add_argument("--steps", type=_positive, default=200, help="0.1 s steps per trial")
     p.add_argument("--seed", type=_non_negative, default=0)
+    p.add_argument("--physics-dt", type=float, default=None, metavar="DT",
+                   help="physics step in s, a divisor of 0.1 (default: the converged step of "
+                        "docs/world.md)")
     _add_workers(p)
     p.add_argument("--resume", action="store_true", help="continue the run in --out")
     p.add_argument("--record-every", type=_non_negative, default=100, metavar="K",

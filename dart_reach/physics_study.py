@@ -54,6 +54,13 @@ class Member:
     genome: np.ndarray | None
     free_groups: frozenset
     trial: TrialConfig
+    evolved_dt: float | None = None  # the physics step it evolved at (evolved robots only)
+
+    def judges(self, candidate: float) -> bool:
+        """Whether this member takes part in the comparison of ``candidate`` with its quarter:
+        an evolved robot only at the step it evolved at (selection tunes a robot to the
+        physics it evolved in; judged at another step it measures that, not the step)."""
+        return self.evolved_dt is None or math.isclose(self.evolved_dt, candidate)
 
 
 def panel(random: int = 20, seed: int = 0, runs=(), steps: int = 200,
@@ -87,7 +94,7 @@ def panel(random: int = 20, seed: int = 0, runs=(), steps: int = 200,
                 for i in range(min(evolved, population.shape[1])):
                     members.append(Member("evolved", f"{run.out.name}/{phase.name}/rep{r}/{i}",
                                           population[r, i], as_groups(phase.free_groups),
-                                          trial))
+                                          trial, run.settings.world.physics_dt))
     return members
 
 
@@ -186,76 +193,79 @@ def study(candidates=(0.02, 0.01), random: int = 20, runs=(), steps: int = 200,
     from .evaluator import make_evaluator
 
     candidates = sorted(set(float(c) for c in candidates), reverse=True)
-    dts = sorted(set(candidates) | {c / 4 for c in candidates}, reverse=True)
-    for dt in dts:
-        WorldConfig(physics_dt=dt)  # a step that does not divide 0.1 s fails here, early
+    for c in candidates:
+        WorldConfig(physics_dt=c / 4)  # a step that does not divide 0.1 s fails here, early
     members = panel(random, seed, runs, steps, scripted)
-    jobs = [(m, dt) for dt in dts for m in members]
+    jobs = list(dict.fromkeys((i, dt) for c in candidates for dt in (c, c / 4)
+                              for i, m in enumerate(members) if m.judges(c)))
     evaluator = make_evaluator(workers)
-    results = []
+    results = {}
     try:
-        for n, result in enumerate(evaluator.imap(run_member, jobs), start=1):
-            results.append(result)
+        for n, result in enumerate(evaluator.imap(run_member, [(members[i], dt)
+                                                                for i, dt in jobs]), start=1):
+            results[jobs[n - 1]] = result
             if progress:
                 progress(n, len(jobs))
     finally:
         evaluator.close()
-    per_step = {}
-    for dt in dts:
-        mine = [r for r in results if r["physics_dt"] == dt]
-        stats = {kind: panel_statistics([row for r in mine if r["kind"] == kind
-                                         for row in r["rows"]])
-                 for kind in KINDS if any(r["kind"] == kind for r in mine)}
-        stats["panel"] = panel_statistics([row for r in mine for row in r["rows"]])
-        per_step[dt] = {"statistics": stats,
-                        "rtf_per_core": sum(r["simulated_s"] for r in mine)
-                        / sum(r["core_s"] for r in mine)}
     comparisons = {}
     for c in candidates:
-        coarse, fine = per_step[c]["statistics"], per_step[c / 4]["statistics"]
+        judged = [i for i, m in enumerate(members) if m.judges(c)]
+        steps_stats = {}
+        for dt in (c, c / 4):
+            mine = [results[(i, dt)] for i in judged]
+            stats = {kind: panel_statistics([row for r in mine if r["kind"] == kind
+                                             for row in r["rows"]])
+                     for kind in KINDS if any(r["kind"] == kind for r in mine)}
+            stats["panel"] = panel_statistics([row for r in mine for row in r["rows"]])
+            steps_stats[dt] = {"statistics": stats,
+                               "rtf_per_core": sum(r["simulated_s"] for r in mine)
+                               / sum(r["core_s"] for r in mine)}
+        coarse, fine = steps_stats[c]["statistics"], steps_stats[c / 4]["statistics"]
         checks = {group: agreement(coarse[group], fine[group], tolerances) for group in coarse}
         comparisons[c] = {
-            "quarter": c / 4, "checks": checks,
+            "quarter": c / 4, "steps": steps_stats, "checks": checks,
+            "members": {kind: sum(members[i].kind == kind for i in judged) for kind in KINDS},
             "agrees": all(v["ok"] for group in checks.values() for v in group.values()),
-            "cost_ratio": per_step[c]["rtf_per_core"] / per_step[c / 4]["rtf_per_core"],
+            "cost_ratio": steps_stats[c]["rtf_per_core"] / steps_stats[c / 4]["rtf_per_core"],
             **tracking_error(c, reference_dt)}
     chosen = next((c for c in candidates if comparisons[c]["agrees"]), None)
-    return {"members": {kind: sum(m.kind == kind for m in members) for kind in KINDS},
-            "steps": steps, "tolerances": {"rate_abs": tolerances.rate_abs,
+    return {"steps": steps, "tolerances": {"rate_abs": tolerances.rate_abs,
                                            "rel": tolerances.rel},
-            "reference_dt": reference_dt, "per_step": per_step, "comparisons": comparisons,
-            "chosen": chosen}
+            "reference_dt": reference_dt, "comparisons": comparisons, "chosen": chosen}
 
 
 def format_study(r: dict) -> str:
-    """The study as text tables: statistics per step, agreement, tracking, cost."""
+    """The study as text tables: per candidate, the statistics at it and at its quarter,
+    the agreement, the tracking error and the cost."""
     names = [k for k, _ in STATISTICS]
-    lines = [f"panel: {r['members']['random']} random networks, "
-             f"{r['members']['scripted']} scripted, "
-             f"{r['members']['evolved']} evolved; 45 trials of {r['steps']} steps each",
-             f"tolerances: rates within {r['tolerances']['rate_abs']:g} absolute, fitness, "
-             f"speed and straightness within {r['tolerances']['rel']:.0%} relative", ""]
+    lines = [f"45 trials of {r['steps']} steps per controller; tolerances: rates within "
+             f"{r['tolerances']['rate_abs']:g} absolute, fitness, speed and straightness "
+             f"within {r['tolerances']['rel']:.0%} relative"]
     header = f"{'step [s]':>9} {'group':<9}" + "".join(f"{n:>13}" for n in names)
-    lines += [header, "-" * len(header)]
-    for dt, s in r["per_step"].items():
-        for group, stats in s["statistics"].items():
-            lines.append(f"{dt:>9g} {group:<9}" + "".join(f"{stats[n]:>13.4f}" for n in names))
-    lines.append("")
     for c, comp in r["comparisons"].items():
+        m = comp["members"]
+        lines += ["", f"candidate {c:g} s: {m['random']} random networks, {m['scripted']} "
+                      f"scripted, {m['evolved']} evolved at {c:g} s", header, "-" * len(header)]
+        for dt, s in comp["steps"].items():
+            for group, stats in s["statistics"].items():
+                lines.append(f"{dt:>9g} {group:<9}"
+                             + "".join(f"{stats[n]:>13.4f}" for n in names))
         bad = [f"{g}:{k}" for g, checks in comp["checks"].items() for k, v in checks.items()
                if not v["ok"]]
         panel_diffs = ", ".join(
             f"{k} {v['diff']:+.3f}" for k, v in comp["checks"]["panel"].items())
-        lines.append(f"{c:g} s vs {comp['quarter']:g} s: {'AGREES' if comp['agrees'] else 'differs'}"
-                     f" (panel: {panel_diffs})")
+        lines.append(f"{c:g} s vs {comp['quarter']:g} s: "
+                     f"{'AGREES' if comp['agrees'] else 'differs'} (panel: {panel_diffs})")
         if bad:
             lines.append(f"    outside tolerance: {', '.join(bad)}")
         lines.append(f"    open-loop hand tracking vs {r['reference_dt']:g} s: max "
                      f"{comp['tracking_max_m'] * 100:.2f} cm, mean "
-                     f"{comp['tracking_mean_m'] * 100:.2f} cm; {comp['cost_ratio']:.1f}x the "
-                     f"throughput of the quarter step")
-    for dt, s in r["per_step"].items():
-        lines.append(f"{dt:g} s: {s['rtf_per_core']:.0f} simulated s per core s")
+                     f"{comp['tracking_mean_m'] * 100:.2f} cm")
+        rtf = [comp["steps"][dt]["rtf_per_core"] for dt in (c, comp["quarter"])]
+        lines.append(f"    {rtf[0]:.0f} vs {rtf[1]:.0f} simulated s per core s "
+                     f"({comp['cost_ratio']:.1f}x the throughput of the quarter step)")
+    lines.append("")
     lines.append(f"chosen: {r['chosen']:g} s" if r["chosen"] is not None
                  else "chosen: none of the candidates agrees with its quarter step")
     return "\n".join(lines)

@@ -56,6 +56,15 @@ def test_tracking_error_shrinks_with_the_step():
     assert 0 < fine["tracking_mean_m"] < coarse["tracking_mean_m"]
 
 
+def test_evolved_robots_are_judged_at_the_step_they_evolved_at():
+    from dart_reach.physics_study import Member
+    from dart_reach.task import TrialConfig
+
+    member = Member("evolved", "x", None, frozenset(), TrialConfig(), evolved_dt=0.01)
+    assert member.judges(0.01) and not member.judges(0.02)
+    assert Member("random", "y", None, frozenset(), TrialConfig()).judges(0.02)
+
+
 def test_tiny_study_is_deterministic_and_complete():
     members = panel(random=2, steps=10, scripted=False)
     assert [m.kind for m in members] == ["random", "random"]
@@ -64,9 +73,9 @@ def test_tiny_study_is_deterministic_and_complete():
     assert a["rows"] == b["rows"] and len(a["rows"]) == 45
     r = study(candidates=(0.02,), random=2, steps=10, workers=1, scripted=False,
               reference_dt=0.005)
-    assert set(r["per_step"]) == {0.02, 0.005}
-    assert r["per_step"][0.02]["statistics"]["panel"]["trials"] == 90
     comparison = r["comparisons"][0.02]
+    assert set(comparison["steps"]) == {0.02, 0.005}
+    assert comparison["steps"][0.02]["statistics"]["panel"]["trials"] == 90
     assert comparison["agrees"] == all(v["ok"] for group in comparison["checks"].values()
                                        for v in group.values())
     assert set(comparison["checks"]) == {"random", "panel"}
@@ -87,3 +96,18 @@ def test_cli_bad_input(tmp_path):
         assert result.returncode == 2, result.stderr
         assert result.stderr.count("\n") == 1 and fragment in result.stderr, result.stderr
     assert existing.read_text() == "{}"
+
+
+def test_panel_takes_the_best_robots_of_a_run_with_their_step(tmp_path):
+    from dart_reach.conditions import load_condition, scaled
+    from dart_reach.experiment import Settings, train
+    from dart_reach.world import WorldConfig
+
+    settings = Settings(replications=2, trials=1, steps=3, world=WorldConfig(physics_dt=0.01))
+    run = train([scaled(load_condition("standard"), 1)], settings, tmp_path / "r", workers=1)
+    members = panel(random=1, runs=[run.out], steps=5, scripted=False, evolved=2)
+    evolved = [m for m in members if m.kind == "evolved"]
+    assert len(evolved) == 3 * 2 * 2  # phases x replications x best 2
+    assert all(m.evolved_dt == 0.01 and m.trial.steps == 5 for m in evolved)
+    population, _ = run.load_final(run.conditions[0].phases[2])
+    assert (evolved[-1].genome == population[1, 1]).all()
