@@ -212,6 +212,9 @@ class World:
     def _resolve_contacts(self) -> None:
         """Touch (III-B, III-C): for the collision shape of each hand segment, its index and the
         direction of its inner (palmar) face in the shape's frame (``icub.INNER_FACES``)."""
+        # Keyed by the shape node itself: dartpy hands back the same Python object for a shape
+        # node it has wrapped before, so a contact's shape frame is found without asking DART
+        # for its name (a contact read per substep must cost little: docs/world.md).
         self._touch_faces = {}
         for i, body in enumerate(self._segments):
             direction, half_angle = icub.INNER_FACES[icub.segment_kind(body.getName())]
@@ -219,8 +222,9 @@ class World:
             for shape in body.getShapeNodes():
                 if shape.getCollisionAspect() is not None:
                     inner = shape.getRelativeTransform().rotation().T @ np.asarray(direction)
-                    self._touch_faces[shape.getName()] = (i, inner, cos_limit)
+                    self._touch_faces[shape] = (i, inner, cos_limit)
         self._touch = np.zeros(len(self._segments), bool)
+        self._segment_index = {body: i for i, body in enumerate(self._segments)}
 
     def _set_home(self) -> None:
         """Home posture and the per-joint spring gains (from the joint-space inertia there)."""
@@ -318,30 +322,39 @@ class World:
         """One control step (0.1 s): new targets, then the physics substeps. The inner-face
         touches of every substep are gathered (``hand_contacts``)."""
         self.set_targets(targets)
-        world, touch = self.world, self._touch
+        world, touch, segment = self.world, self._touch, self._segment_index
         touch[:] = False
         for _ in range(self.config.substeps):
             world.step(False)
             result = world.getLastCollisionResult()
             if result.getNumContacts():
-                self._gather_touch(result, touch)
+                # List the contacts (costly) only when a segment not yet marked touches.
+                for body in result.getCollidingBodyNodes():
+                    i = segment.get(body)
+                    if i is not None and not touch[i]:
+                        self._gather_touch(result, touch)
+                        break
 
     def _gather_touch(self, result, touch: np.ndarray) -> None:
         """Mark the hand segments that touch the ball on their inner face in one substep's
         contacts: the direction from the contact point to the ball's centre (the outward
         normal of the segment's surface there) must lie within the face's cone."""
-        ball = self.ball_body.getWorldTransform().translation()
+        ball = None
         faces = self._touch_faces
         for contact in result.getContacts():
-            for obj in (contact.collisionObject1, contact.collisionObject2):
-                frame = obj.getShapeFrame()
-                face = faces.get(frame.getName())
-                if face is None:
-                    continue
-                index, inner, cos_limit = face
-                outward = frame.getWorldTransform().rotation().T @ (ball - contact.point)
-                if outward @ inner >= cos_limit * math.sqrt(outward @ outward):
-                    touch[index] = True
+            frame = contact.collisionObject1.getShapeFrame()
+            face = faces.get(frame)
+            if face is None:  # the robot's shape is the other one of the pair
+                frame = contact.collisionObject2.getShapeFrame()
+                face = faces.get(frame)
+            if face is None or touch[face[0]]:  # not a hand segment, or already touched
+                continue
+            index, inner, cos_limit = face
+            if ball is None:
+                ball = self.ball_body.getWorldTransform().translation()
+            outward = frame.getWorldTransform().rotation().T @ (ball - contact.point)
+            if outward @ inner >= cos_limit * math.sqrt(outward @ outward):
+                touch[index] = True
 
     @property
     def time(self) -> float:
