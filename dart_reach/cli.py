@@ -90,8 +90,6 @@ def cmd_bench(args) -> int:
     if args.physics:
         from . import physics_study
 
-        if args.networks < 1:
-            raise ValueError(f"--networks must be at least 1, got {args.networks}")
         show = _progress_printer(lambda p: f"physics study | {p[0]}/{p[1]} controllers x steps")
         results = physics_study.study(
             candidates=args.physics_steps, random=args.networks, runs=args.run,
@@ -166,12 +164,11 @@ def cmd_conditions(args) -> int:
 def cmd_train(args) -> int:
     from .conditions import load_condition, scaled
     from .experiment import Settings, train
+    from .world import WorldConfig
 
     conditions = [load_condition(c) for c in args.conditions]
     if args.generations is not None:
         conditions = [scaled(c, args.generations) for c in conditions]
-    from .world import WorldConfig
-
     world = WorldConfig() if args.physics_dt is None else WorldConfig(physics_dt=args.physics_dt)
     settings = Settings(replications=args.replications, trials=args.trials, steps=args.steps,
                         seed=args.seed, world=world)
@@ -279,8 +276,8 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--steps", type=_positive, default=200, help="0.1 s steps per trial")
     p.add_argument("--seed", type=_non_negative, default=0)
     p.add_argument("--physics-dt", type=float, default=None, metavar="DT",
-                   help="physics step in s, a divisor of 0.1 (default: the converged step of "
-                        "docs/world.md)")
+                   help="physics step in s, a divisor of 0.1 (default 0.02, the step chosen "
+                        "in docs/world.md)")
     _add_workers(p)
     p.add_argument("--resume", action="store_true", help="continue the run in --out")
     p.add_argument("--record-every", type=_non_negative, default=100, metavar="K",
@@ -334,7 +331,7 @@ def build_parser() -> argparse.ArgumentParser:
                         "post-evaluated at each candidate step and at a quarter of it")
     p.add_argument("--physics-steps", type=float, nargs="+", default=[0.02, 0.01],
                    metavar="DT", help="candidate physics steps in s (default 0.02 0.01)")
-    p.add_argument("--networks", type=int, default=20,
+    p.add_argument("--networks", type=_positive, default=20,
                    help="random networks in the study's panel (default 20)")
     p.add_argument("--run", type=Path, nargs="*", default=[], metavar="RUN_DIR",
                    help="finished runs whose best robots join the panel")

@@ -276,8 +276,8 @@ class Run:
     def repair(self) -> None:
         """Before training on: check that the directory agrees with its committed state,
         rebuild what is derived from it (generations.parquet, training.rrd, best.parquet).
-        Raises ``RunError`` naming the file when
-        something cannot be rebuilt. Call it while holding the directory's lock."""
+        Raises ``RunError`` naming the file when something cannot be rebuilt. Call it while
+        holding the directory's lock."""
         recorded = self._recorded_generations()
         for _, phase in self.unique_phases():
             committed = self.stats.filter(pl.col("phase_key") == phase.key)
