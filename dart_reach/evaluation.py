@@ -112,7 +112,8 @@ def run_robot(job: RobotJob) -> tuple[list[dict], list[bytes | None]]:
         rows.append({
             "condition": job.condition, "phase": job.phase.name, "phase_key": job.phase.key,
             "notation": job.phase.notation, "replication": job.replication, "rank": job.rank,
-            "lifetime_fitness": job.lifetime_fitness, "baseline": job.baseline, "senses": job.trial.senses.value,
+            "lifetime_fitness": job.lifetime_fitness, "baseline": job.baseline,
+            "senses": job.trial.senses.value,
             "trial": k, "ball_x": float(position[0]), "ball_y": float(position[1]),
             "ball_z": float(position[2]), **trial_metrics(data, job.world.control_dt),
             "recording": path})

@@ -289,7 +289,8 @@ class World:
         self.set_targets(self.home_targets)
 
     def _motor_angles(self, q: np.ndarray) -> np.ndarray:
-        """The 14 motor-space angles (rad) of a full joint vector: 13 joints, mean finger flexion."""
+        """The 14 motor-space angles (rad) of a full joint vector: 13 joints, then the mean
+        finger flexion."""
         return np.append(q[self._motor_dofs], q[self._finger_dofs].mean())
 
     def targets_for(self, q: np.ndarray) -> np.ndarray:
