@@ -115,11 +115,12 @@ def closed_loop(kind: str, config: WorldConfig | None = None, trials: int = 9) -
     ``_evolved`` for evolved robots): ``closed_loop_rtf``, ``closed_loop_over_limit``
     (physics time over the whole loop's) and ``python_us_per_control_step`` (what the loop
     adds to the physics per 0.1 s step, µs)."""
+    from .experiment import standard_trial
     from .genome import ParamGroup, decode
-    from .task import Trial, TrialConfig, network_for
+    from .task import Trial, network_for
 
     world = World(config or WorldConfig())
-    cfg = TrialConfig(acuity=3.0, hidden_frozen=True, reflexes=True)
+    cfg = standard_trial("pre")
     runner = Trial(world, cfg)
     networks = [network_for(decode(g, {ParamGroup.DIRECT}), cfg) for g in panel_genomes(kind)]
     centres = [world.sector_point(k, 0.5, 0.5) for k in range(9)]
@@ -127,10 +128,11 @@ def closed_loop(kind: str, config: WorldConfig | None = None, trials: int = 9) -
     closed, replay, steps = [], [], []
     for i in range(trials * len(networks)):
         network, k = networks[i % len(networks)], i % 9
-        targets = runner.run(network, k, centres[k]).targets  # what the replay sends
+        data = runner.run(network, k, centres[k])  # the targets the replay sends
+        targets, n = data.targets, data.steps_run
 
         def whole():
-            return runner.run(network, k, centres[k]).steps_run
+            runner.run(network, k, centres[k])
 
         def physics():
             world.reset(centres[k])
@@ -139,7 +141,6 @@ def closed_loop(kind: str, config: WorldConfig | None = None, trials: int = 9) -
                 for _ in range(substeps):
                     step(False)
 
-        n = whole()
         t_whole, t_physics = paired(whole, physics, 1) if i % 2 == 0 else \
             paired(physics, whole, 1)[::-1]
         closed.append(t_whole[0])

@@ -217,6 +217,7 @@ def _evaluate(run: Run, senses, robots, record, workers, ray_address, progress, 
         genomes, fitness = run.load_final(phase)
         best_replication = int(np.argmax(fitness[:, 0]))
         base = trial_config(phase, run.settings)
+        chance = baseline_genomes(run.settings, phase, baseline)
         for s in senses:
             trial = replace(base, senses=s)
             for r in range(genomes.shape[0]):
@@ -226,7 +227,7 @@ def _evaluate(run: Run, senses, robots, record, workers, ray_address, progress, 
                             condition.name, phase, run.phase_dir(phase).name, r, i,
                             float(fitness[r, i]), genomes[r, i], trial, run.settings.world,
                             record.wants(r, i, best_replication)))
-            for b, genome in enumerate(baseline_genomes(run.settings, phase, baseline)):
+            for b, genome in enumerate(chance):
                 if (phase.key, s.value, True, b, 0) not in done:
                     jobs.append(RobotJob(condition.name, phase, run.phase_dir(phase).name, b,
                                          0, float("nan"), genome, trial, run.settings.world,

@@ -41,7 +41,7 @@ import json
 import platform
 import subprocess
 import time
-from dataclasses import asdict, dataclass, field
+from dataclasses import asdict, dataclass, field, replace
 from importlib import metadata
 from pathlib import Path
 from typing import Callable
@@ -120,6 +120,15 @@ def trial_config(phase: Phase, settings: Settings) -> TrialConfig:
     return TrialConfig(acuity=phase.acuity, offset_sensors=phase.offset_sensors,
                        hidden_frozen=ParamGroup.HIDDEN not in groups, reflexes=phase.reflexes,
                        steps=settings.steps, trials=settings.trials)
+
+
+def standard_trial(phase: str = "pre", **changes) -> TrialConfig:
+    """The maturational state of a phase of the shipped ``standard`` condition (default
+    pre-reaching: low acuity, internal neurons frozen, reflexes), with ``changes``."""
+    from .conditions import load_condition
+
+    phases = {p.name: p for p in load_condition("standard").phases}
+    return replace(trial_config(phases[phase], Settings()), **changes)
 
 
 def _phase_id(phase: Phase) -> int:

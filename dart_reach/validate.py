@@ -25,7 +25,8 @@ import numpy as np
 
 from . import sensors
 from .ctrnn import MOTOR_INDEX, SENSOR_INDEX, motor_targets
-from .task import Trial, TrialConfig, network_for, trial_positions
+from .experiment import standard_trial
+from .task import Trial, network_for, trial_positions
 from .world import N_SECTORS, World
 
 #: Seconds within which the orienting reflex must bring the ball's image toward the centre.
@@ -137,8 +138,8 @@ def reflex_rates(world: World, reflexes: bool, networks: int = 40, seed: int = 0
     """
     from .genome import ParamGroup, decode, random_genome
 
-    config = TrialConfig(acuity=3.0, hidden_frozen=True, reflexes=reflexes,
-                         steps=round(ORIENT_SECONDS / world.config.control_dt) + 1, trials=1)
+    config = standard_trial("pre", reflexes=reflexes, trials=1,
+                            steps=round(ORIENT_SECONDS / world.config.control_dt) + 1)
     trial = Trial(world, config)
     rng = np.random.default_rng(seed)
     image_closer, head_turned, judged, closed = 0, 0, 0, {1.0: 0, -1.0: 0}
@@ -198,7 +199,7 @@ def chance(world: World, networks: int = 6, seed: int = 1) -> dict:
     from .genome import ParamGroup, decode, random_genome
     from .metrics import trial_metrics
 
-    config = TrialConfig(acuity=3.0, hidden_frozen=True, reflexes=True)
+    config = standard_trial("pre")
     trial = Trial(world, config)
     rows, peaks = [], []
     for genome in random_genome(np.random.default_rng(seed), networks):
