@@ -57,14 +57,15 @@ def grasp_posture(world: World, ball_position, standoff: float = 0.0,
     """Joint angles that put the ball's centre ``radius + standoff`` in front of the palm's
     inner face (at ``GRASP_POINT``), along its normal, oriented as the module says. The trunk
     and arm joints move; with ``look`` the neck turns
-    the camera toward the ball, else the head stays at home; the fingers stay open. The robot's
-    state is restored afterwards."""
+    the camera toward the ball, else the head stays at home; the fingers stay open. The result
+    does not depend on the robot's current state, which is restored afterwards."""
     robot, hand = world.robot, world.hand
     ball = np.asarray(ball_position, float)
     idx = world._motor_dofs[3:]  # torso (3) and arm (7); the neck stays put
     lo, hi = world.lower[idx], world.upper[idx]
     saved = robot.getPositions()
     q = world.home.copy()
+    robot.setPositions(q)  # directions from the shoulder where it starts a trial, at home
     reach = world.config.ball.radius + standoff
     approach = _unit(UP_BLEND * np.array([0.0, 0.0, 1.0])
                      + (1.0 - UP_BLEND) * _unit(ball - world.shoulder_position()))

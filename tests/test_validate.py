@@ -135,3 +135,19 @@ def test_cli_validate_bad_input_is_one_line_and_exit_code_2(tmp_path):
                            capture_output=True, text=True)
         assert p.returncode == 2, args
         assert len(p.stderr.strip().splitlines()) == 1 and "error" in p.stderr, p.stderr
+
+
+def test_grasp_posture_does_not_depend_on_the_robots_current_state(world):
+    """The scripted controller is built wherever the last trial left the robot; its posture
+    must be the same (else a pool's results depend on which trials a worker ran before)."""
+    from dart_reach.scripted import grasp_posture
+
+    ball = world.sector_point(2, 0.3, 0.7)
+    world.reset(ball)
+    at_home = grasp_posture(world, ball, look=True)
+    moved = world.home.copy()
+    moved[world._motor_dofs[:10]] += 0.3  # torso, neck and shoulder elsewhere
+    world.robot.setPositions(moved)
+    elsewhere = grasp_posture(world, ball, look=True)
+    assert np.array_equal(at_home.q, elsewhere.q)
+    assert np.array_equal(world.robot.getPositions(), moved)  # restored
