@@ -126,8 +126,9 @@ class Trial:
         self._proprio_span = world.motor_limit_upper - world.motor_limit_lower
 
     # ------------------------------------------------------------------ observation
-    def observe(self, data: TrialData, t: int) -> None:
-        """Read the world into the sensor vector and the record's row t."""
+    def observe(self, data: TrialData, t: int) -> bool:
+        """Read the world into the sensor vector and the record's row t; False when the
+        state read is not finite (the simulation has exploded)."""
         w, cfg, x = self.world, self.config, self._x
         q = w.motor_positions(self._q)
         contacts = w.hand_contacts(self._contacts)
@@ -167,6 +168,7 @@ class Trial:
         data.p_sight[t] = p_s
         data.p_touch[t] = p_t
         data.p_multimodal[t] = sensors.p_multimodal(p_s, p_t)
+        return math.isfinite(data.dofs[t].sum() + ball.sum())
 
     # ------------------------------------------------------------------ one trial
     def run(self, network: Network, sector: int, ball_position) -> TrialData:
@@ -178,7 +180,9 @@ class Trial:
         data = TrialData.empty(self.config.steps, sector, ball_position, w.robot.getNumDofs())
         targets = self._targets
         for t in range(self.config.steps):
-            self.observe(data, t)
+            if not self.observe(data, t):  # the last physics step exploded
+                data.diverged = True
+                break
             motor = network.step(self._x)
             motor_targets(motor, out=targets)
             data.hidden[t] = network.hidden
@@ -189,9 +193,6 @@ class Trial:
                 data.diverged = True
                 break
             w.step(targets)
-            if not w.is_finite():
-                data.diverged = True
-                break
         return data
 
 

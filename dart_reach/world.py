@@ -149,6 +149,11 @@ class World:
         self.world.setGravity([0.0, 0.0, -config.gravity])
         self.world.getConstraintSolver().setCollisionDetector(
             dart.collision.DARTCollisionDetector())
+        # Nothing here ever comes to rest long enough to sleep (the springs hold the robot, the
+        # ball waits on its string): DART's deactivation test would only cost time.
+        options = self.world.getDeactivationOptions()
+        options.mEnabled = False
+        self.world.setDeactivationOptions(options)
         self.world.addSkeleton(self.robot)
         self._resolve_robot()
         self.ball_skeleton, self._ball_joint, self.ball_body = _make_ball(config.ball)
@@ -362,6 +367,8 @@ class World:
         return self.world.getTime()
 
     # ------------------------------------------------------------------ observations
+    # Read once per control step: ``Frame.getTransform()`` and ``getCOM()`` cost dartpy 2 and
+    # 1 µs, ``getWorldTransform()`` 7 (docs/world.md, throughput).
     def joint_positions(self) -> np.ndarray:
         """All joint angles (rad), skeleton order."""
         return self.robot.getPositions()
@@ -375,19 +382,20 @@ class World:
         return out
 
     def ball_position(self) -> np.ndarray:
-        return self.ball_body.getWorldTransform().translation()
+        """World position (m) of the ball's centre (its body's centre of mass)."""
+        return self.ball_body.getCOM()
 
     def hand_position(self) -> np.ndarray:
         """World position (m) of the centre of the inner face of the palm."""
-        T = self.hand.getWorldTransform()
-        return T.rotation() @ icub.PALM_POINT + T.translation()
+        T = self.hand.getTransform().matrix()
+        return T[:3, :3] @ icub.PALM_POINT + T[:3, 3]
 
     def shoulder_position(self) -> np.ndarray:
-        return self.shoulder.getWorldTransform().translation()
+        return self.shoulder.getTransform().matrix()[:3, 3]
 
     def camera_pose(self) -> np.ndarray:
         """4x4 world pose of the head camera (+z optical axis, +x right, +y down)."""
-        return self.camera.getWorldTransform().matrix()
+        return self.camera.getTransform().matrix()
 
     def hand_contacts(self, out: np.ndarray | None = None) -> np.ndarray:
         """Which hand segments (``icub.HAND_SEGMENTS``) touched the ball on their inner face
