@@ -124,7 +124,6 @@ def closed_loop(kind: str, config: WorldConfig | None = None, trials: int = 9) -
     runner = Trial(world, cfg)
     networks = [network_for(decode(g, {ParamGroup.DIRECT}), cfg) for g in panel_genomes(kind)]
     centres = [world.sector_point(k, 0.5, 0.5) for k in range(9)]
-    substeps, step = world.config.substeps, world.world.step
     closed, replay, steps = [], [], []
     for i in range(trials * len(networks)):
         network, k = networks[i % len(networks)], i % 9
@@ -135,11 +134,7 @@ def closed_loop(kind: str, config: WorldConfig | None = None, trials: int = 9) -
             runner.run(network, k, centres[k])
 
         def physics():
-            world.reset(centres[k])
-            for t in range(n):
-                world.set_targets(targets[t])
-                for _ in range(substeps):
-                    step(False)
+            _replay(world, centres[k], targets, n)
 
         t_whole, t_physics = paired(whole, physics, 1) if i % 2 == 0 else \
             paired(physics, whole, 1)[::-1]
@@ -153,6 +148,53 @@ def closed_loop(kind: str, config: WorldConfig | None = None, trials: int = 9) -
             **ratio(f"closed_loop_over_limit{suffix}", replay / closed),
             f"python_us_per_control_step{suffix}": float(np.median((closed - replay) / steps))
             * 1e6}
+
+
+def _replay(world: World, ball: np.ndarray, targets: np.ndarray, steps: int) -> None:
+    """The bare physics of a trial: its first ``steps`` motor targets, nothing observed."""
+    world.reset(ball)
+    substeps, step = world.config.substeps, world.world.step
+    for t in range(steps):
+        world.set_targets(targets[t])
+        for _ in range(substeps):
+            step(False)
+
+
+def reference_world(config: WorldConfig | None = None) -> World:
+    """The world in the configuration it had before the physics was tuned for speed (issue
+    11): DART's deactivation test on. Kept to measure ``physics_speedup`` against, and to test
+    that the tuning changes no result."""
+    world = World(config or WorldConfig())
+    options = world.world.getDeactivationOptions()
+    options.mEnabled = True
+    world.world.setDeactivationOptions(options)
+    return world
+
+
+def physics_speedup(config: WorldConfig | None = None, trials: int = 18) -> dict:
+    """``physics_speedup``: the physics of evolved robots' trials (their motor targets
+    replayed) in the reference configuration over the same in this world's, in pairs, one
+    trial each side."""
+    from .experiment import standard_trial
+    from .genome import ParamGroup, decode
+    from .task import Trial, network_for
+
+    config = config or WorldConfig()
+    world, reference = World(config), reference_world(config)
+    cfg = standard_trial("pre")
+    runner = Trial(world, cfg)
+    networks = [network_for(decode(g, {ParamGroup.DIRECT}), cfg)
+                for g in panel_genomes("evolved")]
+    ratios = []
+    for i in range(trials):
+        k = i % 9
+        ball = world.sector_point(k, 0.5, 0.5)
+        data = runner.run(networks[i % len(networks)], k, ball)
+        old, new = (lambda w=w: _replay(w, ball, data.targets, data.steps_run)
+                    for w in (reference, world))
+        t_ref, t_new = paired(old, new, 1) if i % 2 == 0 else paired(new, old, 1)[::-1]
+        ratios.append(t_ref[0] / t_new[0])
+    return ratio("physics_speedup", ratios)
 
 
 # --------------------------------------------------------------------------------- parallel
@@ -252,6 +294,7 @@ def recording_overhead(robots: int = 2, seed: int = 0) -> dict:
 
 #: name -> (target, comparison) checked by ``check``; ratios are the headline figures.
 TARGETS = {
+    "physics_speedup": (1.5, ">="),
     "controlled_rtf": (300.0, ">="),
     "controlled_over_limit": (0.9, ">="),
     "closed_loop_over_limit": (0.9, ">="),
@@ -276,6 +319,7 @@ def run(seconds: float = 2.0, pairs: int = 30) -> dict:
     physics ratio; the closed loop over 45 trials of each kind; 3 pairs of generations."""
     results = {"machine": machine()}
     results.update(world_rtf(seconds=seconds, pairs=pairs))
+    results.update(physics_speedup())
     for kind in ("random", "evolved"):
         results.update(closed_loop(kind))
     results.update(parallel())

@@ -29,3 +29,34 @@ def test_tiny_real_figures():
     p = bench.parallel(jobs=4, trials=1, pairs=1)
     assert p["parallel_efficiency"] > 0 and p["worker_peak_rss_mb"] > 50
     assert bench.panel_genomes("evolved", 3).shape == (3, bench.panel_genomes("random", 1).shape[1])
+
+
+def test_the_tuned_physics_simulates_what_the_reference_does():
+    """Every record of evolved robots' trials (they touch and grasp the ball) is the same to
+    the last bit in the world as tuned for speed and in the reference configuration."""
+    import numpy as np
+
+    from dart_reach.experiment import standard_trial
+    from dart_reach.genome import ParamGroup, decode
+    from dart_reach.task import Trial, network_for
+    from dart_reach.world import World
+
+    cfg = standard_trial("pre")
+    tuned, reference = Trial(World(), cfg), Trial(bench.reference_world(), cfg)
+    assert reference.world.world.getDeactivationOptions().mEnabled
+    assert not tuned.world.world.getDeactivationOptions().mEnabled
+    touched = 0
+    for i, genome in enumerate(bench.panel_genomes("evolved", 3)):
+        network = network_for(decode(genome, {ParamGroup.DIRECT}), cfg)
+        for k in (1, 4, 7):
+            ball = tuned.world.sector_point(k, 0.3, 0.6)
+            a, b = tuned.run(network, k, ball), reference.run(network, k, ball)
+            for name in ("dofs", "ball", "hand", "contacts", "sensors", "targets"):
+                assert np.array_equal(getattr(a, name), getattr(b, name)), (i, k, name)
+            touched += a.contacts.any()
+    assert touched >= 3
+
+
+def test_physics_speedup_is_a_ratio_of_pairs():
+    r = bench.physics_speedup(trials=2)
+    assert r["physics_speedup"] > 0 and len(r["physics_speedup_iqr"]) == 2
