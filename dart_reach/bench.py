@@ -204,23 +204,64 @@ def _peak_rss_mb(_=None) -> float:
     return resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024
 
 
-def parallel(kind: str = "evolved", jobs: int = 40, trials: int = 2, pairs: int = 3,
-             seed: int = 0) -> dict:
-    """One generation of ``jobs`` evaluations (``trials`` trials of 20 s) on one core and on
-    every core, in pairs: ``parallel_efficiency`` = speed-up / cores (median of the pairs);
-    ``generation_core_s``: core-seconds of one replication-generation of the paper (40
-    evaluations of 18 trials) from the serial time; peak memory of the workers and of this
-    process (MB). Results must be identical on both sides."""
+def _generation(kind: str, jobs: int, trials: int, seed: int) -> list:
+    """The jobs of one pre-reaching generation of ``jobs`` evaluations of ``trials`` trials."""
     from .conditions import load_condition
-    from .evaluator import Job, PoolEvaluator, SerialEvaluator
+    from .evaluator import Job
     from .experiment import Settings, trial_config
     from .genome import as_groups
 
     phase = load_condition("standard").phases[0]
     trial = trial_config(phase, Settings(trials=trials))
     genomes = panel_genomes(kind, PANEL, seed)
-    batch = [Job(genomes[i % len(genomes)], as_groups(phase.free_groups), trial, WorldConfig(),
-                 (seed, 0, i)) for i in range(jobs)]
+    return [Job(genomes[i % len(genomes)], as_groups(phase.free_groups), trial, WorldConfig(),
+                (seed, 0, i)) for i in range(jobs)]
+
+
+def ray_efficiency(jobs: int = 40, trials: int = 2, pairs: int = 5, seed: int = 0) -> dict:
+    """``ray_efficiency``: a generation on a local cluster of two Ray nodes of one CPU each
+    (``LocalRayCluster``: real ``ray start`` nodes) against the same on a pool of two local
+    processes, in pairs (pool time over Ray time). Results must be identical."""
+    import ray
+
+    from .evaluator import LocalRayCluster, PoolEvaluator, RayEvaluator
+
+    batch = _generation("evolved", jobs, trials, seed)
+    results = {}
+    pool = PoolEvaluator(2)
+    try:
+        with LocalRayCluster(nodes=2) as cluster:
+            remote = RayEvaluator(cluster.address)
+            try:
+                remote.map(batch[:2])  # warm up: worlds built in every Ray worker
+                pool.map(batch[:2])
+
+                def on_pool():
+                    results["pool"] = pool.map(batch)
+
+                def on_ray():
+                    results["ray"] = remote.map(batch)
+
+                t_pool, t_ray = paired(on_pool, on_ray, pairs)
+            finally:
+                ray.shutdown()
+    finally:
+        pool.close()
+    if not np.array_equal(results["pool"], results["ray"]):
+        raise RuntimeError("the Ray cluster's results differ from the pool's")
+    return ratio("ray_efficiency", t_pool / t_ray)
+
+
+def parallel(kind: str = "evolved", jobs: int = 40, trials: int = 2, pairs: int = 10,
+             seed: int = 0) -> dict:
+    """One generation of ``jobs`` evaluations (``trials`` trials of 20 s) on one core and on
+    every core, in pairs: ``parallel_efficiency`` = speed-up / cores (median of the pairs);
+    ``generation_core_s``: core-seconds of one replication-generation of the paper (40
+    evaluations of 18 trials) from the serial time; peak memory of the workers and of this
+    process (MB). Results must be identical on both sides."""
+    from .evaluator import PoolEvaluator, SerialEvaluator
+
+    batch = _generation(kind, jobs, trials, seed)
     cores = os.cpu_count() or 1
     serial, pool = SerialEvaluator(), PoolEvaluator(cores)
     results = {}
@@ -300,6 +341,7 @@ TARGETS = {
     "closed_loop_over_limit": (0.9, ">="),
     "closed_loop_over_limit_evolved": (0.9, ">="),
     "parallel_efficiency": (0.95, ">="),
+    "ray_efficiency": (0.8, ">="),
     "recording_overhead": (1.15, "<="),
     "worker_peak_rss_mb": (300.0, "<="),
 }
@@ -316,13 +358,20 @@ def check(results: dict) -> dict[str, bool]:
 
 def run(seconds: float = 2.0, pairs: int = 30) -> dict:
     """Every figure, in one run: ``pairs`` pairs of ``seconds`` simulated seconds for the
-    physics ratio; the closed loop over 45 trials of each kind; 3 pairs of generations."""
+    physics ratio; the closed loop over 45 trials of each kind; 10 pairs of generations on the
+    pool, 5 on a local Ray cluster (when the ``cluster`` extra is installed)."""
     results = {"machine": machine()}
     results.update(world_rtf(seconds=seconds, pairs=pairs))
     results.update(physics_speedup())
     for kind in ("random", "evolved"):
         results.update(closed_loop(kind))
     results.update(parallel())
+    try:
+        import ray  # noqa: F401
+    except ImportError:
+        results["ray_efficiency_skipped"] = "Ray is not installed (the 'cluster' extra)"
+    else:
+        results.update(ray_efficiency())
     results.update(recording_overhead())
     results["targets_met"] = check(results)
     return results

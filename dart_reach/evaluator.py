@@ -143,6 +143,9 @@ def _exit_with_parent(parent: int, period_s: float = 0.5) -> None:
     threading.Thread(target=watch, daemon=True, name="exit-with-parent").start()
 
 
+#: Times Ray runs a task again when the node or worker process running it dies (a task is a
+#: pure function of its job: run again, it returns the same result to the last bit).
+RAY_TASK_RETRIES = 5
 #: s to wait for a Ray cluster's address to answer before giving up.
 RAY_CONNECT_TIMEOUT_S = 10.0
 
@@ -159,6 +162,14 @@ def _check_reachable(address: str) -> None:
     except OSError as exc:
         raise ValueError(f"--ray {address}: no Ray cluster answers there "
                          f"({exc.strerror or exc})") from None
+
+
+def _driver_ip(address: str) -> dict:
+    """``ray.init`` options for a cluster at ``address``: a cluster on this machine's loopback
+    address (nodes started with ``--node-ip-address 127.0.0.1``) needs the driver on it too,
+    or Ray looks for a node on the machine's outward address and waits for ever."""
+    host = address.split("://", 1)[-1].rpartition(":")[0]
+    return {"_node_ip_address": host} if host in ("127.0.0.1", "localhost") else {}
 
 
 class RayEvaluator(Evaluator):
@@ -178,14 +189,16 @@ class RayEvaluator(Evaluator):
                 ray.init(num_cpus=workers, include_dashboard=False, log_to_driver=False)
             else:
                 ray.init(address=None if address == "local" else address,
-                         include_dashboard=False, log_to_driver=False)
+                         include_dashboard=False, log_to_driver=False,
+                         **_driver_ip(address))
         self.workers = int(ray.cluster_resources().get("CPU", 1))
         self._remote = {}
 
     def imap(self, fn, items):
         remote = self._remote.get(fn)
         if remote is None:
-            remote = self._remote[fn] = self._ray.remote(num_cpus=1)(fn)
+            remote = self._remote[fn] = self._ray.remote(
+                num_cpus=1, max_retries=RAY_TASK_RETRIES)(fn)
         refs = [remote.remote(item) for item in items]
         return (self._ray.get(ref) for ref in refs)
 
@@ -197,3 +210,87 @@ def make_evaluator(workers: int | None = None, ray_address: str | None = None) -
     if workers == 1:
         return SerialEvaluator()
     return PoolEvaluator(workers)
+
+
+class LocalRayCluster:
+    """A Ray cluster of ``nodes`` nodes of ``cpus`` CPUs each on this machine, every node a
+    real ``ray start`` (a raylet, its object store and workers) on the loopback address: what
+    a cluster of machines is, on one machine, for tests and the bench. Each node runs in its
+    own process group, so ``kill_node`` ends one as abruptly as a machine that dies.
+
+    Use as a context manager; ``address`` is what ``--ray`` takes.
+    """
+
+    def __init__(self, nodes: int = 2, cpus: int = 1, timeout_s: float = 90.0):
+        import shutil
+        import sys
+
+        ray = shutil.which("ray", path=os.path.dirname(sys.executable)) or shutil.which("ray")
+        if ray is None:
+            raise ValueError("a Ray cluster needs the 'cluster' extra: "
+                             "pip install 'dart_reach[cluster]'")
+        self._ray, self._cpus_per_node = ray, cpus
+        self._env = dict(os.environ, RAY_USAGE_STATS_ENABLED="0")
+        self._env.setdefault("RAY_AUTH_MODE", "disabled")
+        with socket.socket() as s:
+            s.bind(("127.0.0.1", 0))
+            port = s.getsockname()[1]
+        self.address = f"127.0.0.1:{port}"
+        self.nodes: list = []
+        try:
+            self._start("--head", "--port", str(port), "--include-dashboard=false")
+            self._wait_for(cpus, timeout_s)
+            for _ in range(nodes - 1):
+                self._start("--address", self.address)
+            self._wait_for(nodes * cpus, timeout_s)
+        except BaseException:
+            self.close()
+            raise
+
+    def _start(self, *args) -> None:
+        import subprocess
+
+        self.nodes.append(subprocess.Popen(
+            [self._ray, "start", "--block", "--num-cpus", str(self._cpus_per_node),
+             "--node-ip-address", "127.0.0.1", "--disable-usage-stats", *args],
+            env=self._env, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL,
+            start_new_session=True))
+
+    def cpus(self) -> float:
+        """The CPUs the cluster's head counts among its live nodes (0 if it does not answer)."""
+        import subprocess
+
+        out = subprocess.run([self._ray, "status", "--address", self.address], env=self._env,
+                             text=True, capture_output=True, timeout=60).stdout
+        for line in out.splitlines():  # e.g. " 0.0/2.0 CPU"
+            if line.strip().endswith(" CPU") and "/" in line:
+                return float(line.split("/")[1].split()[0])
+        return 0.0
+
+    def _wait_for(self, cpus: float, timeout_s: float) -> None:
+        deadline = time.monotonic() + timeout_s
+        while self.cpus() < cpus:
+            if time.monotonic() > deadline:
+                raise RuntimeError(f"the local Ray cluster at {self.address} did not reach "
+                                   f"{cpus} CPUs in {timeout_s:.0f} s")
+            time.sleep(1.0)
+
+    def kill_node(self, index: int) -> None:
+        """SIGKILL every process of node ``index`` (0 is the head)."""
+        import signal
+
+        try:
+            os.killpg(self.nodes[index].pid, signal.SIGKILL)
+        except ProcessLookupError:
+            pass
+        self.nodes[index].wait()
+
+    def close(self) -> None:
+        for i in reversed(range(len(self.nodes))):
+            self.kill_node(i)
+
+    def __enter__(self) -> "LocalRayCluster":
+        return self
+
+    def __exit__(self, *exc) -> None:
+        self.close()
