@@ -178,7 +178,8 @@ def cmd_train(args) -> int:
     try:
         run = train(conditions, settings, out, workers=args.workers, ray_address=args.ray,
                     resume=args.resume, progress=_progress_printer(_training_line),
-                    record_every=args.record_every)
+                    record_every=args.record_every,
+                    command=shlex.join(["dart-reach", *sys.argv[1:]]))
     except KeyboardInterrupt as exc:
         again = ["dart-reach", *sys.argv[1:]]
         if "--resume" not in again:
@@ -214,6 +215,14 @@ def cmd_evaluate(args) -> int:
         print(f"{len(recorded)} recordings under {out / RECORDINGS}; open one with its layout:"
               f"\n  {shlex.join(['rerun', str(out / recorded[0]), str(out / BLUEPRINT)])}",
               file=sys.stderr)
+    return 0
+
+
+def cmd_report(args) -> int:
+    from . import report
+
+    path = report.build(args.run_dirs, args.out)
+    print(f"report: {path}\nopen it in a browser (it is self-contained, works offline)")
     return 0
 
 
@@ -302,6 +311,13 @@ def build_parser() -> argparse.ArgumentParser:
                         "every measure (rows flagged 'baseline'; default 0)")
     _add_workers(p)
     p.set_defaults(func=cmd_evaluate)
+
+    p = sub.add_parser("report", help="one self-contained HTML file: the paper's findings "
+                                      "tested against runs, provenance, training, Figs. 5-10")
+    p.add_argument("run_dirs", type=Path, nargs="+", metavar="RUN_DIR")
+    p.add_argument("--out", type=Path, default=None, metavar="FILE.html",
+                   help="where to write it (default RUN_DIR/report.html of the first run)")
+    p.set_defaults(func=cmd_report)
 
     p = sub.add_parser("read", help="show a .rrd recording's properties and series; "
                                     "--parquet saves them as a table")

@@ -38,6 +38,7 @@ missing or older than the generations the table records.
 from __future__ import annotations
 
 import json
+import os
 import platform
 import subprocess
 import time
@@ -159,6 +160,12 @@ def _git_revision() -> str | None:
         return None
 
 
+def _machine() -> dict:
+    """Where a run was created (its speed figures depend on it)."""
+    return {"platform": platform.platform(), "processor": platform.machine(),
+            "cores": os.cpu_count()}
+
+
 def _versions() -> dict:
     versions = {"dart_reach": __version__, "python": platform.python_version()}
     for pkg in ("dartpy", "numpy", "scipy", "polars", "rerun-sdk"):
@@ -197,7 +204,7 @@ class Run:
     """A run directory: creates it, or reopens it to resume."""
 
     def __init__(self, out: Path, conditions: list[Condition], settings: Settings,
-                 resume: bool = False):
+                 resume: bool = False, command: str | None = None):
         self.out = Path(out)
         self.conditions = conditions
         self.settings = settings
@@ -219,6 +226,7 @@ class Run:
                 raise RunError(f"nothing to resume: {self.out} holds no run")
             full = dict(self.manifest, created=time.strftime("%Y-%m-%dT%H:%M:%S%z"),
                         versions=_versions(), git_revision=_git_revision(),
+                        machine=_machine(), command=command,
                         seeds={"root": settings.seed,
                                "tree": "SeedSequence(seed, spawn_key=(phase key[:8] as int, "
                                        "replication, purpose 0 init|1 mutate|2 evaluate, "
@@ -543,8 +551,10 @@ def _savez(path: Path, arrays: dict) -> None:
 
 def train(conditions: list[Condition], settings: Settings, out: Path, workers: int | None = None,
           ray_address: str | None = None, resume: bool = False,
-          progress: Callable[[Progress], None] | None = None, record_every: int = 0) -> Run:
-    """Train ``conditions`` into the run directory ``out`` (the function the CLI calls)."""
+          progress: Callable[[Progress], None] | None = None, record_every: int = 0,
+          command: str | None = None) -> Run:
+    """Train ``conditions`` into the run directory ``out`` (the function the CLI calls;
+    ``command``, the command line that made the run, goes into a new run's manifest)."""
     names = [c.name for c in conditions]
     twice = sorted({n for n in names if names.count(n) > 1})
     if twice:
@@ -555,7 +565,7 @@ def train(conditions: list[Condition], settings: Settings, out: Path, workers: i
         raise RunError(f"nothing to resume: {out} holds no run")
     with DirectoryLock(out):
         remove_temporaries(out)  # of a killed write: the lock says no one else is writing
-        run = Run(out, conditions, settings, resume=resume)
+        run = Run(out, conditions, settings, resume=resume, command=command)
         if resume:
             run.repair()
         evaluator = make_evaluator(workers, ray_address)

@@ -1,0 +1,283 @@
+"""The replication report (``dart-reach report RUN [RUN ...]``): one self-contained HTML file.
+
+What a reviewer of a replication wants to read, in this order: the findings table (every claim
+of section IV against the data, ``findings``), provenance (command, conditions, budgets,
+seeds, revision, versions, machine, physics step, wall time), training (curves and the
+numbers at the start and end of each phase), the measures of Figs. 5-6 beside the random
+baseline, the figures (5-10, drawn by ``figures`` as the notebooks draw them) and the
+statistics behind them. Figures are matplotlib PNGs embedded as data URIs, tables plain HTML,
+the page a ``string.Template`` (``templates/report.html``): it opens offline in any browser.
+
+Every number in it is computed from the run directories when the report is built.
+"""
+
+from __future__ import annotations
+
+import base64
+import html
+import io
+import json
+import math
+import time
+from collections.abc import Sequence
+from importlib import resources
+from pathlib import Path
+from string import Template
+
+import polars as pl
+
+from . import figures, findings
+from .evaluation import load_evaluation, run_phases
+from .experiment import Run, RunError
+from .files import atomic_write
+
+#: Marks the files this module writes: only those are ever overwritten.
+GENERATOR = '<meta name="generator" content="dart_reach report">'
+#: Measures of the baseline table (Figs. 5, 6 and the babbling measure), with their labels.
+MEASURES = (("fitness", "fitness"), ("reached", "reach rate"), ("grasped", "grasp rate"),
+            ("speed", "speed (m/s)"), ("straightness", "straightness"),
+            ("var_elbow", "elbow var. (rad)"), ("var_shoulder", "shoulder var. (rad)"),
+            ("var_trunk", "trunk var. (rad)"), ("elbow_freezing", "hand-shoulder s.d. (m)"),
+            ("babbling_share", "babbling share"))
+
+
+# ------------------------------------------------------------------------------ pieces
+def _figure(fig) -> str:
+    buf = io.BytesIO()
+    fig.savefig(buf, format="png", dpi=80)
+    data = base64.b64encode(buf.getvalue()).decode("ascii")
+    return f'<img alt="figure" src="data:image/png;base64,{data}">'
+
+
+def _cell(value) -> str:
+    if isinstance(value, float):
+        if math.isnan(value):
+            return "–"
+        return f"{value:.3g}" if abs(value) >= 1e-3 or value == 0 else f"{value:.1e}"
+    if isinstance(value, bool):
+        return "■" if value else ""
+    return html.escape(str(value))
+
+
+def table_html(df: pl.DataFrame, css: str = "") -> str:
+    """A polars table as a plain HTML table (floats to 3 significant digits)."""
+    head = "".join(f"<th>{html.escape(c)}</th>" for c in df.columns)
+    rows = []
+    for row in df.iter_rows():
+        cells = "".join(f"<td>{_cell(v)}</td>" for v in row)
+        rows.append(f"<tr>{cells}</tr>")
+    return (f'<table class="{css}"><thead><tr>{head}</tr></thead>'
+            f'<tbody>{"".join(rows)}</tbody></table>')
+
+
+def _findings_html(found: pl.DataFrame) -> str:
+    rows = []
+    for r in found.iter_rows(named=True):
+        css = r["verdict"].split()[0]
+        rows.append(
+            f'<tr class="{css}"><td>{html.escape(r["claim"])}</td>'
+            f'<td>{html.escape(r["paper"])}</td><td>{html.escape(r["measured"])}</td>'
+            f'<td>{html.escape(r["test"])}</td><td>{html.escape(r["n"])}</td>'
+            f'<td>{_cell(r["p"])}</td><td class="verdict">{html.escape(r["verdict"])}</td></tr>')
+    return ('<table class="findings"><thead><tr><th>claim</th><th>the paper</th>'
+            '<th>measured here</th><th>test</th><th>n</th><th>p</th><th>verdict</th></tr>'
+            f'</thead><tbody>{"".join(rows)}</tbody></table>')
+
+
+def training_summary(stats: pl.DataFrame) -> pl.DataFrame:
+    """Best and mean fitness at the first and last generation of each phase, per condition,
+    phase and replication (from ``generations.parquet``)."""
+    keys = ["condition", "phase", "replication"]
+    s = stats.sort([*keys, "generation"])
+    return (s.group_by(keys, maintain_order=True)
+            .agg(pl.col("generation").last().alias("generations"),
+                 pl.col("best").first().alias("best_first"),
+                 pl.col("best").last().alias("best_last"),
+                 pl.col("best").max().alias("best_max"),
+                 pl.col("mean").first().alias("mean_first"),
+                 pl.col("mean").last().alias("mean_last")))
+
+
+def baseline_table(table: pl.DataFrame, baseline: pl.DataFrame | None) -> pl.DataFrame:
+    """Mean over robots of each measure (``MEASURES``) per phase, normal senses, with the
+    random genomes of that phase (``evaluate --baseline``) as rows ``random <phase>``."""
+    parts = [table.filter(pl.col("senses") == "normal")]
+    if baseline is not None and baseline.height:
+        parts.append(baseline.filter(pl.col("senses") == "normal")
+                     .with_columns(pl.format("random {}", "notation").alias("notation")))
+    both = pl.concat(parts, how="diagonal_relaxed")
+    if both.height == 0:
+        return pl.DataFrame({"phase": []})
+    names = [m for m, _ in MEASURES]
+    robots = figures.metrics.robot_means(both, names, by=("notation", "replication", "rank"))
+    order = {n: i for i, n in enumerate(dict.fromkeys(both["notation"].to_list()))}
+    out = (robots.group_by("notation", maintain_order=True)
+           .agg(pl.len().alias("robots"), *[pl.col(m).mean() for m in names])
+           .with_columns(pl.col("notation").replace_strict(order, return_dtype=pl.Int64)
+                         .alias("_o"))
+           .sort("_o").drop("_o"))
+    return out.rename({"notation": "phase", **{m: label for m, label in MEASURES}})
+
+
+def _provenance(run_dir: Path) -> tuple[pl.DataFrame, float]:
+    manifest = json.loads((run_dir / "manifest.json").read_text())
+    run = Run.open(run_dir)
+    s = manifest.get("settings", {})
+    phases = run_phases(run_dir)
+    wall = 0.0
+    stats_path = run_dir / "generations.parquet"
+    if stats_path.is_file():
+        wall = float(pl.read_parquet(stats_path)["wall_s"].sum())
+    machine = manifest.get("machine") or {}
+    rows = [
+        ("command", manifest.get("command") or "not recorded (made before commands were)"),
+        ("conditions", ", ".join(f"{c.name} ({c.notation})" for c in run.conditions)),
+        ("phases (generations)", ", ".join(
+            f"{r['notation']} ({r['generations']})"
+            for r in phases.unique("phase_key", maintain_order=True).iter_rows(named=True))),
+        ("replications / trials / steps", f"{s.get('replications')} / {s.get('trials')} / "
+                                          f"{s.get('steps')}"),
+        ("genetic algorithm", json.dumps(s.get("ga"))),
+        ("seeds", json.dumps(manifest.get("seeds"))),
+        ("physics step (s)", str(run.settings.world.physics_dt)),
+        ("git revision", str(manifest.get("git_revision"))),
+        ("versions", ", ".join(f"{k} {v}" for k, v in (manifest.get("versions") or {}).items())),
+        ("machine", ", ".join(f"{k} {v}" for k, v in machine.items()) or "not recorded"),
+        ("created", str(manifest.get("created"))),
+        ("training wall time", f"{wall / 3600:.2f} h (sum over generations)"),
+    ]
+    return pl.DataFrame(rows, schema=["", "value"], orient="row"), wall
+
+
+def _section(title: str, body: str, anchor: str) -> str:
+    return f'<section id="{anchor}"><h2>{html.escape(title)}</h2>{body}</section>'
+
+
+def _try(draw, *args, **kwargs) -> str:
+    """A figure, or a line saying why it could not be drawn (missing data)."""
+    try:
+        return _figure(draw(*args, **kwargs))
+    except (ValueError, RunError, KeyError, pl.exceptions.PolarsError) as exc:
+        return f'<p class="missing">not drawn: {html.escape(str(exc))}</p>'
+
+
+# ------------------------------------------------------------------------------ the report
+def build(run_dirs: Sequence, out=None) -> Path:
+    """Write the report of ``run_dirs`` to ``out`` (default ``<first run>/report.html``) and
+    return its path. Runs without a post-evaluation get provenance and training only, and
+    their claims are "not run"."""
+    run_dirs = [Path(d) for d in run_dirs]
+    if not run_dirs:
+        raise ValueError("the report needs at least one run directory")
+    for d in run_dirs:
+        Run.open(d)  # one clear error for a path that is not a run
+    out = Path(out) if out is not None else run_dirs[0] / "report.html"
+    if out.suffix.lower() not in (".html", ".htm"):
+        raise ValueError(f"{out}: the report is an HTML file; give a name ending in .html")
+    if out.exists() and GENERATOR not in out.read_text(errors="replace")[:2000]:
+        raise ValueError(f"{out} exists and is not a dart_reach report; choose another --out")
+    evaluated = [d for d in run_dirs if (d / "evaluation.parquet").is_file()]
+    table = figures.load_runs(evaluated) if evaluated else None
+    baselines = [load_evaluation(d, baseline=True).with_columns(pl.lit(d.name).alias("run"))
+                 for d in evaluated]
+    baseline = pl.concat(baselines, how="diagonal_relaxed") if baselines else None
+    found = findings.findings(table if table is not None else _empty_table(), baseline)
+    counts = findings.summary(found)
+
+    sections = [_section("Findings of section IV", (
+        '<p class="counts">' + " · ".join(f"{v}: <b>{n}</b>" for v, n in counts.items())
+        + "</p>" + _findings_html(found)
+        + "<p>Verdicts are computed from the data when this report is built "
+          "(<code>dart_reach.findings</code>; the rules are in its docstring and in "
+          "docs/analysis.md).</p>"), "findings")]
+
+    prov, train = [], []
+    for d in run_dirs:
+        table_, _ = _provenance(d)
+        prov.append(f"<h3>{html.escape(d.name)}</h3>" + table_html(table_, "provenance"))
+        stats_path = d / "generations.parquet"
+        if stats_path.is_file():
+            stats = pl.read_parquet(stats_path)
+            train.append(f"<h3>{html.escape(d.name)}</h3>"
+                         + _try(figures.training_curves, stats, run_phases(d))
+                         + table_html(training_summary(stats)))
+        else:
+            train.append(f"<h3>{html.escape(d.name)}</h3><p class='missing'>no generation "
+                         "trained yet</p>")
+    sections.append(_section("Provenance", "".join(prov), "provenance"))
+    sections.append(_section("Training", "".join(train), "training"))
+
+    if table is None:
+        sections.append(_section("Post-evaluation", "<p class='missing'>no run is "
+                                 "post-evaluated yet: run <code>dart-reach evaluate RUN "
+                                 "--sensors all --baseline 20</code></p>", "evaluation"))
+    else:
+        sections.append(_section("Measures beside the random baseline",
+                                 table_html(baseline_table(table, baseline))
+                                 + "<p>Means over robots (a robot: its mean over its trials, "
+                                   "normal senses); <i>random</i>: random genomes of the phase "
+                                   "under the same senses.</p>", "baseline"))
+        sections.append(_section("Figures 5-9 (standard condition)",
+                                 "".join(_run_figures(d) for d in evaluated), "figures"))
+        sections.append(_section("Figure 10 (conditions)", _fig10(table), "fig10"))
+        sections.append(_section("Statistics", "".join(_run_statistics(d) for d in evaluated),
+                                 "statistics"))
+    page = Template(resources.files("dart_reach").joinpath("templates/report.html")
+                    .read_text(encoding="utf-8"))
+    text = page.substitute(
+        generator=GENERATOR, title=html.escape("dart_reach report: " + ", ".join(d.name for d in run_dirs)),
+        generated=time.strftime("%Y-%m-%d %H:%M:%S %z"), body="\n".join(sections))
+    out.parent.mkdir(parents=True, exist_ok=True)
+    atomic_write(out, lambda p: p.write_text(text, encoding="utf-8"))
+    return out
+
+
+def _empty_table() -> pl.DataFrame:
+    cols = {"notation": pl.Utf8, "senses": pl.Utf8, "replication": pl.Int64, "rank": pl.Int64,
+            "sector": pl.Int64, "reached": pl.Boolean, "grasped": pl.Boolean,
+            "lifetime_fitness": pl.Float64}
+    cols.update({m: pl.Float64 for m in ("fitness", "speed", "straightness", "var_elbow",
+                                         "var_shoulder", "var_trunk", "babbling_share")})
+    return pl.DataFrame(schema=cols)
+
+
+def _run_figures(run_dir: Path) -> str:
+    table, phases = figures.condition_trials(run_dir)
+    parts = [f"<h3>{html.escape(run_dir.name)}</h3>",
+             "<h4>Fig. 5: performance</h4>", _try(figures.fig5_performance, table, phases),
+             "<h4>Fig. 6: distances and movement variability</h4>",
+             _try(figures.fig6_distances_variability, table, run_dir, phases),
+             "<h4>Fig. 7: success per sector</h4>",
+             _try(figures.fig7_sector_maps, table, phases,
+                  sectors=figures.sector_config(run_dir)),
+             "<h4>Fig. 8: hand trajectories and babbling</h4>",
+             _try(figures.fig8_trajectories, table, run_dir, phases),
+             _try(figures.fig8_babbling, table, phases),
+             "<h4>Fig. 9: sensory deprivation</h4>",
+             _try(figures.fig9_sensory_deprivation, table, phases)]
+    return "".join(parts)
+
+
+def _fig10(table: pl.DataFrame) -> str:
+    try:
+        reps = figures.metrics.replication_performance(table, by=("group",))
+    except ValueError as exc:
+        return f"<p class='missing'>not drawn: {html.escape(str(exc))}</p>"
+    st = figures.fig10_statistics(reps)
+    return (_try(figures.fig10_conditions, reps) + "<h4>Per condition (replications)</h4>"
+            + table_html(st["summary"]) + "<h4>Mann-Whitney, two-tailed</h4>"
+            + table_html(st["pairs"]))
+
+
+def _run_statistics(run_dir: Path) -> str:
+    table, phases = figures.condition_trials(run_dir)
+    measures = [m for m, _, _ in figures.FIG5_MEASURES + figures.FIG6_MEASURES]
+    parts = [f"<h3>{html.escape(run_dir.name)}</h3>",
+             "<h4>Figs. 5-6: phases compared (Mann-Whitney, two-tailed, robots)</h4>",
+             table_html(figures.phase_statistics(table, measures, phases))]
+    f9 = figures.fig9_statistics(table, phases)
+    parts += ["<h4>Fig. 9: Kruskal-Wallis across senses within each phase</h4>",
+              table_html(f9["kruskal"]),
+              "<h4>Fig. 9: Mann-Whitney between phase / senses groups</h4>",
+              table_html(f9["pairs"])]
+    return "".join(parts)
