@@ -171,7 +171,7 @@ def reference_world(config: WorldConfig | None = None) -> World:
     return world
 
 
-def physics_speedup(config: WorldConfig | None = None, trials: int = 18) -> dict:
+def physics_speedup(config: WorldConfig | None = None, trials: int = 45) -> dict:
     """``physics_speedup``: the physics of evolved robots' trials (their motor targets
     replayed) in the reference configuration over the same in this world's, in pairs, one
     trial each side."""
