@@ -36,8 +36,25 @@ class Terminated(KeyboardInterrupt):
     """SIGTERM, handled like Ctrl-C (work saved, a message) but exit code 143."""
 
 
-def _on_sigterm(signum, frame):
-    raise Terminated()
+#: The stop signals received. Python only prints an exception raised in a destructor (a
+#: signal can land in rerun's flush on garbage collection), so a stop could be lost: every
+#: progress report (between generations, between robots) raises it again.
+_stops: list[KeyboardInterrupt] = []
+
+
+def _on_stop_signal(signum, frame):
+    exc = Terminated() if signum == signal.SIGTERM else KeyboardInterrupt()
+    _stops.append(exc)
+    raise exc
+
+
+def _unraisable(hook):
+    """``sys.unraisablehook`` that stays quiet about a stop signal swallowed by a destructor
+    (it is raised again at the next progress report)."""
+    def quiet(info) -> None:
+        if not isinstance(info.exc_value, KeyboardInterrupt):
+            hook(info)
+    return quiet
 
 
 def _interrupted(exc: KeyboardInterrupt) -> int:
@@ -133,6 +150,8 @@ def _progress_printer(describe, stream=sys.stderr):
     tty = stream.isatty()
 
     def show(p) -> None:
+        if _stops:
+            raise _stops[0]
         line = describe(p)
         stream.write(("\r" + line + "\x1b[K") if tty else line + "\n")
         stream.flush()
@@ -366,7 +385,10 @@ def _message(exc: BaseException) -> str:
 
 def main(argv=None) -> int:
     args = build_parser().parse_args(argv)
-    signal.signal(signal.SIGTERM, _on_sigterm)
+    _stops.clear()
+    signal.signal(signal.SIGTERM, _on_stop_signal)
+    signal.signal(signal.SIGINT, _on_stop_signal)
+    sys.unraisablehook = _unraisable(sys.__unraisablehook__)
     from .files import DirectoryBusy
 
     try:

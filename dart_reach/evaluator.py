@@ -19,6 +19,7 @@ import threading
 import time
 from concurrent.futures import ProcessPoolExecutor
 from dataclasses import dataclass
+from pathlib import Path
 from typing import Callable, Iterable, Iterator, Sequence, TypeVar
 
 import numpy as np
@@ -183,14 +184,14 @@ class RayEvaluator(Evaluator):
                              ) from None
         self._ray = ray
         if not ray.is_initialized():
-            if address not in ("local", "auto"):
-                _check_reachable(address)
-            if address in ("local", "auto") and workers:
-                ray.init(num_cpus=workers, include_dashboard=False, log_to_driver=False)
+            options = {"include_dashboard": False, "log_to_driver": False}
+            if address == "local":  # a new private instance, never a cluster found on disk
+                ray.init(address="local", num_cpus=workers, **options)
+            elif address == "auto":
+                ray.init(address="auto", **options)
             else:
-                ray.init(address=None if address == "local" else address,
-                         include_dashboard=False, log_to_driver=False,
-                         **_driver_ip(address))
+                _check_reachable(address)
+                ray.init(address=address, **options, **_driver_ip(address))
         self.workers = int(ray.cluster_resources().get("CPU", 1))
         self._remote = {}
 
@@ -286,8 +287,18 @@ class LocalRayCluster:
         self.nodes[index].wait()
 
     def close(self) -> None:
+        import tempfile
+
         for i in reversed(range(len(self.nodes))):
             self.kill_node(i)
+        # Killed nodes cannot tidy up: forget this cluster, or Ray's next ray.init() (and
+        # ``--ray auto``) would look for it.
+        current = Path(tempfile.gettempdir()) / "ray" / "ray_current_cluster"
+        try:
+            if current.read_text().strip().endswith(":" + self.address.rpartition(":")[2]):
+                current.unlink()
+        except OSError:
+            pass
 
     def __enter__(self) -> "LocalRayCluster":
         return self

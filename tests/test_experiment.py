@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import json
 import os
 import signal
 import subprocess
@@ -119,6 +120,35 @@ def test_ctrl_c_stops_cleanly_and_says_how_to_resume(tmp_path):
     assert proc.returncode == 130, err
     assert "--resume" in err and "Traceback" not in err
     assert _cli(*_train_cmd(out, "--resume")).returncode == 0
+    manifest = json.loads((out / "manifest.json").read_text())  # provenance of the report
+    assert manifest["command"].startswith("dart-reach train ") and str(out) in manifest["command"]
+    assert manifest["machine"]["cores"] == os.cpu_count()
+
+
+def test_a_stop_signal_swallowed_by_a_destructor_is_not_lost():
+    """Python only prints an exception raised in a destructor (Ctrl-C can land in rerun's
+    flush at garbage collection): the CLI raises it again at the next progress report, and
+    prints nothing about it."""
+    code = """
+import os, signal, sys, time
+from dart_reach import cli
+signal.signal(signal.SIGINT, cli._on_stop_signal)
+sys.unraisablehook = cli._unraisable(sys.__unraisablehook__)
+class Flush:
+    def __del__(self):
+        os.kill(os.getpid(), signal.SIGINT)
+        time.sleep(0.2)
+Flush()
+print("the destructor's exception was swallowed", flush=True)
+try:
+    cli._progress_printer(str)("next generation")
+except KeyboardInterrupt:
+    sys.exit(0)
+sys.exit(1)
+"""
+    r = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=60)
+    assert r.returncode == 0 and "swallowed" in r.stdout, (r.stdout, r.stderr)
+    assert "Traceback" not in r.stderr and "Exception ignored" not in r.stderr, r.stderr
 
 
 def _one_error_line(result, needle):

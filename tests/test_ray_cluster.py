@@ -7,6 +7,7 @@ from __future__ import annotations
 import os
 import subprocess
 import sys
+import tempfile
 import time
 from pathlib import Path
 
@@ -52,3 +53,7 @@ def test_training_on_a_two_node_cluster_survives_losing_a_node(tmp_path):
             assert time.monotonic() < deadline, "the head never noticed the lost node"
             time.sleep(2)
     assert _same(_result(tmp_path / "serial"), _result(tmp_path / "lossy"))
+    # the killed cluster is forgotten: a later ray.init() or '--ray auto' does not look for it
+    current = Path(tempfile.gettempdir()) / "ray" / "ray_current_cluster"
+    port = cluster.address.rpartition(":")[2]
+    assert not (current.is_file() and current.read_text().strip().endswith(":" + port))

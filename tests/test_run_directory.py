@@ -73,7 +73,8 @@ def _npz(path: Path) -> dict:
 
 def snapshot(out: Path) -> dict:
     """Everything a run directory holds, comparable across runs: tables without wall times,
-    arrays, recordings' contents; the manifest without its creation time."""
+    arrays, recordings' contents; the manifest without its creation time and command line
+    (which names the run's own directory)."""
     files = sorted(p.relative_to(out) for p in out.rglob("*") if p.is_file() and p.name != ".lock")
     assert not [f for f in files if f.name.endswith(".tmp")], files
     snap: dict = {"files": [str(f) for f in files]}
@@ -87,7 +88,8 @@ def snapshot(out: Path) -> dict:
         elif f.suffix == ".rrd":
             snap[str(f)] = read_rrd(p)
         elif f.name == "manifest.json":
-            snap[str(f)] = {k: v for k, v in json.loads(p.read_text()).items() if k != "created"}
+            snap[str(f)] = {k: v for k, v in json.loads(p.read_text()).items()
+                            if k not in ("created", "command")}
     return snap
 
 
