@@ -15,6 +15,8 @@ from pathlib import Path
 
 import numpy as np
 
+from .progress import ProgressBar, evaluation_bar, training_bar
+
 
 def _int_at_least(minimum: int):
     """An argparse type: an integer >= ``minimum``."""
@@ -107,10 +109,11 @@ def cmd_bench(args) -> int:
     if args.physics:
         from . import physics_study
 
-        show = _progress_printer(lambda p: f"physics study | {p[0]}/{p[1]} controllers x steps")
-        results = physics_study.study(
-            candidates=args.physics_steps, random=args.networks, runs=args.run,
-            workers=args.workers, progress=lambda n, total: show((n, total)))
+        with ProgressBar(lambda p: (*p, "trial", "physics study")) as bar:
+            show = _checked(bar)
+            results = physics_study.study(
+                candidates=args.physics_steps, random=args.networks, runs=args.run,
+                workers=args.workers, progress=lambda n, total: show((n, total)))
         print("\n" + physics_study.format_study(results))
     else:
         if not (np.isfinite(args.seconds) and args.seconds > 0):
@@ -136,37 +139,13 @@ def cmd_validate(args) -> int:
     return 0 if results["passed"] else 1
 
 
-def _duration(seconds: float) -> str:
-    if not np.isfinite(seconds):
-        return "?"
-    m, s = divmod(int(seconds), 60)
-    h, m = divmod(m, 60)
-    return f"{h}h{m:02d}m" if h else f"{m}m{s:02d}s"
-
-
-def _progress_printer(describe, stream=sys.stderr):
-    """A progress callback printing ``describe(progress)``: one line updated in place on a
-    terminal, one line per update otherwise (logs)."""
-    tty = stream.isatty()
-
-    def show(p) -> None:
+def _checked(callback):
+    """A progress callback that first raises a stop signal a destructor swallowed."""
+    def report(update) -> None:
         if _stops:
             raise _stops[0]
-        line = describe(p)
-        stream.write(("\r" + line + "\x1b[K") if tty else line + "\n")
-        stream.flush()
-    return show
-
-
-def _training_line(p) -> str:
-    return (f"{p.condition} | {p.phase} | {p.replications} replications | generation "
-            f"{p.generation}/{p.generations} | best {p.best:.4f} mean {p.mean:.4f} | "
-            f"{p.done_generations}/{p.total_generations} generations | ETA {_duration(p.eta_s)}")
-
-
-def _evaluation_line(p) -> str:
-    return (f"evaluate | {p.phase} | {p.senses} | robot {p.robots_done}/{p.robots_total} | "
-            f"ETA {_duration(p.eta_s)}")
+        callback(update)
+    return report
 
 
 def cmd_conditions(args) -> int:
@@ -195,10 +174,11 @@ def cmd_train(args) -> int:
     if args.workers is not None and args.workers < 1:
         raise ValueError(f"--workers must be at least 1, got {args.workers}")
     try:
-        run = train(conditions, settings, out, workers=args.workers, ray_address=args.ray,
-                    resume=args.resume, progress=_progress_printer(_training_line),
-                    record_every=args.record_every,
-                    command=shlex.join(["dart-reach", *sys.argv[1:]]))
+        with training_bar() as bar:
+            run = train(conditions, settings, out, workers=args.workers, ray_address=args.ray,
+                        resume=args.resume, progress=_checked(bar),
+                        record_every=args.record_every,
+                        command=shlex.join(["dart-reach", *sys.argv[1:]]))
     except KeyboardInterrupt as exc:
         again = ["dart-reach", *sys.argv[1:]]
         if "--resume" not in again:
@@ -219,10 +199,10 @@ def cmd_evaluate(args) -> int:
 
     senses = parse_senses(args.sensors)
     try:
-        table = evaluate_run(args.run_dir, senses=senses, robots=args.robots, record=args.record,
-                             workers=args.workers, ray_address=args.ray,
-                             progress=_progress_printer(_evaluation_line),
-                             baseline=args.baseline)
+        with evaluation_bar() as bar:
+            table = evaluate_run(args.run_dir, senses=senses, robots=args.robots,
+                                 record=args.record, workers=args.workers, ray_address=args.ray,
+                                 progress=_checked(bar), baseline=args.baseline)
     except KeyboardInterrupt as exc:
         print(f"\ninterrupted: the robots finished so far are saved in {args.run_dir}/{TABLE}; "
               f"run the same command again to evaluate the rest", file=sys.stderr)

@@ -43,6 +43,7 @@ from .experiment import Run, RunError, baseline_genomes, trial_config
 from .files import DirectoryLock, atomic_write, remove_temporaries
 from .genome import as_groups, decode
 from .metrics import trial_metrics
+from .progress import evaluation_bar
 from .recording import RobotModel, TrialInfo, trial_rrd, write_blueprint, write_rrd
 from .task import Senses, TrialConfig, network_for
 from .world import POINTS_PER_SECTOR, WorldConfig
@@ -188,16 +189,23 @@ def run_phases(run_dir) -> pl.DataFrame:
 def evaluate_run(run_dir, senses: Iterable[str] = ("normal",), robots: int = 5,
                  record: Record | str = Record.BEST, workers: int | None = None,
                  ray_address: str | None = None,
-                 progress: Callable[[EvaluationProgress], None] | None = None,
+                 progress: Callable[[EvaluationProgress], None] | bool = True,
                  save_every_s: float = 10.0, baseline: int = 0) -> pl.DataFrame:
     """Post-evaluate a finished run (the function ``dart-reach evaluate`` calls) and return its
     whole evaluation table, baseline rows included. ``baseline``: random genomes per phase
-    evaluated beside the trained robots (never recorded)."""
+    evaluated beside the trained robots (never recorded). ``progress``: True (default) shows
+    a progress bar (plain lines where the output is not a terminal), False nothing, a
+    callable is told each ``EvaluationProgress``."""
     run = open_finished(run_dir)
-    with DirectoryLock(run.out):
-        remove_temporaries(run.out)
-        return _evaluate(run, senses, robots, Record(record), workers, ray_address, progress,
-                         save_every_s, baseline)
+    bar = evaluation_bar() if progress is True else None
+    try:
+        with DirectoryLock(run.out):
+            remove_temporaries(run.out)
+            return _evaluate(run, senses, robots, Record(record), workers, ray_address,
+                             bar or progress or None, save_every_s, baseline)
+    finally:
+        if bar is not None:
+            bar.close()
 
 
 def _evaluate(run: Run, senses, robots, record, workers, ray_address, progress, save_every_s,

@@ -57,6 +57,7 @@ from .evolution import (GAConfig, GAState, Scheme, ask, best_k, generation_stats
                         state_from_arrays, state_to_arrays, tell, transition_population)
 from .files import LOCK_NAME, DirectoryLock, atomic_write, remove_temporaries
 from .genome import ParamGroup, as_groups, decode, free_mask, random_genome, release
+from .progress import training_bar
 from .recording import RobotModel, TrialInfo, training_rrd, trial_rrd, write_rrd
 from .task import TrialConfig, network_for, trial_positions
 from .world import BallConfig, SectorConfig, WorldConfig
@@ -551,10 +552,12 @@ def _savez(path: Path, arrays: dict) -> None:
 
 def train(conditions: list[Condition], settings: Settings, out: Path, workers: int | None = None,
           ray_address: str | None = None, resume: bool = False,
-          progress: Callable[[Progress], None] | None = None, record_every: int = 0,
+          progress: Callable[[Progress], None] | bool = True, record_every: int = 0,
           command: str | None = None) -> Run:
     """Train ``conditions`` into the run directory ``out`` (the function the CLI calls;
-    ``command``, the command line that made the run, goes into a new run's manifest)."""
+    ``command``, the command line that made the run, goes into a new run's manifest).
+    ``progress``: True (default) shows a progress bar (a widget in Jupyter, plain lines where
+    the output is not a terminal), False nothing, a callable is told each ``Progress``."""
     names = [c.name for c in conditions]
     twice = sorted({n for n in names if names.count(n) > 1})
     if twice:
@@ -569,8 +572,11 @@ def train(conditions: list[Condition], settings: Settings, out: Path, workers: i
         if resume:
             run.repair()
         evaluator = make_evaluator(workers, ray_address)
+        bar = training_bar() if progress is True else None
         try:
-            run.train(evaluator, progress, record_every)
+            run.train(evaluator, bar or progress or None, record_every)
         finally:
             evaluator.close()
+            if bar is not None:
+                bar.close()
     return run
