@@ -319,11 +319,11 @@ def recording_overhead(robots: int = 2, seed: int = 0) -> dict:
             for k, position in enumerate(runner.world.systematic_points()):
                 t0 = time.perf_counter()
                 data = runner.run(network, k // 5, position)
-                trial_metrics(data)
+                measures = trial_metrics(data)
                 t1 = time.perf_counter()
                 info = TrialInfo("bench", phase.name, 0, i, k // 5, k, "systematic")
-                path = write_rrd(Path(tmp) / f"{i}-{k}.rrd",
-                                 trial_rrd(data, info, model, blueprint=False))
+                path = write_rrd(Path(tmp) / f"{i}-{k}.rrd", trial_rrd(
+                    data, info, model, blueprint=False, measures=measures))
                 t2 = time.perf_counter()
                 ratios.append((t2 - t0) / (t1 - t0))
                 size += path.stat().st_size

@@ -110,18 +110,18 @@ def run_robot(job: RobotJob) -> tuple[list[dict], list[bytes | None]]:
         sector = k // POINTS_PER_SECTOR
         data = runner.run(network, sector, position)
         path = job.recording_path(k, sector) if job.record else None
+        measures = trial_metrics(data, job.world.control_dt)
         rows.append({
             "condition": job.condition, "phase": job.phase.name, "phase_key": job.phase.key,
             "notation": job.phase.notation, "replication": job.replication, "rank": job.rank,
             "lifetime_fitness": job.lifetime_fitness, "baseline": job.baseline,
             "senses": job.trial.senses.value,
             "trial": k, "ball_x": float(position[0]), "ball_y": float(position[1]),
-            "ball_z": float(position[2]), **trial_metrics(data, job.world.control_dt),
-            "recording": path})
+            "ball_z": float(position[2]), **measures, "recording": path})
         recordings.append(trial_rrd(data, TrialInfo(
             job.condition, job.phase.name, job.replication, job.rank, sector, k, "systematic",
-            job.trial.senses.value), model, job.world.control_dt, blueprint=False)
-            if job.record else None)
+            job.trial.senses.value), model, job.world.control_dt, blueprint=False,
+            measures=measures) if job.record else None)
     return rows, recordings
 
 

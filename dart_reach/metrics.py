@@ -172,6 +172,39 @@ def joint_variability(joints) -> dict[str, float]:
     return {name: float(sd[list(idx)].mean()) for name, idx in JOINT_GROUPS.items()}
 
 
+#: Steps of the moving window of ``variability_over_time``: 2 s, two periods of the ~1 Hz
+#: quasi-periodic movements of pre-reachers (``hand_periodicity``).
+VARIABILITY_WINDOW = 20
+
+
+def variability_over_time(joints, window: int = VARIABILITY_WINDOW) -> dict[str, np.ndarray]:
+    """Movement variability (``joint_variability``) as it builds up over a trial, per step:
+    ``"cumulative/<group>"``, the standard deviation (ddof = 0, rad) of each joint of the group
+    over steps 0..t averaged over the group's joints (at the last step it equals
+    ``joint_variability``); ``"window/<group>"``, the same over the last ``window`` steps
+    (fewer at the start). Groups: elbow, shoulder, trunk. Each value is a (T,) array."""
+    q = np.asarray(joints, dtype=float)
+    if q.ndim != 2 or q.shape[1] != len(MOTOR_NAMES):
+        raise ValueError(f"joints must be a (T, {len(MOTOR_NAMES)}) array, got shape {q.shape}")
+    if window < 1:
+        raise ValueError(f"window must be at least 1 step, got {window}")
+    x = q - q[:1]  # about the first posture: the sums below lose no precision
+    zero = np.zeros((1, x.shape[1]))
+    s1 = np.concatenate([zero, np.cumsum(x, axis=0)])
+    s2 = np.concatenate([zero, np.cumsum(x * x, axis=0)])
+    t = np.arange(1, len(x) + 1)[:, None]
+    start = np.maximum(t - window, 0)
+    out = {}
+    for kind, lo in (("cumulative", np.zeros_like(t)), ("window", start)):
+        n = (t - lo).astype(float)
+        mean = (s1[t[:, 0]] - s1[lo[:, 0]]) / n
+        var = np.maximum((s2[t[:, 0]] - s2[lo[:, 0]]) / n - mean * mean, 0.0)
+        sd = np.sqrt(var)
+        for name, idx in JOINT_GROUPS.items():
+            out[f"{kind}/{name}"] = sd[:, list(idx)].mean(axis=1)
+    return out
+
+
 def hand_shoulder_distance(hand, shoulder) -> np.ndarray:
     """(T,) distance (m) between the palm point and the shoulder at each step (Fig. 6, top)."""
     return np.linalg.norm(_points(hand, "hand") - _points(shoulder, "shoulder"), axis=1)

@@ -19,11 +19,17 @@ Entity layout of a trial recording::
     network                internal and motor neuron states: hidden/h0..h7, motor/<motor>
     motor                  targets/<motor>: the targets sent to the joints, in [-1, 1]
     fitness                p_sight, p_touch, p_multimodal (Eq. 5)
+    variability            movement variability per step (Fig. 6): window/{elbow,shoulder,
+                           trunk} (rad, s.d. of the joints over the last 2 s),
+                           cumulative/{...} (since the trial's start; the last step's value
+                           is the trial's var_*), distance/{hand_shoulder,hand_ball} (m)
 
 Every group of time series is one ``Scalars`` entity with its series names logged once as static
 ``SeriesLines``; ``read_rrd`` turns them back into one polars column per series
-(``"sensors/proprio/r_elbow"``), one row per step. The recording's properties (``trial``) say
-condition, phase, replication, individual, sector, trial seed and sensory condition.
+(``"sensors/proprio/r_elbow"``), one row per step. The recording's properties say the trial
+(``trial``: condition, phase, replication, individual, sector, trial seed, sensory condition)
+and its measures (``measures``: ``MEASURES`` of ``metrics.trial_metrics``, as in
+evaluation.parquet).
 
 The run-level ``training.rrd`` holds best/mean/min fitness per phase and replication on the
 timeline ``generation``.
@@ -45,15 +51,18 @@ import rerun as rr
 import rerun.blueprint as rrb
 from rerun.chunk import RrdReader
 
+from . import metrics
 from .ctrnn import MOTOR_NAMES, N_HIDDEN, OFFSET, PROPRIO, SIGHT, TOUCH, TOUCH_NAMES
 from .files import atomic_write
 from .icub import HAND_SEGMENTS
 from .task import TrialData
 
 APP_ID = "dart_reach"
-#: Version of the entity layout, in every recording's properties (2: the five signal entities).
-LAYOUT = 2
+#: Version of the entity layout, in every recording's properties (2: the five signal entities;
+#: 3: movement variability and the trial's measures).
+LAYOUT = 3
 XYZ = ("x", "y", "z")
+JOINT_GROUP_NAMES = tuple(metrics.JOINT_GROUPS)
 
 #: The time series of a trial, as few entities as possible (every entity's column carries its
 #: own copy of the timelines, ~6 kB and ~0.2 ms per trial): entity -> groups of series (group
@@ -79,7 +88,24 @@ SIGNALS = (
     ("fitness", (
         ("", ("p_sight", "p_touch", "p_multimodal"),
          lambda d: np.stack([d.p_sight, d.p_touch, d.p_multimodal], axis=1)),)),
+    ("variability", (
+        ("window", JOINT_GROUP_NAMES, lambda d: _variability(d, "window")),
+        ("cumulative", JOINT_GROUP_NAMES, lambda d: _variability(d, "cumulative")),
+        ("distance", ("hand_shoulder", "hand_ball"),
+         lambda d: np.stack([metrics.hand_shoulder_distance(d.hand, d.shoulder),
+                             metrics.hand_ball_distance(d.hand, d.ball)], axis=1)))),
 )
+
+#: The per-trial measures a recording carries as its property ``measures``.
+MEASURES = ("fitness", "reached", "grasped", "first_touch_s", "first_grasp_s", "speed",
+            "straightness", "var_elbow", "var_shoulder", "var_trunk", "hand_shoulder_mean",
+            "elbow_freezing", "hand_ball_initial", "hand_ball_min", "babbling_freq_hz",
+            "babbling_share", "diverged")
+
+
+def _variability(data: TrialData, kind: str) -> np.ndarray:
+    v = metrics.variability_over_time(data.joints)
+    return np.stack([v[f"{kind}/{g}"] for g in JOINT_GROUP_NAMES], axis=1)
 
 
 def series_names(groups) -> list[str]:
@@ -248,6 +274,7 @@ def trial_blueprint() -> rrb.Blueprint:
                 rrb.TimeSeriesView(name="neurons", origin="network"),
                 rrb.TimeSeriesView(name="motor targets", origin="motor"),
                 rrb.TimeSeriesView(name="fitness", origin="fitness"),
+                rrb.TimeSeriesView(name="movement variability", origin="variability"),
             ),
             column_shares=[3, 2],
         ),
@@ -261,11 +288,12 @@ def _series_names(rec: rr.RecordingStream, entity: str, names) -> None:
 
 # ------------------------------------------------------------------------------ writing
 def trial_rrd(data: TrialData, info: TrialInfo, model: RobotModel, dt: float = 0.1,
-              blueprint: bool = True) -> bytes:
+              blueprint: bool = True, measures: dict | None = None) -> bytes:
     """The .rrd bytes of one trial (only its ``steps_run`` steps). With ``blueprint`` the file
     carries the default layout (``trial_blueprint``); that costs ~2.5 ms, a quarter of the
     recording's time, so the post-evaluation writes the layout once beside its recordings
-    instead (``write_blueprint``)."""
+    instead (``write_blueprint``). ``measures``: the trial's ``metrics.trial_metrics`` if
+    already computed; the recording's property ``measures`` holds those of ``MEASURES``."""
     T = data.steps_run
     steps = np.arange(T)
     rec = rr.RecordingStream(APP_ID, recording_id=info.name(), send_properties=False)
@@ -274,6 +302,8 @@ def trial_rrd(data: TrialData, info: TrialInfo, model: RobotModel, dt: float = 0
         rec.send_blueprint(trial_blueprint())
     rec.send_recording_name(info.name())
     rec.send_property("trial", rr.AnyValues(layout=LAYOUT, **asdict(info)))
+    measures = measures if measures is not None else metrics.trial_metrics(data, dt)
+    rec.send_property("measures", rr.AnyValues(**{m: measures[m] for m in MEASURES}))
     index = [rr.TimeColumn("step", sequence=steps), rr.TimeColumn("sim_time", duration=steps * dt)]
     for entity, groups in SIGNALS:
         _series_names(rec, entity, series_names(groups))

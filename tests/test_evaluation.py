@@ -16,7 +16,7 @@ from dart_reach import metrics
 from dart_reach.conditions import load_condition, scaled
 from dart_reach.evaluation import SENSES, evaluate_run, load_evaluation
 from dart_reach.experiment import Settings, train
-from dart_reach.recording import read_properties, read_rrd, verify
+from dart_reach.recording import MEASURES, read_properties, read_rrd, verify
 
 TRIALS = 45  # systematic positions, 5 per sector
 
@@ -84,6 +84,15 @@ def test_table_measures_agree_with_the_recording(evaluated):
         shoulder = rec.select("^robot/positions/shoulder/.*$").to_numpy()
         assert metrics.elbow_freezing(hand, shoulder) == pytest.approx(row["elbow_freezing"])
         assert np.linalg.norm(hand[0] - ball[0]) == pytest.approx(row["hand_ball_initial"])
+        # the per-step movement variability ends at the table's values, and the recording's
+        # measures are the table's row
+        for group in ("elbow", "shoulder", "trunk"):
+            assert rec[f"variability/cumulative/{group}"][-1] == pytest.approx(
+                row[f"var_{group}"], rel=1e-9, abs=1e-12)
+        props = read_properties(out / row["recording"])
+        for m in MEASURES:
+            same = props[m] == row[m] or (np.isnan(props[m]) and np.isnan(row[m]))
+            assert same, (m, props[m], row[m])
 
 
 def test_evaluating_again_adds_only_what_is_missing(evaluated, tmp_path):

@@ -11,6 +11,7 @@ import polars as pl
 import pytest
 from scipy.spatial.transform import Rotation
 
+from dart_reach import metrics
 from dart_reach import recording as rec
 from dart_reach.ctrnn import Network, random_params
 from dart_reach.task import Trial, TrialConfig
@@ -53,10 +54,34 @@ def test_what_is_read_equals_what_was_logged(tmp_path, world, trial):
             n_series += len(names)
     assert table.width == 2 + n_series
     props = rec.read_properties(path)
-    assert props == {"layout": rec.LAYOUT, "condition": "standard", "phase": "pre",
-                     "replication": 1, "individual": 2, "sector": 4, "trial": 7,
-                     "trial_seed": "SeedSequence(3, (1, 2))", "senses": "no-touch",
-                     "generation": -1}
+    info = {"layout": rec.LAYOUT, "condition": "standard", "phase": "pre", "replication": 1,
+            "individual": 2, "sector": 4, "trial": 7, "trial_seed": "SeedSequence(3, (1, 2))",
+            "senses": "no-touch", "generation": -1}
+    measures = metrics.trial_metrics(trial)
+    assert props.keys() == info.keys() | set(rec.MEASURES)
+    assert {k: props[k] for k in info} == info
+    for m in rec.MEASURES:
+        assert props[m] == measures[m] or (np.isnan(props[m]) and np.isnan(measures[m])), m
+
+
+def test_movement_variability_per_step_ends_at_the_trials_measures(tmp_path, world, trial):
+    """Fig. 6's variability and the hand distances, per step in the recording: the cumulative
+    values at the last step and the distances' statistics are the trial's measures, as
+    post-evaluation computes them for evaluation.parquet."""
+    table = rec.read_rrd(_write(tmp_path, world, trial))
+    measures = metrics.trial_metrics(trial)
+    for group in ("elbow", "shoulder", "trunk"):
+        cumulative = table[f"variability/cumulative/{group}"].to_numpy()
+        assert cumulative[-1] == pytest.approx(measures[f"var_{group}"], rel=1e-9, abs=1e-12)
+        assert cumulative[0] == 0.0 and (cumulative >= 0).all()
+        window = table[f"variability/window/{group}"].to_numpy()
+        q = trial.joints[:40][:, list(metrics.JOINT_GROUPS[group])]
+        assert window[30] == pytest.approx(q[11:31].std(axis=0).mean(), rel=1e-9, abs=1e-12)
+    d = table["variability/distance/hand_shoulder"].to_numpy()
+    assert d.mean() == pytest.approx(measures["hand_shoulder_mean"], rel=1e-12)
+    assert d.std() == pytest.approx(measures["elbow_freezing"], rel=1e-9)
+    assert table["variability/distance/hand_ball"].min() == pytest.approx(
+        measures["hand_ball_min"], rel=1e-12)
 
 
 def test_a_diverged_trial_records_only_the_steps_it_ran(tmp_path, world, trial):
