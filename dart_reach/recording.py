@@ -26,10 +26,9 @@ Entity layout of a trial recording::
 
 Every group of time series is one ``Scalars`` entity with its series names logged once as static
 ``SeriesLines``; ``read_rrd`` turns them back into one polars column per series
-(``"sensors/proprio/r_elbow"``), one row per step. The recording's properties say the trial
-(``trial``: condition, phase, replication, individual, sector, trial seed, sensory condition)
-and its measures (``measures``: ``MEASURES`` of ``metrics.trial_metrics``, as in
-evaluation.parquet).
+(``"sensors/proprio/r_elbow"``), one row per step. The recording's property ``trial`` says
+condition, phase, replication, individual, sector, trial seed and sensory condition, and holds
+the trial's measures (``MEASURES`` of ``metrics.trial_metrics``, as in evaluation.parquet).
 
 The run-level ``training.rrd`` holds best/mean/min fitness per phase and replication on the
 timeline ``generation``.
@@ -89,11 +88,9 @@ SIGNALS = (
         ("", ("p_sight", "p_touch", "p_multimodal"),
          lambda d: np.stack([d.p_sight, d.p_touch, d.p_multimodal], axis=1)),)),
     ("variability", (
-        ("window", JOINT_GROUP_NAMES, lambda d: _variability(d, "window")),
-        ("cumulative", JOINT_GROUP_NAMES, lambda d: _variability(d, "cumulative")),
-        ("distance", ("hand_shoulder", "hand_ball"),
-         lambda d: np.stack([metrics.hand_shoulder_distance(d.hand, d.shoulder),
-                             metrics.hand_ball_distance(d.hand, d.ball)], axis=1)))),
+        ("", tuple(f"{kind}/{g}" for kind in ("window", "cumulative")
+                   for g in JOINT_GROUP_NAMES) + ("distance/hand_shoulder", "distance/hand_ball"),
+         lambda d: _variability(d)),)),
 )
 
 #: The per-trial measures a recording carries as its property ``measures``.
@@ -103,9 +100,14 @@ MEASURES = ("fitness", "reached", "grasped", "first_touch_s", "first_grasp_s", "
             "babbling_share", "diverged")
 
 
-def _variability(data: TrialData, kind: str) -> np.ndarray:
+def _variability(data: TrialData) -> np.ndarray:
+    """(T, 8): window and cumulative variability per joint group, hand-shoulder and
+    hand-ball distance (``metrics``)."""
     v = metrics.variability_over_time(data.joints)
-    return np.stack([v[f"{kind}/{g}"] for g in JOINT_GROUP_NAMES], axis=1)
+    return np.stack([v[f"{kind}/{g}"] for kind in ("window", "cumulative")
+                     for g in JOINT_GROUP_NAMES]
+                    + [metrics.hand_shoulder_distance(data.hand, data.shoulder),
+                       metrics.hand_ball_distance(data.hand, data.ball)], axis=1)
 
 
 def series_names(groups) -> list[str]:
@@ -293,7 +295,8 @@ def trial_rrd(data: TrialData, info: TrialInfo, model: RobotModel, dt: float = 0
     carries the default layout (``trial_blueprint``); that costs ~2.5 ms, a quarter of the
     recording's time, so the post-evaluation writes the layout once beside its recordings
     instead (``write_blueprint``). ``measures``: the trial's ``metrics.trial_metrics`` if
-    already computed; the recording's property ``measures`` holds those of ``MEASURES``."""
+    already computed; the recording's property ``trial`` holds those of ``MEASURES`` beside the
+    trial's ``TrialInfo``."""
     T = data.steps_run
     steps = np.arange(T)
     rec = rr.RecordingStream(APP_ID, recording_id=info.name(), send_properties=False)
@@ -301,9 +304,9 @@ def trial_rrd(data: TrialData, info: TrialInfo, model: RobotModel, dt: float = 0
     if blueprint:
         rec.send_blueprint(trial_blueprint())
     rec.send_recording_name(info.name())
-    rec.send_property("trial", rr.AnyValues(layout=LAYOUT, **asdict(info)))
     measures = measures if measures is not None else metrics.trial_metrics(data, dt)
-    rec.send_property("measures", rr.AnyValues(**{m: measures[m] for m in MEASURES}))
+    rec.send_property("trial", rr.AnyValues(layout=LAYOUT, **asdict(info),
+                                            **{m: measures[m] for m in MEASURES}))
     index = [rr.TimeColumn("step", sequence=steps), rr.TimeColumn("sim_time", duration=steps * dt)]
     for entity, groups in SIGNALS:
         _series_names(rec, entity, series_names(groups))
