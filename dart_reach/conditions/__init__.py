@@ -412,7 +412,46 @@ def scaled(condition: Condition, generations: int | None = None) -> Condition:
     return dataclasses.replace(condition, phases=phases, generations_per_phase=generations)
 
 
+def variant(condition: Condition, name: str, phases: dict[str, dict] | None = None,
+            **changes) -> Condition:
+    """A new condition made from ``condition`` (an ablation written in Python): renamed
+    ``name``, with ``changes`` to its own fields (``notation``, ``description``,
+    ``generations_per_phase``) and ``phases`` = {phase name: {field: value}} changes to its
+    phases' fields (``acuity``, ``reflexes``, ``offset_sensors``, ``free_groups``,
+    ``notation``, ``name``, ``budget_phases``); the phase name ``"*"`` changes every phase.
+    Every check of ``Condition`` and ``Phase`` applies; a changed phase gets a new key, so it
+    is trained anew, while unchanged leading phases are shared with the original condition
+    when both are trained in one run.
+
+    >>> std = load_condition("standard")
+    >>> sharp = variant(std, "standard-sharp", phases={"pre": {"acuity": 1.0}})
+    >>> sharp.phase("pre").acuity, sharp.phase("gross").acuity
+    (1.0, 1.0)
+    """
+    phases = dict(phases or {})
+    unknown = set(phases) - {p.name for p in condition.phases} - {"*"}
+    if unknown:
+        raise ConditionError(f"condition {condition.name!r} has no phase {sorted(unknown)}; "
+                             f"phases: {[p.name for p in condition.phases]}")
+    allowed = {f.name for f in dataclasses.fields(Phase)} - {"generations", "previous_key"}
+    for phase_name, fields in phases.items():
+        bad = set(fields) - allowed
+        if bad:
+            raise ConditionError(f"phases[{phase_name!r}]: unknown or derived fields "
+                                 f"{sorted(bad)}; changeable: {sorted(allowed)}")
+    g = changes.get("generations_per_phase", condition.generations_per_phase)
+    new_phases = []
+    for p in condition.phases:
+        fields = {**phases.get("*", {}), **phases.get(p.name, {})}
+        p = dataclasses.replace(p, **fields)
+        new_phases.append(dataclasses.replace(p, generations=p.budget_phases * g))
+    description = changes.pop("description", f"{condition.description} (variant {name})")
+    return dataclasses.replace(condition, name=name, description=description,
+                               phases=tuple(new_phases), source="<memory>", **changes)
+
+
 __all__ = [
     "Condition", "ConditionError", "DEFAULT_GENERATIONS_PER_PHASE", "Phase",
     "condition_from_dict", "condition_names", "list_conditions", "load_condition", "scaled",
+    "variant",
 ]
