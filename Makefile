@@ -5,7 +5,7 @@ PY ?= $(shell command -v python3.11 || command -v python3)
 VENV := .venv
 BIN := $(VENV)/bin
 
-.PHONY: demo test bench skeleton clean notebooks
+.PHONY: demo test bench skeleton clean notebooks screenshots
 
 $(BIN)/python:
 	$(PY) -m venv $(VENV)
@@ -45,6 +45,15 @@ demo: $(VENV)/.installed
 	@echo "  $(abspath $(DEMO_OUT))/report.html"
 	@echo "Redraw the paper's figures 5-10 in Jupyter:"
 	@echo "  make notebooks"
+
+# The README's pictures (docs/*.png) from the demo run, rendered by the real Rerun viewer
+# headless. Software Vulkan (Mesa's lavapipe) is the one system package it needs: installed
+# here with apt-get where that is possible (as root on Debian/Ubuntu).
+LAVAPIPE := /usr/share/vulkan/icd.d/lvp_icd.x86_64.json
+screenshots: demo
+	@test -f $(LAVAPIPE) || apt-get install -y -q --no-install-recommends mesa-vulkan-drivers \
+		|| echo "install Mesa's Vulkan drivers (Debian: mesa-vulkan-drivers) to render headless"
+	$(BIN)/python -m dart_reach.screenshots $(DEMO_OUT) docs
 
 # Jupyter Lab on the analysis notebooks (installs the 'notebooks' extra on first use).
 notebooks: $(VENV)/.installed-notebooks

@@ -9,26 +9,31 @@ more than the physics; see ``dart-reach bench``, ``recording_overhead``). Timeli
 Entity layout of a trial recording::
 
     world/robot            the robot's visual boxes (static sizes, poses per step; touching
-                           segments drawn red)
+                           segments drawn yellow)
+    world/pendulum         the ball's string: pivot (static) and string per step
     world/spheres          the head, the ball (red) and the palm point (blue), per step
     world/paths            the whole paths of the hand and of the ball
-    robot                  joints/<motor> (rad), contacts/<segment> (1 = touching the ball,
-                           icub.HAND_SEGMENTS), positions/{hand,shoulder,ball}/{x,y,z} (m, the
-                           iCub root frame)
-    sensors                the network's 25 inputs: proprio/*, touch/*, sight/*, offset/*
-    network                internal and motor neuron states: hidden/h0..h7, motor/<motor>
-    motor                  targets/<motor>: the targets sent to the joints, in [-1, 1]
-    fitness                p_sight, p_touch, p_multimodal (Eq. 5)
-    variability            movement variability per step (Fig. 6): window/{elbow,shoulder,
-                           trunk} (rad, s.d. of the joints over the last 2 s),
-                           cumulative/{...} (since the trial's start; the last step's value
-                           is the trial's var_*), distance/{hand_shoulder,hand_ball} (m)
+    robot/joints/{head_torso,arm_hand}    joint angles per motor (rad)
+    robot/contacts                        1 = the segment touches the ball (icub.HAND_SEGMENTS)
+    robot/positions                       {hand,shoulder,ball}/{x,y,z} (m, the iCub root frame)
+    sensors/proprio/{head_torso,arm_hand} the network's inputs: proprioception, and
+    sensors/{touch,sight,offset}          touch, sight, offset (25 in all)
+    network/hidden                        internal neuron states h0..h7 (the motor
+                                          neurons' are the targets': 2 m - 1)
+    motor/targets/{head_torso,arm_hand}   the targets sent to the joints, in [-1, 1]
+    fitness                               p_sight, p_touch, p_multimodal (Eq. 5)
+    variability/joints                    movement variability per step (Fig. 6), window/
+                                          and cumulative/{elbow,shoulder,trunk}: s.d. of the
+                                          joints over the last 2 s and since the start (rad;
+                                          the last step's cumulative is the trial's var_*)
+    variability/distance                  hand_shoulder, hand_ball (m)
 
-Every group of time series is one ``Scalars`` entity with its series names logged once as static
-``SeriesLines``; ``read_rrd`` turns them back into one polars column per series
-(``"sensors/proprio/r_elbow"``), one row per step. The recording's property ``trial`` says
-condition, phase, replication, individual, sector, trial seed and sensory condition, and holds
-the trial's measures (``MEASURES`` of ``metrics.trial_metrics``, as in evaluation.parquet).
+Each of these is one ``Scalars`` entity (one panel of the default layout, ``PANELS``) with its
+series names logged once as static ``SeriesLines``; ``read_rrd`` turns them back into one
+polars column per series (``"sensors/proprio/arm_hand/r_elbow"``), one row per step. The
+recording's property ``trial`` says condition, phase, replication, individual, sector, trial
+seed and sensory condition, and holds the trial's measures (``MEASURES`` of
+``metrics.trial_metrics``, as in evaluation.parquet).
 
 The run-level ``training.rrd`` holds best/mean/min fitness per phase and replication on the
 timeline ``generation``.
@@ -58,42 +63,39 @@ from .task import TrialData
 
 APP_ID = "dart_reach"
 #: Version of the entity layout, in every recording's properties (2: the five signal entities;
-#: 3: movement variability and the trial's measures).
+#: 3: one entity per panel, movement variability, the trial's measures, the pendulum).
 LAYOUT = 3
 XYZ = ("x", "y", "z")
 JOINT_GROUP_NAMES = tuple(metrics.JOINT_GROUPS)
 
-#: The time series of a trial, as few entities as possible (every entity's column carries its
-#: own copy of the timelines, ~6 kB and ~0.2 ms per trial): entity -> groups of series (group
-#: name, series names, the (T, n) array of a record). Series are named "<group>/<name>", or
-#: "<name>" for the group "".
+#: The time series of a trial: (entity, series names, the (T, n) array of a record). Each
+#: entity is what one panel of the default layout shows (a few lines; every entity's column
+#: carries its own copy of the timelines, ~6 kB and ~0.2 ms per trial). A series is read back
+#: as the column "<entity>/<name>".
+_HT, _AH = slice(0, 6), slice(6, 14)  # motors of head and torso; of arm and hand
 SIGNALS = (
-    ("robot", (
-        ("joints", MOTOR_NAMES, lambda d: d.joints),
-        ("contacts", HAND_SEGMENTS, lambda d: d.contacts),
-        ("positions/hand", XYZ, lambda d: d.hand),
-        ("positions/shoulder", XYZ, lambda d: d.shoulder),
-        ("positions/ball", XYZ, lambda d: d.ball))),
-    ("sensors", (
-        ("proprio", MOTOR_NAMES, lambda d: d.sensors[:, PROPRIO]),
-        ("touch", TOUCH_NAMES, lambda d: d.sensors[:, TOUCH]),
-        ("sight", ("x", "y", "distance"), lambda d: d.sensors[:, SIGHT]),
-        ("offset", ("x", "y"), lambda d: d.sensors[:, OFFSET]))),
-    ("network", (
-        ("hidden", tuple(f"h{i}" for i in range(N_HIDDEN)), lambda d: d.hidden),
-        ("motor", MOTOR_NAMES, lambda d: d.motor))),
-    ("motor", (
-        ("targets", MOTOR_NAMES, lambda d: d.targets),)),
-    ("fitness", (
-        ("", ("p_sight", "p_touch", "p_multimodal"),
-         lambda d: np.stack([d.p_sight, d.p_touch, d.p_multimodal], axis=1)),)),
-    ("variability", (
-        ("", tuple(f"{kind}/{g}" for kind in ("window", "cumulative")
-                   for g in JOINT_GROUP_NAMES) + ("distance/hand_shoulder", "distance/hand_ball"),
-         lambda d: _variability(d)),)),
+    ("robot/joints/head_torso", MOTOR_NAMES[_HT], lambda d: d.joints[:, _HT]),
+    ("robot/joints/arm_hand", MOTOR_NAMES[_AH], lambda d: d.joints[:, _AH]),
+    ("robot/contacts", HAND_SEGMENTS, lambda d: d.contacts),
+    ("robot/positions", tuple(f"{b}/{a}" for b in ("hand", "shoulder", "ball") for a in XYZ),
+     lambda d: np.concatenate([d.hand, d.shoulder, d.ball], axis=1)),
+    ("sensors/proprio/head_torso", MOTOR_NAMES[_HT], lambda d: d.sensors[:, PROPRIO][:, _HT]),
+    ("sensors/proprio/arm_hand", MOTOR_NAMES[_AH], lambda d: d.sensors[:, PROPRIO][:, _AH]),
+    ("sensors/touch", TOUCH_NAMES, lambda d: d.sensors[:, TOUCH]),
+    ("sensors/sight", ("x", "y", "distance"), lambda d: d.sensors[:, SIGHT]),
+    ("sensors/offset", ("x", "y"), lambda d: d.sensors[:, OFFSET]),
+    # the motor neurons' states are the targets' (2 m - 1, ctrnn.motor_targets): not repeated
+    ("network/hidden", tuple(f"h{i}" for i in range(N_HIDDEN)), lambda d: d.hidden),
+    ("motor/targets/head_torso", MOTOR_NAMES[_HT], lambda d: d.targets[:, _HT]),
+    ("motor/targets/arm_hand", MOTOR_NAMES[_AH], lambda d: d.targets[:, _AH]),
+    ("fitness", ("p_sight", "p_touch", "p_multimodal"),
+     lambda d: np.stack([d.p_sight, d.p_touch, d.p_multimodal], axis=1)),
+    ("variability/joints", tuple(f"{kind}/{g}" for kind in ("window", "cumulative")
+                                 for g in JOINT_GROUP_NAMES), lambda d: _variability(d)[:, :6]),
+    ("variability/distance", ("hand_shoulder", "hand_ball"), lambda d: _variability(d)[:, 6:]),
 )
 
-#: The per-trial measures a recording carries as its property ``measures``.
+#: The per-trial measures a recording carries in its property ``trial``.
 MEASURES = ("fitness", "reached", "grasped", "first_touch_s", "first_grasp_s", "speed",
             "straightness", "var_elbow", "var_shoulder", "var_trunk", "hand_shoulder_mean",
             "elbow_freezing", "hand_ball_initial", "hand_ball_min", "babbling_freq_hz",
@@ -110,12 +112,8 @@ def _variability(data: TrialData) -> np.ndarray:
                        metrics.hand_ball_distance(data.hand, data.ball)], axis=1)
 
 
-def series_names(groups) -> list[str]:
-    """The names of an entity's series, for its groups of ``SIGNALS``."""
-    return [f"{g}/{n}" if g else n for g, names, _ in groups for n in names]
-
-
 _GREY, _RED, _HAND_COLOUR = (170, 170, 180, 255), (230, 40, 40, 255), (40, 120, 230, 255)
+_TOUCH, _STRING = (255, 200, 0, 255), (90, 90, 90, 255)
 
 
 class RecordingError(ValueError):
@@ -196,6 +194,7 @@ class RobotModel:
         self.sphere_local = np.stack([s[1] for s in spheres]) if spheres else np.zeros((0, 4, 4))
         self.sphere_radius = np.array([s[2] for s in spheres])
         self.ball_radius = world.config.ball.radius
+        self.string_length = world.config.ball.string_length
 
     def body_transforms(self, dofs: np.ndarray) -> np.ndarray:
         """World transforms (T, B, 4, 4) of every body for joint positions ``dofs`` (T, ndof)."""
@@ -264,22 +263,79 @@ def quaternions(R: np.ndarray) -> np.ndarray:
 
 
 # ------------------------------------------------------------------------------ blueprints
+#: Qualitative colours of the lines of one panel (matplotlib's tab10): a panel never shows
+#: more than ten lines, and its lines never share a colour.
+_PALETTE = ((31, 119, 180), (255, 127, 14), (44, 160, 44), (214, 39, 40), (148, 103, 189),
+            (140, 86, 75), (227, 119, 194), (127, 127, 127), (188, 189, 34), (23, 190, 207))
+
+#: The time-series panels of a trial: (panel name, the entities of ``SIGNALS`` it shows).
+PANELS = (
+    ("proprioception: head, torso", ["sensors/proprio/head_torso"]),
+    ("proprioception: arm, hand", ["sensors/proprio/arm_hand"]),
+    ("touch", ["sensors/touch"]),
+    ("sight and hand-ball offset", ["sensors/sight", "sensors/offset"]),
+    ("internal neurons", ["network/hidden"]),
+    ("motor targets: head, torso", ["motor/targets/head_torso"]),
+    ("motor targets: arm, hand", ["motor/targets/arm_hand"]),
+    ("fitness (Eq. 5)", ["fitness"]),
+    ("joint angles: head, torso (rad)", ["robot/joints/head_torso"]),
+    ("joint angles: arm, hand (rad)", ["robot/joints/arm_hand"]),
+    ("hand contacts with the ball", ["robot/contacts"]),
+    ("movement variability (rad): s.d. over the last 2 s, and since the start",
+     ["variability/joints"]),
+    ("hand-shoulder and hand-ball distance (m)", ["variability/distance"]),
+)
+#: The 3D view's camera: in front of the robot, to its right and above, on the sector area.
+CAMERA = {"position": (-0.85, 0.55, 0.45), "look_target": (-0.18, 0.1, 0.12),
+          "eye_up": (0.0, 0.0, 1.0)}
+
+
+def _colours(entities) -> dict[str, list]:
+    """Distinct colours for the lines of one panel, in order across its entities."""
+    names = dict((e, n) for e, n, _ in SIGNALS)
+    out, k = {}, 0
+    for e in entities:
+        out[e] = [_PALETTE[(k + i) % len(_PALETTE)] for i in range(len(names[e]))]
+        k += len(names[e])
+    return out
+
+
+def _panel(name: str, entities: list[str]) -> rrb.TimeSeriesView:
+    """A panel of a few entities' lines in distinct colours; with several entities each line's
+    legend name is prefixed with its entity's last part ("offset x")."""
+    origin = os.path.commonpath(entities)
+    names = dict((e, n) for e, n, _ in SIGNALS)
+    overrides = {}
+    for e, colours in _colours(entities).items():
+        label = [f"{e.rpartition('/')[2]} {n}" for n in names[e]] if len(entities) > 1 else None
+        overrides[e] = rr.SeriesLines.from_fields(colors=colours, names=label)
+    return rrb.TimeSeriesView(name=name, origin=f"/{origin}",
+                              contents=[f"+ /{e}" for e in entities],
+                              plot_legend=rrb.Corner2D.LeftTop, overrides=overrides)
+
+
 @functools.cache
 def trial_blueprint() -> rrb.Blueprint:
-    """The default layout of a trial: the 3D scene beside the sensor, neuron, motor and fitness
-    time series (built once per process)."""
+    """The default layout of a trial (built once per process): the robot and the ball in 3D
+    from a fixed camera (Z up; the pendulum's string drawn; touching hand segments yellow),
+    the same scene with the hand and ball paths, and tabs of small time-series panels of a
+    few distinct lines each (``PANELS``). Playback runs at real time on ``sim_time``."""
+    scene = rrb.Spatial3DView(
+        name="robot and ball", origin="world", contents=["+ $origin/**", "- /world/paths/**"],
+        eye_controls=rrb.EyeControls3D(**CAMERA), line_grid=rrb.LineGrid3D(visible=False))
+    paths = rrb.Spatial3DView(name="hand and ball paths", origin="world",
+                              eye_controls=rrb.EyeControls3D(**CAMERA),
+                              line_grid=rrb.LineGrid3D(visible=False))
+    panels = [_panel(*p) for p in PANELS]
+    tabs = rrb.Tabs(
+        rrb.Grid(*panels[:4], name="sensors", grid_columns=2),
+        rrb.Grid(*panels[4:8], name="network, motors, fitness", grid_columns=2),
+        rrb.Grid(*panels[8:11], name="robot", grid_columns=1),
+        rrb.Grid(*panels[11:], name="movement variability", grid_columns=1))
     return rrb.Blueprint(
-        rrb.Horizontal(
-            rrb.Spatial3DView(name="scene", origin="world"),
-            rrb.Vertical(
-                rrb.TimeSeriesView(name="sensors", origin="sensors"),
-                rrb.TimeSeriesView(name="neurons", origin="network"),
-                rrb.TimeSeriesView(name="motor targets", origin="motor"),
-                rrb.TimeSeriesView(name="fitness", origin="fitness"),
-                rrb.TimeSeriesView(name="movement variability", origin="variability"),
-            ),
-            column_shares=[3, 2],
-        ),
+        rrb.Horizontal(rrb.Vertical(scene, paths, row_shares=[3, 2]), tabs,
+                       column_shares=[1, 1]),
+        rrb.TimePanel(timeline="sim_time", playback_speed=1.0),
         collapse_panels=False,
     )
 
@@ -308,18 +364,19 @@ def trial_rrd(data: TrialData, info: TrialInfo, model: RobotModel, dt: float = 0
     rec.send_property("trial", rr.AnyValues(layout=LAYOUT, **asdict(info),
                                             **{m: measures[m] for m in MEASURES}))
     index = [rr.TimeColumn("step", sequence=steps), rr.TimeColumn("sim_time", duration=steps * dt)]
-    for entity, groups in SIGNALS:
-        _series_names(rec, entity, series_names(groups))
-        values = np.concatenate([get(data)[:T] for _, _, get in groups], axis=1, dtype=float)
+    for entity, names, get in SIGNALS:
+        _series_names(rec, entity, names)
+        values = np.asarray(get(data)[:T], dtype=float)
         rec.send_columns(entity, indexes=index, columns=rr.Scalars.columns(scalars=values))
 
-    # the 3D scene
+    # the 3D scene (the iCub root frame: +x backward, +y right, +z up)
+    rec.log("world", rr.ViewCoordinates.RIGHT_HAND_Z_UP, static=True)
     centres, quats, spheres = model.shape_poses(data.dofs[:T])
     nb = centres.shape[1]
     touching = np.zeros((T, nb), bool)
     on_hand = model.box_segment >= 0
     touching[:, on_hand] = data.contacts[:T][:, model.box_segment[on_hand]]
-    colours = np.where(touching[..., None], _RED, _GREY).astype(np.uint8).reshape(-1, 4)
+    colours = np.where(touching[..., None], _TOUCH, _GREY).astype(np.uint8).reshape(-1, 4)
     rec.log("world/robot", rr.Boxes3D(half_sizes=model.box_half, fill_mode="solid"),
             static=True)
     rec.send_columns("world/robot", indexes=index, columns=rr.Boxes3D.columns(
@@ -335,6 +392,16 @@ def trial_rrd(data: TrialData, info: TrialInfo, model: RobotModel, dt: float = 0
     rec.send_columns("world/spheres", indexes=index, columns=rr.Ellipsoids3D.columns(
         centers=np.concatenate([spheres, data.ball[:T, None], data.hand[:T, None]], axis=1)
         .reshape(-1, 3)).partition([len(radii)] * T))
+    # the pendulum: its fixed pivot above the ball's start, and the string to the ball
+    pivot = np.asarray(data.ball_start, float) + [0.0, 0.0, model.string_length]
+    rec.log("world/pendulum/pivot", rr.Points3D([pivot], radii=0.006, colors=[_STRING]),
+            static=True)
+    strings = np.stack([np.broadcast_to(pivot, (T, 3)), data.ball[:T]], axis=1)
+    rec.log("world/pendulum/string", rr.LineStrips3D.from_fields(radii=0.0015,
+                                                                  colors=[_STRING]),
+            static=True)
+    rec.send_columns("world/pendulum/string", indexes=index,
+                     columns=rr.LineStrips3D.columns(strips=list(strings)))
     rec.log("world/paths", rr.LineStrips3D([data.hand[:T], data.ball[:T]], radii=0.002,
                                            colors=[_HAND_COLOUR, _RED],
                                            labels=["hand path", "ball path"]), static=True)
@@ -344,9 +411,12 @@ def trial_rrd(data: TrialData, info: TrialInfo, model: RobotModel, dt: float = 0
 
 
 def training_rrd(stats: pl.DataFrame, run_name: str) -> bytes:
-    """The .rrd bytes of a run's fitness statistics (``generations.parquet``): per condition,
-    phase and replication the best, mean and min fitness on the timeline ``generation``, counted
-    from the start of the condition (a phase's generations follow its predecessor's)."""
+    """The .rrd bytes of a run's fitness statistics (``generations.parquet``) on the timeline
+    ``generation``, counted from the start of each condition (a phase's generations follow its
+    predecessor's). One entity and one panel per condition and phase
+    (``<condition>/<phase>``), with the series ``best rep<r>``, ``mean rep<r>`` and ``min
+    rep<r>`` of each replication: a replication has one colour, its best line is thick, its
+    mean thin, its min hidden (shown from the legend)."""
     rec = rr.RecordingStream(APP_ID, recording_id=f"training {run_name}", send_properties=False)
     stream = rec.binary_stream()
     rec.send_recording_name(f"training {run_name}")
@@ -355,18 +425,30 @@ def training_rrd(stats: pl.DataFrame, run_name: str) -> bytes:
     for (condition,), rows in stats.sort("condition").group_by("condition", maintain_order=True):
         offset = 0
         for phase in rows["phase"].unique(maintain_order=True):
-            p = rows.filter(pl.col("phase") == phase)
-            for (rep,), r in p.sort("replication", "generation").group_by(
-                    "replication", maintain_order=True):
-                entity = f"{condition}/{phase}/rep{rep}"
-                _series_names(rec, entity, ("best", "mean", "min"))
-                rec.send_columns(entity, indexes=[rr.TimeColumn(
-                    "generation", sequence=r["generation"].to_numpy() + offset)],
-                    columns=rr.Scalars.columns(scalars=r.select("best", "mean", "min")
-                                               .to_numpy().astype(float)))
+            p = rows.filter(pl.col("phase") == phase).sort("generation", "replication")
+            reps = p["replication"].unique().sort().to_list()
+            wide = p.pivot("replication", index="generation", values=["best", "mean", "min"],
+                           sort_columns=True)
+            names, columns, colours, widths, visible = [], [], [], [], []
+            for kind, width in (("best", 2.5), ("mean", 1.0), ("min", 1.0)):
+                for i, r in enumerate(reps):
+                    names.append(f"{kind} rep{r}")
+                    columns.append(wide[f"{kind}_{r}"])
+                    colours.append(_PALETTE[i % len(_PALETTE)])
+                    widths.append(width)
+                    visible.append(kind != "min")
+            entity = f"{condition}/{phase}"
+            rec.log(entity, rr.SeriesLines(names=names, colors=colours, widths=widths,
+                                           visible_series=visible), static=True)
+            rec.send_columns(entity, indexes=[rr.TimeColumn(
+                "generation", sequence=wide["generation"].to_numpy() + offset)],
+                columns=rr.Scalars.columns(scalars=np.stack(
+                    [c.to_numpy().astype(float) for c in columns], axis=1)))
             offset += int(p["generation"].max())
-        views.append(rrb.TimeSeriesView(name=f"{condition} fitness", origin=condition))
-    rec.send_blueprint(rrb.Blueprint(rrb.Vertical(*views) if views else rrb.Vertical()))
+            views.append(rrb.TimeSeriesView(name=f"{condition}: {phase}", origin=entity,
+                                            plot_legend=rrb.Corner2D.LeftTop))
+    rec.send_blueprint(rrb.Blueprint(rrb.Grid(*views) if views else rrb.Vertical(),
+                                     rrb.TimePanel(timeline="generation")))
     out = stream.read()
     rec.disconnect()
     return out or b""

@@ -87,7 +87,7 @@ def test_table_measures_agree_with_the_recording(evaluated):
         # the per-step movement variability ends at the table's values, and the recording's
         # measures are the table's row
         for group in ("elbow", "shoulder", "trunk"):
-            assert rec[f"variability/cumulative/{group}"][-1] == pytest.approx(
+            assert rec[f"variability/joints/cumulative/{group}"][-1] == pytest.approx(
                 row[f"var_{group}"], rel=1e-9, abs=1e-12)
         props = read_properties(out / row["recording"])
         for m in MEASURES:
