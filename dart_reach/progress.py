@@ -22,9 +22,16 @@ def _duration(seconds: float) -> str:
     return f"{h}h{m:02d}m" if h else f"{m}m{s:02d}s"
 
 
+def in_jupyter() -> bool:
+    """True when running in a Jupyter (IPython) kernel."""
+    ipython = sys.modules.get("IPython")
+    shell = ipython.get_ipython() if ipython is not None else None
+    return shell is not None and hasattr(shell, "kernel")
+
+
 def interactive(stream) -> bool:
     """True on a terminal or in a Jupyter kernel: where a bar redraws in place."""
-    return "ipykernel" in sys.modules or bool(getattr(stream, "isatty", lambda: False)())
+    return in_jupyter() or bool(getattr(stream, "isatty", lambda: False)())
 
 
 class ProgressBar:

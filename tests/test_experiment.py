@@ -141,7 +141,7 @@ class Flush:
 Flush()
 print("the destructor's exception was swallowed", flush=True)
 try:
-    cli._progress_printer(str)("next generation")
+    cli._checked(print)("next generation")
 except KeyboardInterrupt:
     sys.exit(0)
 sys.exit(1)
@@ -200,7 +200,7 @@ def test_training_recordings(tmp_path):
     stats = pl.read_parquet(recorded.out / "generations.parquet")
     series = read_rrd(recorded.out / "training.rrd")
     for (phase, rep), rows in stats.group_by("phase", "replication"):
-        column = series[f"standard/{phase}/rep{rep}/best"].drop_nulls()
+        column = series[f"standard/{phase}/best rep{rep}"].drop_nulls()
         assert column.to_list() == rows.sort("generation")["best"].to_list()
     files = sorted(recorded.out.glob("phases/*/best/*.rrd"))
     # generations 2 (every 2) and 3 (the end of the phase), 2 replications, 3 phases

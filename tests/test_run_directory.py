@@ -6,6 +6,7 @@ from __future__ import annotations
 
 import json
 import os
+import re
 import shutil
 import signal
 import subprocess
@@ -359,10 +360,10 @@ def test_evaluate_is_locked_and_sigterm_keeps_every_robot_it_reported(reference,
     first = subprocess.Popen([sys.executable, "-m", "dart_reach.cli", "evaluate", str(out),
                               "--sensors", "all", "--record", "none", "--workers", "1"],
                              stderr=subprocess.PIPE, text=True)
-    reported = 0
+    reported, done = 0, re.compile(r"(\d+)/\d+ robots")
     for line in first.stderr:
-        if "robot " in line:
-            reported = int(line.split("robot ")[1].split("/")[0])
+        if done.search(line):
+            reported = int(done.search(line).group(1))
             break
     second = _cli("evaluate", out, "--workers", "1")
     assert second.returncode == 2 and f"PID {first.pid}" in second.stderr, second.stderr
@@ -372,7 +373,7 @@ def test_evaluate_is_locked_and_sigterm_keeps_every_robot_it_reported(reference,
     assert first.returncode == 143, rest
     assert "interrupted" in rest and "Traceback" not in rest
     for line in rest.splitlines():
-        if "robot " in line:
-            reported = int(line.split("robot ")[1].split("/")[0])
+        if done.search(line):
+            reported = int(done.search(line).group(1))
     table = pl.read_parquet(out / "evaluation.parquet")
     assert reported >= 1 and table.height == reported * 45
