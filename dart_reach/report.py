@@ -127,7 +127,9 @@ def _provenance(run_dir: Path) -> tuple[pl.DataFrame, float]:
     wall = 0.0
     stats_path = run_dir / "generations.parquet"
     if stats_path.is_file():
-        wall = float(pl.read_parquet(stats_path)["wall_s"].sum())
+        # wall_s is the whole generation's (all replications), repeated on each row
+        wall = float(pl.read_parquet(stats_path).unique(["phase_key", "generation"])
+                     ["wall_s"].sum())
     machine = manifest.get("machine") or {}
     rows = [
         ("command", manifest.get("command") or "not recorded (made before commands were)"),
@@ -144,9 +146,9 @@ def _provenance(run_dir: Path) -> tuple[pl.DataFrame, float]:
         ("versions", ", ".join(f"{k} {v}" for k, v in (manifest.get("versions") or {}).items())),
         ("machine", ", ".join(f"{k} {v}" for k, v in machine.items()) or "not recorded"),
         ("created", str(manifest.get("created"))),
-        ("training wall time", f"{wall / 3600:.2f} h (sum over generations)"),
+        ("training wall time", f"{wall / 3600:.2f} h (sum of the generations' wall times)"),
     ]
-    return pl.DataFrame(rows, schema=["", "value"], orient="row"), wall
+    return pl.DataFrame(rows, schema=["item", "value"], orient="row"), wall
 
 
 def _section(title: str, body: str, anchor: str) -> str:
