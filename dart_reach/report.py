@@ -119,7 +119,7 @@ def baseline_table(table: pl.DataFrame, baseline: pl.DataFrame | None) -> pl.Dat
     return out.rename({"notation": "phase", **{m: label for m, label in MEASURES}})
 
 
-def _provenance(run_dir: Path) -> tuple[pl.DataFrame, float]:
+def _provenance(run_dir: Path) -> pl.DataFrame:
     manifest = json.loads((run_dir / "manifest.json").read_text())
     run = Run.open(run_dir)
     s = manifest.get("settings", {})
@@ -148,7 +148,7 @@ def _provenance(run_dir: Path) -> tuple[pl.DataFrame, float]:
         ("created", str(manifest.get("created"))),
         ("training wall time", f"{wall / 3600:.2f} h (sum of the generations' wall times)"),
     ]
-    return pl.DataFrame(rows, schema=["item", "value"], orient="row"), wall
+    return pl.DataFrame(rows, schema=["item", "value"], orient="row")
 
 
 def _section(title: str, body: str, anchor: str) -> str:
@@ -195,8 +195,7 @@ def build(run_dirs: Sequence, out=None) -> Path:
 
     prov, train = [], []
     for d in run_dirs:
-        table_, _ = _provenance(d)
-        prov.append(f"<h3>{html.escape(d.name)}</h3>" + table_html(table_, "provenance"))
+        prov.append(f"<h3>{html.escape(d.name)}</h3>" + table_html(_provenance(d), "provenance"))
         stats_path = d / "generations.parquet"
         if stats_path.is_file():
             stats = pl.read_parquet(stats_path)
