@@ -114,7 +114,7 @@ def compare(units: pl.DataFrame, a: str, b: str, measure: str, sign: int, level:
     if len(x) == 0 or len(y) == 0:
         lacking = " or ".join(g for g, v in ((a, x), (b, y)) if not len(v))
         return _not_run(claim, paper, f"no {unit} of {lacking} with a {measure}")
-    if len(x) and len(y) and np.ptp(np.concatenate([x, y])) == 0:
+    if np.ptp(np.concatenate([x, y])) == 0:
         p = 1.0
     else:
         p = float(sps.mannwhitneyu(x, y, alternative="two-sided").pvalue)
