@@ -227,29 +227,30 @@ def ray_efficiency(jobs: int = 40, trials: int = 2, pairs: int = 5, seed: int = 
     from .evaluator import LocalRayCluster, PoolEvaluator, RayEvaluator
 
     batch = _generation("evolved", jobs, trials, seed)
-    results = {}
     pool = PoolEvaluator(2)
     try:
         with LocalRayCluster(nodes=2) as cluster:
-            remote = RayEvaluator(cluster.address)
             try:
-                remote.map(batch[:2])  # warm up: worlds built in every Ray worker
-                pool.map(batch[:2])
-
-                def on_pool():
-                    results["pool"] = pool.map(batch)
-
-                def on_ray():
-                    results["ray"] = remote.map(batch)
-
-                t_pool, t_ray = paired(on_pool, on_ray, pairs)
+                t_pool, t_ray = _time_evaluators(pool, RayEvaluator(cluster.address), batch,
+                                                 pairs, warm=2)
             finally:
                 ray.shutdown()
     finally:
         pool.close()
-    if not np.array_equal(results["pool"], results["ray"]):
-        raise RuntimeError("the Ray cluster's results differ from the pool's")
     return ratio("ray_efficiency", t_pool / t_ray)
+
+
+def _time_evaluators(a, b, batch: list, pairs: int, warm: int) -> tuple:
+    """Wall times of evaluator ``a`` and ``b`` on ``batch`` in ``pairs`` alternating pairs,
+    after ``warm`` jobs on each (worlds built in every worker); their results must agree."""
+    a.map(batch[:warm])
+    b.map(batch[:warm])
+    results = {}
+    t_a, t_b = paired(lambda: results.__setitem__("a", a.map(batch)),
+                      lambda: results.__setitem__("b", b.map(batch)), pairs)
+    if not np.array_equal(results["a"], results["b"]):
+        raise RuntimeError(f"{type(b).__name__}'s results differ from {type(a).__name__}'s")
+    return t_a, t_b
 
 
 def parallel(kind: str = "evolved", jobs: int = 40, trials: int = 2, pairs: int = 10,
@@ -264,23 +265,11 @@ def parallel(kind: str = "evolved", jobs: int = 40, trials: int = 2, pairs: int 
     batch = _generation(kind, jobs, trials, seed)
     cores = os.cpu_count() or 1
     serial, pool = SerialEvaluator(), PoolEvaluator(cores)
-    results = {}
     try:
-        pool.map(batch[:cores])  # warm up: worlds built in every worker
-        serial.map(batch[:1])
-
-        def one():
-            results["serial"] = serial.map(batch)
-
-        def many():
-            results["pool"] = pool.map(batch)
-
-        t_serial, t_pool = paired(one, many, pairs)
+        t_serial, t_pool = _time_evaluators(serial, pool, batch, pairs, warm=cores)
         worker_mb = max(pool.imap(_peak_rss_mb, range(4 * cores)))
     finally:
         pool.close()
-    if not np.array_equal(results["serial"], results["pool"]):
-        raise RuntimeError("the pool's results differ from the serial ones")
     suffix = "" if kind == "evolved" else f"_{kind}"
     return {**ratio(f"parallel_efficiency{suffix}", t_serial / t_pool / cores),
             f"generation_core_s{suffix}": float(np.median(t_serial)) * (18 / trials)
