@@ -109,7 +109,7 @@ def cmd_bench(args) -> int:
     if args.physics:
         from . import physics_study
 
-        with ProgressBar(lambda p: (*p, "trial", "physics study")) as bar:
+        with ProgressBar(lambda p: (*p, "controller-step", "physics study")) as bar:
             show = _checked(bar)
             results = physics_study.study(
                 candidates=args.physics_steps, random=args.networks, runs=args.run,
