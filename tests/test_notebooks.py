@@ -27,6 +27,7 @@ NOTEBOOKS_DIR = Path(__file__).resolve().parents[1] / "notebooks"
 NOTEBOOKS = ("fig5_performance.ipynb", "fig6_distances_variability.ipynb",
              "fig7_sector_maps.ipynb", "fig8_trajectories.ipynb",
              "fig9_sensory_deprivation.ipynb", "fig10_conditions.ipynb")
+ABLATION = "ablation.ipynb"
 PHASES = ["pre", "gross", "fine"]
 
 
@@ -171,10 +172,10 @@ def test_figures_survive_missing_and_degenerate_data(tiny_run, table):
 
 # ------------------------------------------------------------------------------ notebooks
 
-def test_the_six_notebooks_are_saved_without_outputs():
-    assert sorted(p.name for p in NOTEBOOKS_DIR.glob("*.ipynb")) == sorted(NOTEBOOKS)
+def test_the_notebooks_are_saved_without_outputs():
+    assert sorted(p.name for p in NOTEBOOKS_DIR.glob("*.ipynb")) == sorted((*NOTEBOOKS, ABLATION))
     assert (NOTEBOOKS_DIR / "README.md").is_file()
-    for name in NOTEBOOKS:
+    for name in (*NOTEBOOKS, ABLATION):
         nb = nbformat.read(NOTEBOOKS_DIR / name, as_version=4)
         nbformat.validate(nb)
         assert nb.cells[0].cell_type == "markdown" and "Savastano" in nb.cells[0].source
@@ -182,7 +183,8 @@ def test_the_six_notebooks_are_saved_without_outputs():
         assert all(c.outputs == [] and c.execution_count is None for c in code), name
         params = [c for c in code if "parameters" in c.metadata.get("tags", [])]
         assert len(params) == 1, name
-        env = "DART_REACH_RUNS" if name.startswith("fig10") else "DART_REACH_RUN"
+        env = {"fig10_conditions.ipynb": "DART_REACH_RUNS",
+               ABLATION: "DART_REACH_ABLATION"}.get(name, "DART_REACH_RUN")
         assert f'os.environ.get("{env}"' in params[0].source, name
 
 
@@ -206,6 +208,41 @@ def test_notebook_runs(name, tiny_run, monkeypatch):
     last = json.loads(nb.cells[-1].outputs[0]["text"])
     assert last["prefix"] == sys.prefix
     assert last["run"] in (str(tiny_run), [str(tiny_run)])
+
+
+def test_the_ablation_notebook_builds_trains_evaluates_and_compares(tmp_path, monkeypatch):
+    """notebooks/ablation.ipynb as a user runs it, at a tiny budget set the way papermill
+    does (a cell after the parameters cell): a condition built in Python beside the standard
+    one, trained, post-evaluated, compared phase by phase and reported."""
+    out = tmp_path / "ablation"
+    monkeypatch.setenv("DART_REACH_ABLATION", str(out))
+    monkeypatch.setenv("MPLBACKEND", "Agg")
+    nb = nbformat.read(NOTEBOOKS_DIR / ABLATION, as_version=4)
+    params = next(i for i, c in enumerate(nb.cells) if "parameters" in c.metadata.get("tags", []))
+    nb.cells.insert(params + 1, nbformat.v4.new_code_cell(
+        "GENERATIONS, REPLICATIONS, TRIALS, STEPS = 1, 2, 1, 4"))
+    nb.cells.append(nbformat.v4.new_code_cell(
+        "print(json.dumps({'pairs': statistics['pairs'].filter(same_phase)"
+        "[['a', 'b']].rows(), 'groups': statistics['summary']['group'].to_list()}))"))
+    nb.cells.insert(params + 2, nbformat.v4.new_code_cell("import json"))
+    client = nbclient.NotebookClient(nb, timeout=600, kernel_name="python3",
+                                     resources={"metadata": {"path": str(NOTEBOOKS_DIR)}})
+    client.execute()
+    outputs = [o for c in nb.cells if c.cell_type == "code" for o in c.outputs]
+    assert not [o for o in outputs if o.output_type == "error"]
+    assert len([o for o in outputs if "image/png" in o.get("data", {})]) >= 2  # training, Fig. 10
+    last = json.loads(nb.cells[-1].outputs[0]["text"])
+    assert last["groups"] == ["pre", "gross", "fine", "gross (no reflexes)",
+                              "fine (no reflexes)"]
+    assert sorted(map(sorted, last["pairs"])) == [["fine", "fine (no reflexes)"],
+                                                  ["gross", "gross (no reflexes)"]]
+    # one shared pre-reaching phase, two conditions, each replication's best robot evaluated
+    run = Run.open(out)
+    assert sorted(c.name for c in run.conditions) == ["reflexes-withdrawn", "standard"]
+    assert run_phases(out)["phase_key"].n_unique() == 5
+    table = load_evaluation(out)
+    assert table.height == 5 * 2 * 45 and (table["rank"] == 0).all()
+    assert (out / "report.html").is_file()
 
 
 def test_condition_trials_keeps_same_named_phases_of_other_conditions_apart(tmp_path):
