@@ -401,7 +401,7 @@ def trial_rrd(data: TrialData, info: TrialInfo, model: RobotModel, dt: float = 0
                                                                   colors=[_STRING]),
             static=True)
     rec.send_columns("world/pendulum/string", indexes=index,
-                     columns=rr.LineStrips3D.columns(strips=list(strings)))
+                     columns=rr.LineStrips3D.columns(strips=strings))  # (T, 2, 3): numpy path
     rec.log("world/paths", rr.LineStrips3D([data.hand[:T], data.ball[:T]], radii=0.002,
                                            colors=[_HAND_COLOUR, _RED],
                                            labels=["hand path", "ball path"]), static=True)
