@@ -19,14 +19,15 @@ $(VENV)/.installed-dev: pyproject.toml | $(BIN)/python
 	$(BIN)/python -m pip install -q -e ".[dev]"
 	touch $@ $(VENV)/.installed
 
-# The standard condition (pre -> gross -> fine) at a laptop budget, then its post-evaluation
-# (section IV) under the four sensory conditions: about 10 minutes on 2 cores.
+# The whole pipeline at a first-contact budget: the standard condition (pre -> gross -> fine),
+# the post-evaluation of each replication's best robot under the four sensory conditions
+# (section IV) beside 2 random genomes per phase, and the report.
 DEMO_OUT := recordings/demo-standard
 demo: $(VENV)/.installed
 	$(BIN)/dart-reach reach --seconds 5
 	$(BIN)/dart-reach train standard --generations 3 --replications 2 --trials 6 --record-every 1 \
 		--out $(DEMO_OUT) $(if $(wildcard $(DEMO_OUT)/manifest.json),--resume,)
-	$(BIN)/dart-reach evaluate $(DEMO_OUT) --sensors all --baseline 2
+	$(BIN)/dart-reach evaluate $(DEMO_OUT) --sensors all --robots 1 --baseline 2
 	$(BIN)/dart-reach report $(DEMO_OUT)
 	@echo
 	@echo "Results in $(DEMO_OUT):"
