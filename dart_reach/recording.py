@@ -340,8 +340,10 @@ def trial_blueprint() -> rrb.Blueprint:
     )
 
 
-def _series_names(rec: rr.RecordingStream, entity: str, names) -> None:
-    rec.log(entity, rr.SeriesLines(names=list(names)), static=True)
+@functools.cache
+def _series_names(names: tuple[str, ...]) -> rr.SeriesLines:
+    """The static series names of an entity (built once: ~0.1 ms each)."""
+    return rr.SeriesLines(names=list(names))
 
 
 # ------------------------------------------------------------------------------ writing
@@ -365,7 +367,7 @@ def trial_rrd(data: TrialData, info: TrialInfo, model: RobotModel, dt: float = 0
                                             **{m: measures[m] for m in MEASURES}))
     index = [rr.TimeColumn("step", sequence=steps), rr.TimeColumn("sim_time", duration=steps * dt)]
     for entity, names, get in SIGNALS:
-        _series_names(rec, entity, names)
+        rec.log(entity, _series_names(tuple(names)), static=True)
         values = np.asarray(get(data)[:T], dtype=float)
         rec.send_columns(entity, indexes=index, columns=rr.Scalars.columns(scalars=values))
 
