@@ -21,7 +21,7 @@ $(VENV)/.installed-dev: pyproject.toml | $(BIN)/python
 
 # The whole pipeline at a first-contact budget: the standard condition (pre -> gross -> fine),
 # the post-evaluation of each replication's best robot under the four sensory conditions
-# (section IV) beside 2 random genomes per phase, and the report.
+# (section IV) beside 2 random genomes per phase, and the report: about 5 minutes on 2 cores.
 DEMO_OUT := recordings/demo-standard
 demo: $(VENV)/.installed
 	$(BIN)/dart-reach reach --seconds 5
