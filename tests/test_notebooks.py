@@ -222,9 +222,8 @@ def test_the_ablation_notebook_builds_trains_evaluates_and_compares(tmp_path, mo
     nb.cells.insert(params + 1, nbformat.v4.new_code_cell(
         "GENERATIONS, REPLICATIONS, TRIALS, STEPS = 1, 2, 1, 4"))
     nb.cells.append(nbformat.v4.new_code_cell(
-        "print(json.dumps({'pairs': statistics['pairs'].filter(same_phase)"
+        "import json\nprint(json.dumps({'pairs': statistics['pairs'].filter(same_phase)"
         "[['a', 'b']].rows(), 'groups': statistics['summary']['group'].to_list()}))"))
-    nb.cells.insert(params + 2, nbformat.v4.new_code_cell("import json"))
     client = nbclient.NotebookClient(nb, timeout=600, kernel_name="python3",
                                      resources={"metadata": {"path": str(NOTEBOOKS_DIR)}})
     client.execute()
