@@ -5,7 +5,7 @@ PY ?= $(shell command -v python3.11 || command -v python3)
 VENV := .venv
 BIN := $(VENV)/bin
 
-.PHONY: demo test bench skeleton clean notebooks screenshots
+.PHONY: demo test bench skeleton clean notebooks screenshots scene-study
 
 $(BIN)/python:
 	$(PY) -m venv $(VENV)
@@ -63,6 +63,22 @@ notebooks: $(VENV)/.installed-notebooks
 $(VENV)/.installed-notebooks: pyproject.toml | $(BIN)/python
 	$(BIN)/python -m pip install -q -e ".[notebooks]"
 	touch $@
+
+# The scene study of docs/task.md: pre-reaching alone on each candidate scene, the same seeds,
+# then the post-evaluation of the best 5 robots of each replication beside 10 random genomes.
+# Resumable: run it again after an interruption. About 1 h per scene on 2 idle cores.
+SCENES := near near-shoulder arm-length-shoulder
+STUDY := recordings/scene-study
+scene-study: $(VENV)/.installed
+	for s in $(SCENES); do \
+		$(BIN)/dart-reach train docs/learning-check.toml --scene $$s --replications 2 \
+			--generations 60 --trials 18 --seed 20 --record-every 0 --out $(STUDY)/$$s \
+			$$(test -f $(STUDY)/$$s/manifest.json && echo --resume) || exit $$?; \
+	done
+	for s in $(SCENES); do \
+		test -f $(STUDY)/$$s/evaluation.parquet \
+			|| $(BIN)/dart-reach evaluate $(STUDY)/$$s --robots 5 --baseline 10 || exit $$?; \
+	done
 
 test: $(VENV)/.installed-dev
 	$(BIN)/python -m pytest -q

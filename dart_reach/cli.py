@@ -79,7 +79,7 @@ def cmd_reach(args) -> int:
     if not (np.isfinite(args.seconds) and 0 < args.seconds <= 3600):
         raise ValueError(f"--seconds must be a number of simulated seconds in (0, 3600], got "
                          f"{args.seconds:g}")
-    world = World(WorldConfig(skeleton=args.skeleton))
+    world = World(_world_config(args, WorldConfig(skeleton=args.skeleton)))
     ball = world.sector_point(args.sector, 0.5, 0.5)
     world.reset(ball)
     reach = ScriptedReach(world, ball)
@@ -98,6 +98,39 @@ def cmd_reach(args) -> int:
             d = np.linalg.norm(world.hand_position() - world.ball_position())
             print(f"{world.time:6.1f} {d:14.3f}  {', '.join(names) or '-'}")
     print(f"segments that touched the ball: {', '.join(sorted(touched)) or 'none'}")
+    return 0
+
+
+def _world_config(args, base=None):
+    """``base`` (default ``WorldConfig()``) with the sectors of ``--scene`` if given."""
+    from .scenes import load_scene
+    from .world import WorldConfig
+
+    base = base or WorldConfig()
+    return base if args.scene is None else load_scene(args.scene).world(base)
+
+
+def cmd_scenes(args) -> int:
+    """The shipped scenes and where their ball positions lie relative to the right arm."""
+    from .scenes import DEFAULT_SCENE, load_scene, scene_names
+    from .validate import scene_geometry
+    from .world import World
+
+    print(f"{'scene':<22}{'radius':>7}  {'ball centre / arm length':<26}"
+          f"{'elevation from shoulder':<25}{'lateral from midline':<22}description")
+    for name in scene_names():
+        scene = load_scene(name)
+        g = scene_geometry(World(scene.world()))
+        mark = " *" if name == DEFAULT_SCENE else ""
+        print(f"{name + mark:<22}{scene.sectors.radius:>6.3f}m  "
+              f"{g['arm_fraction_min']:.2f} / {g['arm_fraction_median']:.2f} / "
+              f"{g['arm_fraction_max']:.2f}{'':<8}"
+              f"{g['elevation_min_deg']:+.0f} / {g['elevation_median_deg']:+.0f} / "
+              f"{g['elevation_max_deg']:+.0f} deg{'':<7}"
+              f"{g['lateral_min_m'] * 100:.0f} to {g['lateral_max_m'] * 100:.0f} cm{'':<10}"
+              f"{scene.description}")
+    print(f"(min / median / max over a 7 x 7 grid of every sector; arm length "
+          f"{g['arm_length_m']:.3f} m, shoulder to palm centre, elbow straight; * the default)")
     return 0
 
 
@@ -128,11 +161,12 @@ def cmd_bench(args) -> int:
 def cmd_validate(args) -> int:
     """The model checks of ``validate.py`` on the shipped world; exit 0 when all pass."""
     from . import validate
+    from .world import World
 
     if args.json is not None and args.json.exists():
         raise FileExistsError(f"--json {args.json} exists; choose another file")
-    results = validate.run(grid=args.grid, networks=args.networks,
-                           chance_networks=args.chance_networks)
+    results = validate.run(World(_world_config(args)), grid=args.grid, networks=args.networks,
+                           chance_networks=args.chance_networks, scene_only=args.scene_only)
     print(validate.format_report(results))
     if args.json:
         _write_json(args.json, results)
@@ -167,7 +201,8 @@ def cmd_train(args) -> int:
     conditions = [load_condition(c) for c in args.conditions]
     if args.generations is not None:
         conditions = [scaled(c, args.generations) for c in conditions]
-    world = WorldConfig() if args.physics_dt is None else WorldConfig(physics_dt=args.physics_dt)
+    world = _world_config(args, None if args.physics_dt is None
+                          else WorldConfig(physics_dt=args.physics_dt))
     settings = Settings(replications=args.replications, trials=args.trials, steps=args.steps,
                         seed=args.seed, world=world)
     out = args.out or Path("recordings") / f"{'+'.join(c.name for c in conditions)}-s{args.seed}"
@@ -256,6 +291,12 @@ def _add_workers(p: argparse.ArgumentParser) -> None:
                    help="evaluate on a Ray cluster ('auto', 'local' or an address)")
 
 
+def _add_scene(p: argparse.ArgumentParser) -> None:
+    p.add_argument("--scene", default=None, metavar="SCENE",
+                   help="where the ball hangs: a shipped scene (see 'scenes') or a scene file "
+                        "(default: the default scene)")
+
+
 def build_parser() -> argparse.ArgumentParser:
     parser = _Parser(
         prog="dart-reach",
@@ -267,7 +308,12 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--sector", type=int, default=4, help="ball sector 0..8 (default 4)")
     p.add_argument("--seconds", type=float, default=5.0, help="simulated seconds (default 5)")
     p.add_argument("--skeleton", type=Path, default=None, help="robot model (URDF)")
+    _add_scene(p)
     p.set_defaults(func=cmd_reach)
+
+    p = sub.add_parser("scenes", help="list the shipped scenes (where the ball hangs) and "
+                                      "their geometry relative to the arm")
+    p.set_defaults(func=cmd_scenes)
 
     p = sub.add_parser("conditions", help="list the shipped conditions")
     p.set_defaults(func=cmd_conditions)
@@ -286,6 +332,7 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--physics-dt", type=float, default=None, metavar="DT",
                    help="physics step in s, a divisor of 0.1 (default 0.02, the step chosen "
                         "in docs/world.md)")
+    _add_scene(p)
     _add_workers(p)
     p.add_argument("--resume", action="store_true", help="continue the run in --out")
     p.add_argument("--record-every", type=_non_negative, default=100, metavar="K",
@@ -333,6 +380,9 @@ def build_parser() -> argparse.ArgumentParser:
                    help="random networks of the reflex checks (default 40)")
     p.add_argument("--chance-networks", type=_positive, default=6,
                    help="random networks post-evaluated for the chance level (default 6)")
+    p.add_argument("--scene-only", action="store_true",
+                   help="only the scene checks and the scripted grasps (seconds, not minutes)")
+    _add_scene(p)
     p.set_defaults(func=cmd_validate)
 
     p = sub.add_parser("bench", help="measure simulation speed (see README)")

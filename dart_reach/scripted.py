@@ -7,7 +7,8 @@ and from the robot's side (palm normal between straight up and the shoulder-to-b
 fingers pointing away from the shoulder), like the robots' palm-up swipes of section IV-A-2.
 ``ScriptedReach`` drives the world through postures 8 and 4 cm back along the palm's normal
 (fingers open), slowly onto the ball (it hangs free and swings away if hit), and closes the hand
-as soon as an inner face touches the ball, or once the hand has arrived.
+as soon as an inner face touches the ball, or once the hand has arrived; a closed hand that has
+not grasped (palm and a finger at once) within ``RETRY_STEPS`` opens and approaches again.
 """
 
 from __future__ import annotations
@@ -40,6 +41,9 @@ GRASP_STANDOFF = 0.0
 #: Control steps per stage: at each approach posture, on the way (linearly) from the last one
 #: onto the ball, and at the grasp posture; then the hand closes even if it felt nothing.
 STAGE_STEPS = 10
+#: Control steps a closing hand waits for a grasp before it opens and approaches again (a ball
+#: touched at the rim of the reachable space can roll off the palm).
+RETRY_STEPS = 2 * STAGE_STEPS
 
 
 def _unit(v):
@@ -114,7 +118,7 @@ def grasp_posture(world: World, ball_position, standoff: float = 0.0,
 class ScriptedReach:
     """Targets for an approach with the open hand along the palm's normal (through
     ``APPROACH_STANDOFFS``), then a grasp: the hand closes as soon as the palm touches the ball,
-    or once the hand has arrived."""
+    or once the hand has arrived; without a grasp ``RETRY_STEPS`` later it starts again."""
 
     def __init__(self, world: World, ball_position, look: bool = False):
         self.world = world
@@ -132,10 +136,17 @@ class ScriptedReach:
     def reset(self) -> None:
         self.steps = 0
         self.grasping = False
+        self.closing_steps = 0
+        self.held = False
 
     def targets(self, contacts: np.ndarray) -> np.ndarray:
         """Motor targets for the next control step given the current inner-face touches
         (``World.hand_contacts``, palm first)."""
+        if self.grasping:
+            self.closing_steps += 1
+            self.held |= bool(contacts[0] and contacts[1:].any())
+            if self.closing_steps > RETRY_STEPS and not self.held:
+                self.reset()
         stage = self.steps // STAGE_STEPS
         self.steps += 1
         if contacts.any() or stage > len(self.waypoints):

@@ -53,6 +53,43 @@ def _surface_distance(shape, point: np.ndarray) -> float:
     return float(np.linalg.norm(local) - geometry.getRadius())
 
 
+def arm_length(world: World) -> float:
+    """Length (m) of the right arm, from the shoulder (``icub.SHOULDER``) to the palm centre with
+    the elbow straight and every other joint at home: the unit of the scene's distances."""
+    robot = world.robot
+    q = world.home.copy()
+    elbow = robot.getJoint("r_elbow").getIndexInSkeleton(0)
+    q[elbow] = world.lower[elbow]
+    robot.setPositions(q)
+    length = float(np.linalg.norm(world.hand_position() - world.shoulder_position()))
+    robot.setPositions(world.home)
+    return length
+
+
+def scene_geometry(world: World, grid: int = 7) -> dict:
+    """Where the ball's start positions lie relative to the robot's right arm at home (the
+    quantities the infant experiments set: docs/task.md, "The scene"), over a ``grid`` x
+    ``grid`` lattice of every sector: the ball centre's distance from the shoulder as a fraction
+    of the arm's length, its elevation seen from the shoulder (deg, + up) and its lateral offset
+    from the body's midline (m, + toward the right arm); min, median and max of each."""
+    robot = world.robot
+    robot.setPositions(world.home)
+    fractions = np.linspace(0.0, 1.0, grid)
+    points = np.array([world.sector_point(k, u, v) for k in range(N_SECTORS)
+                       for u in fractions for v in fractions])
+    d = points - world.shoulder_position()
+    arm = arm_length(world)
+    out = {"arm_length_m": arm}
+    for key, values in (("arm_fraction", np.linalg.norm(d, axis=1) / arm),
+                        ("elevation", np.degrees(np.arctan2(d[:, 2], np.hypot(d[:, 0],
+                                                                              d[:, 1])))),
+                        ("lateral", points[:, 1])):
+        unit = {"elevation": "_deg", "lateral": "_m"}.get(key, "")
+        out.update({f"{key}_{stat}{unit}": float(f(values))
+                    for stat, f in (("min", np.min), ("median", np.median), ("max", np.max))})
+    return out
+
+
 def scene(world: World, grid: int = 7) -> dict:
     """Start positions on a ``grid`` x ``grid`` lattice of every sector (its corners included)
     checked at the home posture. Returns fractions and extremes over all of them."""
@@ -224,8 +261,9 @@ class Check:
 
 
 def verdicts(r: dict) -> list[Check]:
-    """The pass/fail verdict of every check on the figures of ``run``."""
-    return [
+    """The pass/fail verdict of every check on the figures of ``run`` (the network checks only
+    where ``run`` ran them)."""
+    scene_checks = [
         Check("ball in view at every start", r["in_view_fraction"] == 1.0,
               f"{r['in_view_fraction']:.0%} of {r['positions']} grid positions"),
         Check("ball within the distance sensor's range", r["eye_distance_max_m"] < 0.5,
@@ -240,6 +278,10 @@ def verdicts(r: dict) -> list[Check]:
         Check("scripted reach-and-grasp grasps at all 45 points",
               r["scripted_grasps"] == r["scripted_points"],
               f"{r['scripted_grasps']}/{r['scripted_points']}"),
+    ]
+    if "reflex_grasp_rate_touched" not in r:
+        return scene_checks
+    return scene_checks + [
         Check("grasp reflex: a palm touch closes the hand (majority)",
               r["reflex_grasp_rate_touched"] >= 0.7
               and r["reflex_grasp_rate_untouched"] <= 0.2,
@@ -264,17 +306,22 @@ def verdicts(r: dict) -> list[Check]:
 
 
 def run(world: World | None = None, grid: int = 7, networks: int = 40,
-        chance_networks: int = 6, seed: int = 0) -> dict:
+        chance_networks: int = 6, seed: int = 0, scene_only: bool = False) -> dict:
     """Every check on the shipped world (or ``world``): the figures and ``checks``, a list of
-    ``{name, passed, detail}``; ``passed`` is True when every check passed."""
+    ``{name, passed, detail}``; ``passed`` is True when every check passed. ``scene_only``:
+    the scene's checks and the scripted grasps only (no networks)."""
     world = world or World()
     t0 = time.perf_counter()
-    r = {"physics_dt": world.config.physics_dt, "max_joint_speed": world.config.max_joint_speed}
+    r = {"physics_dt": world.config.physics_dt, "max_joint_speed": world.config.max_joint_speed,
+         "sectors": world.config.sectors.__dict__}
+    r.update(scene_geometry(world, grid))
     r.update(scene(world, grid))
     r.update(scripted_grasps(world))
-    for tag, on in (("reflex", True), ("noreflex", False)):
-        r.update({f"{tag}_{k}": v for k, v in reflex_rates(world, on, networks, seed).items()})
-    r.update(chance(world, chance_networks, seed + 1))
+    if not scene_only:
+        for tag, on in (("reflex", True), ("noreflex", False)):
+            r.update({f"{tag}_{k}": v
+                      for k, v in reflex_rates(world, on, networks, seed).items()})
+        r.update(chance(world, chance_networks, seed + 1))
     r["checks"] = [c.__dict__ for c in verdicts(r)]
     r["passed"] = all(c["passed"] for c in r["checks"])
     r["seconds"] = time.perf_counter() - t0
@@ -284,8 +331,14 @@ def run(world: World | None = None, grid: int = 7, networks: int = 40,
 def format_report(r: dict) -> str:
     lines = [f"{'PASS' if c['passed'] else 'FAIL'}  {c['name']}: {c['detail']}"
              for c in r["checks"]]
-    lines.append(f"scripted reach peak hand speed {r['scripted_peak_hand_speed_m_s']:.2f} m/s, "
-                 f"random networks {r['random_peak_hand_speed_m_s']:.2f} m/s (medians); "
-                 f"physics step {r['physics_dt']} s, joint speed bound "
+    lines.append(f"ball centre {r['arm_fraction_min']:.2f}-{r['arm_fraction_max']:.2f} arm "
+                 f"lengths from the shoulder ({r['arm_length_m']:.3f} m), "
+                 f"{r['elevation_min_deg']:+.0f} to {r['elevation_max_deg']:+.0f} deg from "
+                 f"shoulder height, {r['lateral_min_m'] * 100:.0f}-{r['lateral_max_m'] * 100:.0f}"
+                 f" cm right of the midline (sphere radius {r['sectors']['radius']} m)")
+    random = (f", random networks {r['random_peak_hand_speed_m_s']:.2f} m/s"
+              if "random_peak_hand_speed_m_s" in r else "")
+    lines.append(f"scripted reach peak hand speed {r['scripted_peak_hand_speed_m_s']:.2f} m/s"
+                 f"{random} (medians); physics step {r['physics_dt']} s, joint speed bound "
                  f"{r['max_joint_speed']} rad/s; {r['seconds']:.0f} s")
     return "\n".join(lines)

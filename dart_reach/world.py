@@ -74,6 +74,21 @@ class SectorConfig:
     azimuth_edges: tuple[float, float, float, float] = (0.0, 15.0, 30.0, 45.0)
     elevation_edges: tuple[float, float, float, float] = (-45.0, -30.0, -15.0, 0.0)
 
+    def __post_init__(self):
+        r = self.radius
+        if isinstance(r, bool) or not isinstance(r, (int, float)) or not 0 < r < math.inf:
+            raise ValueError(f"radius must be a positive number of metres, got {r!r}")
+        object.__setattr__(self, "radius", float(r))
+        for key in ("azimuth_edges", "elevation_edges"):
+            edges = getattr(self, key)
+            if (not isinstance(edges, (tuple, list)) or len(edges) != 4
+                    or any(isinstance(e, bool) or not isinstance(e, (int, float)) for e in edges)
+                    or not all(-90 <= e <= 90 for e in edges)
+                    or not all(a < b for a, b in zip(edges, edges[1:]))):
+                raise ValueError(f"{key} must be 4 increasing angles in [-90, 90] degrees, got "
+                                 f"{edges!r}")
+            object.__setattr__(self, key, tuple(float(e) for e in edges))
+
 
 @dataclass(frozen=True)
 class WorldConfig:
