@@ -1,48 +1,155 @@
-"""The claims of the paper's section IV, each tested against a run's post-evaluation.
+"""The claims of the paper's section IV as data, each judged against a run's post-evaluation.
 
-``findings(table, baseline)`` returns one row per claim: the paper's statement, the value and
-the test measured here, the sample sizes, the p-value and a verdict computed from the data:
+A :class:`Claim` is a row of data: the paper's words and section, the measure, the groups, the
+unit, the kind of claim and the paper's level. ``findings(table, baseline)`` judges every claim
+of ``CLAIMS`` with the rule of its kind (``verdicts``: directional, no difference, band, every
+sector, never, paired) and returns one row per claim with the verdict, the effect size and its
+interval, p, Holm's adjusted p over the table, whether the paper's own level is met, and a
+replication-level check.
 
-- ``reproduced``: the effect the paper reports, in its direction, at the paper's significance
-  level (a claim of *no* difference: p >= 0.05);
-- ``contradicted``: the opposite effect at p < 0.05 (a claim of no difference: p < 0.05);
-- ``not significant at this n``: neither;
-- ``not run``: the run lacks a phase, condition or sensory condition the claim needs.
-
-Units (the paper's): a *robot* (its mean over its post-evaluation trials, normal senses unless
-the claim is about senses) for the comparisons of phases (Figs. 5-9: "50 robots ... for 45
-trials"); a *replication* (its best robot's post-evaluation fitness,
-``metrics.replication_performance``) for the comparisons of conditions (Fig. 10). Tests are
-two-tailed Mann-Whitney U unless stated (``stats``); no correction for multiple comparisons,
-as in the paper. Where the paper gives no number ("about half", "large quasi-periodic
-movements", "nearly constant"), the operational test is stated in the row and in
-docs/analysis.md.
+Units: a *robot* (its mean over its post-evaluation trials) for the comparisons of phases, as
+the paper's Figs. 5-9 ("50 robots ... for 45 trials"). Robots of one replication are not
+independent, and the replications of gross- and fine-reaching descend from one merged
+population (III-D): every robot-level claim is therefore judged again on replication means
+(``p_replications``), and the note says where the two disagree. A *replication* (its best
+robot's post-evaluation fitness, ``metrics.replication_performance``) for the conditions of
+Fig. 10, and the replication means of robots for the band, sector and "never" claims. The rules
+and their thresholds, fixed before any data was looked at, are in docs/analysis.md
+("Verdicts").
 """
 
 from __future__ import annotations
 
+import enum
 import math
+from dataclasses import dataclass
 
 import numpy as np
 import polars as pl
-from scipy import stats as sps
 
-from . import metrics, stats
+from . import metrics, stats, verdicts
+from .verdicts import (ALPHA, CONTRADICTED, INCONCLUSIVE, NOT_RUN, REPRODUCED, UNDERPOWERED,
+                       VERDICTS, Outcome)
 
-REPRODUCED, CONTRADICTED, NOT_SIGNIFICANT, NOT_RUN = (
-    "reproduced", "contradicted", "not significant at this n", "not run")
-VERDICTS = (REPRODUCED, CONTRADICTED, NOT_SIGNIFICANT, NOT_RUN)
+__all__ = ["CLAIMS", "Claim", "Kind", "VERDICTS", "REPRODUCED", "CONTRADICTED", "INCONCLUSIVE",
+           "UNDERPOWERED", "NOT_RUN", "findings", "summary", "robots", "replications"]
 
-#: "About half the trials" (IV-A-1): a pre-reacher's reach rate between a third and two thirds.
+#: "About half the trials" (IV-A-1): a reach rate between a third and two thirds.
 ABOUT_HALF = (1 / 3, 2 / 3)
-#: Significance level of the verdicts "contradicted" and of claims of no difference.
-ALPHA = 0.05
+#: The trial-level babbling measure (docs/analysis.md): F1's share of babbling trials, F7's.
+BABBLING = "babbling"
+#: Seed of the bootstrap intervals (a report is the same every time it is built).
+BOOTSTRAP_SEED = 20131
+
+
+class Kind(enum.Enum):
+    DIRECTIONAL = "directional"
+    NO_DIFFERENCE = "no difference"
+    BAND = "band"
+    EVERY_SECTOR = "every sector"
+    NEVER = "never"
+    PAIRED = "paired"
+
+
+@dataclass(frozen=True)
+class Claim:
+    """One claim: ``measure`` of group ``b`` against group ``a`` (notations; "random pre" is the
+    random pre-reaching networks of ``evaluate --baseline``), higher (``sign`` +1) or lower
+    (-1) for a directional claim; ``level`` the paper's significance level; ``unit`` "robots" or
+    "replications"; ``senses`` the sensory condition of the trials."""
+
+    id: str
+    section: str
+    paper: str
+    kind: Kind
+    measure: str = "fitness"
+    a: str = ""
+    b: str = ""
+    sign: int = 0
+    level: float = ALPHA
+    unit: str = "robots"
+    senses: str = "normal"
+
+
+_K = Kind
+_SENSES = ("normal", "no-touch", "no-sight", "nothing")
+
+
+def _phase_claims() -> list[Claim]:
+    claims = [
+        Claim("F1 reach about half", "IV-A-1, Fig. 5",
+              "pre-reachers reach (touch the ball at least once) in about half of the trials",
+              _K.BAND, "reached", b="pre"),
+        Claim("F1 babbling", "IV-A-1, Fig. 8",
+              "pre-reachers show large quasi-periodic circular movements of the hand (motor "
+              "babbling), unlike random networks", _K.DIRECTIONAL, BABBLING,
+              "random pre", "pre", +1),
+        Claim("F1 hand-shoulder constant vs random", "IV-A-1, Fig. 6 top",
+              "pre-reachers lock the elbow: the hand-shoulder distance stays almost constant",
+              _K.DIRECTIONAL, "elbow_freezing", "random pre", "pre", -1),
+        Claim("F1 hand-shoulder constant vs fine", "IV-A-1, IV-A-3, Fig. 6",
+              "the elbow, locked in pre-reaching, is used in fine-reaching", _K.DIRECTIONAL,
+              "elbow_freezing", "fine", "pre", -1),
+    ]
+    for measure, sign, level, what in (
+            ("grasped", +1, 0.001, "grasp up"), ("reached", -1, 0.001, "reach down"),
+            ("straightness", +1, 0.01, "straighter"), ("speed", -1, 0.05, "slower"),
+            ("var_shoulder", -1, 0.001, "shoulder variability down"),
+            ("sectors_reached", -1, ALPHA, "success in fewer sectors")):
+        claims.append(Claim(f"F2 {what}", "IV-A-2, Figs. 5-7",
+                            f"gross- vs pre-reachers: {what}", _K.DIRECTIONAL, measure, "pre",
+                            "gross", sign, level))
+    for measure, sign, level, what in (
+            ("reached", +1, 0.001, "reach up"), ("grasped", +1, 0.001, "grasp up"),
+            ("var_elbow", +1, 0.001, "elbow variability up"),
+            ("var_shoulder", +1, 0.001, "shoulder variability up"),
+            ("var_trunk", +1, 0.001, "trunk variability up")):
+        claims.append(Claim(f"F3 {what}", "IV-A-3, Figs. 5, 6",
+                            f"fine- vs gross-reachers: {what}", _K.DIRECTIONAL, measure,
+                            "gross", "fine", sign, level))
+    for measure in ("speed", "straightness"):
+        claims.append(Claim(f"F3 {measure} no different", "IV-A-3, Fig. 5",
+                            f"fine- vs gross-reachers: no significant change in {measure}",
+                            _K.NO_DIFFERENCE, measure, "gross", "fine"))
+    claims.append(Claim("F3 all sectors", "IV-A-3, Fig. 7",
+                        "fine-reachers reach and grasp the ball in all 9 sectors",
+                        _K.EVERY_SECTOR, b="fine"))
+    for phase in ("pre", "gross", "fine"):
+        claims.append(Claim(f"F4 senses differ ({phase})", "IV-B, Fig. 9",
+                            "performance varies across the four sensory conditions (p < 0.01)",
+                            _K.PAIRED, b=phase, level=0.01))
+    for s in _SENSES:
+        pairs = ((("gross", "fine", +1, "fine > gross"), ("pre", "gross", +1, "gross > pre"))
+                 if s in ("normal", "no-touch") else (("gross", "fine", -1, "gross > fine"),))
+        for a, b, sign, what in pairs:
+            claims.append(Claim(f"F4 {s}: {what}", "IV-B, Fig. 9", f"{s}: {what} (p < 0.05)",
+                                _K.DIRECTIONAL, "fitness", a, b, sign, 0.05, senses=s))
+    claims.append(Claim("F5 gross > gross^", "IV-C, Fig. 10",
+                        "gross outperforms the non-incremental gross^ (p < 0.05)",
+                        _K.DIRECTIONAL, "fitness", "gross^", "gross", +1, 0.05,
+                        "replications"))
+    for a, b in (("pre", "pre-h"), ("gross", "gross-h"), ("pre", "pre*"), ("gross^", "gross^*"),
+                 ("fine^", "fine*"), ("fine", "fine^")):
+        claims.append(Claim(f"F6 {a} vs {b}", "IV-C, Fig. 10",
+                            f"{a} and {b} do not differ significantly", _K.NO_DIFFERENCE,
+                            "fitness", a, b, unit="replications"))
+    for g in ("fine*", "fine^"):
+        claims.append(Claim(f"F7 {g} never babbles", "IV-C",
+                            f"{g} robots never display motor babbling (meaningful only where "
+                            "F1 babbling is reproduced)", _K.NEVER, BABBLING, b=g))
+    return claims
+
+
+CLAIMS: tuple[Claim, ...] = tuple(_phase_claims())
 
 _ROBOT = ("notation", "run", "replication", "rank")
-_SCHEMA = {"claim": pl.Utf8, "paper": pl.Utf8, "measured": pl.Utf8, "test": pl.Utf8,
-           "n": pl.Utf8, "p": pl.Float64, "verdict": pl.Utf8}
 _MEASURES = ("fitness", "reached", "grasped", "speed", "straightness", "var_elbow",
-             "var_shoulder", "var_trunk", "babbling_share", "sectors_reached")
+             "var_shoulder", "var_trunk", BABBLING, "elbow_freezing")
+_SCHEMA = {"claim": pl.Utf8, "section": pl.Utf8, "paper": pl.Utf8, "kind": pl.Utf8,
+           "measured": pl.Utf8, "test": pl.Utf8, "n": pl.Utf8, "effect": pl.Float64,
+           "effect_low": pl.Float64, "effect_high": pl.Float64, "p": pl.Float64,
+           "p_holm": pl.Float64, "paper_level_met": pl.Boolean, "p_replications": pl.Float64,
+           "replications_agree": pl.Boolean, "verdict": pl.Utf8, "note": pl.Utf8}
 
 
 # ------------------------------------------------------------------------------ units
@@ -55,8 +162,8 @@ def robots(table: pl.DataFrame, senses: str = "normal") -> pl.DataFrame:
     trials of each measure (booleans: rates), and ``sectors_reached``, the number of sectors
     in which it reached the ball at least once (the spread of success, Fig. 7)."""
     table = _with_run(table).filter(pl.col("senses") == senses)
-    means = metrics.robot_means(table, [m for m in _MEASURES if m != "sectors_reached"],
-                                by=_ROBOT)
+    present = [m for m in _MEASURES if m in table.columns]
+    means = metrics.robot_means(table, present, by=_ROBOT)
     spread = (table.filter(pl.col("reached")).group_by(_ROBOT)
               .agg(pl.col("sector").n_unique().cast(pl.Float64).alias("sectors_reached")))
     return (means.join(spread, on=list(_ROBOT), how="left")
@@ -72,224 +179,193 @@ def replications(table: pl.DataFrame, senses: str = "normal") -> pl.DataFrame:
     return metrics.replication_performance(table, senses=senses, by=("notation", "run"))
 
 
+def _replication_means(units: pl.DataFrame, measure: str) -> pl.DataFrame:
+    """Per (notation, run, replication): the mean of ``measure`` over the replication's robots."""
+    return (units.filter(pl.col(measure).is_not_nan())
+            .group_by("notation", "run", "replication").agg(pl.col(measure).mean()))
+
+
 def _values(units: pl.DataFrame, group: str, measure: str) -> np.ndarray:
+    if measure not in units.columns or "notation" not in units.columns:
+        return np.zeros(0)
     v = units.filter(pl.col("notation") == group)[measure].cast(pl.Float64).to_numpy()
     return v[np.isfinite(v)]
 
 
-# ------------------------------------------------------------------------------ verdicts
-def _row(claim, paper, measured, test, n, p, verdict) -> dict:
-    return {"claim": claim, "paper": paper, "measured": measured, "test": test, "n": n,
-            "p": float(p), "verdict": verdict}
+class _Data:
+    """The tables a claim is judged on, built once per ``findings`` call."""
+
+    def __init__(self, table: pl.DataFrame, baseline: pl.DataFrame | None):
+        self.table = _with_run(table)
+        self._robots = {}
+        # the random networks of the pre-reaching phase (their notation is the phase's)
+        self.baseline = (robots(baseline).filter(pl.col("notation") == "pre")
+                         .with_columns(pl.lit("random pre").alias("notation"))
+                         if baseline is not None and baseline.height else None)
+        self.replications = replications(table)
+
+    def robots(self, senses: str) -> pl.DataFrame:
+        if senses not in self._robots:
+            self._robots[senses] = robots(self.table, senses)
+        return self._robots[senses]
+
+    def units(self, claim: Claim) -> pl.DataFrame:
+        if claim.unit == "replications":
+            return self.replications
+        units = self.robots(claim.senses)
+        if "random pre" in (claim.a, claim.b) and self.baseline is not None:
+            units = pl.concat([units, self.baseline], how="diagonal_relaxed")
+        return units
 
 
-def _not_run(claim: str, paper: str, missing: str) -> dict:
-    return _row(claim, paper, f"not run: {missing}", "", "", math.nan, NOT_RUN)
+# ------------------------------------------------------------------------------ judging
+def _row(claim: Claim, out: Outcome, measured: str, test: str, n: str,
+         p_rep: float = math.nan, agree: bool | None = None) -> dict:
+    return {"claim": claim.id, "section": claim.section, "paper": claim.paper,
+            "kind": claim.kind.value, "measured": measured, "test": test, "n": n,
+            "effect": out.effect, "effect_low": out.low, "effect_high": out.high, "p": out.p,
+            "p_holm": math.nan, "paper_level_met": out.paper_level_met,
+            "p_replications": p_rep, "replications_agree": agree, "verdict": out.verdict,
+            "note": out.note}
 
 
-def verdict(p: float, observed_sign: float, claimed_sign: int, level: float) -> str:
-    """The verdict of a comparison: ``claimed_sign`` +1 (the paper: second group higher), -1
-    (lower) or 0 (no difference); ``level``: the paper's significance level."""
-    if not math.isfinite(p):
-        return NOT_SIGNIFICANT
-    if claimed_sign == 0:
-        return CONTRADICTED if p < ALPHA else REPRODUCED
-    same = np.sign(observed_sign) == claimed_sign
-    if same and p < level:
-        return REPRODUCED
-    if not same and observed_sign != 0 and p < ALPHA:
-        return CONTRADICTED
-    return NOT_SIGNIFICANT
+def _not_run(claim: Claim, missing: str) -> dict:
+    return _row(claim, Outcome(NOT_RUN), f"not run: {missing}", "", "")
 
 
-def _sign_word(sign: int) -> str:
-    return {1: "higher", -1: "lower", 0: "no different"}[sign]
-
-
-def compare(units: pl.DataFrame, a: str, b: str, measure: str, sign: int, level: float,
-            claim: str, paper: str, unit: str = "robots") -> dict:
-    """Row of a claim that ``measure`` is ``sign`` (+1 higher, -1 lower, 0 no different) in
-    group ``b`` than in group ``a`` (two-tailed Mann-Whitney U over ``units``)."""
-    x, y = _values(units, a, measure), _values(units, b, measure)
+def _two_groups(claim: Claim, data: _Data) -> dict:
+    units = data.units(claim)
+    x, y = _values(units, claim.a, claim.measure), _values(units, claim.b, claim.measure)
     if len(x) == 0 or len(y) == 0:
-        lacking = " or ".join(g for g, v in ((a, x), (b, y)) if not len(v))
-        return _not_run(claim, paper, f"no {unit} of {lacking} with a {measure}")
-    if np.ptp(np.concatenate([x, y])) == 0:
-        p = 1.0
+        lacking = " or ".join(g for g, v in ((claim.a, x), (claim.b, y)) if not len(v))
+        return _not_run(claim, f"no {claim.unit} of {lacking} with a {claim.measure}")
+    directional = claim.kind is Kind.DIRECTIONAL
+    judge = ((lambda u, v: verdicts.directional(u, v, claim.sign, claim.level)) if directional
+             else verdicts.equivalent)
+    out = judge(x, y)
+    if directional:
+        word = "higher" if claim.sign > 0 else "lower"
+        test = (f"Mann-Whitney U, two-tailed, p < {ALPHA:g}; direction from U; effect: "
+                f"Hodges-Lehmann shift {claim.b} - {claim.a} [95% CI]; the paper: {claim.b} "
+                f"{word}, p < {claim.level:g}")
     else:
-        p = float(sps.mannwhitneyu(x, y, alternative="two-sided").pvalue)
-    mx, my = float(np.mean(x)), float(np.mean(y))
-    level_text = f"p < {level:g}" if sign else f"p >= {ALPHA:g}"
-    return _row(claim, paper,
-                f"{measure}: {b} {my:.3g} vs {a} {mx:.3g} (means over {unit})",
-                f"Mann-Whitney U, two-tailed; the paper: {b} {_sign_word(sign)}, {level_text}",
-                f"{len(y)} vs {len(x)} {unit}", p, verdict(p, my - mx, sign, level))
+        test = (f"equivalence: two one-sided tests, theta = P({claim.b} > {claim.a}) within "
+                f"0.5 +- {verdicts.EQUIVALENCE_MARGIN:g} (Brunner-Munzel s.e.), p < {ALPHA:g}; "
+                f"effect: theta [90% CI]")
+    measured = (f"{claim.measure}: {claim.b} {np.mean(y):.3g} vs {claim.a} {np.mean(x):.3g} "
+                f"(means over {claim.unit})")
+    n = f"{len(y)} vs {len(x)} {claim.unit}"
+    p_rep, agree = math.nan, None
+    if claim.unit == "robots" and "random pre" not in (claim.a, claim.b):
+        reps = _replication_means(units, claim.measure)
+        rx, ry = _values(reps, claim.a, claim.measure), _values(reps, claim.b, claim.measure)
+        at_reps = judge(rx, ry)
+        p_rep, agree = at_reps.p, at_reps.verdict == out.verdict
+        n += f" ({len(ry)} vs {len(rx)} replications)"
+        if not agree:
+            out = Outcome(**{**out.__dict__, "note": "; ".join(filter(None, [
+                out.note, f"replication means: {at_reps.verdict}"
+                          + (f" (p = {at_reps.p:.2g})" if math.isfinite(at_reps.p) else "")]))})
+    return _row(claim, out, measured, test, n, p_rep, agree)
 
 
-# ------------------------------------------------------------------------------ the claims
-def _f1(rob: pl.DataFrame, base: pl.DataFrame | None) -> list[dict]:
-    rows = []
-    paper = "pre-reachers reach in about half of the trials (Fig. 5)"
-    x = _values(rob, "pre", "reached")
-    if len(x) == 0:
-        rows.append(_not_run("F1 reach about half", paper, "no pre-reaching robots"))
-    else:
-        mean = float(np.mean(x))
-        half = (sps.t.ppf(0.975, len(x) - 1) * np.std(x, ddof=1) / math.sqrt(len(x))
-                if len(x) > 1 else math.inf)
-        lo, hi = ABOUT_HALF
-        if lo <= mean <= hi:
-            v = REPRODUCED
-        elif mean + half < lo or mean - half > hi:
-            v = CONTRADICTED
-        else:
-            v = NOT_SIGNIFICANT
-        rows.append(_row("F1 reach about half", paper,
-                         f"reach rate {mean:.2f} (95% CI {mean - half:.2f}-{mean + half:.2f})",
-                         f"mean in [{lo:.2f}, {hi:.2f}]: reproduced; 95% t-interval wholly "
-                         "outside: contradicted", f"{len(x)} robots", math.nan, v))
-    paper = ("pre-reachers show large quasi-periodic hand movements: motor babbling "
-             "(Fig. 8, IV-A-1)")
-    if base is None or base.height == 0:
-        rows.append(_not_run("F1 babbling", paper, "no random baseline (evaluate --baseline N)"))
-    else:
-        both = pl.concat([rob.filter(pl.col("notation") == "pre"),
-                          base.filter(pl.col("notation") == "pre")
-                          .with_columns(pl.lit("random pre").alias("notation"))],
-                         how="diagonal_relaxed")
-        row = compare(both, "random pre", "pre", "babbling_share", +1, ALPHA,
-                      "F1 babbling", paper)
-        row["test"] += " (share of the hand's movement power at its dominant frequency, " \
-                       "against random pre-reaching networks)"
-        rows.append(row)
-    paper = ("pre-reachers move the trunk and shoulder and lock the elbow: the hand-shoulder "
-             "distance stays nearly constant (Fig. 6)")
-    pre = rob.filter(pl.col("notation") == "pre").select("var_elbow", "var_shoulder").drop_nans()
-    if pre.height < 2:
-        rows.append(_not_run("F1 elbow locked", paper, "fewer than 2 pre-reaching robots"))
-    else:
-        e, s = pre["var_elbow"].to_numpy(), pre["var_shoulder"].to_numpy()
-        p = 1.0 if np.all(e == s) else float(sps.wilcoxon(s, e).pvalue)
-        rows.append(_row("F1 elbow locked", paper,
-                         f"elbow variability {e.mean():.3f} vs shoulder {s.mean():.3f} rad",
-                         "Wilcoxon signed-rank, two-tailed, elbow vs shoulder of the same "
-                         "robots; the paper: elbow lower, p < 0.05", f"{len(e)} robots", p,
-                         verdict(p, float(np.mean(e - s)), -1, ALPHA)))
-    return rows
+def _band(claim: Claim, data: _Data) -> dict:
+    robots_ = data.robots(claim.senses)
+    reps = _replication_means(robots_, claim.measure).filter(pl.col("notation") == claim.b)
+    if reps.height == 0:
+        return _not_run(claim, f"no {claim.b} robots")
+    out = verdicts.in_band(reps[claim.measure].to_numpy(), ABOUT_HALF,
+                           np.random.default_rng(BOOTSTRAP_SEED))
+    lo, hi = ABOUT_HALF
+    return _row(claim, out, f"{claim.measure} rate {out.effect:.2f} (95% CI {out.low:.2f}-"
+                            f"{out.high:.2f})",
+                f"percentile bootstrap over replications of their robots' mean rate: interval "
+                f"inside [{lo:.2f}, {hi:.2f}]: reproduced; wholly outside: contradicted",
+                f"{reps.height} replications, {_values(robots_, claim.b, claim.measure).size} "
+                "robots")
 
 
-def _f2_f3(rob: pl.DataFrame, table: pl.DataFrame) -> list[dict]:
-    rows = []
-    for measure, sign, level, what in (
-            ("grasped", +1, 0.001, "grasp up"), ("reached", -1, 0.001, "reach down"),
-            ("straightness", +1, 0.01, "straighter"), ("speed", -1, 0.05, "slower"),
-            ("var_shoulder", -1, 0.001, "shoulder variability down"),
-            ("sectors_reached", -1, 0.05, "success in fewer sectors")):
-        rows.append(compare(rob, "pre", "gross", measure, sign, level, f"F2 {what}",
-                            f"gross- vs pre-reachers: {what} (p < {level:g}; Figs. 5-7)"))
-    for measure, sign, level, what in (
-            ("reached", +1, 0.001, "reach up"), ("grasped", +1, 0.001, "grasp up"),
-            ("var_elbow", +1, 0.001, "elbow variability up"),
-            ("var_shoulder", +1, 0.001, "shoulder variability up"),
-            ("var_trunk", +1, 0.001, "trunk variability up"),
-            ("speed", 0, ALPHA, "speed no different"),
-            ("straightness", 0, ALPHA, "straightness no different")):
-        paper = (f"fine- vs gross-reachers: {what}"
-                 + (f" (p < {level:g})" if sign else " (not significant)") + " (Figs. 5, 6)")
-        rows.append(compare(rob, "gross", "fine", measure, sign, level, f"F3 {what}", paper))
-    paper = "fine-reachers succeed in all 9 sectors (Fig. 7)"
-    fine = _with_run(table).filter((pl.col("notation") == "fine")
-                                   & (pl.col("senses") == "normal"))
-    if fine.height == 0:
-        rows.append(_not_run("F3 all sectors", paper, "no fine-reaching robots"))
-    else:
-        per = fine.group_by("sector").agg(pl.col("reached").mean()).sort("sector")
-        rates = dict(zip(per["sector"].to_list(), per["reached"].to_list()))
-        empty = [k for k in range(9) if rates.get(k, 0.0) == 0.0]
-        rows.append(_row("F3 all sectors", paper,
-                         f"sectors without a reach: {empty or 'none'}; lowest sector rate "
-                         f"{min(rates.get(k, 0.0) for k in range(9)):.2f}",
-                         "every sector reached in at least one trial: reproduced; else "
-                         "contradicted", f"{fine['replication'].n_unique()} replications, "
-                         f"{fine.height} trials", math.nan,
-                         REPRODUCED if not empty else CONTRADICTED))
-    return rows
+def _every_sector(claim: Claim, data: _Data) -> dict:
+    trials = data.table.filter((pl.col("notation") == claim.b)
+                               & (pl.col("senses") == claim.senses))
+    if trials.height == 0:
+        return _not_run(claim, f"no {claim.b} robots")
+    per = (trials.group_by("run", "replication", "sector")
+           .agg(pl.col("reached").cast(pl.Float64).mean(),
+                pl.col("grasped").cast(pl.Float64).mean()))
+    cells = {f"{what} in sector {k}": per.filter(pl.col("sector") == k)[col].to_numpy()
+             for k in range(9) for col, what in (("reached", "reach"), ("grasped", "grasp"))}
+    out = verdicts.at_least(cells, verdicts.SECTOR_FLOOR, np.random.default_rng(BOOTSTRAP_SEED))
+    return _row(claim, out, f"lowest sector rate {out.effect:.2f} (95% CI {out.low:.2f}-"
+                            f"{out.high:.2f})",
+                f"each sector's reach and grasp rate, bootstrap over replications: every lower "
+                f"bound > {verdicts.SECTOR_FLOOR:g}: reproduced; an upper bound below: "
+                "contradicted", f"{per['replication'].n_unique()} replications, "
+                                f"{trials.height} trials")
 
 
-def _f4(table: pl.DataFrame) -> list[dict]:
-    rows = []
-    senses = ("normal", "no-touch", "no-sight", "nothing")
-    per = {s: robots(table, s) for s in senses}
-    paper = ("performance differs across the four sensory conditions (p < 0.01, "
-             "Kruskal-Wallis; Fig. 9)")
-    present = [s for s in senses if per[s].height]
-    if len(present) < 4:
-        rows.append(_not_run("F4 senses differ", paper,
-                             f"sensory conditions evaluated: {', '.join(present) or 'none'} "
-                             "(evaluate --sensors all)"))
-    else:
-        units = pl.concat([per[s].filter(pl.col("notation").is_in(["pre", "gross", "fine"]))
-                           .with_columns(pl.lit(s).alias("senses")) for s in senses])
-        kw = stats.kruskal_wallis(units, "fitness", "senses").row(0, named=True)
-        means = ", ".join(f"{s} {units.filter(pl.col('senses') == s)['fitness'].mean():.3g}"
-                          for s in senses)
-        rows.append(_row("F4 senses differ", paper, f"fitness: {means}",
-                         "Kruskal-Wallis across the four sensory conditions, the robots of "
-                         "the three phases pooled; the paper: p < 0.01",
-                         f"{kw['n']} robot-conditions", kw["p"],
-                         REPRODUCED if kw["p"] < 0.01 else NOT_SIGNIFICANT))
-    for s in senses:
-        if s in ("normal", "no-touch"):
-            pairs = (("gross", "fine", +1, "fine > gross"), ("pre", "gross", +1, "gross > pre"))
-        else:
-            pairs = (("gross", "fine", -1, "gross > fine"),)
-        for a, b, sign, what in pairs:
-            paper = f"{s}: {what} (p < 0.05; Fig. 9)"
-            if not per[s].height:
-                rows.append(_not_run(f"F4 {s}: {what}", paper, f"senses {s} not evaluated"))
-            else:
-                rows.append(compare(per[s], a, b, "fitness", sign, 0.05,
-                                    f"F4 {s}: {what}", paper))
-    return rows
+def _never(claim: Claim, data: _Data) -> dict:
+    if claim.measure not in data.table.columns:
+        return _not_run(claim, f"the table has no {claim.measure}")
+    reps = (data.table.filter((pl.col("notation") == claim.b)
+                              & (pl.col("senses") == claim.senses))
+            .group_by("run", "replication")
+            .agg(pl.col(claim.measure).cast(pl.Float64).mean().alias("value")))
+    if reps.height == 0:
+        return _not_run(claim, f"no {claim.b} robots")
+    eps = verdicts.NEVER_EPSILON
+    out = verdicts.at_most(reps["value"].to_numpy(), eps, np.random.default_rng(BOOTSTRAP_SEED))
+    return _row(claim, out, f"{claim.measure} {out.effect:.3f} (upper 95% bound "
+                            f"{out.high:.3f})",
+                f"bootstrap over replications: upper bound <= {eps:g}: reproduced; lower bound "
+                f"> {eps:g}: contradicted", f"{reps.height} replications")
 
 
-def _f5_f6(reps: pl.DataFrame) -> list[dict]:
-    rows = [compare(reps, "gross^", "gross", "fitness", +1, 0.05, "F5 gross > gross^",
-                    "gross outperforms the non-incremental gross^ (p < 0.05, two-tailed "
-                    "Mann-Whitney; Fig. 10)", unit="replications")]
-    for a, b in (("pre", "pre-h"), ("gross", "gross-h"), ("pre", "pre*"),
-                 ("gross^", "gross^*"), ("fine^", "fine*"), ("fine", "fine^")):
-        rows.append(compare(reps, a, b, "fitness", 0, ALPHA, f"F6 {a} vs {b}",
-                            f"{a} and {b} do not differ significantly (Fig. 10)",
-                            unit="replications"))
-    return rows
+def _paired(claim: Claim, data: _Data) -> dict:
+    per = [data.robots(s).filter(pl.col("notation") == claim.b)
+           .select(*_ROBOT[1:], pl.col("fitness").alias(s)) for s in _SENSES]
+    if any(p.height == 0 for p in per):
+        evaluated = [s for s, p in zip(_SENSES, per) if p.height]
+        return _not_run(claim, f"{claim.b} evaluated under {', '.join(evaluated) or 'none'} "
+                               "(evaluate --sensors all)")
+    wide = per[0]
+    for p in per[1:]:
+        wide = wide.join(p, on=list(_ROBOT[1:]), how="inner")
+    out = verdicts.paired(wide.select(_SENSES).to_numpy(), claim.level)
+    long = pl.concat([p.rename({s: "fitness"}).with_columns(pl.lit(s).alias("senses"))
+                      for s, p in zip(_SENSES, per)])
+    kw = (stats.kruskal_wallis(long, "fitness", "senses")["p"].item()
+          if long["fitness"].n_unique() > 1 else 1.0)
+    means = ", ".join(f"{s} {wide[s].mean():.3g}" for s in _SENSES)
+    return _row(claim, out, f"fitness: {means}",
+                f"Friedman, robot as block, p < {ALPHA:g}; effect: Kendall's W; the paper: "
+                f"Kruskal-Wallis p < {claim.level:g} (here, as independent groups: p = "
+                f"{kw:.2g})", f"{wide.height} robots x 4 conditions")
 
 
-def _f7(rob: pl.DataFrame) -> list[dict]:
-    return [compare(rob, "pre", g, "babbling_share", -1, ALPHA, f"F7 {g} no babbling",
-                    f"{g} robots never show motor babbling (IV-C): their quasi-periodic "
-                    "movement below the pre-reachers'")
-            for g in ("fine*", "fine^")]
+_JUDGES = {Kind.DIRECTIONAL: _two_groups, Kind.NO_DIFFERENCE: _two_groups, Kind.BAND: _band,
+           Kind.EVERY_SECTOR: _every_sector, Kind.NEVER: _never, Kind.PAIRED: _paired}
 
 
-def findings(table: pl.DataFrame, baseline: pl.DataFrame | None = None) -> pl.DataFrame:
-    """Every claim of section IV (F1-F7) against the post-evaluation ``table`` (one or several
-    runs' trials with columns notation, senses, replication, rank, sector and the measures of
+def findings(table: pl.DataFrame, baseline: pl.DataFrame | None = None,
+             claims: tuple[Claim, ...] = CLAIMS) -> pl.DataFrame:
+    """Every claim (default: section IV's) judged against the post-evaluation ``table`` (one or
+    several runs' trials: notation, senses, replication, rank, sector and the measures of
     ``metrics.trial_metrics``; ``figures.load_runs`` gives several runs') and ``baseline``
     (random genomes' trials, ``load_evaluation(run, baseline=True)``; None: none).
 
-    Columns: claim, paper, measured, test, n, p (NaN where the test has none), verdict (one
-    of ``VERDICTS``). Phases are told apart by their notation (pre, gross, fine, gross^, ...).
+    Columns: claim, section, paper, kind, measured, test, n, effect, effect_low, effect_high,
+    p, p_holm (Holm over the table's p), paper_level_met, p_replications, replications_agree,
+    verdict (one of ``VERDICTS``), note.
     """
-    missing = [c for c in ("notation", "senses", "replication", "rank", "sector", *_MEASURES)
-               if c not in table.columns and c != "sectors_reached"]
+    missing = [c for c in ("notation", "senses", "replication", "rank", "sector", "fitness",
+                           "reached", "grasped") if c not in table.columns]
     if missing:
         raise ValueError(f"the post-evaluation table lacks columns {missing}")
-    rob = robots(table)
-    base = robots(baseline) if baseline is not None and baseline.height else None
-    rows = [*_f1(rob, base), *_f2_f3(rob, table), *_f4(table), *_f5_f6(replications(table)),
-            *_f7(rob)]
-    return pl.DataFrame(rows, schema=_SCHEMA)
+    data = _Data(table, baseline)
+    rows = [_JUDGES[c.kind](c, data) for c in claims]
+    found = pl.DataFrame(rows, schema=_SCHEMA)
+    return found.with_columns(pl.Series("p_holm", verdicts.holm(found["p"].to_numpy())))
 
 
 def summary(found: pl.DataFrame) -> dict[str, int]:

@@ -70,18 +70,53 @@ def table_html(df: pl.DataFrame, css: str = "") -> str:
             f'<tbody>{"".join(rows)}</tbody></table>')
 
 
+def _effect(r: dict) -> str:
+    if math.isnan(r["effect"]):
+        return "–"
+    ci = (f" [{_cell(r['effect_low'])}, {_cell(r['effect_high'])}]"
+          if not math.isnan(r["effect_low"]) else "")
+    return _cell(r["effect"]) + ci
+
+
 def _findings_html(found: pl.DataFrame) -> str:
-    rows = []
+    """The findings, grouped by the paper's section and figure, in the table's order."""
+    head = ("<tr><th>claim</th><th>the paper</th><th>measured here</th><th>test</th><th>n</th>"
+            "<th>effect [CI]</th><th>p</th><th>Holm p</th><th>paper's level met</th>"
+            "<th>replication means p</th><th>verdict</th></tr>")
+    rows, section = [], None
     for r in found.iter_rows(named=True):
-        css = r["verdict"].split()[0]
+        if r["section"] != section:
+            section = r["section"]
+            rows.append(f'<tr class="group"><th colspan="11">{html.escape(section)}</th></tr>')
+        met = {True: "yes", False: "no", None: "–"}[r["paper_level_met"]]
+        note = f'<br><small>{html.escape(r["note"])}</small>' if r["note"] else ""
         rows.append(
-            f'<tr class="{css}"><td>{html.escape(r["claim"])}</td>'
+            f'<tr class="{r["verdict"].split()[0]}"><td>{html.escape(r["claim"])}</td>'
             f'<td>{html.escape(r["paper"])}</td><td>{html.escape(r["measured"])}</td>'
             f'<td>{html.escape(r["test"])}</td><td>{html.escape(r["n"])}</td>'
-            f'<td>{_cell(r["p"])}</td><td class="verdict">{html.escape(r["verdict"])}</td></tr>')
-    return ('<table class="findings"><thead><tr><th>claim</th><th>the paper</th>'
-            '<th>measured here</th><th>test</th><th>n</th><th>p</th><th>verdict</th></tr>'
-            f'</thead><tbody>{"".join(rows)}</tbody></table>')
+            f'<td>{_effect(r)}</td><td>{_cell(r["p"])}</td><td>{_cell(r["p_holm"])}</td>'
+            f'<td>{met}</td><td>{_cell(r["p_replications"])}</td>'
+            f'<td class="verdict">{html.escape(r["verdict"])}{note}</td></tr>')
+    return (f'<table class="findings"><thead>{head}</thead><tbody>{"".join(rows)}</tbody>'
+            "</table>")
+
+
+def budget_text(run_dirs: Sequence[Path], table: pl.DataFrame | None) -> str:
+    """What the runs' budget can test: generations per phase, replications and robots per
+    replication post-evaluated."""
+    parts = []
+    for d in run_dirs:
+        run = Run.open(d)
+        gens = sorted({p.generations // p.budget_phases for c in run.conditions
+                       for p in c.phases})
+        parts.append(f"{d.name}: {'/'.join(map(str, gens))} generations per phase "
+                     f"({gens[-1] / 500:.0%} of the paper's 500), "
+                     f"{run.settings.replications} replications (the paper: 10)")
+    if table is not None and table.height:
+        robots_ = table.group_by("notation", "replication").agg(pl.col("rank").n_unique())
+        parts.append(f"{robots_['rank'].max()} robots per replication post-evaluated "
+                     "(the paper: 5)")
+    return "; ".join(parts)
 
 
 def training_summary(stats: pl.DataFrame) -> pl.DataFrame:
@@ -188,10 +223,14 @@ def build(run_dirs: Sequence, out=None) -> Path:
 
     sections = [_section("Findings of section IV", (
         '<p class="counts">' + " · ".join(f"{v}: <b>{n}</b>" for v, n in counts.items())
-        + "</p>" + _findings_html(found)
+        + f"</p><p>What the budget can test: {html.escape(budget_text(run_dirs, table))}. "
+          "<i>Underpowered</i>: even the most favourable data could not reach p &lt; 0.05 at "
+          "this n (decided from the sizes before any test); <i>inconclusive</i>: the data "
+          "cannot decide; a claim of no difference is <i>reproduced</i> only by an "
+          "equivalence test.</p>" + _findings_html(found)
         + "<p>Verdicts are computed from the data when this report is built "
-          "(<code>dart_reach.findings</code>; the rules are in its docstring and in "
-          "docs/analysis.md).</p>"), "findings")]
+          "(<code>dart_reach.findings</code>, <code>dart_reach.verdicts</code>; the rules "
+          "and their reasons are in docs/analysis.md, \"Verdicts\").</p>"), "findings")]
 
     prov, train = [], []
     for d in run_dirs:
