@@ -60,6 +60,7 @@ from .genome import ParamGroup, as_groups, decode, free_mask, random_genome, rel
 from .progress import training_bar
 from .recording import RobotModel, TrialInfo, training_rrd, trial_rrd, write_rrd
 from .task import TrialConfig, network_for, trial_positions
+from .scenes import scene_of
 from .world import BallConfig, SectorConfig, WorldConfig
 
 MANIFEST_FORMAT = 1
@@ -228,6 +229,7 @@ class Run:
             full = dict(self.manifest, created=time.strftime("%Y-%m-%dT%H:%M:%S%z"),
                         versions=_versions(), git_revision=_git_revision(),
                         machine=_machine(), command=command,
+                        scene=scene_of(settings.world.sectors) or "custom (see settings.world)",
                         seeds={"root": settings.seed,
                                "tree": "SeedSequence(seed, spawn_key=(phase key[:8] as int, "
                                        "replication, purpose 0 init|1 mutate|2 evaluate, "

@@ -4,6 +4,7 @@ the rule that defines them, bad files are refused naming the problem, and a run 
 
 from __future__ import annotations
 
+import json
 import math
 import subprocess
 import sys
@@ -108,6 +109,7 @@ def test_a_run_keeps_its_scene_and_resume_refuses_another(tmp_path):
     done = _cli(*tiny, "--scene", "arm-length-shoulder", cwd=root)
     assert done.returncode == 0, done.stderr
     assert Run.open(out).settings.world.sectors == load_scene("arm-length-shoulder").sectors
+    assert json.loads((out / "manifest.json").read_text())["scene"] == "arm-length-shoulder"
     refused = _cli(*tiny, "--scene", "near", "--resume", cwd=root)
     assert refused.returncode == 2 and len(refused.stderr.strip().splitlines()) == 1
     bad = _cli(*tiny[:-1], str(tmp_path / "other"), "--scene", "nowhere", cwd=root)
