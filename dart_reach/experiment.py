@@ -14,6 +14,7 @@ generation, individual): nothing depends on the order of evaluation or the numbe
 Run directory::
 
     manifest.json              conditions, settings, seeds, package versions, git revision
+                               (and whether the working tree had uncommitted changes)
     generations.parquet        one row per (condition, phase, replication, generation)
     training.rrd               the same statistics as Rerun time series (timeline generation)
     phases/<phase>/checkpoint.npz  the GA states after the last complete generation (atomic)
@@ -37,6 +38,7 @@ missing or older than the generations the table records.
 
 from __future__ import annotations
 
+import hashlib
 import json
 import os
 import platform
@@ -152,13 +154,37 @@ def baseline_genomes(settings: Settings, phase: Phase, n: int) -> np.ndarray:
     return random_genome(np.random.default_rng(_seed(settings, phase, _BASELINE)), n)
 
 
-def _git_revision() -> str | None:
+def _git(directory: Path, *args: str) -> bytes | None:
     try:
-        out = subprocess.run(["git", "rev-parse", "HEAD"], capture_output=True, text=True,
-                             cwd=Path(__file__).parent, timeout=10)
-        return out.stdout.strip() or None
+        out = subprocess.run(["git", *args], capture_output=True, cwd=directory, timeout=30)
     except (OSError, subprocess.SubprocessError):
         return None
+    return out.stdout if out.returncode == 0 else None
+
+
+def git_state(directory=None) -> dict:
+    """The state of the git working tree holding ``directory`` (default: this package's
+    source), for a run's manifest: ``git_revision`` (the commit), ``git_dirty`` (True when
+    tracked files differ from it or files git does not ignore are untracked) and
+    ``git_diff_sha256`` (SHA-256 of ``git diff HEAD --binary`` followed by each untracked
+    file's path and content: two runs with the same revision and the same hash ran the same
+    code). All None outside a git working tree."""
+    directory = Path(directory) if directory is not None else Path(__file__).parent
+    head = _git(directory, "rev-parse", "HEAD")
+    if not head:
+        return {"git_revision": None, "git_dirty": None, "git_diff_sha256": None}
+    root = Path((_git(directory, "rev-parse", "--show-toplevel") or b".").decode().strip())
+    diff = _git(root, "diff", "HEAD", "--binary") or b""
+    untracked = (_git(root, "ls-files", "--others", "--exclude-standard", "-z") or b"")
+    digest = hashlib.sha256(diff)
+    for name in sorted(n for n in untracked.split(b"\0") if n):
+        digest.update(b"\0untracked\0" + name + b"\0")
+        try:
+            digest.update((root / name.decode()).read_bytes())
+        except OSError:
+            pass
+    return {"git_revision": head.decode().strip(), "git_dirty": bool(diff or untracked),
+            "git_diff_sha256": digest.hexdigest()}
 
 
 def _machine() -> dict:
@@ -226,7 +252,7 @@ class Run:
             if resume:
                 raise RunError(f"nothing to resume: {self.out} holds no run")
             full = dict(self.manifest, created=time.strftime("%Y-%m-%dT%H:%M:%S%z"),
-                        versions=_versions(), git_revision=_git_revision(),
+                        versions=_versions(), **git_state(),
                         machine=_machine(), command=command,
                         seeds={"root": settings.seed,
                                "tree": "SeedSequence(seed, spawn_key=(phase key[:8] as int, "

@@ -143,12 +143,24 @@ def _provenance(run_dir: Path) -> pl.DataFrame:
         ("seeds", json.dumps(manifest.get("seeds"))),
         ("physics step (s)", str(run.settings.world.physics_dt)),
         ("git revision", str(manifest.get("git_revision"))),
+        ("uncommitted changes", _dirty(manifest)),
         ("versions", ", ".join(f"{k} {v}" for k, v in (manifest.get("versions") or {}).items())),
         ("machine", ", ".join(f"{k} {v}" for k, v in machine.items()) or "not recorded"),
         ("created", str(manifest.get("created"))),
         ("training wall time", f"{wall / 3600:.2f} h (sum of the generations' wall times)"),
     ]
     return pl.DataFrame(rows, schema=["item", "value"], orient="row")
+
+
+def _dirty(manifest: dict) -> str:
+    """Whether the run's code had uncommitted changes (manifest ``git_dirty``)."""
+    if "git_dirty" not in manifest:
+        return "not recorded (made before the manifest recorded it)"
+    if manifest["git_dirty"] is None:
+        return "unknown (not run from a git working tree)"
+    if not manifest["git_dirty"]:
+        return "none (clean working tree)"
+    return f"yes: diff SHA-256 {manifest.get('git_diff_sha256')}"
 
 
 def _section(title: str, body: str, anchor: str) -> str:
