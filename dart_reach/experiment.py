@@ -57,6 +57,7 @@ from .conditions import Condition, Phase, condition_from_dict
 from .evaluator import Evaluator, Job, make_evaluator, worker_trial
 from .evolution import (GAConfig, GAState, Scheme, ask, best_k, generation_stats, init_state,
                         state_from_arrays, state_to_arrays, tell, transition_population)
+from .errors import UsageError
 from .files import LOCK_NAME, DirectoryLock, atomic_write, remove_temporaries
 from .genome import ParamGroup, as_groups, decode, free_mask, random_genome, release
 from .progress import training_bar
@@ -72,8 +73,8 @@ STATS_SCHEMA = {
 }
 
 
-class RunError(ValueError):
-    """A run directory cannot be used as asked (exists, foreign, corrupted)."""
+class RunError(UsageError):
+    """A run directory cannot be used as asked (exists, foreign, corrupted, other settings)."""
 
 
 @dataclass(frozen=True)
@@ -243,11 +244,15 @@ class Run:
         manifest_path = self.out / "manifest.json"
         if manifest_path.exists():
             if not resume:
-                raise RunError(f"{self.out} already holds a run (manifest.json); use --resume to "
-                               f"continue it or choose another --out")
+                raise RunError(f"{self.out} already holds a run (manifest.json); pass "
+                               f"resume=True to continue it or choose another out",
+                               cli=f"{self.out} already holds a run (manifest.json); use "
+                                   f"--resume to continue it or choose another --out")
             self._check_same_run(manifest_path)
         elif self.out.exists() and any(p.name != LOCK_NAME for p in self.out.iterdir()):
-            raise RunError(f"{self.out} is not empty and holds no run: choose another --out")
+            raise RunError(f"{self.out} is not empty and holds no run: choose another out",
+                           cli=f"{self.out} is not empty and holds no run: choose another "
+                               f"--out")
         else:
             if resume:
                 raise RunError(f"nothing to resume: {self.out} holds no run")
@@ -298,9 +303,14 @@ class Run:
     def _check_same_run(self, manifest_path: Path) -> None:
         old = _read_manifest(manifest_path)
         for key in ("conditions", "settings"):
-            if old.get(key) != json.loads(json.dumps(self.manifest[key])):
-                raise RunError(f"{manifest_path}: the run there was made with other {key}; "
-                               f"resume it with the same command line")
+            asked = json.loads(json.dumps(self.manifest[key]))
+            if old.get(key) != asked:
+                where, there, here = _first_difference(old.get(key), asked, key)
+                what = f"{where} is {there} in the run there, {here} now"
+                raise RunError(f"{manifest_path}: the run there was made with other {key} "
+                               f"({what}); resume it with the same conditions and Settings",
+                               cli=f"{manifest_path}: the run there was made with other {key} "
+                                   f"({what}); resume it with the same command line")
 
     # -------------------------------------------------------------- stats and checkpoints
     def _committed_stats(self) -> pl.DataFrame:
@@ -555,6 +565,25 @@ class Run:
                              replication=r, generation=state.generation + 1,
                              **generation_stats(f)))
         return new_states, rows
+
+
+def _first_difference(a, b, path: str) -> tuple[str, str, str]:
+    """Where two JSON values first differ: (dotted path, a's value, b's value). A condition's
+    phase is named by its name (``conditions.standard.gross.generations``), a setting by its
+    field (``settings.trials``)."""
+    if isinstance(a, dict) and isinstance(b, dict):
+        for k in list(a) + [k for k in b if k not in a]:
+            if a.get(k) != b.get(k):
+                return _first_difference(a.get(k), b.get(k), f"{path}.{k}")
+    if isinstance(a, list) and isinstance(b, list) and len(a) == len(b):
+        for i, (x, y) in enumerate(zip(a, b)):
+            if x != y:
+                name = x.get("name") if isinstance(x, dict) and x.get("name") == (
+                    y.get("name") if isinstance(y, dict) else None) else None
+                return _first_difference(x, y, f"{path}.{name}" if name else f"{path}[{i}]")
+    if isinstance(a, list) and isinstance(b, list):
+        return f"{path} (how many)", str(len(a)), str(len(b))
+    return path, json.dumps(a), json.dumps(b)
 
 
 def _read_manifest(path: Path) -> dict:

@@ -27,6 +27,7 @@ from string import Template
 import polars as pl
 
 from . import figures, findings
+from .errors import UsageError
 from .evaluation import load_evaluation, run_phases
 from .experiment import Run, RunError
 from .files import atomic_write
@@ -189,7 +190,9 @@ def build(run_dirs: Sequence, out=None) -> Path:
     if out.suffix.lower() not in (".html", ".htm"):
         raise ValueError(f"{out}: the report is an HTML file; give a name ending in .html")
     if out.exists() and GENERATOR not in out.read_text(errors="replace")[:2000]:
-        raise ValueError(f"{out} exists and is not a dart_reach report; choose another --out")
+        raise UsageError(f"{out} exists and is not a dart_reach report; choose another out",
+                         cli=f"{out} exists and is not a dart_reach report; choose another "
+                             f"--out")
     evaluated = [d for d in run_dirs if (d / "evaluation.parquet").is_file()]
     table = figures.load_runs(evaluated) if evaluated else None
     baselines = [load_evaluation(d, baseline=True).with_columns(pl.lit(d.name).alias("run"))
