@@ -119,6 +119,36 @@ class Settings:
         return cls(**dict(d, ga=GAConfig(**ga), world=WorldConfig(**w)))
 
 
+#: Core-seconds of one replication-generation at the paper's budget (20 genotypes, steady
+#: state: 40 evaluations of 18 trials of 200 control steps, the shipped evolved robots):
+#: ``generation_core_s`` of ``dart-reach bench``, low and high of five runs on the project's
+#: 2-core reference machine (README, Benchmarks).
+GENERATION_CORE_S = (60.0, 67.0)
+
+
+@dataclass(frozen=True)
+class CostEstimate:
+    """The size of a training run: ``replication_generations`` (generations of every phase
+    trained, a phase shared by conditions once, times replications) and ``core_hours`` (low,
+    high), from ``GENERATION_CORE_S`` scaled by evaluations, trials and steps."""
+
+    replication_generations: int
+    core_hours: tuple[float, float]
+
+
+def cost_estimate(conditions: list[Condition], settings: Settings) -> CostEstimate:
+    """How much training ``conditions`` under ``settings`` costs (see ``CostEstimate``): the
+    cost of a generation is taken proportional to evaluations x trials x steps, and evolved
+    robots (which touch the ball) cost more than the random networks a run starts from, so
+    it is an upper-side estimate for short runs."""
+    phases = {p.key: p for c in conditions for p in c.phases}
+    rep_gens = sum(p.generations for p in phases.values()) * settings.replications
+    evaluations = settings.ga.population * (2 if settings.ga.scheme is Scheme.STEADY_STATE
+                                            else 1)
+    scale = evaluations / 40 * settings.trials / 18 * settings.steps / 200
+    return CostEstimate(rep_gens, tuple(rep_gens * scale * s / 3600 for s in GENERATION_CORE_S))
+
+
 def trial_config(phase: Phase, settings: Settings) -> TrialConfig:
     """The maturational state of a phase as the task sees it."""
     groups = as_groups(phase.free_groups)

@@ -189,6 +189,9 @@ def build(run_dirs: Sequence, out=None) -> Path:
     out = Path(out) if out is not None else run_dirs[0] / "report.html"
     if out.suffix.lower() not in (".html", ".htm"):
         raise ValueError(f"{out}: the report is an HTML file; give a name ending in .html")
+    if not out.parent.is_dir():
+        raise UsageError(f"{out.parent}: no such directory (out={str(out)!r}); create it first",
+                         cli=f"{out.parent}: no such directory (--out {out}); create it first")
     if out.exists() and GENERATOR not in out.read_text(errors="replace")[:2000]:
         raise UsageError(f"{out} exists and is not a dart_reach report; choose another out",
                          cli=f"{out} exists and is not a dart_reach report; choose another "
@@ -201,7 +204,12 @@ def build(run_dirs: Sequence, out=None) -> Path:
     found = findings.findings(table if table is not None else _empty_table(), baseline)
     counts = findings.summary(found)
 
-    sections = [_section("Findings of section IV", (
+    missing = [d for d in run_dirs if d not in evaluated]
+    notice = ("" if not missing else "<p class='missing'>not post-evaluated yet: "
+              + ", ".join(html.escape(str(d)) for d in missing) + ". The findings and figures "
+              "need the post-evaluation: run <code>dart-reach evaluate RUN --sensors all "
+              "--baseline 20</code> first.</p>")
+    sections = [_section("Findings of section IV", notice + (
         '<p class="counts">' + " · ".join(f"{v}: <b>{n}</b>" for v, n in counts.items())
         + "</p>" + _findings_html(found)
         + "<p>Verdicts are computed from the data when this report is built "
@@ -243,7 +251,6 @@ def build(run_dirs: Sequence, out=None) -> Path:
     text = page.substitute(
         generator=GENERATOR, title=html.escape("dart_reach report: " + ", ".join(d.name for d in run_dirs)),
         generated=time.strftime("%Y-%m-%d %H:%M:%S %z"), body="\n".join(sections))
-    out.parent.mkdir(parents=True, exist_ok=True)
     atomic_write(out, lambda p: p.write_text(text, encoding="utf-8"))
     return out
 

@@ -81,12 +81,13 @@ def _shipped(phase, condition, replication, rank) -> _Choice:
             cli=f"no shipped robot of {asked}: only {shipped} ships today; train one "
                 f"(dart-reach train {condition}) and watch it with --run RUN_DIR")
     if replication is not None:
+        have = sorted({r.replication for r in wanted})
         wanted = [r for r in wanted if r.replication == replication]
         if not wanted:
             raise UsageError(f"replication={replication}: the shipped robots come from "
-                             f"replications {sorted({r.replication for r in robots(phase, condition)})}",
-                             cli=f"--replication {replication}: the shipped robots come from "
-                                 f"replications {sorted({r.replication for r in robots(phase, condition)})}")
+                             f"replications {have}", cli=f"--replication {replication}: the "
+                                                         f"shipped robots come from "
+                                                         f"replications {have}")
     else:
         best = wanted[0].replication
         wanted = [r for r in wanted if r.replication == best]
