@@ -422,8 +422,8 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("rrd", type=Path, metavar="TRIAL.rrd")
     p.add_argument("out", type=Path, metavar="OUT.mp4")
     p.add_argument("--layout", type=Path, default=None, metavar="FILE.rbl",
-                   help="the viewer layout (default: TRIAL.rbl beside the recording if it "
-                        "exists, else evaluation/trial.rbl of its run, else the one it carries)")
+                   help="a viewer layout (default: the trial layout of 'dart-reach watch' "
+                        "and the post-evaluation)")
     p.add_argument("--fps", type=_positive, default=10,
                    help="frames per simulated second (10 = one per control step, real time)")
     p.add_argument("--size", default="1280x720", metavar="WxH", help="frame size in pixels")

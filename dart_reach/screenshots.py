@@ -83,6 +83,7 @@ class HeadlessViewer:
             time.sleep(0.2)
         mine = [r for r in state.recordings if r.store_id in opened.store_ids]
         self.client.set_location(mine[0].location)
+        self.store_id = mine[0].store_id  # the recording shown, for set_time
         if sim_time_s is not None:
             self.client.set_time("sim_time", duration=sim_time_s, play_state="paused",
                                  recording=mine[0].store_id)
