@@ -419,8 +419,9 @@ def build_parser() -> argparse.ArgumentParser:
 
     p = command("video", "render a trial recording frame by frame with the Rerun viewer, "
                          "headless, into a video (MP4)")
-    p.add_argument("rrd", type=Path, metavar="TRIAL.rrd")
-    p.add_argument("out", type=Path, metavar="OUT.mp4")
+    p.add_argument("rrd", type=Path, metavar="TRIAL.rrd",
+                   help="a trial recording (watch, evaluate or train --record-every)")
+    p.add_argument("out", type=Path, metavar="OUT.mp4", help="the video, a new file")
     p.add_argument("--layout", type=Path, default=None, metavar="FILE.rbl",
                    help="a viewer layout (default: the trial layout of 'dart-reach watch' "
                         "and the post-evaluation)")
