@@ -32,6 +32,21 @@ from .evaluation import load_evaluation, run_phases
 from .experiment import Run, RunError
 from .files import atomic_write
 
+#: Pixels per inch of the figures: figures.py's 9-point labels are 12.5 px at 100 % zoom.
+DPI = 100
+#: Under the training curves: why the best fitness of a generation can fall.
+TRAINING_NOTE = (
+    "The best fitness of a generation can fall: a genotype's fitness is its mean over new "
+    "random trials (ball positions) every generation, and the parents kept from one generation "
+    "to the next are evaluated again on new trials (steady state, section III-C), so a lucky "
+    "parent's score regresses toward its true mean. The curves are the best of each "
+    "generation's evaluations, not a record that can only rise.")
+#: Beside the pairwise tests of Figs. 9 and 10.
+HOLM_NOTE = (
+    "p: each pair's two-tailed Mann-Whitney test, uncorrected, as the paper reports them; "
+    "p_holm: corrected for the number of pairs compared (Holm's step-down method, which keeps "
+    "the chance of any false positive among them below alpha). The matrices draw black where "
+    "p_holm < 0.05 and grey where only the uncorrected p is.")
 #: Marks the files this module writes: only those are ever overwritten.
 GENERATOR = '<meta name="generator" content="dart_reach report">'
 #: Measures of the baseline table (Figs. 5, 6 and the babbling measure), with their labels.
@@ -45,7 +60,7 @@ MEASURES = (("fitness", "fitness"), ("reached", "reach rate"), ("grasped", "gras
 # ------------------------------------------------------------------------------ pieces
 def _figure(fig) -> str:
     buf = io.BytesIO()
-    fig.savefig(buf, format="png", dpi=80)
+    fig.savefig(buf, format="png", dpi=DPI)
     data = base64.b64encode(buf.getvalue()).decode("ascii")
     return f'<img alt="figure" src="data:image/png;base64,{data}">'
 
@@ -85,11 +100,16 @@ def _findings_html(found: pl.DataFrame) -> str:
             f'</thead><tbody>{"".join(rows)}</tbody></table>')
 
 
-def training_summary(stats: pl.DataFrame) -> pl.DataFrame:
+def training_summary(stats: pl.DataFrame, phases: pl.DataFrame | None = None) -> pl.DataFrame:
     """Best and mean fitness at the first and last generation of each phase, per condition,
-    phase and replication (from ``generations.parquet``)."""
+    phase and replication (from ``generations.parquet``), conditions in the order of the run
+    and phases in training order (``phases``: ``evaluation.run_phases`` of the run; default:
+    the order of the table)."""
     keys = ["condition", "phase", "replication"]
-    s = stats.sort([*keys, "generation"])
+    order = (phases.select("condition", "phase") if phases is not None
+             else stats.select("condition", "phase")).unique(maintain_order=True)
+    s = (stats.join(order.with_row_index("_order"), on=["condition", "phase"], how="left")
+         .sort(["_order", "replication", "generation"], nulls_last=True).drop("_order"))
     return (s.group_by(keys, maintain_order=True)
             .agg(pl.col("generation").last().alias("generations"),
                  pl.col("best").first().alias("best_first"),
@@ -222,9 +242,11 @@ def build(run_dirs: Sequence, out=None) -> Path:
         stats_path = d / "generations.parquet"
         if stats_path.is_file():
             stats = pl.read_parquet(stats_path)
+            phases = run_phases(d)
             train.append(f"<h3>{html.escape(d.name)}</h3>"
-                         + _try(figures.training_curves, stats, run_phases(d))
-                         + table_html(training_summary(stats)))
+                         + _try(figures.training_curves, stats, phases)
+                         + f"<p>{html.escape(TRAINING_NOTE)}</p>"
+                         + table_html(training_summary(stats, phases)))
         else:
             train.append(f"<h3>{html.escape(d.name)}</h3><p class='missing'>no generation "
                          "trained yet</p>")
@@ -289,7 +311,7 @@ def _fig10(table: pl.DataFrame) -> str:
     st = figures.fig10_statistics(reps)
     return (_try(figures.fig10_conditions, reps) + "<h4>Per condition (replications)</h4>"
             + table_html(st["summary"]) + "<h4>Mann-Whitney, two-tailed</h4>"
-            + table_html(st["pairs"]))
+            + f"<p>{html.escape(HOLM_NOTE)}</p>" + table_html(st["pairs"]))
 
 
 def _run_statistics(run_dir: Path) -> str:
@@ -302,5 +324,5 @@ def _run_statistics(run_dir: Path) -> str:
     parts += ["<h4>Fig. 9: Kruskal-Wallis across senses within each phase</h4>",
               table_html(f9["kruskal"]),
               "<h4>Fig. 9: Mann-Whitney between phase / senses groups</h4>",
-              table_html(f9["pairs"])]
+              f"<p>{html.escape(HOLM_NOTE)}</p>", table_html(f9["pairs"])]
     return "".join(parts)
