@@ -85,6 +85,25 @@ _ROBOT = ("phase", "replication", "rank")
 # Run helpers
 # ---------------------------------------------------------------------------------------------
 
+def repository_path(path) -> Path:
+    """``path`` resolved for the notebooks, wherever Jupyter was started: an absolute path as
+    it is; a relative one (``recordings/demo-standard``) from the root of the dart_reach
+    repository: the nearest folder, from the working directory up, that holds
+    ``pyproject.toml`` and ``dart_reach/``, else the checkout this package is imported from
+    (an editable install), else the working directory."""
+    path = Path(path)
+    if path.is_absolute():
+        return path
+    here = Path.cwd().resolve()
+    for folder in (here, *here.parents):
+        if (folder / "pyproject.toml").is_file() and (folder / "dart_reach").is_dir():
+            return folder / path
+    checkout = Path(__file__).resolve().parents[1]
+    if (checkout / "pyproject.toml").is_file():
+        return checkout / path
+    return here / path
+
+
 def _condition_phases(run_dir, condition: str) -> pl.DataFrame:
     phases = run_phases(run_dir)
     sel = phases.filter(pl.col("condition") == condition)
