@@ -254,11 +254,13 @@ def _announce_cost(conditions, settings, workers: int | None) -> None:
     lo_s, hi_s = GENERATION_CORE_S
     print(f"dart-reach: this run is {est.replication_generations:,} replication-generations, "
           f"about {low:,.0f}-{high:,.0f} core-hours{wall} (from {lo_s:g}-{hi_s:g} core-s per "
-          f"replication-generation of 20 genotypes x 18 trials x 200 steps measured by "
+          f"replication-generation of 20 genotypes (40 evaluations) x 18 trials x 200 "
+          f"steps measured by "
           f"'dart-reach bench', scaled to {settings.trials} trials x {settings.steps} steps).\n"
           f"  The cost is proportional to --generations (per phase) x --replications x --trials "
           f"x --steps: make them smaller for a quicker run (make demo: --generations 3 "
-          f"--replications 2 --trials 6, ~4 min on 2 cores). The progress bar's ETA follows.",
+          f"--replications 2 --trials 6, a few minutes on 2 cores). The progress bar's ETA "
+          f"follows.",
           file=sys.stderr)
 
 
@@ -340,8 +342,11 @@ def cmd_watch(args) -> int:
 
 def cmd_video(args) -> int:
     """A trial recording rendered frame by frame by the headless viewer into a video."""
-    from .video import render_video
+    from .video import render_video, video_missing
 
+    reason = video_missing()
+    if reason:  # this machine, not the input: still one line, before any work
+        raise ValueError(f"cannot render a video here: {reason}")
     result = render_video(args.rrd, args.out, layout=args.layout, fps=args.fps,
                           size=args.size, progress=True)
     print(f"wrote {result.path}: {result.frames} frames, {result.sim_seconds:g} simulated s, "

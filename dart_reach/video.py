@@ -70,11 +70,13 @@ def frame_times(sim_seconds: float, fps: int) -> list[float]:
 
 def render_video(recording, out, layout=None, fps: int = 10, size: str = "1280x720",
                  progress: bool = True, max_frames: int | None = None) -> VideoResult:
-    """Render ``recording`` (a trial's .rrd) with ``layout`` (.rbl; default
-    the trial layout; the viewer's side panels are hidden) at ``fps`` frames per simulated second (10: one per control step, so
-    the video plays at real time) into ``out`` (a new .mp4 file) at ``size`` pixels
-    ("WIDTHxHEIGHT"). ``max_frames``: only the first frames (a preview). ``progress`` shows
-    a progress bar (plain lines where the output is not a terminal)."""
+    """Render ``recording`` (a trial's .rrd) with ``layout`` (.rbl; default the trial
+    layout; the viewer's side panels are hidden) at ``fps`` frames per simulated second (10:
+    one per control step, so the video plays at real time) into ``out`` (a new .mp4 file) at
+    ``size`` pixels ("WIDTHxHEIGHT"). ``max_frames``: only the first frames (a preview).
+    ``progress`` shows a progress bar (plain lines where the output is not a terminal).
+    Cost: 0.27-0.36 s of wall time per frame on a 2-core machine without a GPU
+    (docs/analysis.md, "Videos")."""
     from .progress import ProgressBar
     from .recording import read_rrd, write_blueprint
     from .screenshots import HeadlessViewer
