@@ -1,11 +1,11 @@
-# dart_reach: two commands on a fresh machine with Python 3.11 and make.
+# dart_reach: two commands on a fresh machine with Python 3.11, 3.12 or 3.13 and make.
 #   make demo   creates .venv, installs the package, trains and post-evaluates a small run
 #   make test   creates .venv, installs the dev extras, runs the whole test suite
 PY ?= $(shell command -v python3.11 || command -v python3)
 VENV := .venv
 BIN := $(VENV)/bin
 
-.PHONY: demo test bench skeleton clean notebooks screenshots scene-study
+.PHONY: demo test bench skeleton clean notebooks screenshots scene-study pythons
 
 $(BIN)/python:
 	$(PY) -m venv $(VENV)
@@ -91,5 +91,30 @@ bench: $(VENV)/.installed
 skeleton: $(VENV)/.installed-dev
 	$(BIN)/python skeletons/build_skeleton.py $(VISUOMANIP)
 
+# Install the package (a wheel, not editable) into a fresh venv under each Python 3.11-3.13
+# found (python3.X on PATH, else pyenv's), run a tiny training in each and check that every
+# interpreter gives the same fitness to the last digit. Venvs and runs in .venv-pythons/.
+PYTHON_VERSIONS ?= 3.11 3.12 3.13
+PYTHONS_DIR := .venv-pythons
+pythons:
+	@rm -rf $(PYTHONS_DIR) && mkdir -p $(PYTHONS_DIR)
+	@for v in $(PYTHON_VERSIONS); do \
+	  py=""; \
+	  for c in "$$(command -v python$$v)" $(HOME)/.pyenv/versions/$$v*/bin/python$$v; do \
+	    if [ -n "$$c" ] && "$$c" -c pass 2>/dev/null; then py="$$c"; break; fi; \
+	  done; \
+	  if [ -z "$$py" ]; then echo "Python $$v: not found, skipped"; continue; fi; \
+	  d=$(PYTHONS_DIR)/$$v; \
+	  "$$py" -m venv $$d && $$d/bin/python -m pip install -q . \
+	  && $$d/bin/dart-reach train standard --generations 1 --replications 2 --trials 2 \
+	       --steps 20 --workers 1 --record-every 0 --out $$d/run 2>$$d/train.log \
+	  && $$d/bin/python -c "import polars as pl; t = pl.read_parquet('$$d/run/generations.parquet'); print(' '.join(repr(x) for x in t.sort('phase_key', 'replication')['best']))" > $$d/fitness.txt \
+	  || { echo "Python $$v ($$py): FAILED, see $$d"; exit 1; }; \
+	  echo "Python $$($$d/bin/python -c 'import platform; print(platform.python_version())'): installed, trained; best fitness per phase and replication: $$(cat $$d/fitness.txt)"; \
+	done; \
+	n=$$(cat $(PYTHONS_DIR)/*/fitness.txt | sort -u | wc -l); \
+	if [ "$$n" -eq 1 ]; then echo "the same fitness under every interpreter"; \
+	else echo "fitness differs between interpreters"; exit 1; fi
+
 clean:
-	rm -rf $(VENV) *.egg-info bench.json
+	rm -rf $(VENV) $(PYTHONS_DIR) *.egg-info bench.json

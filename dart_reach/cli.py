@@ -8,6 +8,8 @@ from __future__ import annotations
 
 import argparse
 import json
+import math
+import os
 import shlex
 import signal
 import sys
@@ -32,6 +34,46 @@ def _int_at_least(minimum: int):
 
 
 _positive, _non_negative = _int_at_least(1), _int_at_least(0)
+
+
+def cores() -> int:
+    """The cores this process may run on (its CPU affinity where the system tells it)."""
+    try:
+        return len(os.sched_getaffinity(0))
+    except AttributeError:  # macOS, Windows
+        return os.cpu_count() or 1
+
+
+def _workers(text: str) -> int:
+    """An argparse type: local worker processes, 1 to the machine's cores. More are refused
+    rather than capped: the work is CPU-bound, so they would not finish sooner (results are
+    identical for any number of workers), and each process holds ~115 MB."""
+    n, available = _positive(text), cores()
+    if n > available:
+        raise argparse.ArgumentTypeError(
+            f"{n} is more than the {available} cores of this machine: extra processes would not "
+            f"finish sooner (the work is CPU-bound) and each takes ~115 MB; use {available} or "
+            f"fewer, or --ray for a cluster")
+    return n
+
+
+def _physics_dt(text: str) -> float:
+    """An argparse type: a physics step in s, positive, finite, dividing the control step."""
+    from .world import WorldConfig
+
+    control = WorldConfig().control_dt
+    try:
+        dt = float(text)
+    except ValueError:
+        dt = math.nan
+    if not (math.isfinite(dt) and dt > 0):
+        raise argparse.ArgumentTypeError(f"expected a positive number of seconds, got {text!r}")
+    substeps = control / dt
+    if substeps < 1 or abs(substeps - round(substeps)) > 1e-9:
+        raise argparse.ArgumentTypeError(
+            f"{text} s does not divide the control step ({control:g} s) a whole number of "
+            f"times: use {control:g}/n, e.g. 0.02 or 0.01")
+    return dt
 
 
 class Terminated(KeyboardInterrupt):
@@ -206,8 +248,8 @@ def cmd_train(args) -> int:
     settings = Settings(replications=args.replications, trials=args.trials, steps=args.steps,
                         seed=args.seed, world=world)
     out = args.out or Path("recordings") / f"{'+'.join(c.name for c in conditions)}-s{args.seed}"
-    if args.workers is not None and args.workers < 1:
-        raise ValueError(f"--workers must be at least 1, got {args.workers}")
+    if not args.resume:
+        _announce_cost(conditions, settings, None if args.ray else args.workers or cores())
     try:
         with training_bar() as bar:
             run = train(conditions, settings, out, workers=args.workers, ray_address=args.ray,
@@ -227,6 +269,34 @@ def cmd_train(args) -> int:
           f"phases/*/); post-evaluate with: {shlex.join(['dart-reach', 'evaluate', str(run.out)])}",
           file=sys.stderr)
     return 0
+
+
+#: Core-hours from which ``train`` announces the size of a run before starting it.
+LONG_RUN_CORE_HOURS = 1.0
+
+
+def _announce_cost(conditions, settings, workers: int | None) -> None:
+    """Before a long run: its size, the core-hours it will take and how to make it smaller
+    (stderr); the progress bar's ETA takes over once generations finish."""
+    from .experiment import GENERATION_CORE_S, cost_estimate
+
+    est = cost_estimate(conditions, settings)
+    low, high = est.core_hours
+    if high < LONG_RUN_CORE_HOURS:
+        return
+    wall = (f", {low / workers:,.0f}-{high / workers:,.0f} h on {workers} worker"
+            f"{'s' if workers > 1 else ''}") if workers else ""
+    lo_s, hi_s = GENERATION_CORE_S
+    print(f"dart-reach: this run is {est.replication_generations:,} replication-generations, "
+          f"about {low:,.0f}-{high:,.0f} core-hours{wall} (from {lo_s:g}-{hi_s:g} core-s per "
+          f"replication-generation of 20 genotypes (40 evaluations) x 18 trials x 200 "
+          f"steps measured by "
+          f"'dart-reach bench', scaled to {settings.trials} trials x {settings.steps} steps).\n"
+          f"  The cost is proportional to --generations (per phase) x --replications x --trials "
+          f"x --steps: make them smaller for a quicker run (make demo: --generations 3 "
+          f"--replications 2 --trials 6, a few minutes on 2 cores). The progress bar's ETA "
+          f"follows.",
+          file=sys.stderr)
 
 
 def cmd_evaluate(args) -> int:
@@ -254,7 +324,17 @@ def cmd_evaluate(args) -> int:
 
 def cmd_report(args) -> int:
     from . import report
+    from .evaluation import TABLE
+    from .experiment import Run
 
+    for run_dir in args.run_dirs:
+        Run.open(run_dir)  # one clear line for a path that is not a run
+        if not (run_dir / TABLE).is_file():
+            raise ValueError(
+                f"{run_dir}: not post-evaluated yet (no {TABLE}), and the report's findings and "
+                f"figures come from the post-evaluation; run first: "
+                + shlex.join(["dart-reach", "evaluate", str(run_dir), "--sensors", "all",
+                              "--baseline", "20"]))
     path = report.build(args.run_dirs, args.out)
     print(f"report: {path}\nopen it in a browser (it is self-contained, works offline)")
     return 0
@@ -277,6 +357,51 @@ def cmd_read(args) -> int:
     return 0
 
 
+def cmd_watch(args) -> int:
+    """One trial of an evolved robot in the Rerun viewer (or saved for it)."""
+    from .watch import watch
+
+    watched = watch(args.phase, args.condition, args.replication, args.rank, args.sector,
+                    args.senses, args.run, args.out, viewer=False if args.no_viewer else None)
+    m = watched.measures
+    print(f"{watched.robot}\nsector {args.sector}, {args.senses} senses: "
+          f"{'reached' if m['reached'] else 'no reach'}, "
+          f"{'grasped' if m['grasped'] else 'no grasp'}, fitness {m['fitness']:.4f}")
+    if watched.viewer_pid is not None:
+        print(f"the Rerun viewer is opening {watched.recording} (PID {watched.viewer_pid})")
+    else:
+        print(f"wrote {watched.recording} and its layout {watched.layout}; open them where "
+              f"there is a display with:\n  {shlex.join(watched.open_command)}")
+    return 0
+
+
+def cmd_video(args) -> int:
+    """A trial recording rendered frame by frame by the headless viewer into a video."""
+    from .video import render_video, video_missing
+
+    reason = video_missing()
+    if reason:  # this machine, not the input: still one line, before any work
+        raise ValueError(f"cannot render a video here: {reason}")
+    result = render_video(args.rrd, args.out, layout=args.layout, fps=args.fps,
+                          size=args.size, progress=True)
+    print(f"wrote {result.path}: {result.frames} frames, {result.sim_seconds:g} simulated s, "
+          f"rendered in {result.wall_seconds:.0f} s")
+    return 0
+
+
+class _Help(argparse.HelpFormatter):
+    """Every option's default in its help (unless the help already says it)."""
+
+    def _get_help_string(self, action):
+        text = action.help or ""
+        default = action.default
+        if (action.option_strings and action.nargs != 0 and "default" not in text
+                and default is not None and default is not argparse.SUPPRESS
+                and default != []):
+            text += " (default: %(default)s)"
+        return text
+
+
 class _Parser(argparse.ArgumentParser):
     """Usage errors as one line and exit code 2, like every other bad input."""
 
@@ -285,10 +410,12 @@ class _Parser(argparse.ArgumentParser):
 
 
 def _add_workers(p: argparse.ArgumentParser) -> None:
-    p.add_argument("--workers", type=_positive, default=None,
-                   help="local processes (default: every core; 1 = serial)")
+    p.add_argument("--workers", type=_workers, default=None,
+                   help="local processes, at most the machine's cores (default: every core; "
+                        "1 = serial)")
     p.add_argument("--ray", default=None, metavar="ADDRESS",
-                   help="evaluate on a Ray cluster ('auto', 'local' or an address)")
+                   help="evaluate on a Ray cluster ('auto', 'local' or an address; default: "
+                        "none, local processes)")
 
 
 def _add_scene(p: argparse.ArgumentParser) -> None:
@@ -298,38 +425,86 @@ def _add_scene(p: argparse.ArgumentParser) -> None:
 
 
 def build_parser() -> argparse.ArgumentParser:
-    parser = _Parser(
-        prog="dart-reach",
-        description="Reaching and grasping development of a simulated iCub "
-                    "(Savastano & Nolfi 2013) on DART.")
-    sub = parser.add_subparsers(dest="command", required=True)
+    from . import __version__
 
-    p = sub.add_parser("reach", help="run a scripted reach-and-grasp and print what happened")
+    parser = _Parser(
+        prog="dart-reach", formatter_class=_Help,
+        description="Reaching and grasping development of a simulated iCub "
+                    "(Savastano & Nolfi 2013) on DART.",
+        epilog="'dart-reach COMMAND --help' lists a command's options. First contact: "
+               "'dart-reach watch' shows an evolved robot in the Rerun viewer.")
+    parser.add_argument("--version", action="version", version=f"%(prog)s {__version__}")
+    sub = parser.add_subparsers(dest="command", metavar="COMMAND", title="commands")
+
+    def command(name: str, text: str) -> argparse.ArgumentParser:
+        return sub.add_parser(name, help=text, description=text, formatter_class=_Help)
+
+    p = command("watch", "run one trial of an evolved robot (a shipped one, or a trained "
+                         "run's best with --run) and show it in the Rerun viewer")
+    p.add_argument("phase", nargs="?", default=None, metavar="PHASE",
+                   help="pre, gross or fine (default: the most developed phase available)")
+    p.add_argument("--condition", default="standard",
+                   help="the condition the robot was trained in")
+    p.add_argument("--run", type=Path, default=None, metavar="RUN_DIR",
+                   help="watch this trained run's robot (default: a shipped robot)")
+    p.add_argument("--replication", type=_non_negative, default=None, metavar="R",
+                   help="the robot's replication (default: the best replication)")
+    p.add_argument("--rank", type=_non_negative, default=0,
+                   help="the robot's rank in its replication's final population (0 = best)")
+    p.add_argument("--sector", type=int, default=4, choices=range(9), metavar="K",
+                   help="the ball at the centre of sector K, 0..8")
+    p.add_argument("--senses", default="normal",
+                   choices=("normal", "no-touch", "no-sight", "nothing"),
+                   help="sensory condition (Fig. 9)")
+    p.add_argument("--out", type=Path, default=None, metavar="FILE.rrd",
+                   help="the recording (default: recordings/watch/<condition>-<phase>-"
+                        "sector<K>.rrd); its layout is written beside it (.rbl)")
+    p.add_argument("--no-viewer", action="store_true",
+                   help="only write the files, even where there is a display")
+    p.set_defaults(func=cmd_watch)
+
+    p = command("video", "render a trial recording frame by frame with the Rerun viewer, "
+                         "headless, into a video (MP4)")
+    p.add_argument("rrd", type=Path, metavar="TRIAL.rrd",
+                   help="a trial recording (watch, evaluate or train --record-every)")
+    p.add_argument("out", type=Path, metavar="OUT.mp4", help="the video, a new file")
+    p.add_argument("--layout", type=Path, default=None, metavar="FILE.rbl",
+                   help="a viewer layout (default: the trial layout of 'dart-reach watch' "
+                        "and the post-evaluation)")
+    p.add_argument("--fps", type=_positive, default=10,
+                   help="frames per simulated second (10 = one per control step, real time)")
+    p.add_argument("--size", default="1280x720", metavar="WxH", help="frame size in pixels")
+    p.set_defaults(func=cmd_video)
+
+    p = command("reach", "run a scripted reach-and-grasp and print what happened")
     p.add_argument("--sector", type=int, default=4, help="ball sector 0..8 (default 4)")
     p.add_argument("--seconds", type=float, default=5.0, help="simulated seconds (default 5)")
-    p.add_argument("--skeleton", type=Path, default=None, help="robot model (URDF)")
+    p.add_argument("--skeleton", type=Path, default=None,
+                   help="robot model (URDF; default: the shipped skeleton)")
     _add_scene(p)
     p.set_defaults(func=cmd_reach)
 
-    p = sub.add_parser("scenes", help="list the shipped scenes (where the ball hangs) and "
-                                      "their geometry relative to the arm")
+    p = command("scenes", "list the shipped scenes (where the ball hangs) and their geometry "
+                          "relative to the arm")
     p.set_defaults(func=cmd_scenes)
 
-    p = sub.add_parser("conditions", help="list the shipped conditions")
+    p = command("conditions", "list the shipped conditions")
     p.set_defaults(func=cmd_conditions)
 
-    p = sub.add_parser("train", help="train conditions (shipped names or condition files)")
+    p = command("train", "train conditions (shipped names or condition files)")
     p.add_argument("conditions", nargs="+", metavar="CONDITION",
                    help="a shipped condition name (see 'conditions') or a condition file")
     p.add_argument("--out", type=Path, default=None,
                    help="run directory (default recordings/<conditions>-s<seed>)")
     p.add_argument("--generations", type=_positive, default=None,
                    help="generations per standard phase (default: the condition's, 500)")
-    p.add_argument("--replications", type=_positive, default=10)
+    p.add_argument("--replications", type=_positive, default=10,
+                   help="independent runs of the GA per phase")
     p.add_argument("--trials", type=_positive, default=18, help="trials per evaluation")
     p.add_argument("--steps", type=_positive, default=200, help="0.1 s steps per trial")
-    p.add_argument("--seed", type=_non_negative, default=0)
-    p.add_argument("--physics-dt", type=float, default=None, metavar="DT",
+    p.add_argument("--seed", type=_non_negative, default=0,
+                   help="root of the run's seed tree (same seed, same result)")
+    p.add_argument("--physics-dt", type=_physics_dt, default=None, metavar="DT",
                    help="physics step in s, a divisor of 0.1 (default 0.02, the step chosen "
                         "in docs/world.md)")
     _add_scene(p)
@@ -340,7 +515,7 @@ def build_parser() -> argparse.ArgumentParser:
                         "generations and at the end of each phase (default 100; 0 = never)")
     p.set_defaults(func=cmd_train)
 
-    p = sub.add_parser("evaluate", help="post-evaluate a trained run on the 45 systematic "
+    p = command("evaluate", "post-evaluate a trained run on the 45 systematic "
                                         "positions (section IV)")
     p.add_argument("run_dir", type=Path, metavar="RUN_DIR", help="a run directory of 'train'")
     p.add_argument("--sensors", default="normal",
@@ -358,22 +533,26 @@ def build_parser() -> argparse.ArgumentParser:
     _add_workers(p)
     p.set_defaults(func=cmd_evaluate)
 
-    p = sub.add_parser("report", help="one self-contained HTML file: the paper's findings "
+    p = command("report", "one self-contained HTML file: the paper's findings "
                                       "tested against runs, provenance, training, Figs. 5-10")
-    p.add_argument("run_dirs", type=Path, nargs="+", metavar="RUN_DIR")
+    p.add_argument("run_dirs", type=Path, nargs="+", metavar="RUN_DIR",
+                   help="post-evaluated run directories (dart-reach evaluate)")
     p.add_argument("--out", type=Path, default=None, metavar="FILE.html",
-                   help="where to write it (default RUN_DIR/report.html of the first run)")
+                   help="where to write it, in an existing directory (default "
+                        "RUN_DIR/report.html of the first run)")
     p.set_defaults(func=cmd_report)
 
-    p = sub.add_parser("read", help="show a .rrd recording's properties and series; "
+    p = command("read", "show a .rrd recording's properties and series; "
                                     "--parquet saves them as a table")
-    p.add_argument("rrd", type=Path, metavar="FILE.rrd")
-    p.add_argument("--parquet", type=Path, default=None, metavar="OUT.parquet")
+    p.add_argument("rrd", type=Path, metavar="FILE.rrd", help="a trial or training recording")
+    p.add_argument("--parquet", type=Path, default=None, metavar="OUT.parquet",
+                   help="also save its series as a table, a new file (default: none)")
     p.set_defaults(func=cmd_read)
 
-    p = sub.add_parser("validate", help="check the model: scene, scripted grasps, reflexes, "
+    p = command("validate", "check the model: scene, scripted grasps, reflexes, "
                                         "chance level (exit 0 when every check passes)")
-    p.add_argument("--json", type=Path, default=None, help="also write the figures to FILE")
+    p.add_argument("--json", type=Path, default=None,
+                   help="also write the figures to FILE, a new file (default: none)")
     p.add_argument("--grid", type=_int_at_least(2), default=7,
                    help="start positions per sector side checked (default 7: 49 per sector)")
     p.add_argument("--networks", type=_positive, default=40,
@@ -385,8 +564,9 @@ def build_parser() -> argparse.ArgumentParser:
     _add_scene(p)
     p.set_defaults(func=cmd_validate)
 
-    p = sub.add_parser("bench", help="measure simulation speed (see README)")
-    p.add_argument("--json", type=Path, default=None, help="also write the figures to FILE")
+    p = command("bench", "measure simulation speed (see README)")
+    p.add_argument("--json", type=Path, default=None,
+                   help="also write the figures to FILE, a new file (default: none)")
     p.add_argument("--seconds", type=float, default=2.0,
                    help="simulated s per block of the physics pairs (default 2)")
     p.add_argument("--repeats", type=_positive, default=30,
@@ -399,8 +579,8 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--networks", type=_positive, default=20,
                    help="random networks in the study's panel (default 20)")
     p.add_argument("--run", type=Path, nargs="*", default=[], metavar="RUN_DIR",
-                   help="finished runs whose best robots join the panel")
-    p.add_argument("--workers", type=_positive, default=None,
+                   help="finished runs whose best robots join the panel (default: none)")
+    p.add_argument("--workers", type=_workers, default=None,
                    help="local processes for the study (default: every core)")
     p.set_defaults(func=cmd_bench)
     return parser
@@ -410,11 +590,15 @@ def _message(exc: BaseException) -> str:
     """One line for an error: an OS error names its file and the problem."""
     if isinstance(exc, OSError) and exc.filename and exc.strerror:
         return f"{exc.filename}: {exc.strerror}"
-    return " ".join(str(exc).split())
+    return " ".join(str(getattr(exc, "cli", exc)).split())
 
 
 def main(argv=None) -> int:
-    args = build_parser().parse_args(argv)
+    parser = build_parser()
+    args = parser.parse_args(argv)
+    if args.command is None:  # a bare dart-reach: what it can do
+        parser.print_help()
+        return 2
     _stops.clear()
     signal.signal(signal.SIGTERM, _on_stop_signal)
     signal.signal(signal.SIGINT, _on_stop_signal)

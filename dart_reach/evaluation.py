@@ -155,9 +155,10 @@ def open_finished(run_dir) -> Run:
     run = Run.open(run_dir)
     missing = run.unfinished()
     if missing:
-        raise RunError(f"{run.out}: unfinished run: {', '.join(missing)} not trained to the end "
-                       f"(no final.npz); finish it with 'dart-reach train ... --resume --out "
-                       f"{run.out}'")
+        unfinished = f"{run.out}: unfinished run: {', '.join(missing)} not trained to the end " \
+                     f"(no final.npz); finish it with "
+        raise RunError(unfinished + f"experiment.train(..., out={str(run.out)!r}, resume=True)",
+                       cli=unfinished + f"'dart-reach train ... --resume --out {run.out}'")
     return run
 
 

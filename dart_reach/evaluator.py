@@ -24,6 +24,7 @@ from typing import Callable, Iterable, Iterator, Sequence, TypeVar
 
 import numpy as np
 
+from .errors import UsageError
 from .genome import decode
 from .task import Trial, TrialConfig, network_for, trial_positions
 from .world import World, WorldConfig
@@ -157,12 +158,14 @@ def _check_reachable(address: str) -> None:
     hostport = address.split("://", 1)[-1]
     host, sep, port = hostport.rpartition(":")
     if not sep or not port.isdigit():
-        raise ValueError(f"--ray {address}: expected 'auto', 'local' or HOST:PORT")
+        raise UsageError(f"ray_address={address!r}: expected 'auto', 'local' or HOST:PORT",
+                         cli=f"--ray {address}: expected 'auto', 'local' or HOST:PORT")
     try:
         socket.create_connection((host, int(port)), timeout=RAY_CONNECT_TIMEOUT_S).close()
     except OSError as exc:
-        raise ValueError(f"--ray {address}: no Ray cluster answers there "
-                         f"({exc.strerror or exc})") from None
+        why = f"no Ray cluster answers there ({exc.strerror or exc})"
+        raise UsageError(f"ray_address={address!r}: {why}", cli=f"--ray {address}: {why}"
+                         ) from None
 
 
 def _driver_ip(address: str) -> dict:
@@ -180,7 +183,8 @@ class RayEvaluator(Evaluator):
         try:
             import ray
         except ImportError:
-            raise ValueError("--ray needs the 'cluster' extra: pip install 'dart_reach[cluster]'"
+            extra = "the 'cluster' extra: pip install 'dart_reach[cluster]'"
+            raise UsageError(f"ray_address needs {extra}", cli=f"--ray needs {extra}"
                              ) from None
         self._ray = ray
         if not ray.is_initialized():

@@ -14,6 +14,7 @@ generation, individual): nothing depends on the order of evaluation or the numbe
 Run directory::
 
     manifest.json              conditions, settings, seeds, package versions, git revision
+                               (and whether the working tree had uncommitted changes)
     generations.parquet        one row per (condition, phase, replication, generation)
     training.rrd               the same statistics as Rerun time series (timeline generation)
     phases/<phase>/checkpoint.npz  the GA states after the last complete generation (atomic)
@@ -37,6 +38,7 @@ missing or older than the generations the table records.
 
 from __future__ import annotations
 
+import hashlib
 import json
 import os
 import platform
@@ -55,6 +57,7 @@ from .conditions import Condition, Phase, condition_from_dict
 from .evaluator import Evaluator, Job, make_evaluator, worker_trial
 from .evolution import (GAConfig, GAState, Scheme, ask, best_k, generation_stats, init_state,
                         state_from_arrays, state_to_arrays, tell, transition_population)
+from .errors import UsageError
 from .files import LOCK_NAME, DirectoryLock, atomic_write, remove_temporaries
 from .genome import ParamGroup, as_groups, decode, free_mask, random_genome, release
 from .progress import training_bar
@@ -71,8 +74,8 @@ STATS_SCHEMA = {
 }
 
 
-class RunError(ValueError):
-    """A run directory cannot be used as asked (exists, foreign, corrupted)."""
+class RunError(UsageError):
+    """A run directory cannot be used as asked (exists, foreign, corrupted, other settings)."""
 
 
 @dataclass(frozen=True)
@@ -117,6 +120,36 @@ class Settings:
         return cls(**dict(d, ga=GAConfig(**ga), world=WorldConfig(**w)))
 
 
+#: Core-seconds of one replication-generation at the paper's budget (20 genotypes, steady
+#: state: 40 evaluations of 18 trials of 200 control steps, the shipped evolved robots):
+#: ``generation_core_s`` of ``dart-reach bench``, low and high of five runs on the project's
+#: 2-core reference machine (README, Benchmarks).
+GENERATION_CORE_S = (60.0, 67.0)
+
+
+@dataclass(frozen=True)
+class CostEstimate:
+    """The size of a training run: ``replication_generations`` (generations of every phase
+    trained, a phase shared by conditions once, times replications) and ``core_hours`` (low,
+    high), from ``GENERATION_CORE_S`` scaled by evaluations, trials and steps."""
+
+    replication_generations: int
+    core_hours: tuple[float, float]
+
+
+def cost_estimate(conditions: list[Condition], settings: Settings) -> CostEstimate:
+    """How much training ``conditions`` under ``settings`` costs (see ``CostEstimate``): the
+    cost of a generation is taken proportional to evaluations x trials x steps, and evolved
+    robots (which touch the ball) cost more than the random networks a run starts from, so
+    it is an upper-side estimate for short runs."""
+    phases = {p.key: p for c in conditions for p in c.phases}
+    rep_gens = sum(p.generations for p in phases.values()) * settings.replications
+    evaluations = settings.ga.population * (2 if settings.ga.scheme is Scheme.STEADY_STATE
+                                            else 1)
+    scale = evaluations / 40 * settings.trials / 18 * settings.steps / 200
+    return CostEstimate(rep_gens, tuple(rep_gens * scale * s / 3600 for s in GENERATION_CORE_S))
+
+
 def trial_config(phase: Phase, settings: Settings) -> TrialConfig:
     """The maturational state of a phase as the task sees it."""
     groups = as_groups(phase.free_groups)
@@ -153,13 +186,37 @@ def baseline_genomes(settings: Settings, phase: Phase, n: int) -> np.ndarray:
     return random_genome(np.random.default_rng(_seed(settings, phase, _BASELINE)), n)
 
 
-def _git_revision() -> str | None:
+def _git(directory: Path, *args: str) -> bytes | None:
     try:
-        out = subprocess.run(["git", "rev-parse", "HEAD"], capture_output=True, text=True,
-                             cwd=Path(__file__).parent, timeout=10)
-        return out.stdout.strip() or None
+        out = subprocess.run(["git", *args], capture_output=True, cwd=directory, timeout=30)
     except (OSError, subprocess.SubprocessError):
         return None
+    return out.stdout if out.returncode == 0 else None
+
+
+def git_state(directory=None) -> dict:
+    """The state of the git working tree holding ``directory`` (default: this package's
+    source), for a run's manifest: ``git_revision`` (the commit), ``git_dirty`` (True when
+    tracked files differ from it or files git does not ignore are untracked) and
+    ``git_diff_sha256`` (SHA-256 of ``git diff HEAD --binary`` followed by each untracked
+    file's path and content: two runs with the same revision and the same hash ran the same
+    code). All None outside a git working tree."""
+    directory = Path(directory) if directory is not None else Path(__file__).parent
+    head = _git(directory, "rev-parse", "HEAD")
+    if not head:
+        return {"git_revision": None, "git_dirty": None, "git_diff_sha256": None}
+    root = Path((_git(directory, "rev-parse", "--show-toplevel") or b".").decode().strip())
+    diff = _git(root, "diff", "HEAD", "--binary") or b""
+    untracked = (_git(root, "ls-files", "--others", "--exclude-standard", "-z") or b"")
+    digest = hashlib.sha256(diff)
+    for name in sorted(n for n in untracked.split(b"\0") if n):
+        digest.update(b"\0untracked\0" + name + b"\0")
+        try:
+            digest.update((root / name.decode()).read_bytes())
+        except OSError:
+            pass
+    return {"git_revision": head.decode().strip(), "git_dirty": bool(diff or untracked),
+            "git_diff_sha256": digest.hexdigest()}
 
 
 def _machine() -> dict:
@@ -218,16 +275,20 @@ class Run:
         manifest_path = self.out / "manifest.json"
         if manifest_path.exists():
             if not resume:
-                raise RunError(f"{self.out} already holds a run (manifest.json); use --resume to "
-                               f"continue it or choose another --out")
+                raise RunError(f"{self.out} already holds a run (manifest.json); pass "
+                               f"resume=True to continue it or choose another out",
+                               cli=f"{self.out} already holds a run (manifest.json); use "
+                                   f"--resume to continue it or choose another --out")
             self._check_same_run(manifest_path)
         elif self.out.exists() and any(p.name != LOCK_NAME for p in self.out.iterdir()):
-            raise RunError(f"{self.out} is not empty and holds no run: choose another --out")
+            raise RunError(f"{self.out} is not empty and holds no run: choose another out",
+                           cli=f"{self.out} is not empty and holds no run: choose another "
+                               f"--out")
         else:
             if resume:
                 raise RunError(f"nothing to resume: {self.out} holds no run")
             full = dict(self.manifest, created=time.strftime("%Y-%m-%dT%H:%M:%S%z"),
-                        versions=_versions(), git_revision=_git_revision(),
+                        versions=_versions(), **git_state(),
                         machine=_machine(), command=command,
                         scene=scene_of(settings.world.sectors) or "custom (see settings.world)",
                         seeds={"root": settings.seed,
@@ -274,9 +335,14 @@ class Run:
     def _check_same_run(self, manifest_path: Path) -> None:
         old = _read_manifest(manifest_path)
         for key in ("conditions", "settings"):
-            if old.get(key) != json.loads(json.dumps(self.manifest[key])):
-                raise RunError(f"{manifest_path}: the run there was made with other {key}; "
-                               f"resume it with the same command line")
+            asked = json.loads(json.dumps(self.manifest[key]))
+            if old.get(key) != asked:
+                where, there, here = _first_difference(old.get(key), asked, key)
+                what = f"{where} is {there} in the run there, {here} now"
+                raise RunError(f"{manifest_path}: the run there was made with other {key} "
+                               f"({what}); resume it with the same conditions and Settings",
+                               cli=f"{manifest_path}: the run there was made with other {key} "
+                                   f"({what}); resume it with the same command line")
 
     # -------------------------------------------------------------- stats and checkpoints
     def _committed_stats(self) -> pl.DataFrame:
@@ -531,6 +597,25 @@ class Run:
                              replication=r, generation=state.generation + 1,
                              **generation_stats(f)))
         return new_states, rows
+
+
+def _first_difference(a, b, path: str) -> tuple[str, str, str]:
+    """Where two JSON values first differ: (dotted path, a's value, b's value). A condition's
+    phase is named by its name (``conditions.standard.gross.generations``), a setting by its
+    field (``settings.trials``)."""
+    if isinstance(a, dict) and isinstance(b, dict):
+        for k in list(a) + [k for k in b if k not in a]:
+            if a.get(k) != b.get(k):
+                return _first_difference(a.get(k), b.get(k), f"{path}.{k}")
+    if isinstance(a, list) and isinstance(b, list) and len(a) == len(b):
+        for i, (x, y) in enumerate(zip(a, b)):
+            if x != y:
+                name = x.get("name") if isinstance(x, dict) and x.get("name") == (
+                    y.get("name") if isinstance(y, dict) else None) else None
+                return _first_difference(x, y, f"{path}.{name}" if name else f"{path}[{i}]")
+    if isinstance(a, list) and isinstance(b, list):
+        return f"{path} (how many)", str(len(a)), str(len(b))
+    return path, json.dumps(a), json.dumps(b)
 
 
 def _read_manifest(path: Path) -> dict:

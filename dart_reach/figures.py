@@ -72,6 +72,9 @@ BABBLING_MEASURES = (("babbling_freq_hz", "dominant frequency of the hand (Hz)",
 #: Trials drawn in Fig. 6 (top): the centre of each sector (the first of its 5 positions).
 SECTOR_CENTRE_TRIALS = tuple(POINTS_PER_SECTOR * s for s in range(9))
 
+#: Fewer values than this in a group of Fig. 10: dots and their median, no box plot.
+BOX_MIN = 5
+
 #: Trial drawn in Fig. 8 by default: the centre of the middle sector (4).
 FIG8_TRIAL = POINTS_PER_SECTOR * 4
 
@@ -81,6 +84,25 @@ _ROBOT = ("phase", "replication", "rank")
 # ---------------------------------------------------------------------------------------------
 # Run helpers
 # ---------------------------------------------------------------------------------------------
+
+def repository_path(path) -> Path:
+    """``path`` resolved for the notebooks, wherever Jupyter was started: an absolute path as
+    it is; a relative one (``recordings/demo-standard``) from the root of the dart_reach
+    repository: the nearest folder, from the working directory up, that holds
+    ``pyproject.toml`` and ``dart_reach/``, else the checkout this package is imported from
+    (an editable install), else the working directory."""
+    path = Path(path)
+    if path.is_absolute():
+        return path
+    here = Path.cwd().resolve()
+    for folder in (here, *here.parents):
+        if (folder / "pyproject.toml").is_file() and (folder / "dart_reach").is_dir():
+            return folder / path
+    checkout = Path(__file__).resolve().parents[1]
+    if (checkout / "pyproject.toml").is_file():
+        return checkout / path
+    return here / path
+
 
 def _condition_phases(run_dir, condition: str) -> pl.DataFrame:
     phases = run_phases(run_dir)
@@ -221,6 +243,14 @@ def _mann_whitney(units: pl.DataFrame, value: str, group: str, order: list,
     return stats.mann_whitney(units, value, group, order=order, alpha=alpha)
 
 
+def _with_holm(pairs: pl.DataFrame, alpha: float) -> pl.DataFrame:
+    """``stats.holm`` over the family of pairs (an empty table gets the empty columns)."""
+    if pairs.height == 0:
+        return pairs.with_columns(pl.lit(None, pl.Float64).alias("p_holm"),
+                                  pl.lit(None, pl.Boolean).alias("significant_holm"))
+    return stats.holm(pairs, alpha)
+
+
 def phase_statistics(table: pl.DataFrame, measures: Sequence[str],
                      phases: Sequence[str] | None = None, senses: str = "normal",
                      alpha: float = 0.05) -> pl.DataFrame:
@@ -243,8 +273,10 @@ def fig9_statistics(table: pl.DataFrame, phases: Sequence[str] | None = None,
     each phase x senses, with its group label "phase / senses"), ``summary`` (mean, s.d., s.e.m.
     of the robots' fitness per phase and senses), ``kruskal`` (Kruskal-Wallis across senses
     within each phase, section IV-B; NaN when fewer than two sensory conditions have robots),
-    ``pairs`` (two-tailed Mann-Whitney between every pair of groups) and ``matrix`` (the pairs
-    as the square table of ``stats.significance_matrix``)."""
+    ``pairs`` (two-tailed Mann-Whitney between every pair of groups, with ``p_holm``: Holm's
+    correction over the pairs, ``stats.holm``), ``matrix`` (the pairs as the square table of
+    ``stats.significance_matrix``, uncorrected as in the paper) and ``matrix_holm`` (the same
+    after Holm's correction)."""
     phases = _phases(table, phases)
     senses = list(senses)
     robots = metrics.robot_performance(_select(table, phases, senses),
@@ -267,10 +299,10 @@ def fig9_statistics(table: pl.DataFrame, phases: Sequence[str] | None = None,
                                             "H": pl.Float64, "p": pl.Float64})
     present = set(robots["group"].to_list())
     order = [g for g in order if g in present]
-    pairs = _mann_whitney(robots, "fitness", "group", order, alpha)
-    matrix = stats.significance_matrix(pairs, order)
+    pairs = _with_holm(_mann_whitney(robots, "fitness", "group", order, alpha), alpha)
     return {"robots": robots, "summary": summary, "kruskal": kruskal, "pairs": pairs,
-            "matrix": matrix}
+            "matrix": stats.significance_matrix(pairs, order),
+            "matrix_holm": stats.significance_matrix(pairs, order, "significant_holm")}
 
 
 def _groups(replications: pl.DataFrame, order: Sequence[str] | None) -> list[str]:
@@ -289,7 +321,8 @@ def fig10_statistics(replications: pl.DataFrame, order: Sequence[str] | None = N
     ``metrics.replication_performance(load_runs(dirs), by=("group",))``): ``summary`` (per
     group: replications, median, mean, min, max of ``value``; the median is the thickness of
     the boxes of the paper's top diagram), ``pairs`` (two-tailed Mann-Whitney between every pair
-    of groups) and ``matrix`` (``stats.significance_matrix``)."""
+    of groups, with Holm's ``p_holm``), ``matrix`` (``stats.significance_matrix``, uncorrected
+    as in the paper) and ``matrix_holm`` (after Holm's correction)."""
     groups = _groups(replications, order)
     units = replications.with_columns(pl.col("group").cast(pl.Utf8))
     key = {g: i for i, g in enumerate(groups)}
@@ -302,10 +335,11 @@ def fig10_statistics(replications: pl.DataFrame, order: Sequence[str] | None = N
                .with_columns(pl.col("group").replace_strict(key, return_dtype=pl.Int64)
                              .alias("_k"))
                .sort("_k").drop("_k"))
-    pairs = _mann_whitney(units, value, "group", groups, alpha)
+    pairs = _with_holm(_mann_whitney(units, value, "group", groups, alpha), alpha)
     present = [g for g in groups if g in set(units["group"].to_list())]
     return {"summary": summary, "pairs": pairs,
-            "matrix": stats.significance_matrix(pairs, present)}
+            "matrix": stats.significance_matrix(pairs, present),
+            "matrix_holm": stats.significance_matrix(pairs, present, "significant_holm")}
 
 
 # ---------------------------------------------------------------------------------------------
@@ -319,7 +353,7 @@ def _phase_colours(phases: Sequence[str]) -> dict[str, tuple]:
 
 def _na(ax, x, text="n/a"):
     ax.text(x, 0.02, text, transform=ax.get_xaxis_transform(), ha="center", va="bottom",
-            fontsize=8, color="0.4")
+            fontsize=9, color="0.4")
 
 
 def _bar_panel(ax, summary: pl.DataFrame, measure: str, phases: Sequence[str], scale: float,
@@ -357,25 +391,33 @@ def _bars_figure(table, measures, phases, senses, grid, size):
     return fig, axes
 
 
-def _draw_matrix(ax, matrix: pl.DataFrame, title: str) -> None:
+def _draw_matrix(ax, st: dict, alpha: float) -> None:
+    """The pairs of ``st`` (``fig9_statistics``, ``fig10_statistics``) as a square table:
+    black where p < alpha after Holm's correction over the pairs, grey where only the
+    uncorrected p (the paper's test) is below alpha."""
+    matrix = st["matrix"]
     names = matrix["group"].to_list()
     n = len(names)
-    sig = matrix.drop("group").to_numpy().astype(float) if n else np.zeros((0, 0))
+    sig = (matrix.drop("group").to_numpy().astype(float)
+           + st["matrix_holm"].drop("group").to_numpy().astype(float)) if n else np.zeros((0, 0))
     if n:
         np.fill_diagonal(sig, np.nan)
-    cmap = ListedColormap(["white", "black"]).with_extremes(bad="0.75")
-    ax.imshow(np.ma.masked_invalid(sig) if n else np.zeros((1, 1)), cmap=cmap, vmin=0, vmax=1,
+    cmap = ListedColormap(["white", "0.62", "black"]).with_extremes(bad="0.9")
+    ax.imshow(np.ma.masked_invalid(sig) if n else np.zeros((1, 1)), cmap=cmap, vmin=0, vmax=2,
               interpolation="nearest")
-    ax.set_xticks(range(n), names, rotation=90, fontsize=7)
-    ax.set_yticks(range(n), names, fontsize=7)
+    ax.set_xticks(range(n), names, rotation=90, fontsize=9)
+    ax.set_yticks(range(n), names, fontsize=9)
     ax.set_xticks(np.arange(-0.5, n, 1), minor=True)
     ax.set_yticks(np.arange(-0.5, n, 1), minor=True)
     ax.grid(which="minor", color="0.5", linewidth=0.5)
     ax.tick_params(which="minor", length=0)
-    ax.set_title(title, fontsize=9)
+    tested = int(st["pairs"]["p"].is_not_nan().sum()) if st["pairs"].height else 0
+    ax.set_title(f"Mann-Whitney, two-tailed, {tested} pairs\nblack: p < {alpha:g} after Holm's "
+                 f"correction;\ngrey: p < {alpha:g} uncorrected only (the paper's test)",
+                 fontsize=9)
     if n < 2:
         ax.text(0.5, 0.5, "fewer than 2 groups", transform=ax.transAxes, ha="center",
-                va="center", fontsize=8, color="0.4")
+                va="center", fontsize=9, color="0.4")
 
 
 # ---------------------------------------------------------------------------------------------
@@ -405,7 +447,7 @@ def training_curves(stats_table: pl.DataFrame, phases: pl.DataFrame | None = Non
             rows = stats_table.filter(pl.col("phase_key") == key)
             if rows.height == 0:
                 ax.text(offset + 0.5, 0.5, f"{phase}: no data", transform=ax.get_xaxis_transform(),
-                        fontsize=8, color="0.4")
+                        fontsize=9, color="0.4")
                 offset += 1
                 continue
             c = colours[phase]
@@ -420,7 +462,7 @@ def training_curves(stats_table: pl.DataFrame, phases: pl.DataFrame | None = Non
                     label=f"{phase}: population mean")
             if offset:
                 ax.axvline(offset + 0.5, color="0.5", linestyle=":", linewidth=1)
-            ax.text(offset + 0.5, 1.01, phase, transform=ax.get_xaxis_transform(), fontsize=8,
+            ax.text(offset + 0.5, 1.01, phase, transform=ax.get_xaxis_transform(), fontsize=9,
                     va="bottom")
             offset += int(rows["generation"].max())
         ax.set_title(f"condition {condition}", fontsize=10, loc="right", pad=14)
@@ -428,7 +470,7 @@ def training_curves(stats_table: pl.DataFrame, phases: pl.DataFrame | None = Non
         ax.set_ylabel("fitness (mean $p_{multimodal}$)")
         ax.grid(alpha=0.3)
         if ax.get_legend_handles_labels()[0]:
-            ax.legend(fontsize=7, loc="upper left", bbox_to_anchor=(1.01, 1.0))
+            ax.legend(fontsize=9, loc="upper left", bbox_to_anchor=(1.01, 1.0))
     return fig
 
 
@@ -489,7 +531,7 @@ def fig6_distances_variability(table: pl.DataFrame, run_dir, phases: Sequence[st
                  label="hand-ball" if drawn == 0 else None)
         top.axvline(offset, color="0.3", linestyle=":", linewidth=1)
         top.text(offset, 1.0, f" sector {r['sector']}", transform=top.get_xaxis_transform(),
-                 fontsize=7, va="bottom", ha="left")
+                 fontsize=9, va="bottom", ha="left")
         dt = float(t[1] - t[0]) if len(t) > 1 else metrics.DT
         offset += float(t[-1]) + dt if len(t) else 0.0
         drawn += 1
@@ -499,7 +541,7 @@ def fig6_distances_variability(table: pl.DataFrame, run_dir, phases: Sequence[st
                       f"{r0['rank']}), {senses} senses, {drawn} trials", fontsize=9, pad=14)
         top.set_xlim(0, offset)
         top.set_ylim(bottom=0)
-        top.legend(fontsize=8, loc="upper right")
+        top.legend(fontsize=9, loc="upper right")
     else:
         top.text(0.5, 0.5, f"no recorded trial of phase {phase!r} ({senses} senses): "
                  "evaluate the run with recordings", transform=top.transAxes, ha="center",
@@ -515,7 +557,7 @@ def fig6_distances_variability(table: pl.DataFrame, run_dir, phases: Sequence[st
         ax = fig.add_subplot(grid[1, j])
         _bar_panel(ax, summary, m, phases, scale, label, colours)
         if m == "elbow_freezing":
-            ax.set_title("beyond the paper", fontsize=8, color="0.35")
+            ax.set_title("beyond the paper", fontsize=9, color="0.35")
     fig.suptitle("Fig. 6 - hand distances (top) and movement variability (bottom; mean "
                  f"$\\pm$ s.e.m. over robots, {senses} senses)", fontsize=10)
     return fig
@@ -528,18 +570,18 @@ def fig6_distances_variability(table: pl.DataFrame, run_dir, phases: Sequence[st
 def _sector_ticks(ax, sectors: SectorConfig, left: bool, bottom: bool) -> None:
     az, el = sectors.azimuth_edges, sectors.elevation_edges
     ax.set_xticks(range(3), [f"{az[i]:g} to {az[i + 1]:g}" for i in range(3)] if bottom else [],
-                  fontsize=7)
+                  fontsize=9)
     ax.set_yticks(range(3), [f"{el[i]:g} to {el[i + 1]:g}" for i in range(3)] if left else [],
-                  fontsize=7)
+                  fontsize=9)
     if bottom:
-        ax.set_xlabel("azimuth (deg, 0 = ahead)", fontsize=8)
+        ax.set_xlabel("azimuth (deg, 0 = ahead)", fontsize=9)
 
 
 def _annotate_grid(ax, grid: np.ndarray, text) -> None:
     """Write ``text(row, col)`` in each cell: white on the dark (low) end of viridis."""
     for row in range(grid.shape[0]):
         for col in range(grid.shape[1]):
-            ax.text(col, row, text(row, col), ha="center", va="center", fontsize=8,
+            ax.text(col, row, text(row, col), ha="center", va="center", fontsize=9,
                     color="white" if np.isfinite(grid[row, col]) and grid[row, col] < 50
                     else "black")
 
@@ -597,7 +639,7 @@ def fig7_reach_regression(table: pl.DataFrame, before: str = "pre", after: str =
     if reg is None:
         grid = b = a = np.full((3, 3), np.nan)
         ax.text(0.5, 0.5, message, transform=ax.transAxes, ha="center", va="center",
-                fontsize=8, color="0.3")
+                fontsize=9, color="0.3")
     else:
         grid = metrics.sector_grid(reg, "change") * 100
         b = metrics.sector_grid(reg, "reach_before") * 100
@@ -613,11 +655,11 @@ def fig7_reach_regression(table: pl.DataFrame, before: str = "pre", after: str =
                       vmax=100, interpolation="nearest")
     for r in range(3):
         for c in range(3):
-            ax.text(c, r, text(r, c), ha="center", va="center", fontsize=8,
+            ax.text(c, r, text(r, c), ha="center", va="center", fontsize=9,
                     color="white" if np.isfinite(grid[r, c]) and abs(grid[r, c]) > 60
                     else "black")
     _sector_ticks(ax, sectors, left=True, bottom=True)
-    ax.set_ylabel("elevation (deg)", fontsize=8)
+    ax.set_ylabel("elevation (deg)", fontsize=9)
     fig.colorbar(image, ax=ax, label="reach rate change (percentage points)")
     ax.set_title(f"reach rate per sector, {before} -> {after} ({senses} senses)\n"
                  "beyond the paper", fontsize=9)
@@ -678,7 +720,7 @@ def fig8_trajectories(table: pl.DataFrame, run_dir, phases: Sequence[str] | None
             ax = axes[i, j]
             if (i, j) not in paths:
                 ax.text(0.5, 0.5, "no recording", transform=ax.transAxes, ha="center",
-                        va="center", fontsize=8, color="0.4")
+                        va="center", fontsize=9, color="0.4")
             else:
                 t, hand, ball, shoulder, info = paths[i, j]
                 hx, hy = _project(hand, view)
@@ -702,14 +744,14 @@ def fig8_trajectories(table: pl.DataFrame, run_dir, phases: Sequence[str] | None
                 flags = ("reached" if info["reached"] else "no reach") + (
                     ", grasped" if info["grasped"] else "")
                 ax.text(0.02, 0.98, f"rep {info['replication']} #{info['rank']}: {flags}",
-                        transform=ax.transAxes, fontsize=7, va="top")
+                        transform=ax.transAxes, fontsize=9, va="top")
             if i == 0:
                 ax.set_title(phases[j] if phases else "(no phase)", fontsize=10)
             if j == 0:
-                ax.set_ylabel(f"{senses[i] if senses else ''}\n{ylabel}", fontsize=8)
+                ax.set_ylabel(f"{senses[i] if senses else ''}\n{ylabel}", fontsize=9)
             if i == rows - 1:
-                ax.set_xlabel(xlabel, fontsize=8)
-            ax.tick_params(labelsize=7)
+                ax.set_xlabel(xlabel, fontsize=9)
+            ax.tick_params(labelsize=9)
             ax.grid(alpha=0.25)
     if np.all(np.isfinite(lo)):
         centre, half = (lo + hi) / 2, max((hi - lo).max() / 2, 0.05) * 1.05
@@ -773,7 +815,7 @@ def _grouped_bars(ax, summary: pl.DataFrame, outer: Sequence[str], inner: Sequen
     ax.set_ylim(0, top * 1.25 if top > 0 else 1.0)
     ax.set_ylabel("performance (mean $p_{multimodal}$)")
     ax.grid(axis="y", alpha=0.3)
-    ax.legend(fontsize=7, ncols=min(len(inner), 4), loc="upper left")
+    ax.legend(fontsize=9, ncols=min(len(inner), 4), loc="upper left")
 
 
 def fig9_sensory_deprivation(table: pl.DataFrame, phases: Sequence[str] | None = None,
@@ -781,7 +823,8 @@ def fig9_sensory_deprivation(table: pl.DataFrame, phases: Sequence[str] | None =
     """Fig. 9. Top: performance (mean p_multimodal, Eq. 5, over the 45 trials; mean $\\pm$
     s.e.m. over robots) per phase, normal and deprived of touch and/or sight, with the
     Kruskal-Wallis p across sensory conditions within each phase. Bottom left: black squares
-    where two phase x senses groups differ (two-tailed Mann-Whitney, p < ``alpha``). Bottom
+    where two phase x senses groups differ (two-tailed Mann-Whitney, p < ``alpha`` after
+    Holm's correction over the pairs; grey: below ``alpha`` uncorrected only). Bottom
     right: the same data grouped by sensory condition. See ``fig9_statistics``."""
     phases = _phases(table, phases)
     senses = list(senses)
@@ -794,10 +837,9 @@ def fig9_sensory_deprivation(table: pl.DataFrame, phases: Sequence[str] | None =
     for i, p in enumerate(phases):
         pv = kw.get(p, math.nan)
         top.text(i, 1.0, f"Kruskal-Wallis p = {pv:.3g}" if math.isfinite(pv) else "K-W: n/a",
-                 transform=top.get_xaxis_transform(), ha="center", va="bottom", fontsize=8)
-    top.set_title("performance per phase and sensory condition", fontsize=9, pad=14)
-    _draw_matrix(fig.add_subplot(grid[1, 0]), st["matrix"],
-                 f"Mann-Whitney, black: p < {alpha:g}")
+                 transform=top.get_xaxis_transform(), ha="center", va="bottom", fontsize=9)
+    top.set_title("performance per phase and sensory condition", fontsize=9, pad=22)
+    _draw_matrix(fig.add_subplot(grid[1, 0]), st, alpha)
     right = fig.add_subplot(grid[1, 1])
     _grouped_bars(right, st["summary"], senses, phases, "senses", "phase",
                   _phase_colours(phases))
@@ -812,10 +854,12 @@ def fig9_sensory_deprivation(table: pl.DataFrame, phases: Sequence[str] | None =
 
 def fig10_conditions(replications: pl.DataFrame, order: Sequence[str] | None = None,
                      value: str = "fitness", alpha: float = 0.05) -> Figure:
-    """Fig. 10 (bottom). Left: box plots of the per-replication performance of every group (a
-    phase of a condition: ``load_runs`` then ``metrics.replication_performance(...,
-    by=("group",))``), each replication a dot. Right: black squares where two groups differ
-    (two-tailed Mann-Whitney, p < ``alpha``). See ``fig10_statistics``."""
+    """Fig. 10 (bottom). Left: the per-replication performance of every group (a phase of a
+    condition: ``load_runs`` then ``metrics.replication_performance(..., by=("group",))``),
+    each replication a dot, with a box plot where a group has at least ``BOX_MIN`` values
+    (a red line at the median otherwise). Right: black squares where two groups differ
+    (two-tailed Mann-Whitney, p < ``alpha`` after Holm's correction; grey: uncorrected
+    only). See ``fig10_statistics``."""
     groups = _groups(replications, order)
     st = fig10_statistics(replications, groups, value, alpha)
     fig = Figure(figsize=(12, 5.2), layout="constrained")
@@ -829,10 +873,13 @@ def fig10_conditions(replications: pl.DataFrame, order: Sequence[str] | None = N
         if len(x) == 0:
             _na(ax, i + 1)
             continue
-        ax.boxplot([x], positions=[i + 1], widths=0.55, showfliers=False,
-                   medianprops={"color": "#d62728", "linewidth": 1.5})
+        if len(x) >= BOX_MIN:
+            ax.boxplot([x], positions=[i + 1], widths=0.55, showfliers=False,
+                       medianprops={"color": "#d62728", "linewidth": 1.5})
+        else:  # a strip plot: too few values for quartiles
+            ax.hlines(np.median(x), i + 0.75, i + 1.25, color="#d62728", linewidth=1.5)
         ax.plot(i + 1 + rng.uniform(-0.12, 0.12, len(x)), x, "o", color="#1f77b4",
-                markersize=3.5, alpha=0.8)
+                markersize=5, alpha=0.8)
     ax.set_xticks(range(1, len(groups) + 1), groups, rotation=45 if len(groups) > 5 else 0,
                   ha="right" if len(groups) > 5 else "center")
     ax.set_xlim(0.4, len(groups) + 0.6)
@@ -840,8 +887,9 @@ def fig10_conditions(replications: pl.DataFrame, order: Sequence[str] | None = N
     ax.grid(axis="y", alpha=0.3)
     counts = {r["group"]: r["replications"] for r in st["summary"].iter_rows(named=True)}
     ax.set_title("replications per group: " + ", ".join(f"{g} {counts.get(g, 0)}"
-                                                        for g in groups), fontsize=8)
-    _draw_matrix(fig.add_subplot(grid[0, 1]), st["matrix"],
-                 f"Mann-Whitney, black: p < {alpha:g}")
+                                                        for g in groups)
+                 + f"\nbox plots for {BOX_MIN} or more replications; red line: median",
+                 fontsize=9)
+    _draw_matrix(fig.add_subplot(grid[0, 1]), st, alpha)
     fig.suptitle("Fig. 10 - performance of every phase and condition", fontsize=10)
     return fig

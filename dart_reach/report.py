@@ -27,10 +27,26 @@ from string import Template
 import polars as pl
 
 from . import figures, findings
+from .errors import UsageError
 from .evaluation import load_evaluation, run_phases
 from .experiment import Run, RunError
 from .files import atomic_write
 
+#: Pixels per inch of the figures: figures.py's 9-point labels are 12.5 px at 100 % zoom.
+DPI = 100
+#: Under the training curves: why the best fitness of a generation can fall.
+TRAINING_NOTE = (
+    "The best fitness of a generation can fall: a genotype's fitness is its mean over new "
+    "random trials (ball positions) every generation, and the parents kept from one generation "
+    "to the next are evaluated again on new trials (steady state, section III-C), so a lucky "
+    "parent's score regresses toward its true mean. The curves are the best of each "
+    "generation's evaluations, not a record that can only rise.")
+#: Beside the pairwise tests of Figs. 9 and 10.
+HOLM_NOTE = (
+    "p: each pair's two-tailed Mann-Whitney test, uncorrected, as the paper reports them; "
+    "p_holm: corrected for the number of pairs compared (Holm's step-down method, which keeps "
+    "the chance of any false positive among them below alpha). The matrices draw black where "
+    "p_holm < 0.05 and grey where only the uncorrected p is.")
 #: Marks the files this module writes: only those are ever overwritten.
 GENERATOR = '<meta name="generator" content="dart_reach report">'
 #: Measures of the baseline table (Figs. 5, 6 and the babbling measure), with their labels.
@@ -44,7 +60,7 @@ MEASURES = (("fitness", "fitness"), ("reached", "reach rate"), ("grasped", "gras
 # ------------------------------------------------------------------------------ pieces
 def _figure(fig) -> str:
     buf = io.BytesIO()
-    fig.savefig(buf, format="png", dpi=80)
+    fig.savefig(buf, format="png", dpi=DPI)
     data = base64.b64encode(buf.getvalue()).decode("ascii")
     return f'<img alt="figure" src="data:image/png;base64,{data}">'
 
@@ -119,11 +135,16 @@ def budget_text(run_dirs: Sequence[Path], table: pl.DataFrame | None) -> str:
     return "; ".join(parts)
 
 
-def training_summary(stats: pl.DataFrame) -> pl.DataFrame:
+def training_summary(stats: pl.DataFrame, phases: pl.DataFrame | None = None) -> pl.DataFrame:
     """Best and mean fitness at the first and last generation of each phase, per condition,
-    phase and replication (from ``generations.parquet``)."""
+    phase and replication (from ``generations.parquet``), conditions in the order of the run
+    and phases in training order (``phases``: ``evaluation.run_phases`` of the run; default:
+    the order of the table)."""
     keys = ["condition", "phase", "replication"]
-    s = stats.sort([*keys, "generation"])
+    order = (phases.select("condition", "phase") if phases is not None
+             else stats.select("condition", "phase")).unique(maintain_order=True)
+    s = (stats.join(order.with_row_index("_order"), on=["condition", "phase"], how="left")
+         .sort(["_order", "replication", "generation"], nulls_last=True).drop("_order"))
     return (s.group_by(keys, maintain_order=True)
             .agg(pl.col("generation").last().alias("generations"),
                  pl.col("best").first().alias("best_first"),
@@ -178,12 +199,24 @@ def _provenance(run_dir: Path) -> pl.DataFrame:
         ("seeds", json.dumps(manifest.get("seeds"))),
         ("physics step (s)", str(run.settings.world.physics_dt)),
         ("git revision", str(manifest.get("git_revision"))),
+        ("uncommitted changes", _dirty(manifest)),
         ("versions", ", ".join(f"{k} {v}" for k, v in (manifest.get("versions") or {}).items())),
         ("machine", ", ".join(f"{k} {v}" for k, v in machine.items()) or "not recorded"),
         ("created", str(manifest.get("created"))),
         ("training wall time", f"{wall / 3600:.2f} h (sum of the generations' wall times)"),
     ]
     return pl.DataFrame(rows, schema=["item", "value"], orient="row")
+
+
+def _dirty(manifest: dict) -> str:
+    """Whether the run's code had uncommitted changes (manifest ``git_dirty``)."""
+    if "git_dirty" not in manifest:
+        return "not recorded (made before the manifest recorded it)"
+    if manifest["git_dirty"] is None:
+        return "unknown (not run from a git working tree)"
+    if not manifest["git_dirty"]:
+        return "none (clean working tree)"
+    return f"yes: diff SHA-256 {manifest.get('git_diff_sha256')}"
 
 
 def _section(title: str, body: str, anchor: str) -> str:
@@ -211,8 +244,13 @@ def build(run_dirs: Sequence, out=None) -> Path:
     out = Path(out) if out is not None else run_dirs[0] / "report.html"
     if out.suffix.lower() not in (".html", ".htm"):
         raise ValueError(f"{out}: the report is an HTML file; give a name ending in .html")
+    if not out.parent.is_dir():
+        raise UsageError(f"{out.parent}: no such directory (out={str(out)!r}); create it first",
+                         cli=f"{out.parent}: no such directory (--out {out}); create it first")
     if out.exists() and GENERATOR not in out.read_text(errors="replace")[:2000]:
-        raise ValueError(f"{out} exists and is not a dart_reach report; choose another --out")
+        raise UsageError(f"{out} exists and is not a dart_reach report; choose another out",
+                         cli=f"{out} exists and is not a dart_reach report; choose another "
+                             f"--out")
     evaluated = [d for d in run_dirs if (d / "evaluation.parquet").is_file()]
     table = figures.load_runs(evaluated) if evaluated else None
     baselines = [load_evaluation(d, baseline=True).with_columns(pl.lit(d.name).alias("run"))
@@ -221,7 +259,12 @@ def build(run_dirs: Sequence, out=None) -> Path:
     found = findings.findings(table if table is not None else _empty_table(), baseline)
     counts = findings.summary(found)
 
-    sections = [_section("Findings of section IV", (
+    missing = [d for d in run_dirs if d not in evaluated]
+    notice = ("" if not missing else "<p class='missing'>not post-evaluated yet: "
+              + ", ".join(html.escape(str(d)) for d in missing) + ". The findings and figures "
+              "need the post-evaluation: run <code>dart-reach evaluate RUN --sensors all "
+              "--baseline 20</code> first.</p>")
+    sections = [_section("Findings of section IV", notice + (
         '<p class="counts">' + " · ".join(f"{v}: <b>{n}</b>" for v, n in counts.items())
         + f"</p><p>What the budget can test: {html.escape(budget_text(run_dirs, table))}. "
           "<i>Underpowered</i>: even the most favourable data could not reach p &lt; 0.05 at "
@@ -238,9 +281,11 @@ def build(run_dirs: Sequence, out=None) -> Path:
         stats_path = d / "generations.parquet"
         if stats_path.is_file():
             stats = pl.read_parquet(stats_path)
+            phases = run_phases(d)
             train.append(f"<h3>{html.escape(d.name)}</h3>"
-                         + _try(figures.training_curves, stats, run_phases(d))
-                         + table_html(training_summary(stats)))
+                         + _try(figures.training_curves, stats, phases)
+                         + f"<p>{html.escape(TRAINING_NOTE)}</p>"
+                         + table_html(training_summary(stats, phases)))
         else:
             train.append(f"<h3>{html.escape(d.name)}</h3><p class='missing'>no generation "
                          "trained yet</p>")
@@ -267,7 +312,6 @@ def build(run_dirs: Sequence, out=None) -> Path:
     text = page.substitute(
         generator=GENERATOR, title=html.escape("dart_reach report: " + ", ".join(d.name for d in run_dirs)),
         generated=time.strftime("%Y-%m-%d %H:%M:%S %z"), body="\n".join(sections))
-    out.parent.mkdir(parents=True, exist_ok=True)
     atomic_write(out, lambda p: p.write_text(text, encoding="utf-8"))
     return out
 
@@ -306,7 +350,7 @@ def _fig10(table: pl.DataFrame) -> str:
     st = figures.fig10_statistics(reps)
     return (_try(figures.fig10_conditions, reps) + "<h4>Per condition (replications)</h4>"
             + table_html(st["summary"]) + "<h4>Mann-Whitney, two-tailed</h4>"
-            + table_html(st["pairs"]))
+            + f"<p>{html.escape(HOLM_NOTE)}</p>" + table_html(st["pairs"]))
 
 
 def _run_statistics(run_dir: Path) -> str:
@@ -319,5 +363,5 @@ def _run_statistics(run_dir: Path) -> str:
     parts += ["<h4>Fig. 9: Kruskal-Wallis across senses within each phase</h4>",
               table_html(f9["kruskal"]),
               "<h4>Fig. 9: Mann-Whitney between phase / senses groups</h4>",
-              table_html(f9["pairs"])]
+              f"<p>{html.escape(HOLM_NOTE)}</p>", table_html(f9["pairs"])]
     return "".join(parts)

@@ -22,6 +22,16 @@ LAVAPIPE = Path("/usr/share/vulkan/icd.d/lvp_icd.x86_64.json")
 
 
 def _rerun() -> str | None:
+    """The viewer's executable: the binary the rerun-sdk wheel ships (``rerun_cli/rerun``),
+    not the ``rerun`` console script, a Python wrapper whose termination leaves the viewer
+    running; else whatever ``rerun`` is on the PATH."""
+    import importlib.util
+
+    spec = importlib.util.find_spec("rerun_cli")
+    for folder in (spec.submodule_search_locations or []) if spec else []:
+        binary = Path(folder) / ("rerun.exe" if sys.platform == "win32" else "rerun")
+        if binary.is_file() and os.access(binary, os.X_OK):
+            return str(binary)
     return shutil.which("rerun", path=os.path.dirname(sys.executable)) or shutil.which("rerun")
 
 
@@ -83,6 +93,7 @@ class HeadlessViewer:
             time.sleep(0.2)
         mine = [r for r in state.recordings if r.store_id in opened.store_ids]
         self.client.set_location(mine[0].location)
+        self.store_id = mine[0].store_id  # the recording shown, for set_time
         if sim_time_s is not None:
             self.client.set_time("sim_time", duration=sim_time_s, play_state="paused",
                                  recording=mine[0].store_id)

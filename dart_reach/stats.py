@@ -5,7 +5,9 @@
 - ``mann_whitney``: every pair of groups, two-tailed Mann-Whitney U test (Figs. 9, 10,
   "p < 0.05, two tailed Mann-Whitney U test");
 - ``significance_matrix``: the pairs as a square table of booleans, the black squares of the
-  comparison tables of Figs. 9 and 10.
+  comparison tables of Figs. 9 and 10;
+- ``holm``: the pairs' p-values corrected for multiple comparisons (Holm 1979), which the
+  paper does not report: Figs. 9 and 10 compare up to 66 pairs.
 
 Inputs are long polars tables: one row per unit (a robot in Fig. 9, a replication in Fig. 10),
 a ``value`` column and a ``group`` column. Null and NaN values are dropped before testing (e.g.
@@ -119,7 +121,31 @@ def mann_whitney(df: pl.DataFrame, value: str, group: str, order: Sequence | Non
     return pl.DataFrame(rows, schema_overrides={"U": pl.Float64, "p": pl.Float64})
 
 
-def significance_matrix(pairs: pl.DataFrame, order: Sequence | None = None) -> pl.DataFrame:
+def holm(pairs: pl.DataFrame, alpha: float = 0.05) -> pl.DataFrame:
+    """``pairs`` (``mann_whitney``'s table) with ``p_holm`` and ``significant_holm``: the
+    p-values adjusted by Holm's step-down method over the family of every tested pair (rows
+    with a NaN p are left out of the family and stay NaN), which controls the family-wise
+    error rate at ``alpha`` without assuming independence. Adjusted p = max over the first i
+    sorted p of (m - j + 1) p_(j), capped at 1."""
+    if not 0.0 < alpha < 1.0:
+        raise ValueError(f"alpha must be in (0, 1), got {alpha!r}")
+    _require(pairs, ["p"])
+    p = pairs["p"].cast(pl.Float64).to_numpy().copy()
+    tested = np.flatnonzero(~np.isnan(p))
+    adjusted = np.full(len(p), np.nan)
+    order = tested[np.argsort(p[tested], kind="stable")]
+    m = len(order)
+    running = 0.0
+    for j, k in enumerate(order):
+        running = max(running, min(1.0, (m - j) * p[k]))
+        adjusted[k] = running
+    return pairs.with_columns(pl.Series("p_holm", adjusted, dtype=pl.Float64),
+                              pl.Series("significant_holm", np.nan_to_num(adjusted, nan=1.0)
+                                        < alpha))
+
+
+def significance_matrix(pairs: pl.DataFrame, order: Sequence | None = None,
+                        column: str = "significant") -> pl.DataFrame:
     """Square table of the significant pairs of ``mann_whitney`` (the black squares of the
     comparison tables of Figs. 9 and 10).
 
@@ -127,8 +153,9 @@ def significance_matrix(pairs: pl.DataFrame, order: Sequence | None = None) -> p
     a then b; pairs with a group outside ``order`` are ignored. Group names are turned into
     strings. Returns column "group" (str) then one bool column per group: True where the pair
     is significant, False elsewhere (diagonal, non-significant or untested pairs); symmetric.
+    ``column``: the column that says significant (``significant_holm`` after ``holm``).
     """
-    _require(pairs, ["a", "b", "significant"])
+    _require(pairs, ["a", "b", column])
     if order is None:
         order = list(dict.fromkeys(pairs["a"].to_list() + pairs["b"].to_list()))
     names = [str(g) for g in order]
@@ -139,7 +166,7 @@ def significance_matrix(pairs: pl.DataFrame, order: Sequence | None = None) -> p
     index = {g: i for i, g in enumerate(names)}
     sig = np.zeros((len(names), len(names)), bool)
     for a, b, s in zip(pairs["a"].to_list(), pairs["b"].to_list(),
-                       pairs["significant"].to_list()):
+                       pairs[column].to_list()):
         i, j = index.get(str(a)), index.get(str(b))
         if i is None or j is None or i == j or not s:
             continue

@@ -239,3 +239,36 @@ def test_trial_by_trial_scheduling_equals_whole_evaluations():
         pool.close()
     assert serial.tolist() == expected and pooled.tolist() == expected
     assert len(set(expected)) > 1
+
+
+def test_manifest_records_whether_the_tree_was_dirty(tmp_path):
+    from dart_reach.experiment import git_state
+
+    def git(*args):
+        subprocess.run(["git", "-c", "user.name=t", "-c", "user.email=t@t", *args],
+                       cwd=tmp_path, check=True, capture_output=True)
+
+    assert git_state(tmp_path) == {"git_revision": None, "git_dirty": None,
+                                   "git_diff_sha256": None}
+    git("init", "-q")
+    (tmp_path / "a.py").write_text("x = 1\n")
+    git("add", "a.py")
+    git("commit", "-qm", "a")
+    clean = git_state(tmp_path)
+    assert clean["git_dirty"] is False and len(clean["git_revision"]) == 40
+    (tmp_path / "a.py").write_text("x = 2\n")
+    edited = git_state(tmp_path)
+    assert edited["git_dirty"] is True and edited["git_revision"] == clean["git_revision"]
+    (tmp_path / "a.py").write_text("x = 3\n")
+    assert git_state(tmp_path)["git_diff_sha256"] != edited["git_diff_sha256"]
+    (tmp_path / "a.py").write_text("x = 1\n")
+    (tmp_path / "new.py").write_text("y = 1\n")  # an untracked file counts too
+    untracked = git_state(tmp_path)
+    assert untracked["git_dirty"] is True and untracked["git_diff_sha256"] != clean["git_diff_sha256"]
+    # a run's manifest carries the state of the package's own tree
+    run = train([scaled(load_condition("standard"), 1)],
+                Settings(replications=1, trials=1, steps=2, seed=0), tmp_path / "run",
+                workers=1, progress=False)
+    manifest = json.loads((run.out / "manifest.json").read_text())
+    assert {"git_revision", "git_dirty", "git_diff_sha256"} <= manifest.keys()
+    assert manifest == {**manifest, **git_state()}

@@ -5,6 +5,7 @@ kernel of this environment and shows at least one image."""
 
 from __future__ import annotations
 
+import ast
 import io
 import json
 import math
@@ -188,6 +189,54 @@ def test_the_notebooks_are_saved_without_outputs():
         assert f'os.environ.get("{env}"' in params[0].source, name
 
 
+def _code(cell) -> str:
+    return "\n".join(line for line in cell.source.splitlines() if not line.startswith("%"))
+
+
+def _literal(node) -> bool:
+    try:
+        ast.literal_eval(node)
+        return True
+    except ValueError:
+        return False
+
+
+@pytest.mark.parametrize("name", (*NOTEBOOKS, ABLATION))
+def test_parameters_in_the_parameters_cell_and_no_unused_import(name):
+    """Papermill-style: every setting a reader may change (an upper-case name given a literal)
+    is in the parameters cell, so that a cell injected after it overrides it; and every
+    import is used."""
+    nb = nbformat.read(NOTEBOOKS_DIR / name, as_version=4)
+    code = [c for c in nb.cells if c.cell_type == "code"]
+    for cell in code:
+        if "parameters" in cell.metadata.get("tags", []):
+            continue
+        for node in ast.walk(ast.parse(_code(cell))):
+            if isinstance(node, ast.Assign) and _literal(node.value):
+                names = [t.id for t in node.targets if isinstance(t, ast.Name)] + [
+                    e.id for t in node.targets if isinstance(t, ast.Tuple) for e in t.elts]
+                assert not [n for n in names if n.isupper()], (name, ast.unparse(node))
+    tree = ast.parse("\n".join(_code(c) for c in code))
+    imported = {(a.asname or a.name).split(".")[0] for node in ast.walk(tree)
+                if isinstance(node, (ast.Import, ast.ImportFrom)) for a in node.names}
+    used = {n.id for n in ast.walk(tree) if isinstance(n, ast.Name)}
+    assert imported <= used, (name, imported - used)
+
+
+def test_run_paths_resolve_from_the_repository_root(tmp_path, monkeypatch):
+    root = NOTEBOOKS_DIR.parent
+    monkeypatch.chdir(NOTEBOOKS_DIR)
+    assert figures.repository_path("recordings/x") == root / "recordings/x"
+    monkeypatch.chdir(tmp_path)  # outside the repository: the checkout of the package
+    assert figures.repository_path("recordings/x") == root / "recordings/x"
+    assert figures.repository_path(tmp_path / "r") == tmp_path / "r"
+    (tmp_path / "pyproject.toml").write_text("")
+    (tmp_path / "dart_reach").mkdir()
+    (tmp_path / "notebooks").mkdir()
+    monkeypatch.chdir(tmp_path / "notebooks")  # in another clone: that clone's root
+    assert figures.repository_path("recordings/x") == tmp_path / "recordings/x"
+
+
 @pytest.mark.parametrize("name", NOTEBOOKS)
 def test_notebook_runs(name, tiny_run, monkeypatch):
     monkeypatch.setenv("DART_REACH_RUN", str(tiny_run))
@@ -196,7 +245,7 @@ def test_notebook_runs(name, tiny_run, monkeypatch):
     nb = nbformat.read(NOTEBOOKS_DIR / name, as_version=4)
     nb.cells.append(nbformat.v4.new_code_cell(
         "import json, sys\nprint(json.dumps({'prefix': sys.prefix, 'run': "
-        "RUN_DIRS if 'RUN_DIRS' in globals() else RUN_DIR}))"))
+        "[str(d) for d in RUN_DIRS] if 'RUN_DIRS' in globals() else str(RUN_DIR)}))"))
     client = nbclient.NotebookClient(nb, timeout=300, kernel_name="python3",
                                      resources={"metadata": {"path": str(NOTEBOOKS_DIR)}})
     client.execute()  # raises CellExecutionError on any error

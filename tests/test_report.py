@@ -68,3 +68,22 @@ def test_cli_writes_the_report_and_never_overwrites_a_foreign_file(tiny_run, tmp
     assert r.returncode == 2 and "no such run directory" in r.stderr
     r = cli(str(tiny_run), "--out", str(tmp_path / "r.pdf"))
     assert r.returncode == 2 and ".html" in r.stderr
+
+
+def test_report_reads_at_100_percent_and_states_its_corrections(tiny_run, tmp_path):
+    import polars as pl
+
+    from dart_reach.evaluation import run_phases
+
+    text = report.build([tiny_run], tmp_path / "r.html").read_text()
+    import html
+
+    assert html.escape(report.TRAINING_NOTE) in text
+    assert text.count(html.escape(report.HOLM_NOTE)) == 2  # Figs. 9 and 10
+    assert "p_holm" in text
+    stats = pl.read_parquet(tiny_run / "generations.parquet")
+    summary = report.training_summary(stats, run_phases(tiny_run))
+    phases = summary.select("condition", "phase").unique(maintain_order=True).rows()
+    assert phases == [("standard", "pre"), ("standard", "gross"), ("standard", "fine"),
+                      ("gross-hat", "gross-hat")]
+    assert report.DPI >= 100

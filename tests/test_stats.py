@@ -142,3 +142,18 @@ def test_significance_matrix_from_samples_is_symmetric():
     # c differs from every other group; a, b, d come from one distribution
     np.testing.assert_array_equal(s[2], [True, True, False, True])
     assert s.sum() == 6  # only the three pairs with c, counted twice
+
+
+def test_holm_adjusts_every_tested_pair_step_down():
+    from dart_reach.stats import holm
+
+    pairs = pl.DataFrame({"a": list("wxyzv"), "b": list("WXYZV"),
+                          "p": [0.01, 0.04, 0.03, float("nan"), 0.005]})
+    out = holm(pairs, alpha=0.05)
+    # 4 tested: sorted 0.005, 0.01, 0.03, 0.04 -> 0.02, 0.03, 0.06, 0.06 (monotone)
+    assert out["p_holm"].to_list()[:3] == pytest.approx([0.03, 0.06, 0.06])
+    assert out["p_holm"][4] == pytest.approx(0.02) and math.isnan(out["p_holm"][3])
+    assert out["significant_holm"].to_list() == [True, False, False, False, True]
+    matrix = significance_matrix(out, column="significant_holm")
+    assert matrix.filter(pl.col("group") == "v")["V"].item() is True
+    assert matrix.filter(pl.col("group") == "y")["Y"].item() is False

@@ -1,19 +1,164 @@
-"""Data shipped with the package: genomes of evolved robots (benchmarks and tests need
-robots that move and touch the ball like evolving ones, not only random networks)."""
+"""Evolved robots shipped with the package, so that a user sees a trained robot in seconds
+(``dart-reach watch``) and benchmarks and tests have robots that move and touch the ball like
+evolving ones, not only random networks.
+
+Each JSON file of this folder holds robots of one phase of one condition with their
+provenance (``ROBOTS_FORMAT``)::
+
+    format         1
+    what           a sentence: which run, which population
+    command        the command line that trained them
+    git_revision   the revision of dart_reach that trained them
+    budget         generations, replications, trials, steps, physics_dt, seed
+    phase          condition, phase (a shipped condition's phase), free_groups, acuity,
+                   reflexes (checked against the shipped condition when loaded)
+    replication    per genome, its replication in the run
+    lifetime_fitness  per genome, its lifetime fitness (mean p_multimodal over its evaluations)
+    genomes_hex    per genome, its uint8 genes as hexadecimal
+
+``robots()`` reads them all (``index()`` lists the files); ``export_robots()`` writes such a
+file from a trained run: a file dropped into this folder is shipped from then on. Today one
+file ships: the final population of the pre-reaching learning check (``evolved_pre.json``,
+standard condition, 1 replication, 30 generations).
+"""
 
 from __future__ import annotations
 
 import json
+from collections.abc import Mapping
+from dataclasses import dataclass, field
 from importlib import resources
+from pathlib import Path
 
 import numpy as np
+
+ROBOTS_FORMAT = 1
+
+
+@dataclass(frozen=True, eq=False)
+class ShippedRobot:
+    """An evolved genome with where it comes from. ``rank``: its place in its replication's
+    final population (0 = best); ``lifetime_fitness``: mean p_multimodal (Eq. 5) over its
+    evaluations during training; ``provenance``: the file's what, command, git_revision and
+    budget; ``source``: the file's name."""
+
+    condition: str
+    phase: str
+    replication: int
+    rank: int
+    lifetime_fitness: float
+    genome: np.ndarray = field(repr=False)
+    source: str
+    provenance: Mapping = field(repr=False)
+
+    def describe(self) -> str:
+        """One line: which robot, from which run and budget."""
+        b = self.provenance.get("budget", {})
+        budget = ", ".join(f"{v} {k}" for k, v in b.items() if k in
+                           ("generations", "replications", "trials", "steps"))
+        return (f"{self.condition}/{self.phase} replication {self.replication} rank {self.rank} "
+                f"(lifetime fitness {self.lifetime_fitness:.4f}; shipped {self.source}: "
+                f"{budget}; revision {str(self.provenance.get('git_revision'))[:10]})")
+
+
+def _files(directory=None) -> list:
+    root = resources.files(__package__) if directory is None else Path(directory)
+    return sorted((f for f in root.iterdir() if f.name.endswith(".json")),
+                  key=lambda f: f.name)
+
+
+def _read(file) -> dict:
+    info = json.loads(file.read_text())
+    if info.get("format") != ROBOTS_FORMAT:
+        raise ValueError(f"{file.name}: not a robots file of format {ROBOTS_FORMAT}")
+    return info
+
+
+def index(directory=None) -> list[dict]:
+    """One row per robots file (default: the package's): file, condition, phase, robots,
+    budget, what, command, git_revision."""
+    rows = []
+    for f in _files(directory):
+        info = _read(f)
+        rows.append({"file": f.name, "condition": info["phase"]["condition"],
+                     "phase": info["phase"]["phase"], "robots": len(info["genomes_hex"]),
+                     **{k: info.get(k) for k in ("budget", "what", "command", "git_revision")}})
+    return rows
+
+
+def robots(phase: str | None = None, condition: str | None = "standard",
+           directory=None) -> list[ShippedRobot]:
+    """The shipped robots of ``phase`` ("pre", "gross", "fine"; None: every phase) of
+    ``condition`` (None: every condition), best lifetime fitness first; empty when none
+    ships. ``directory``: read robots files there instead of the package's."""
+    out = []
+    for f in _files(directory):
+        info = _read(f)
+        where = info["phase"]
+        if (phase is not None and where["phase"] != phase) or (
+                condition is not None and where["condition"] != condition):
+            continue
+        fitness = info["lifetime_fitness"]
+        reps = info.get("replication") or [0] * len(fitness)
+        provenance = {k: info.get(k) for k in ("what", "command", "git_revision", "budget",
+                                               "phase")}
+        seen: dict[int, int] = {}
+        for h, fit, r in zip(info["genomes_hex"], fitness, reps):
+            rank = seen[r] = seen.get(r, -1) + 1  # files list each replication best first
+            out.append(ShippedRobot(where["condition"], where["phase"], int(r), rank,
+                                    float(fit), np.frombuffer(bytes.fromhex(h), np.uint8),
+                                    f.name, provenance))
+    return sorted(out, key=lambda r: -r.lifetime_fitness)
 
 
 def evolved_pre() -> tuple[np.ndarray, np.ndarray, dict]:
     """The final population of the learning check of docs/analysis.md (pre-reaching, 30
     generations): genomes (20, N_GENES) uint8 best first, their lifetime fitness, and the
-    provenance (command, git revision, phase)."""
-    info = json.loads(resources.files(__package__).joinpath("evolved_pre.json").read_text())
+    provenance (command, git revision, budget, phase)."""
+    info = _read(resources.files(__package__).joinpath("evolved_pre.json"))
     genomes = np.array([np.frombuffer(bytes.fromhex(h), np.uint8)
                         for h in info.pop("genomes_hex")])
     return genomes, np.array(info.pop("lifetime_fitness")), info
+
+
+def export_robots(run_dir, phase: str, path, condition: str | None = None,
+                  per_replication: int = 2, what: str = "") -> Path:
+    """Write the best ``per_replication`` robots of each replication of a trained run's
+    ``phase`` (of ``condition``; default the run's first condition that has it) as a robots
+    file at ``path`` (a new file): put it in ``dart_reach/data/`` to ship them. The
+    condition must be a shipped one (``conditions.load_condition(name)``), so that a user's
+    installation can rebuild the phase's maturational state."""
+    from ..experiment import Run
+
+    run = Run.open(run_dir)
+    found = [(c, p) for c in run.conditions for p in c.phases
+             if p.name == phase and (condition is None or c.name == condition)]
+    if not found:
+        raise ValueError(f"{run.out}: no phase {phase!r}"
+                         + (f" in condition {condition!r}" if condition else ""))
+    cond, ph = found[0]
+    genomes, fitness = run.load_final(ph)
+    n = min(per_replication, genomes.shape[1])
+    if n < 1:
+        raise ValueError(f"per_replication must be at least 1, got {per_replication}")
+    manifest = json.loads((run.out / "manifest.json").read_text())
+    s = run.settings
+    info = {
+        "format": ROBOTS_FORMAT,
+        "what": what or f"best {n} robots of each replication of {cond.name}/{ph.name}, "
+                        f"{run.out.name}",
+        "command": manifest.get("command"), "git_revision": manifest.get("git_revision"),
+        "budget": {"generations": ph.generations, "replications": s.replications,
+                   "trials": s.trials, "steps": s.steps, "physics_dt": s.world.physics_dt,
+                   "seed": s.seed},
+        "phase": {"condition": cond.name, "phase": ph.name,
+                  "free_groups": [g.value for g in ph.free_groups], "acuity": ph.acuity,
+                  "reflexes": ph.reflexes},
+        "replication": [r for r in range(genomes.shape[0]) for _ in range(n)],
+        "lifetime_fitness": [round(float(f), 6) for row in fitness[:, :n] for f in row],
+        "genomes_hex": [g.tobytes().hex() for row in genomes[:, :n] for g in row],
+    }
+    path = Path(path)
+    with open(path, "x") as f:
+        f.write(json.dumps(info, indent=1) + "\n")
+    return path

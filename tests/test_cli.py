@@ -1,0 +1,145 @@
+"""The command line as a user meets it: --version, a bare ``dart-reach``, help text and
+defaults of every command and option, the README's synopsis, and bad input as one line and
+exit code 2 (a physics step, too many workers, a report without post-evaluation or into a
+missing directory, a resume with another budget); the size of a long run before it starts."""
+
+from __future__ import annotations
+
+import argparse
+import re
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+from dart_reach import __version__
+from dart_reach.cli import build_parser, cores
+
+README = Path(__file__).resolve().parents[1] / "README.md"
+TINY = ["--replications", "1", "--trials", "1", "--steps", "2", "--workers", "1",
+        "--record-every", "0"]
+
+
+def _cli(*args, timeout=300):
+    return subprocess.run([sys.executable, "-m", "dart_reach.cli", *map(str, args)],
+                          capture_output=True, text=True, timeout=timeout)
+
+
+def _commands() -> dict[str, argparse.ArgumentParser]:
+    parser = build_parser()
+    sub = next(a for a in parser._actions if isinstance(a, argparse._SubParsersAction))
+    return dict(sub.choices)
+
+
+def _one_line_exit_2(result, *fragments):
+    assert result.returncode == 2, (result.returncode, result.stdout, result.stderr)
+    assert result.stderr.count("\n") == 1 and "Traceback" not in result.stderr, result.stderr
+    for f in fragments:
+        assert f in result.stderr, (f, result.stderr)
+
+
+def test_version_and_a_bare_command_list_the_commands():
+    result = _cli("--version")
+    assert result.returncode == 0 and result.stdout.strip() == f"dart-reach {__version__}"
+    bare = _cli()
+    assert bare.returncode == 2
+    for name in _commands():
+        assert re.search(rf"^\s+{name}\b", bare.stdout, re.M), name
+
+
+def test_every_command_and_option_is_explained_with_its_default():
+    for name, parser in _commands().items():
+        assert parser.description and len(parser.description) > 15, name
+        text = parser.format_help()
+        assert parser.description.split()[0] in text
+        for action in parser._actions:
+            if isinstance(action, argparse._HelpAction):
+                continue
+            assert action.help, (name, action.dest)
+            if action.option_strings and action.nargs != 0:
+                shown = parser._get_formatter()._get_help_string(action)
+                assert "default" in shown, (name, action.option_strings)
+
+
+def test_the_readme_synopsis_lists_every_command_and_option():
+    text = README.read_text()
+    block = text[text.index("## Command line"):]
+    block = block[block.index("```sh"):block.index("```", block.index("```sh") + 5)]
+    for name, parser in _commands().items():
+        lines = [line for line in block.splitlines()
+                 if re.match(rf"dart-reach {name}\b", line.strip())]
+        assert lines, f"README's synopsis lacks 'dart-reach {name}'"
+        # an entry runs to the next "dart-reach"; a command may have several (bench --physics)
+        entry = "\n".join(block[block.index(line):].split("\ndart-reach ")[0]
+                          for line in lines)
+        for action in parser._actions:
+            for option in action.option_strings:
+                if option.startswith("--") and option not in ("--help",):
+                    assert option in entry, f"README's synopsis of {name} lacks {option}"
+
+
+@pytest.mark.parametrize("dt, fragment", [("0", "positive"), ("nan", "positive"),
+                                          ("-0.02", "positive"), ("inf", "positive"),
+                                          ("0.03", "divide"), ("0.2", "divide"),
+                                          ("x", "positive")])
+def test_physics_step_must_divide_the_control_step(dt, fragment, tmp_path):
+    _one_line_exit_2(_cli("train", "standard", "--physics-dt", dt, "--out", tmp_path / "r"),
+                     "--physics-dt", fragment)
+    assert not (tmp_path / "r").exists()
+
+
+def test_workers_above_the_cores_are_refused():
+    for command in (["train", "standard"], ["evaluate", "somewhere"], ["bench", "--physics"]):
+        _one_line_exit_2(_cli(*command, "--workers", cores() + 1), "--workers",
+                         f"{cores()} cores")
+
+
+def test_report_needs_a_post_evaluation_and_an_existing_directory(tmp_path):
+    run = tmp_path / "run"
+    assert _cli("train", "standard", "--generations", "1", *TINY, "--out", run).returncode == 0
+    _one_line_exit_2(_cli("report", run), "not post-evaluated",
+                     f"dart-reach evaluate {run} --sensors all")
+    assert not (run / "report.html").exists()
+    # with a post-evaluation, an --out in a directory that does not exist is refused
+    assert _cli("evaluate", run, "--robots", "1", "--record", "none",
+                "--workers", "1").returncode == 0
+    _one_line_exit_2(_cli("report", run, "--out", tmp_path / "nowhere" / "r.html"),
+                     "no such directory", "--out")
+    assert not (tmp_path / "nowhere").exists()
+    # and a resume with another budget names the setting that differs
+    _one_line_exit_2(_cli("train", "standard", "--generations", "1", *TINY[:-6],
+                          "--steps", "3", *TINY[-4:], "--out", run, "--resume"),
+                     "settings.steps is 2 in the run there, 3 now", "same command line")
+    _one_line_exit_2(_cli("train", "standard", "--generations", "2", *TINY, "--out", run,
+                          "--resume"), "conditions.standard.generations_per_phase is 1 in the run there, 2 now")
+    again = _cli("train", "standard", "--generations", "1", *TINY, "--out", run)
+    _one_line_exit_2(again, "--resume", "--out")
+
+
+def test_python_errors_name_python_arguments(tmp_path):
+    from dart_reach.conditions import load_condition, scaled
+    from dart_reach.experiment import RunError, Settings, train
+
+    cond = [scaled(load_condition("standard"), 1)]
+    settings = Settings(replications=1, trials=1, steps=2)
+    train(cond, settings, tmp_path / "r", workers=1, progress=False)
+    with pytest.raises(RunError) as again:
+        train(cond, settings, tmp_path / "r", workers=1, progress=False)
+    assert "resume=True" in str(again.value) and "--" not in str(again.value)
+    assert "--resume" in again.value.cli
+
+
+def test_a_long_run_says_its_size_and_cost_before_starting(tmp_path):
+    # the default budget: 15,000 replication-generations, ~250-280 core-hours; the run
+    # then stops at once on a directory that holds something else
+    out = tmp_path / "busy"
+    out.mkdir()
+    (out / "something").write_text("x")
+    result = _cli("train", "standard", "--workers", "1", "--out", out)
+    assert result.returncode == 2
+    assert "15,000 replication-generations" in result.stderr
+    assert "250-279 core-hours" in result.stderr and "--generations" in result.stderr
+    small = _cli("train", "standard", "--generations", "1", "--replications", "1",
+                 "--trials", "1", "--steps", "2", "--workers", "1", "--out", out)
+    assert "replication-generations" not in small.stderr

@@ -1,0 +1,44 @@
+"""The package as a user installs it: the wheel holds the code's licence, the robot model's
+CC BY-SA licence text beside the URDF, py.typed and the shipped robots; its metadata has an
+SPDX licence, authors, classifiers and the supported Pythons; setuptools builds it without a
+deprecation warning. CITATION.cff cites the paper."""
+
+from __future__ import annotations
+
+import subprocess
+import sys
+import zipfile
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parents[1]
+
+
+def test_the_wheel_ships_both_licences_typing_and_the_robots(tmp_path):
+    result = subprocess.run([sys.executable, "-m", "pip", "wheel", "--no-deps", "-v", "-w",
+                             str(tmp_path), str(ROOT)], capture_output=True, text=True,
+                            timeout=600)
+    assert result.returncode == 0, result.stderr
+    assert "Deprecat" not in result.stdout + result.stderr
+    wheel = next(tmp_path.glob("dart_reach-*.whl"))
+    with zipfile.ZipFile(wheel) as z:
+        names = set(z.namelist())
+        meta = z.read(next(n for n in names if n.endswith(".dist-info/METADATA"))).decode()
+    for path in ("dart_reach/skeletons/icub_upper_body.urdf",
+                 "dart_reach/skeletons/LICENSE-icub-models", "dart_reach/py.typed",
+                 "dart_reach/data/evolved_pre.json", "dart_reach/watch.py"):
+        assert path in names, path
+    assert any(n.endswith(".dist-info/licenses/LICENSE") for n in names)
+    assert "License-Expression: MIT AND CC-BY-SA-4.0" in meta
+    assert "Requires-Python: <3.14,>=3.11" in meta or "Requires-Python: >=3.11,<3.14" in meta
+    for version in ("3.11", "3.12", "3.13"):
+        assert f"Programming Language :: Python :: {version}" in meta
+    assert "Author: The dart_reach maintainers" in meta
+    assert "Attribution-ShareAlike 4.0" in (ROOT / "skeletons/LICENSE-icub-models").read_text()
+
+
+def test_licence_and_citation_files():
+    assert (ROOT / "LICENSE").read_text().startswith("MIT License")
+    citation = (ROOT / "CITATION.cff").read_text()
+    for needle in ("cff-version: 1.2.0", "preferred-citation:", "Savastano", "Nolfi",
+                   "A robotic model of reaching and grasping development", "doi:"):
+        assert needle in citation, needle

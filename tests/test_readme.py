@@ -1,0 +1,52 @@
+"""Every Python block of the README runs as written, saved as a script, in README order in
+one working directory (so the "In Python" block reads the run the ablation block made).
+
+Budgets are made tiny by exact substitutions (``TINY``): each must be found in the README as
+written, so a changed snippet fails here until this table follows it. The substituted run is
+the ablation block's (the "In Python" block's default run is ``make demo``'s, which this test
+does not make). No display: ``watch`` writes its files instead of starting a viewer."""
+
+from __future__ import annotations
+
+import os
+import re
+import subprocess
+import sys
+from pathlib import Path
+
+README = Path(__file__).resolve().parents[1] / "README.md"
+
+#: (text in the README, what the test runs instead)
+TINY = (
+    ('scaled(load_condition("standard"), 3)', 'scaled(load_condition("standard"), 1)'),
+    ("Settings(replications=4, seed=0)", "Settings(replications=2, trials=1, steps=4, seed=0)"),
+    ('RUN = "recordings/demo-standard"', 'RUN = "recordings/ablation"'),
+)
+
+
+def python_blocks(text: str) -> list[str]:
+    """The README's ```python blocks, dedented (some sit in a list item)."""
+    blocks = []
+    for m in re.finditer(r"^( *)```python\n(.*?)^\1```", text, re.M | re.S):
+        indent = len(m.group(1))
+        blocks.append("".join(line[indent:] if line.strip() else "\n"
+                              for line in m.group(2).splitlines(keepends=True)))
+    return blocks
+
+
+def test_every_readme_snippet_runs_as_a_script(tmp_path):
+    text = README.read_text()
+    for original, tiny in TINY:
+        assert text.count(original) == 1, f"the README changed: update TINY for {original!r}"
+        text = text.replace(original, tiny)
+    blocks = python_blocks(text)
+    assert len(blocks) >= 4
+    env = {k: v for k, v in os.environ.items() if k not in ("DISPLAY", "WAYLAND_DISPLAY")}
+    for i, block in enumerate(blocks):
+        script = tmp_path / f"snippet{i}.py"
+        script.write_text(block)
+        result = subprocess.run([sys.executable, str(script)], cwd=tmp_path, env=env,
+                                capture_output=True, text=True, timeout=900)
+        assert result.returncode == 0, f"README block {i}:\n{block}\n{result.stderr[-3000:]}"
+    assert (tmp_path / "recordings" / "ablation" / "report.html").is_file()
+    assert (tmp_path / "recordings" / "watch" / "standard-pre-sector4.rrd").is_file()

@@ -1,0 +1,95 @@
+"""``dart-reach watch`` and the shipped robots (``dart_reach.data``): a real trial of the best
+shipped robot (or of a trained run's), recorded with its layout, in seconds; robots files
+exported from a run load back; unavailable phases are one clear line."""
+
+from __future__ import annotations
+
+import json
+import subprocess
+import sys
+import time
+
+import numpy as np
+import pytest
+
+from dart_reach import data
+from dart_reach.conditions import load_condition, scaled
+from dart_reach.experiment import Settings, train
+from dart_reach.recording import read_properties, read_rrd
+from dart_reach.watch import display_available, watch
+
+
+def _cli(*args):
+    import os
+
+    environ = {k: v for k, v in os.environ.items() if k not in ("DISPLAY", "WAYLAND_DISPLAY")}
+    return subprocess.run([sys.executable, "-m", "dart_reach.cli", *map(str, args)],
+                          capture_output=True, text=True, timeout=300, env=environ)
+
+
+def test_shipped_robots_keep_their_provenance():
+    genomes, fitness, info = data.evolved_pre()
+    shipped = data.robots("pre")
+    assert len(shipped) == len(genomes) == 20
+    assert np.array_equal(shipped[0].genome, genomes[0])
+    assert [r.lifetime_fitness for r in shipped] == sorted(fitness.tolist(), reverse=True)
+    assert shipped[0].rank == 0 and shipped[-1].rank == 19
+    assert info["budget"]["generations"] == 30 and "learning-check" in info["command"]
+    assert data.robots("fine") == [] and data.robots("pre", "gross-hat") == []
+    assert [(r["condition"], r["phase"]) for r in data.index()] == [("standard", "pre")]
+
+
+def test_watch_records_the_best_shipped_robot_in_seconds(tmp_path):
+    t0 = time.monotonic()
+    w = watch(out=tmp_path / "w.rrd", viewer=False)
+    assert time.monotonic() - t0 < 30
+    assert w.viewer_pid is None and w.layout.is_file() and w.layout.suffix == ".rbl"
+    assert "standard/pre replication 0 rank 0" in w.robot and "evolved_pre.json" in w.robot
+    trial = read_properties(w.recording)
+    assert trial["phase"] == "pre" and trial["sector"] == 4 and trial["trial"] == 20
+    assert read_rrd(w.recording).height == 200  # 20 s of 0.1 s steps
+    # the robot is the shipped one: it reaches the centre of sector 4, as in the learning check
+    assert w.measures["reached"]
+    other = watch(out=tmp_path / "nothing.rrd", senses="nothing", sector=0, rank=5,
+                  viewer=False)
+    assert read_properties(other.recording)["senses"] == "nothing"
+    assert "rank 5" in other.robot
+
+
+def test_watch_a_trained_run_and_export_its_robots(tmp_path):
+    run = train([scaled(load_condition("standard"), 1)],
+                Settings(replications=2, trials=1, steps=4, seed=5), tmp_path / "run",
+                workers=1, progress=False)
+    w = watch(run=run.out, out=tmp_path / "t.rrd", viewer=False)
+    assert "standard/fine" in w.robot and str(run.out) in w.robot  # the last phase trained
+    w = watch("gross", run=run.out, replication=1, out=tmp_path / "g.rrd", viewer=False)
+    assert "standard/gross replication 1 rank 0" in w.robot
+    (tmp_path / "robots").mkdir()
+    path = data.export_robots(run.out, "gross", tmp_path / "robots" / "gross.json")
+    info = json.loads(path.read_text())
+    assert info["budget"]["replications"] == 2 and info["replication"] == [0, 0, 1, 1]
+    shipped = data.robots("gross", directory=tmp_path / "robots")
+    genomes, fitness = run.load_final(run.conditions[0].phases[1])
+    assert np.array_equal(shipped[0].genome, genomes[int(np.argmax(fitness[:, 0])), 0])
+    with pytest.raises(FileExistsError):
+        data.export_robots(run.out, "gross", path)
+    with pytest.raises(ValueError, match="replication=7"):
+        watch(run=run.out, replication=7, viewer=False, out=tmp_path / "x.rrd")
+
+
+def test_cli_watch_without_a_display_writes_and_says_how_to_open(tmp_path):
+    result = _cli("watch", "--out", tmp_path / "w.rrd")
+    assert result.returncode == 0, result.stderr
+    assert f"rerun {tmp_path / 'w.rrd'} {tmp_path / 'w.rbl'}" in result.stdout
+    assert "shipped robot standard/pre" in result.stdout
+    result = _cli("watch", "fine", "--out", tmp_path / "f.rrd")
+    assert result.returncode == 2 and result.stderr.count("\n") == 1
+    assert "only standard/pre ships today" in result.stderr and "--run" in result.stderr
+    assert not (tmp_path / "f.rrd").exists()
+
+
+def test_display_detection():
+    if sys.platform.startswith("linux"):
+        assert not display_available({})
+        assert display_available({"DISPLAY": ":0"})
+        assert display_available({"WAYLAND_DISPLAY": "wayland-0"})
