@@ -249,6 +249,73 @@ def at_most(units, epsilon: float, rng: np.random.Generator) -> Outcome:
     return Outcome(verdict, effect=mean, low=low, high=high)
 
 
+# ------------------------------------------------------------------------------ paired samples
+#: Equivalence margin of a paired claim of no change ("the behavior remains substantially the
+#: same", IV-A-1): the mean change within +-20 % of the median of the reference condition.
+PAIRED_MARGIN = 0.20
+
+
+def smallest_signed_rank_p(n: int) -> float:
+    """The smallest two-tailed p of the Wilcoxon signed-rank test of n non-zero differences
+    (all of one sign, exact distribution): 2 / 2^n."""
+    return min(1.0, 2.0 / 2 ** n)
+
+
+def paired_directional(reference, changed, sign: int, level: float) -> Outcome:
+    """Claim: ``changed`` is higher (``sign`` +1) or lower (-1) than ``reference`` in the same
+    units (a robot under two conditions, a replication at two moments). Two-tailed Wilcoxon
+    signed-rank test of the changes; direction from the sum of signed ranks; effect: the
+    median change (Hodges-Lehmann: the median of the Walsh averages) with the bootstrap-free
+    interval left out. Underpowered when the changes, all of one sign, cannot reach ``ALPHA``."""
+    ref, new = np.asarray(reference, float), np.asarray(changed, float)
+    keep = np.isfinite(ref) & np.isfinite(new)
+    d = new[keep] - ref[keep]
+    if smallest_signed_rank_p(int(np.count_nonzero(d))) >= ALPHA:
+        return Outcome(UNDERPOWERED, note=f"{np.count_nonzero(d)} non-zero changes: smallest "
+                                          f"possible p {smallest_signed_rank_p(int(np.count_nonzero(d))):.2g}")
+    walsh = (d[:, None] + d[None, :])[np.triu_indices(len(d))]
+    res = sps.wilcoxon(d, alternative="two-sided")
+    p = float(res.pvalue)
+    ranks = sps.rankdata(np.abs(d[d != 0]))
+    observed = int(np.sign((ranks * np.sign(d[d != 0])).sum()))
+    verdict = (REPRODUCED if p < ALPHA and observed == sign else
+               CONTRADICTED if p < ALPHA and observed == -sign else INCONCLUSIVE)
+    return Outcome(verdict, p, float(np.median(walsh)), paper_level_met=bool(
+        p < level and observed == sign), note=f"{len(d)} pairs")
+
+
+def paired_equivalent(reference, changed, margin: float = PAIRED_MARGIN) -> Outcome:
+    """Claim: ``changed`` is substantially the same as ``reference`` (paired). Two one-sided
+    paired t-tests (Lakens 2017) of the mean change against +-``margin`` x |median of the
+    reference|. Reproduced when both reject; contradicted when the change differs from 0 (paired
+    t, two-tailed); otherwise inconclusive. Every unit unchanged is evidence of sameness unless
+    every value is the same (a floor: inconclusive). Underpowered below 3 pairs."""
+    ref, new = np.asarray(reference, float), np.asarray(changed, float)
+    keep = np.isfinite(ref) & np.isfinite(new)
+    ref, new = ref[keep], new[keep]
+    n = len(ref)
+    if n < 3:
+        return Outcome(UNDERPOWERED, note=f"{n} pairs")
+    d = new - ref
+    bound = margin * abs(float(np.median(ref)))
+    mean, sd = float(d.mean()), float(d.std(ddof=1))
+    if np.ptp(np.concatenate([ref, new])) == 0:
+        return Outcome(INCONCLUSIVE, effect=mean, note="every value equal: no evidence")
+    if sd == 0:
+        same = abs(mean) < bound or mean == 0
+        return Outcome(REPRODUCED if same else CONTRADICTED, 0.0, mean, mean, mean,
+                       note=f"every unit changed by {mean:.3g} (margin +-{bound:.3g})")
+    se, t = sd / math.sqrt(n), sps.t(n - 1)
+    p_eq = max(float(t.sf((mean + bound) / se)), float(t.cdf((mean - bound) / se)))
+    p_diff = float(2 * t.sf(abs(mean) / se))
+    low, high = mean - t.ppf(1 - ALPHA) * se, mean + t.ppf(1 - ALPHA) * se
+    verdict = (REPRODUCED if p_eq < ALPHA else CONTRADICTED if p_diff < ALPHA
+               else INCONCLUSIVE)
+    return Outcome(verdict, p_eq if verdict != CONTRADICTED else p_diff, mean, low, high,
+                   note=f"mean change {mean:.3g}, 90% CI {low:.3g} to {high:.3g}, margin "
+                        f"+-{bound:.3g}; difference p = {p_diff:.2g}")
+
+
 # ------------------------------------------------------------------------------ paired blocks
 def smallest_friedman_p(blocks: int, treatments: int) -> float:
     """The smallest p of Friedman's chi-square for ``blocks`` with every block ranking the

@@ -245,3 +245,31 @@ def test_holm_and_every_claim_has_a_row():
     assert sum(fd.summary(found).values()) == found.height
     with pytest.raises(ValueError, match="lacks columns"):
         fd.findings(pl.DataFrame({"notation": ["pre"]}))
+
+
+# ------------------------------------------------------------------------------ paired samples
+def test_paired_directional_claims_flip_and_small_samples_are_underpowered():
+    rng = np.random.default_rng(2)
+    ref = rng.normal(1.0, 0.2, 20)
+    assert vd.paired_directional(ref, ref - 0.3 + rng.normal(0, 0.05, 20), -1, 0.05).verdict \
+        == vd.REPRODUCED
+    assert vd.paired_directional(ref, ref + 0.3 + rng.normal(0, 0.05, 20), -1, 0.05).verdict \
+        == vd.CONTRADICTED
+    assert vd.paired_directional(ref, ref + rng.normal(0, 0.05, 20), -1, 0.05).verdict \
+        == vd.INCONCLUSIVE
+    assert vd.smallest_signed_rank_p(5) > 0.05 > vd.smallest_signed_rank_p(6)
+    four = vd.paired_directional([1, 2, 3, 4], [0, 1, 2, 3], -1, 0.05)  # 4 replications
+    assert four.verdict == vd.UNDERPOWERED
+
+
+def test_paired_sameness_is_shown_by_equivalence_not_by_absence_of_a_difference():
+    rng = np.random.default_rng(4)
+    ref = rng.normal(1.0, 0.2, 30)
+    assert vd.paired_equivalent(ref, ref + rng.normal(0, 0.02, 30)).verdict == vd.REPRODUCED
+    assert vd.paired_equivalent(ref, ref * 0.5 + rng.normal(0, 0.02, 30)).verdict \
+        == vd.CONTRADICTED
+    noisy = vd.paired_equivalent(ref[:6], ref[:6] + rng.normal(0, 0.5, 6))
+    assert noisy.verdict == vd.INCONCLUSIVE
+    assert vd.paired_equivalent(ref, ref).verdict == vd.REPRODUCED  # every robot unchanged
+    assert vd.paired_equivalent(np.zeros(10), np.zeros(10)).verdict == vd.INCONCLUSIVE  # floor
+    assert vd.paired_equivalent(ref[:2], ref[:2]).verdict == vd.UNDERPOWERED
