@@ -297,8 +297,9 @@ def build_parser() -> argparse.ArgumentParser:
                                         "positions (section IV)")
     p.add_argument("run_dir", type=Path, metavar="RUN_DIR", help="a run directory of 'train'")
     p.add_argument("--sensors", default="normal",
-                   choices=("normal", "no-touch", "no-sight", "nothing", "all"),
-                   help="sensory condition(s) of Fig. 9 (default normal)")
+                   choices=("normal", "no-touch", "no-sight", "nothing", "no-ball", "all"),
+                   help="sensory condition(s) of Fig. 9, or no-ball: the ball-absent test of "
+                        "section IV-A-1 (default normal; all = the five)")
     p.add_argument("--robots", type=_positive, default=5,
                    help="best robots of each replication to test (default 5)")
     p.add_argument("--record", default="best",

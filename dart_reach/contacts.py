@@ -106,7 +106,7 @@ def anticipatory_grasp(flexion, contacts, dt: float = DT, window: float = ANTICI
     palm touch (row k) the fingers' state is still the one the reflex has not acted on yet.
     Anticipatory when the flexion at row k exceeds its lowest value over the ``window`` s
     before (rows k - window/dt .. k) by at least ``rise`` rad. Returns (1.0 or 0.0, lead in s:
-    time from that lowest point, the onset of the closing, to the touch; NaN when not
+    time from the latest lowest point, the onset of the closing, to the touch; NaN when not
     anticipatory), or (NaN, NaN) when the palm never touches.
     """
     f = np.asarray(flexion, dtype=float)
@@ -115,7 +115,7 @@ def anticipatory_grasp(flexion, contacts, dt: float = DT, window: float = ANTICI
         return math.nan, math.nan
     lo = max(0, k - int(round(window / dt)))
     segment = f[lo:k + 1]
-    onset = lo + int(np.argmin(segment))
+    onset = k - int(np.argmin(segment[::-1]))  # the latest lowest point: the closing's start
     if f[k] - f[onset] >= rise:
         return 1.0, (k - onset) * dt
     return 0.0, math.nan

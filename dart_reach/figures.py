@@ -44,7 +44,7 @@ from matplotlib.figure import Figure
 from matplotlib.patches import Circle
 
 from . import metrics, stats
-from .evaluation import SENSES, load_evaluation, run_phases
+from .evaluation import BALL_ABSENT, SENSES, TESTS, load_evaluation, run_phases
 from .experiment import Run
 from .recording import read_rrd
 from .world import POINTS_PER_SECTOR, SectorConfig
@@ -643,14 +643,15 @@ def _project(points: np.ndarray, view: str) -> tuple[np.ndarray, np.ndarray]:
 
 
 def fig8_trajectories(table: pl.DataFrame, run_dir, phases: Sequence[str] | None = None,
-                      senses: Sequence[str] = SENSES, trial: int = FIG8_TRIAL,
+                      senses: Sequence[str] = TESTS, trial: int = FIG8_TRIAL,
                       view: str = "front", radius: float | None = None) -> Figure:
     """Fig. 8: the hand's path (palm point) in one trial (default the centre of sector 4) of the
     best recorded robot of each phase (columns) under each sensory condition (rows), read from
     the recordings, projected on a plane: ``view`` "front" (as seen from behind the robot),
     "side" (forward to the right) or "top". The path's colour is time; o marks the start, x the
-    end; the red disc is the ball at the start (its path in red), + the shoulder. All panels
-    share one scale."""
+    end; the red disc is the ball at the start (its path in red), + the shoulder. The row of
+    the ball-absent test (no-ball, section IV-A-1) draws a dashed circle where the ball would
+    hang. All panels share one scale."""
     if view not in VIEWS:
         raise ValueError(f"view must be one of {', '.join(VIEWS)}, got {view!r}")
     phases = _phases(table, phases)
@@ -690,8 +691,12 @@ def fig8_trajectories(table: pl.DataFrame, run_dir, phases: Sequence[str] | None
                     lc = LineCollection(seg, cmap=cmap, norm=norm, linewidth=1.1)
                     lc.set_array(t[:-1])
                     ax.add_collection(lc)
-                ax.plot(bx, by, color="#d62728", linewidth=0.8, alpha=0.7)
-                ax.add_patch(Circle((bx[0], by[0]), radius, color="#d62728", alpha=0.6))
+                if senses[i] == BALL_ABSENT:
+                    ax.add_patch(Circle((bx[0], by[0]), radius, fill=False, color="#d62728",
+                                        linestyle="--", linewidth=0.8))
+                else:
+                    ax.plot(bx, by, color="#d62728", linewidth=0.8, alpha=0.7)
+                    ax.add_patch(Circle((bx[0], by[0]), radius, color="#d62728", alpha=0.6))
                 ax.plot(hx[:1], hy[:1], "o", color=cmap(0.0), markersize=5, mec="black", mew=0.5)
                 ax.plot(hx[-1:], hy[-1:], "x", color="black", markersize=6)
                 ax.plot([sx.mean()], [sy.mean()], "+", color="black", markersize=9)

@@ -27,8 +27,8 @@ DT = 0.1
 #: a movement unit's peak). 10 % of an infant's ~0.5 m/s peak reaching speed; a hand held by
 #: the springs at the home posture moves at ~0.
 ONSET_SPEED = 0.05
-#: m per step: the hand–ball distance must shrink by more than this in a step (0.01 m/s) for
-#: the step to belong to the final approach (``final_approach``).
+#: m per step: the hand must move more than this toward the ball in a step (0.01 m/s) for the
+#: step to belong to the final approach (``final_approach``).
 APPROACH_STEP = 0.001
 #: m/s: a speed peak counts as a movement unit when it stands this far above the lowest speed
 #: on each side (before the previous peak, after the next one; von Hofsten 1991's units).
@@ -94,16 +94,26 @@ def peak_speed(hand, end: int, dt: float = DT) -> float:
     return float(step_speeds(points(hand, "hand")[:end + 1], dt).max())
 
 
+def _toward(h: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """(T - 1,) each step's hand displacement (m) along the direction to the ball's centre,
+    the direction taken from the step's midpoint (hand and ball)."""
+    step = np.diff(h, axis=0)
+    to_ball = (b[:-1] + b[1:] - h[:-1] - h[1:]) / 2
+    norm = np.linalg.norm(to_ball, axis=1)
+    with np.errstate(invalid="ignore", divide="ignore"):
+        return np.where(norm > 0, (step * to_ball).sum(axis=1) / norm, 0.0)
+
+
 def final_approach(hand, ball, end: int) -> int:
     """First row of the final movement toward the ball: the longest run of steps ending at
-    the first touch (row ``end``) in each of which the hand–ball-centre distance shrinks by
-    more than ``APPROACH_STEP``. Returns ``end`` when the last step before the touch does not
-    approach (the ball swung into the hand), -1 when ``end`` < 0."""
+    the first touch (row ``end``) in each of which the hand moves more than ``APPROACH_STEP``
+    toward the ball's centre (its displacement along the direction to the ball). Returns
+    ``end`` when the last step before the touch does not approach (the ball swung into a hand
+    that was still or moving past), -1 when ``end`` < 0."""
     if end < 0:
         return -1
     h, b = points(hand, "hand")[:end + 1], points(ball, "ball")[:end + 1]
-    d = np.linalg.norm(h - b, axis=1)
-    closer = np.diff(d) < -APPROACH_STEP
+    closer = _toward(h, b) > APPROACH_STEP
     start = end
     while start > 0 and closer[start - 1]:
         start -= 1
@@ -187,22 +197,19 @@ def heading(hand, ball, end: int = -1) -> float:
     """How much of the hand's movement goes toward the ball (arm orienting): the sum over the
     steps before the first touch (the whole trial when ``end`` < 0) of the displacement's
     component along the direction to the ball's centre, over the sum of the displacements'
-    lengths. 1 = every movement straight at the ball, 0 = as much toward as away (random
-    flailing), -1 = straight away. NaN when the hand does not move."""
+    lengths, the direction to the ball taken from each step's midpoint (so circling the ball
+    scores 0 whatever the sampling). 1 = every movement straight at the ball, 0 = as much
+    toward as away (random flailing) or around it, -1 = straight away. NaN when the hand does
+    not move."""
     h, b = points(hand, "hand"), points(ball, "ball")
     stop = end + 1 if end >= 0 else len(h)
     h, b = h[:stop], b[:stop]
     if len(h) < 2:
         return math.nan
-    step = np.diff(h, axis=0)
-    to_ball = b[:-1] - h[:-1]
-    norm = np.linalg.norm(to_ball, axis=1)
-    moved = np.linalg.norm(step, axis=1)
-    total = float(moved.sum())
+    total = float(np.linalg.norm(np.diff(h, axis=0), axis=1).sum())
     if total <= REST_TOLERANCE:
         return math.nan
-    with np.errstate(invalid="ignore", divide="ignore"):
-        along = np.where(norm > 0, (step * to_ball).sum(axis=1) / norm, 0.0)
+    along = _toward(h, b)
     return float(along.sum()) / total
 
 
