@@ -37,7 +37,7 @@ import enum
 import time
 from dataclasses import dataclass, replace
 from pathlib import Path
-from typing import Callable, Iterable
+from typing import Callable, Iterable, Sequence
 
 import numpy as np
 import polars as pl
@@ -287,12 +287,13 @@ def _evaluate(run: Run, senses, robots, record, workers, ray_address, progress, 
     return table
 
 
-def _save(path: Path, table: pl.DataFrame | None, rows: list[dict]) -> pl.DataFrame:
-    """``rows`` added to ``table`` (replacing its rows of the same robots and conditions,
-    measured by an older version), written atomically."""
+def _save(path: Path, table: pl.DataFrame | None, rows: list[dict],
+          key: Sequence[str] = _KEY) -> pl.DataFrame:
+    """``rows`` added to ``table`` (replacing its rows of the same ``key``: robots measured
+    by an older version), written atomically."""
     new = pl.DataFrame(rows, schema_overrides={"recording": pl.Utf8}, infer_schema_length=None)
     if table is not None:
-        table = table.join(new.select(_KEY).unique(), on=list(_KEY), how="anti")
+        table = table.join(new.select(key).unique(), on=list(key), how="anti")
     table = new if table is None else pl.concat([table, new], how="diagonal_relaxed")
     atomic_write(path, lambda p: table.write_parquet(p))
     return table

@@ -449,3 +449,63 @@ def replication_performance(table: pl.DataFrame, senses: str = "normal", robots:
                  *[pl.col(c).mean() for c in ("fitness", "reach_rate", "grasp_rate",
                                               "lifetime_fitness")])
             .sort([*by, "replication"]))
+
+
+# ---------------------------------------------------------------------------------------------
+# Per robot: peri-personal space, one condition against another (sections IV-A-2, IV-B, V)
+# ---------------------------------------------------------------------------------------------
+
+def peripersonal_space(table: pl.DataFrame,
+                       by: Sequence[str] = ("phase", "senses", "replication", "rank")
+                       ) -> pl.DataFrame:
+    """The region of its peri-personal space in which each robot (group of ``by``) succeeds:
+    the space that shrinks during gross-reaching and re-expands in fine-reaching (IV-A-2, V;
+    Fig. 7), per robot instead of pooled.
+
+    Columns: ``*by``, trials, sectors_reached / sectors_grasped (sectors, of 9, with at least
+    one reach / grasp among the robot's trials there), reach_entropy (Shannon entropy of the
+    robot's reaches over the 9 sectors divided by log 9: 1 = reaches spread evenly over every
+    sector, 0 = all in one; NaN without a reach). Sorted by ``by``.
+    """
+    by = list(by)
+    _require(table, [*by, "sector", "reached", "grasped"])
+    per_sector = (table.group_by([*by, "sector"])
+                  .agg(pl.len().alias("n"), pl.col("reached").cast(pl.Int64).sum().alias("r"),
+                       pl.col("grasped").cast(pl.Int64).sum().alias("g")))
+    total = pl.col("r").sum().over(by)
+    share = pl.col("r") / total
+    term = pl.when(pl.col("r") > 0).then(-share * share.log()).otherwise(0.0)
+    n_sectors = SECTOR_ROWS * SECTOR_COLS
+    return (per_sector.with_columns(term.alias("h"))
+            .group_by(by)
+            .agg(pl.col("n").sum().alias("trials"),
+                 (pl.col("r") > 0).sum().cast(pl.Int64).alias("sectors_reached"),
+                 (pl.col("g") > 0).sum().cast(pl.Int64).alias("sectors_grasped"),
+                 pl.col("r").sum().alias("_reaches"), pl.col("h").sum().alias("_h"))
+            .with_columns(pl.when(pl.col("_reaches") > 0)
+                          .then(pl.col("_h") / math.log(n_sectors)).otherwise(math.nan)
+                          .alias("reach_entropy"))
+            .drop("_reaches", "_h").sort(by))
+
+
+def condition_contrast(table: pl.DataFrame, values: Sequence[str], a: str = "normal",
+                       b: str = "no-sight", column: str = "senses",
+                       robot: Sequence[str] = ("phase", "replication", "rank")) -> pl.DataFrame:
+    """Each robot under two post-evaluation conditions (``column`` = ``a`` and = ``b``, e.g.
+    normal and no-sight, normal and no-ball), side by side: the per-robot deprivation drop of
+    section IV-B and the paired comparison of the ball-absent test (IV-A-1).
+
+    One row per robot present under both: ``*robot``, then for each measure v of ``values``
+    (the robot's mean over its trials, NaN ignored, booleans as rates) ``v_a``, ``v_b`` and
+    ``v_drop`` = v_a - v_b (> 0: lower without the sense or the ball). Sorted by ``robot``.
+    """
+    robot, values = list(robot), list(values)
+    _require(table, [*robot, column, *values])
+    means = {c: robot_means(table.filter(pl.col(column) == c), values, by=robot).drop("n")
+             for c in (a, b)}
+    out = means[a].rename({v: f"{v}_a" for v in values}).join(
+        means[b].rename({v: f"{v}_b" for v in values}), on=robot, how="inner")
+    return (out.with_columns([(pl.col(f"{v}_a") - pl.col(f"{v}_b")).alias(f"{v}_drop")
+                              for v in values])
+            .select([*robot, *[f"{v}_{s}" for v in values for s in ("a", "b", "drop")]])
+            .sort(robot))

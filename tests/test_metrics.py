@@ -490,3 +490,31 @@ def test_trial_metrics_default_ball_radius_is_the_shipped_balls():
     from dart_reach.world import BallConfig
 
     assert m.BALL_RADIUS == BallConfig().radius
+
+
+def test_peripersonal_space_counts_and_spreads_the_sectors_a_robot_reaches():
+    rows = []
+    for rank, sectors in ((0, range(9)), (1, (4,)), (2, ())):  # everywhere, one sector, none
+        for s in range(9):
+            for _ in range(5):
+                rows.append({"phase": "p", "senses": "normal", "replication": 0, "rank": rank,
+                             "sector": s, "reached": s in sectors, "grasped": s == 4})
+    space = m.peripersonal_space(pl.DataFrame(rows))
+    assert space["trials"].to_list() == [45, 45, 45]
+    assert space["sectors_reached"].to_list() == [9, 1, 0]
+    assert space["sectors_grasped"].to_list() == [1, 1, 1]
+    e = space["reach_entropy"].to_list()
+    assert e[0] == pytest.approx(1.0) and e[1] == pytest.approx(0.0) and math.isnan(e[2])
+
+
+def test_condition_contrast_pairs_each_robot_with_itself():
+    rows = [{"phase": "fine", "replication": r, "rank": 0, "senses": s, "fitness": f,
+             "reached": f > 0.05}
+            for r, (normal, blind) in enumerate(((0.10, 0.02), (0.08, 0.08)))
+            for s, f in (("normal", normal), ("no-sight", blind))]
+    rows.append({"phase": "fine", "replication": 2, "rank": 0, "senses": "normal",
+                 "fitness": 0.5, "reached": True})  # never tested blind: left out
+    out = m.condition_contrast(pl.DataFrame(rows), ["fitness", "reached"])
+    assert out["replication"].to_list() == [0, 1]
+    assert out["fitness_drop"].to_list() == pytest.approx([0.08, 0.0])
+    assert out["reached_a"].to_list() == [1.0, 1.0] and out["reached_b"].to_list() == [0.0, 1.0]
