@@ -127,3 +127,20 @@ def test_a_recording_reads_back_into_the_same_measures(runs):
     assert recorded.height == 3 * 2 * 2  # phases x replications x generations (every 1)
     assert set(recorded["generation"].to_list()) == {1, 2}
     assert dev.course(recorded)["x"].max() == 6
+
+
+def test_figures_of_the_course_and_of_the_behaviours(runs):
+    from dart_reach import figures
+
+    _, _, snap = runs
+    c = dev.course(dev.evaluate_snapshots(snap.out, robots=1, workers=1))
+    fig = figures.development_figure(c, "hand_path", "hand path (m)")
+    ax = fig.axes[0]
+    assert len(ax.lines) == 2 + 1 + 3  # a line per replication, the median, 3 phase starts
+    assert [t.get_text().strip() for t in ax.texts] == ["pre", "gross", "fine"]
+    empty = figures.development_figure(c.head(0), "hand_path")
+    assert "no development data" in empty.axes[0].texts[0].get_text()
+    table = evaluate_run(snap.out, robots=1, record="none", workers=1, progress=False)
+    fig = figures.table1_behaviours(table)
+    assert len(fig.axes) == len(figures.BEHAVIOUR_MEASURES)
+    assert fig.axes[0].get_ylabel().startswith("motor babbling")
