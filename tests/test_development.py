@@ -1,38 +1,22 @@
-"""Development over generations (``development.py``, the snapshots of ``experiment.Run``):
-snapshots change nothing that is trained, survive a resume, and give the measures' course per
-replication through a condition's phases (sections IV-A, IV-C, V; Table I)."""
+"""Development over generations (``development.py``, the snapshots of ``experiment.Run``): the
+measures' course per replication through a condition's phases (sections IV-A, IV-C, V; Table
+I). That snapshots change nothing trained and survive a resume: tests/test_experiment.py."""
 
 from __future__ import annotations
 
 import math
 
-import numpy as np
 import polars as pl
 import pytest
 
 from dart_reach import development as dev
 from dart_reach.conditions import load_condition, scaled
 from dart_reach.evaluation import evaluate_run
-from dart_reach.experiment import SNAPSHOT_ROBOTS, Run, Settings, snapshot_due, train
+from dart_reach.experiment import Settings, snapshot_due, train
 from dart_reach.metrics import trial_metrics
 from dart_reach.recording import read_rrd
 
 TINY = Settings(replications=2, trials=1, steps=4, seed=3)
-
-
-def _final(out):
-    stats = pl.read_parquet(out / "generations.parquet").drop("wall_s")
-    finals = {}
-    for d in sorted((out / "phases").iterdir()):
-        with np.load(d / "final.npz") as f:
-            finals[d.name] = (f["population"].copy(), f["fitness"].copy())
-    return stats, finals
-
-
-def _same(a, b) -> bool:
-    return a[0].equals(b[0]) and a[1].keys() == b[1].keys() and all(
-        np.array_equal(a[1][k][0], b[1][k][0]) and np.array_equal(a[1][k][1], b[1][k][1])
-        for k in a[1])
 
 
 def test_snapshot_generations():
@@ -44,45 +28,12 @@ def test_snapshot_generations():
 
 @pytest.fixture(scope="module")
 def runs(tmp_path_factory):
-    """The standard condition, 2 generations per phase, with and without snapshots."""
-    root = tmp_path_factory.mktemp("dev")
+    """The standard condition, 2 generations per phase, with snapshots and recordings after
+    every generation (that they change nothing trained: tests/test_experiment.py)."""
     cond = [scaled(load_condition("standard"), 2)]
-    plain = train(cond, TINY, root / "plain", workers=1, progress=False)
-    snap = train(cond, TINY, root / "snap", workers=1, progress=False, snapshot_every=1,
-                 record_every=1)
-    return cond, plain, snap
-
-
-def test_snapshots_change_nothing_trained_and_hold_the_best(runs):
-    _, plain, snap = runs
-    assert _same(_final(plain.out), _final(snap.out))
-    assert not list(plain.out.rglob("snapshots"))
-    for _, phase in snap.unique_phases():
-        shots = snap.snapshots(phase)
-        assert [g for g, _, _ in shots] == [1, 2]
-        generation, genomes, fitness = shots[-1]
-        final, final_fitness = snap.load_final(phase)
-        assert genomes.shape == (2, SNAPSHOT_ROBOTS, final.shape[2])
-        assert np.array_equal(genomes, final[:, :SNAPSHOT_ROBOTS])  # best first
-        assert np.array_equal(fitness, final_fitness[:, :SNAPSHOT_ROBOTS])
-        assert genomes.dtype == np.uint8 and (snap.snapshot_path(phase, 2)).stat().st_size < 20e3
-
-
-def test_a_run_made_without_snapshots_resumes_with_them_to_the_same_result(runs, tmp_path):
-    cond, plain, _ = runs
-
-    def stop_after_first(progress):
-        if progress.done_generations == 1:
-            raise KeyboardInterrupt
-
-    out = tmp_path / "old"
-    with pytest.raises(KeyboardInterrupt):
-        train(cond, TINY, out, workers=1, progress=stop_after_first)  # no snapshots
-    train(cond, TINY, out, workers=1, progress=False, resume=True, snapshot_every=1)
-    assert _same(_final(plain.out), _final(out))
-    run = Run.open(out)
-    pre = run.unique_phases()[0][1]
-    assert [g for g, _, _ in run.snapshots(pre)] == [2]  # generation 1 was made before
+    snap = train(cond, TINY, tmp_path_factory.mktemp("dev") / "snap", workers=1,
+                 progress=False, snapshot_every=1, record_every=1)
+    return cond, None, snap
 
 
 def test_development_course_from_snapshots(runs):

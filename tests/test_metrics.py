@@ -456,7 +456,8 @@ def test_a_touch_with_the_back_of_the_hand_is_a_reach_but_not_an_inner_touch():
     d.contacts_any[5, 0] = True  # the back of the hand brushes the ball at step 5
     r = m.trial_metrics(d, dt=0.1)
     assert r["reached"] and r["reached_inner"]
-    assert r["first_touch_s"] == pytest.approx(0.5) and r["first_touch_inner_s"] == pytest.approx(0.8)
+    assert r["first_touch_s"] == pytest.approx(0.5)
+    assert r["first_touch_inner_s"] == pytest.approx(0.8)
     assert r["speed"] == pytest.approx(path_length_of(d.hand[:6]) / 0.5)
     d.contacts[:] = False  # only back-of-hand touches
     r = m.trial_metrics(d, dt=0.1)
