@@ -95,3 +95,17 @@ def test_figures_of_the_course_and_of_the_behaviours(runs):
     fig = figures.table1_behaviours(table)
     assert len(fig.axes) == len(figures.BEHAVIOUR_MEASURES)
     assert fig.axes[0].get_ylabel().startswith("motor babbling")
+
+
+def test_the_report_draws_the_course_of_every_measure(runs, tmp_path):
+    import re
+
+    from dart_reach import report
+
+    _, _, snap = runs
+    dev.evaluate_snapshots(snap.out, robots=1, workers=1)
+    evaluate_run(snap.out, robots=1, record="none", workers=1, progress=False)
+    text = report.build([snap.out], tmp_path / "r.html").read_text()
+    assert "Development over generations: post-evaluation of the snapshots" in text
+    part = text[text.index("Development over generations"):]
+    assert len(re.findall(r'src="data:image/png;base64,', part)) >= len(dev.MEASURES)
