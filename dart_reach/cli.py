@@ -255,7 +255,8 @@ def cmd_train(args) -> int:
             run = train(conditions, settings, out, workers=args.workers, ray_address=args.ray,
                         resume=args.resume, progress=_checked(bar),
                         record_every=args.record_every,
-                        command=shlex.join(["dart-reach", *sys.argv[1:]]))
+                        command=shlex.join(["dart-reach", *sys.argv[1:]]),
+                        snapshot_every=args.snapshot_every)
     except KeyboardInterrupt as exc:
         again = ["dart-reach", *sys.argv[1:]]
         if "--resume" not in again:
@@ -314,6 +315,15 @@ def cmd_evaluate(args) -> int:
         return _interrupted(exc)
     out = Path(args.run_dir)
     print(f"\n{table.height} trials in {out / TABLE}", file=sys.stderr)
+    if args.development:
+        from .development import TABLE as DEVELOPMENT, evaluate_snapshots
+
+        with ProgressBar(lambda p: (*p, "robot", "development")) as bar:
+            dev = evaluate_snapshots(args.run_dir, robots=args.development,
+                                     workers=args.workers, ray_address=args.ray,
+                                     progress=lambda n, total: _checked(bar)((n, total)))
+        print(f"{dev.height} trials of the snapshots' best robots in {out / DEVELOPMENT}",
+              file=sys.stderr)
     recorded = table.filter(table["recording"].is_not_null())["recording"] if table.height else []
     if len(recorded):
         print(f"{len(recorded)} recordings under {out / RECORDINGS}; open one with its layout:"
@@ -513,14 +523,19 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--record-every", type=_non_negative, default=100, metavar="K",
                    help="record one trial of each replication's best individual every K "
                         "generations and at the end of each phase (default 100; 0 = never)")
+    p.add_argument("--snapshot-every", type=_non_negative, default=50, metavar="K",
+                   help="keep the best 5 genomes of each replication after generations 1, 2, "
+                        "5, 10, every K and the last of each phase, for the development over "
+                        "generations (default 50; 0 = never)")
     p.set_defaults(func=cmd_train)
 
     p = command("evaluate", "post-evaluate a trained run on the 45 systematic "
                                         "positions (section IV)")
     p.add_argument("run_dir", type=Path, metavar="RUN_DIR", help="a run directory of 'train'")
     p.add_argument("--sensors", default="normal",
-                   choices=("normal", "no-touch", "no-sight", "nothing", "all"),
-                   help="sensory condition(s) of Fig. 9 (default normal)")
+                   choices=("normal", "no-touch", "no-sight", "nothing", "no-ball", "all"),
+                   help="sensory condition(s) of Fig. 9, or no-ball: the ball-absent test of "
+                        "section IV-A-1 (default normal; all = the five)")
     p.add_argument("--robots", type=_positive, default=5,
                    help="best robots of each replication to test (default 5)")
     p.add_argument("--record", default="best",
@@ -530,6 +545,10 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--baseline", type=_non_negative, default=0, metavar="N",
                    help="also post-evaluate N random genomes per phase, the chance level of "
                         "every measure (rows flagged 'baseline'; default 0)")
+    p.add_argument("--development", type=_non_negative, default=0, metavar="N",
+                   help="also post-evaluate the best N robots of each replication of every "
+                        "snapshot (train --snapshot-every): the measures' course over "
+                        "generations, in development.parquet (default 0: not)")
     _add_workers(p)
     p.set_defaults(func=cmd_evaluate)
 

@@ -1,17 +1,20 @@
 """Post-evaluation of a trained run (section IV, Figs. 5-9).
 
 The best ``robots`` (5) individuals of each replication of each trained phase are tested on the
-45 systematic ball positions (5 per sector, ``World.systematic_points``) under one or more sensory
-conditions (normal, no-touch, no-sight, nothing: section IV-B). The trials are deterministic:
+45 systematic ball positions (5 per sector, ``World.systematic_points``) under one or more
+conditions: the sensory conditions of section IV-B (normal, no-touch, no-sight, nothing:
+``SENSES``, Fig. 9) and the ball-absent test of section IV-A-1 (no-ball: the ball out of the
+scene, touch and sight reading "nothing sensed"; Fig. 8). The trials are deterministic:
 positions are fixed and the robot starts every trial from the same state.
 
 Output, in the run directory::
 
     evaluation.parquet   one row per trial: who (condition, phase, phase_key, notation,
                          replication, rank, lifetime_fitness), how (senses), where (trial,
-                         sector, ball_x/y/z) and every measure of ``metrics.trial_metrics``,
-                         plus ``recording`` (path of the trial's .rrd relative to the run, or
-                         null)
+                         sector, ball_x/y/z: where the ball hangs, or would in a no-ball
+                         trial) and every measure of ``metrics.trial_metrics``, plus
+                         ``recording`` (path of the trial's .rrd relative to the run, or null)
+                         and ``measures_version`` (``MEASURES_VERSION``)
     evaluation/<phase>/<senses>/rep<R>-rank<I>/trial<K>-sector<S>.rrd   (see ``Record``)
     evaluation/trial.rbl  their layout in the viewer: rerun TRIAL.rrd evaluation/trial.rbl
 
@@ -22,8 +25,10 @@ from the run's seed tree (``experiment.baseline_genomes``) and decoded with the 
 groups and maturational state. ``load_evaluation`` leaves them out unless asked.
 
 Evaluating again adds only what is missing (another sensory condition, more robots); rows and
-recordings already saved are kept. The table is saved every few seconds, so an interrupted
-evaluation keeps the robots it finished.
+recordings already saved are kept, except rows measured by an older version of the measures
+(``measures_version`` below ``MEASURES_VERSION``, or absent: tables written before issue 22),
+which are evaluated and measured again when their robot and condition are asked for. The table
+is saved every few seconds, so an interrupted evaluation keeps the robots it finished.
 """
 
 from __future__ import annotations
@@ -32,7 +37,7 @@ import enum
 import time
 from dataclasses import dataclass, replace
 from pathlib import Path
-from typing import Callable, Iterable
+from typing import Callable, Iterable, Sequence
 
 import numpy as np
 import polars as pl
@@ -52,7 +57,16 @@ TABLE = "evaluation.parquet"
 RECORDINGS = "evaluation"
 #: The layout of the post-evaluation's recordings: ``rerun TRIAL.rrd evaluation/trial.rbl``.
 BLUEPRINT = f"{RECORDINGS}/trial.rbl"
-SENSES = tuple(s.value for s in Senses)
+#: The sensory conditions of Fig. 9 (section IV-B).
+SENSES = tuple(s.value for s in Senses if s is not Senses.NO_BALL)
+#: The ball-absent test of section IV-A-1 (Fig. 8).
+BALL_ABSENT = Senses.NO_BALL.value
+#: Every post-evaluation condition (``--sensors all``).
+TESTS = (*SENSES, BALL_ABSENT)
+#: Version of the per-trial measures in evaluation.parquet: 1 (absent column) before issue 22
+#: (reach = an inner-face touch, straightness to the ball's centre); 2: the measures of
+#: ``metrics.trial_metrics`` as documented in docs/analysis.md.
+MEASURES_VERSION = 2
 _KEY = ("phase_key", "senses", "baseline", "replication", "rank")
 
 
@@ -110,14 +124,16 @@ def run_robot(job: RobotJob) -> tuple[list[dict], list[bytes | None]]:
         sector = k // POINTS_PER_SECTOR
         data = runner.run(network, sector, position)
         path = job.recording_path(k, sector) if job.record else None
-        measures = trial_metrics(data, job.world.control_dt)
+        measures = trial_metrics(data, job.world.control_dt, job.world.ball.radius,
+                                 world.motor_limit_upper - world.motor_limit_lower)
         rows.append({
             "condition": job.condition, "phase": job.phase.name, "phase_key": job.phase.key,
             "notation": job.phase.notation, "replication": job.replication, "rank": job.rank,
             "lifetime_fitness": job.lifetime_fitness, "baseline": job.baseline,
             "senses": job.trial.senses.value,
             "trial": k, "ball_x": float(position[0]), "ball_y": float(position[1]),
-            "ball_z": float(position[2]), **measures, "recording": path})
+            "ball_z": float(position[2]), **measures, "recording": path,
+            "measures_version": MEASURES_VERSION})
         recordings.append(trial_rrd(data, TrialInfo(
             job.condition, job.phase.name, job.replication, job.rank, sector, k, "systematic",
             job.trial.senses.value), model, job.world.control_dt, blueprint=False,
@@ -141,12 +157,13 @@ class EvaluationProgress:
 
 
 def parse_senses(text: str) -> tuple[str, ...]:
-    """``"all"`` or one sensory condition name, as a tuple of names."""
+    """``"all"`` (every condition: the four of Fig. 9 and the ball-absent test) or one
+    condition's name, as a tuple of names."""
     if text == "all":
-        return SENSES
-    if text not in SENSES:
+        return TESTS
+    if text not in TESTS:
         raise ValueError(f"unknown sensory condition {text!r}: expected one of "
-                         f"{', '.join(SENSES)} or all")
+                         f"{', '.join(TESTS)} or all")
     return (text,)
 
 
@@ -174,6 +191,8 @@ def load_evaluation(run_dir, baseline: bool | None = False) -> pl.DataFrame:
         raise RunError(f"{path}: unreadable ({exc})") from None
     if "baseline" not in table.columns:  # written before the baseline existed
         table = table.with_columns(pl.lit(False).alias("baseline"))
+    if "measures_version" not in table.columns:  # written before issue 22's measures
+        table = table.with_columns(pl.lit(1).alias("measures_version"))
     return table if baseline is None else table.filter(pl.col("baseline") == baseline)
 
 
@@ -220,7 +239,8 @@ def _evaluate(run: Run, senses, robots, record, workers, ray_address, progress, 
         raise ValueError(f"baseline must be 0 or more random genomes, got {baseline}")
     path = run.out / TABLE
     table = load_evaluation(run.out, baseline=None) if path.exists() else None
-    done = set() if table is None else set(table.select(_KEY).iter_rows())
+    done = set() if table is None else set(
+        table.filter(pl.col("measures_version") >= MEASURES_VERSION).select(_KEY).iter_rows())
     jobs = []
     for condition, phase in run.unique_phases():
         genomes, fitness = run.load_final(phase)
@@ -268,8 +288,13 @@ def _evaluate(run: Run, senses, robots, record, workers, ray_address, progress, 
     return table
 
 
-def _save(path: Path, table: pl.DataFrame | None, rows: list[dict]) -> pl.DataFrame:
+def _save(path: Path, table: pl.DataFrame | None, rows: list[dict],
+          key: Sequence[str] = _KEY) -> pl.DataFrame:
+    """``rows`` added to ``table`` (replacing its rows of the same ``key``: robots measured
+    by an older version), written atomically."""
     new = pl.DataFrame(rows, schema_overrides={"recording": pl.Utf8}, infer_schema_length=None)
+    if table is not None:
+        table = table.join(new.select(key).unique(), on=list(key), how="anti")
     table = new if table is None else pl.concat([table, new], how="diagonal_relaxed")
     atomic_write(path, lambda p: table.write_parquet(p))
     return table

@@ -22,12 +22,17 @@ Run directory::
     phases/<phase>/best.parquet  the final populations as a table, best first
     phases/<phase>/best/gen<G>-rep<R>.rrd  a trial of each replication's best individual,
                                every ``record_every`` generations
+    phases/<phase>/snapshots/gen<G>.npz  the best ``SNAPSHOT_ROBOTS`` genomes of every
+                               replication and their lifetime fitness, after generations 1, 2,
+                               5, 10, every ``snapshot_every`` and the last (development over
+                               generations, ``development.py``)
     evaluation.parquet, evaluation/   the post-evaluation (``evaluation.py``)
     .lock                      held by the process working in the directory (``files``)
 
 A generation is committed by its phase's checkpoint alone, written atomically (a temporary file
 renamed over the old one). Everything a generation adds is either written before that commit
-(the best-of-generation recordings, which a redone generation rewrites identically) or derived
+(the best-of-generation recordings and the snapshots, which a redone generation rewrites
+identically) or derived
 from the committed checkpoints and rebuilt from them on resume (generations.parquet and
 training.rrd: each checkpoint carries its phase's statistics rows; best.parquet from final.npz,
 which commits the end of a phase). So however a run stops (a signal, a full disk, a power
@@ -177,6 +182,20 @@ def _seed(settings: Settings, phase: Phase, *path: int) -> np.random.SeedSequenc
 
 # purposes of the seed tree
 _INIT, _MUTATE, _EVALUATE, _RECORD, _BASELINE = 0, 1, 2, 3, 4
+
+#: Genomes per replication a snapshot keeps: the best 5, the robots the paper post-evaluates.
+SNAPSHOT_ROBOTS = 5
+#: Generations after which a snapshot is always kept (when snapshots are on): the first ones,
+#: where the start of a phase (the motor suppression at the start of gross-reaching, Table I)
+#: shows.
+SNAPSHOT_EARLY = (1, 2, 5, 10)
+
+
+def snapshot_due(generation: int, generations: int, every: int) -> bool:
+    """Whether a phase of ``generations`` keeps a snapshot after ``generation`` (1-based)
+    when snapshots are taken every ``every`` generations (0 = never)."""
+    return every > 0 and (generation in SNAPSHOT_EARLY or generation % every == 0
+                          or generation == generations)
 
 
 def baseline_genomes(settings: Settings, phase: Phase, n: int) -> np.ndarray:
@@ -482,13 +501,18 @@ class Run:
 
     # -------------------------------------------------------------- training
     def train(self, evaluator: Evaluator, progress: Callable[[Progress], None] | None = None,
-              record_every: int = 0) -> None:
+              record_every: int = 0, snapshot_every: int = 0) -> None:
         """Train every phase of every condition not trained yet. After each generation the
         fitness statistics are also written to ``training.rrd``; with ``record_every`` = K > 0,
         one trial of the best individual of each replication is recorded every K generations
-        and at the end of each phase (``phases/<phase>/best/gen<G>-rep<R>.rrd``)."""
+        and at the end of each phase (``phases/<phase>/best/gen<G>-rep<R>.rrd``); with
+        ``snapshot_every`` = K > 0, the best ``SNAPSHOT_ROBOTS`` of each replication are kept
+        after the generations of ``snapshot_due`` (``phases/<phase>/snapshots/gen<G>.npz``).
+        Neither changes what is trained."""
         if record_every < 0:
             raise ValueError(f"record_every must be >= 0, got {record_every}")
+        if snapshot_every < 0:
+            raise ValueError(f"snapshot_every must be >= 0, got {snapshot_every}")
         s = self.settings
         total = sum(p.generations for _, p in self.unique_phases())
         done = sum(p.generations for _, p in self.unique_phases()
@@ -518,6 +542,8 @@ class Run:
                         if record_every and (g + 1 == phase.generations
                                              or (g + 1) % record_every == 0):
                             self.record_best(condition, phase, states, trial)
+                        if snapshot_due(g + 1, phase.generations, snapshot_every):
+                            self.save_snapshot(phase, states)
                         self._commit(phase, states)
                         done += 1
                         if progress:
@@ -551,6 +577,36 @@ class Run:
                                    trial_rrd(data, info, self._model,
                                              self.settings.world.control_dt)))
         return paths
+
+    def snapshot_path(self, phase: Phase, generation: int) -> Path:
+        return self.phase_dir(phase) / "snapshots" / f"gen{generation:04d}.npz"
+
+    def save_snapshot(self, phase: Phase, states: list[GAState]) -> Path:
+        """Keep the best ``SNAPSHOT_ROBOTS`` genomes of every replication and their lifetime
+        fitness after the states' generation (written atomically, before the generation's
+        commit: a redone generation writes the same file again)."""
+        k = min(SNAPSHOT_ROBOTS, self.settings.ga.population)
+        ranked = [best_k(s, k) for s in states]
+        path = self.snapshot_path(phase, states[0].generation)
+        atomic_write(path, lambda p: _savez(p, {
+            "genomes": np.stack([g for g, _ in ranked]),
+            "fitness": np.stack([f for _, f in ranked]),
+            "generation": np.array(states[0].generation), "phase_key": np.array(phase.key)}))
+        return path
+
+    def snapshots(self, phase: Phase) -> list[tuple[int, np.ndarray, np.ndarray]]:
+        """(generation, genomes (R, k, L), lifetime fitness (R, k)) of every snapshot a phase
+        kept, in generation order; [] for a run made without snapshots."""
+        out = []
+        for path in sorted((self.phase_dir(phase) / "snapshots").glob("gen*.npz")):
+            try:
+                with np.load(path, allow_pickle=False) as d:
+                    if str(d["phase_key"]) != phase.key:
+                        raise ValueError("a snapshot of another phase")
+                    out.append((int(d["generation"]), d["genomes"], d["fitness"]))
+            except Exception as exc:
+                raise RunError(f"{path}: unreadable snapshot ({exc})") from None
+        return out
 
     def unique_phases(self) -> list[tuple[Condition, Phase]]:
         """Each phase trained in this run once (a phase shared by conditions comes with the
@@ -640,7 +696,7 @@ def _savez(path: Path, arrays: dict) -> None:
 def train(conditions: list[Condition], settings: Settings, out: Path, workers: int | None = None,
           ray_address: str | None = None, resume: bool = False,
           progress: Callable[[Progress], None] | bool = True, record_every: int = 0,
-          command: str | None = None) -> Run:
+          command: str | None = None, snapshot_every: int = 0) -> Run:
     """Train ``conditions`` into the run directory ``out`` (the function the CLI calls;
     ``command``, the command line that made the run, goes into a new run's manifest).
     ``progress``: True (default) shows a progress bar (a widget in Jupyter, plain lines where
@@ -661,7 +717,7 @@ def train(conditions: list[Condition], settings: Settings, out: Path, workers: i
         evaluator = make_evaluator(workers, ray_address)
         bar = training_bar() if progress is True else None
         try:
-            run.train(evaluator, bar or progress or None, record_every)
+            run.train(evaluator, bar or progress or None, record_every, snapshot_every)
         finally:
             evaluator.close()
             if bar is not None:

@@ -44,7 +44,7 @@ from matplotlib.figure import Figure
 from matplotlib.patches import Circle
 
 from . import metrics, stats
-from .evaluation import SENSES, load_evaluation, run_phases
+from .evaluation import BALL_ABSENT, SENSES, TESTS, load_evaluation, run_phases
 from .experiment import Run
 from .recording import read_rrd
 from .world import POINTS_PER_SECTOR, SectorConfig
@@ -685,14 +685,15 @@ def _project(points: np.ndarray, view: str) -> tuple[np.ndarray, np.ndarray]:
 
 
 def fig8_trajectories(table: pl.DataFrame, run_dir, phases: Sequence[str] | None = None,
-                      senses: Sequence[str] = SENSES, trial: int = FIG8_TRIAL,
+                      senses: Sequence[str] = TESTS, trial: int = FIG8_TRIAL,
                       view: str = "front", radius: float | None = None) -> Figure:
     """Fig. 8: the hand's path (palm point) in one trial (default the centre of sector 4) of the
     best recorded robot of each phase (columns) under each sensory condition (rows), read from
     the recordings, projected on a plane: ``view`` "front" (as seen from behind the robot),
     "side" (forward to the right) or "top". The path's colour is time; o marks the start, x the
-    end; the red disc is the ball at the start (its path in red), + the shoulder. All panels
-    share one scale."""
+    end; the red disc is the ball at the start (its path in red), + the shoulder. The row of
+    the ball-absent test (no-ball, section IV-A-1) draws a dashed circle where the ball would
+    hang. All panels share one scale."""
     if view not in VIEWS:
         raise ValueError(f"view must be one of {', '.join(VIEWS)}, got {view!r}")
     phases = _phases(table, phases)
@@ -732,8 +733,12 @@ def fig8_trajectories(table: pl.DataFrame, run_dir, phases: Sequence[str] | None
                     lc = LineCollection(seg, cmap=cmap, norm=norm, linewidth=1.1)
                     lc.set_array(t[:-1])
                     ax.add_collection(lc)
-                ax.plot(bx, by, color="#d62728", linewidth=0.8, alpha=0.7)
-                ax.add_patch(Circle((bx[0], by[0]), radius, color="#d62728", alpha=0.6))
+                if senses[i] == BALL_ABSENT:
+                    ax.add_patch(Circle((bx[0], by[0]), radius, fill=False, color="#d62728",
+                                        linestyle="--", linewidth=0.8))
+                else:
+                    ax.plot(bx, by, color="#d62728", linewidth=0.8, alpha=0.7)
+                    ax.add_patch(Circle((bx[0], by[0]), radius, color="#d62728", alpha=0.6))
                 ax.plot(hx[:1], hy[:1], "o", color=cmap(0.0), markersize=5, mec="black", mew=0.5)
                 ax.plot(hx[-1:], hy[-1:], "x", color="black", markersize=6)
                 ax.plot([sx.mean()], [sy.mean()], "+", color="black", markersize=9)
@@ -892,4 +897,70 @@ def fig10_conditions(replications: pl.DataFrame, order: Sequence[str] | None = N
                  fontsize=9)
     _draw_matrix(fig.add_subplot(grid[0, 1]), st, alpha)
     fig.suptitle("Fig. 10 - performance of every phase and condition", fontsize=10)
+    return fig
+
+
+# ---------------------------------------------------------------------------------------------
+# Issue 22: the behaviours of Table I and section IV-A, the development over generations
+# ---------------------------------------------------------------------------------------------
+
+#: Table I and section IV-A behaviours per phase (column, label, scale); definitions and
+#: thresholds in docs/analysis.md.
+BEHAVIOUR_MEASURES = (
+    ("babbling", "motor babbling (% of trials)", 100.0),
+    ("heading", "arm orienting: heading\ntoward the ball (-1..1)", 1.0),
+    ("hand_shoulder_cv", "arm as a lever: CV of the\nhand-shoulder distance", 1.0),
+    ("movement_units", "movement units\nbefore the first touch", 1.0),
+    ("anticipatory_grasp", "anticipatory grasps\n(% of palm touches)", 100.0),
+    ("palm_up_swipe", "palm-up upward swipes\n(% of first touches)", 100.0))
+
+
+def table1_behaviours(table: pl.DataFrame, phases: Sequence[str] | None = None,
+                      senses: str = "normal") -> Figure:
+    """The behaviours Table I and section IV-A attribute to the phases (``BEHAVIOUR_MEASURES``:
+    babbling, arm orienting, the arm as a lever, smoothness, anticipatory grasp, the
+    gross-reachers' swipes), mean $\\pm$ s.e.m. over robots of each robot's mean over its
+    trials (a rate for the 0/1 measures, over the trials where it is defined)."""
+    phases = _phases(table, phases)
+    present = tuple(m for m in BEHAVIOUR_MEASURES if m[0] in table.columns)
+    fig, _ = _bars_figure(table, present, phases, senses, (2, 3), (11, 6.5))
+    fig.suptitle(f"Table I behaviours per phase ({senses} senses; mean $\\pm$ s.e.m. over "
+                 "robots)", fontsize=10)
+    return fig
+
+
+def development_figure(course_table: pl.DataFrame, measure: str, label: str | None = None,
+                       condition: str | None = None) -> Figure:
+    """The course of one measure over the generations of a condition's phases
+    (``development.course``): a thin line per replication, the median over replications in
+    black, a dashed line where each phase starts (its name above). ``condition``: default
+    "standard" if present, else the first."""
+    conditions = course_table["condition"].unique(maintain_order=True).to_list()
+    if condition is None:
+        condition = "standard" if "standard" in conditions or not conditions else conditions[0]
+    sub = course_table.filter(pl.col("condition") == condition).sort("x")
+    fig = Figure(figsize=(8, 3.4), layout="constrained")
+    ax = fig.subplots()
+    if sub.height == 0 or measure not in sub.columns:
+        ax.text(0.5, 0.5, f"no development data for {measure!r}", transform=ax.transAxes,
+                ha="center", va="center", color="0.4")
+        return fig
+    reps = sorted(sub["replication"].unique().to_list())
+    cmap = colormaps["tab10"]
+    for i, r in enumerate(reps):
+        line = sub.filter(pl.col("replication") == r)
+        ax.plot(line["x"], line[measure], color=cmap(i % 10), linewidth=0.8, alpha=0.6,
+                marker=".", markersize=3, label=f"rep {r}")
+    median = (sub.group_by("x").agg(pl.col(measure).fill_nan(None).median()).sort("x"))
+    ax.plot(median["x"], median[measure], color="black", linewidth=1.8, label="median")
+    starts = (sub.group_by("notation", "offset").agg(pl.col("x").min()).sort("offset"))
+    for row in starts.iter_rows(named=True):
+        ax.axvline(row["offset"], color="0.5", linestyle="--", linewidth=0.8)
+        ax.text(row["offset"], 1.01, f" {row['notation']}", transform=ax.get_xaxis_transform(),
+                fontsize=8, va="bottom")
+    ax.set_xlabel(f"generation ({condition}: counted through its phases)")
+    ax.set_ylabel(label or measure)
+    ax.grid(alpha=0.3)
+    if len(reps) <= 10:
+        ax.legend(fontsize=7, ncol=min(len(reps) + 1, 6), loc="best")
     return fig

@@ -11,7 +11,9 @@ Per-trial measures are pure functions of the per-step arrays of a ``task.TrialDa
   ``hand_ball_distance``;
 - beyond the paper: ``elbow_freezing`` (the locked elbow of section IV-A-1) and
   ``hand_periodicity`` (the "quasi-periodic circular movements" of motor babbling, IV-A-1);
-- ``trial_metrics``: all of the above as one flat dict, one row of a per-trial table.
+- ``trial_metrics``: all of the above and the measures of ``contacts`` (touches, anticipatory
+  grasp, swipes) and ``kinematics`` (the reach's path, arm orienting, babbling) as one flat
+  dict, one row of a per-trial table.
 
 Table functions take a polars post-evaluation table (one row per trial, with at least
 ``phase``, ``sector``, ``reached``, ``grasped`` and grouping columns such as ``senses``,
@@ -30,7 +32,11 @@ from collections.abc import Sequence
 import numpy as np
 import polars as pl
 
+from . import contacts as touches
+from . import kinematics
+from .contacts import PALM, first_grasp, first_touch, grasped, reached  # noqa: F401
 from .ctrnn import MOTOR_NAMES
+from .kinematics import REST_TOLERANCE, hand_periodicity, path_length, points  # noqa: F401
 
 #: Control step (s) of section III-B: row t of a trial record is the state at t * DT.
 DT = 0.1
@@ -42,126 +48,39 @@ SHOULDER_JOINTS = tuple(MOTOR_NAMES.index(n)
 TRUNK_JOINTS = tuple(MOTOR_NAMES.index(n) for n in ("torso_pitch", "torso_roll", "torso_yaw"))
 JOINT_GROUPS = {"elbow": ELBOW_JOINTS, "shoulder": SHOULDER_JOINTS, "trunk": TRUNK_JOINTS}
 
-#: Column of the palm in the contact arrays (``icub.HAND_SEGMENTS[0] == "r_hand"``); columns
-#: 1..15 are the finger phalanges.
-PALM = 0
-
-#: RMS (m) of the detrended hand path below which the hand counts as at rest in
-#: ``hand_periodicity`` (no meaningful spectrum).
-REST_TOLERANCE = 1e-9
-
 #: Sectors of the ball's area (Fig. 2): 3 elevation rows x 3 azimuth columns.
 SECTOR_ROWS = SECTOR_COLS = 3
 
 
 # ---------------------------------------------------------------------------------------------
-# Reach and grasp (section IV-A)
+# Reach, grasp and the reach's path (section IV-A, Fig. 5): ``contacts`` and ``kinematics``
 # ---------------------------------------------------------------------------------------------
-
-def _contacts(contacts) -> np.ndarray:
-    c = np.asarray(contacts, dtype=bool)
-    if c.ndim != 2:
-        raise ValueError(f"contacts must be a (T, segments) array, got shape {c.shape}")
-    return c
-
-
-def _first(mask: np.ndarray) -> int:
-    return int(np.argmax(mask)) if mask.any() else -1
-
-
-def first_touch(contacts) -> int:
-    """Index of the first step at which any hand segment touches the ball, -1 if none.
-
-    ``contacts``: (T, 16) bool, columns in ``icub.HAND_SEGMENTS`` order. Multiply by dt for
-    seconds. Section IV-A: "reach" = touch the object at least once with the hand.
-    """
-    return _first(_contacts(contacts).any(axis=1))
-
-
-def reached(contacts) -> bool:
-    """True when the hand touches the ball at least once (section IV-A-1, Fig. 5 top-right)."""
-    return first_touch(contacts) >= 0
-
-
-def _grasp_steps(contacts) -> np.ndarray:
-    c = _contacts(contacts)
-    if c.shape[1] < 2:
-        raise ValueError(f"contacts need the palm and finger columns, got shape {c.shape}")
-    return c[:, PALM] & c[:, PALM + 1:].any(axis=1)
-
-
-def first_grasp(contacts) -> int:
-    """Index of the first step at which the palm (column 0) and at least one finger segment
-    (columns 1..15) touch the ball at the same time, -1 if never (section IV-A-2: grasp =
-    "touch the object with the palm and at least one of the fingers")."""
-    return _first(_grasp_steps(contacts))
-
-
-def grasped(contacts) -> bool:
-    """True when the trial has at least one grasp step (see ``first_grasp``; Fig. 5 top-left)."""
-    return first_grasp(contacts) >= 0
-
-
-# ---------------------------------------------------------------------------------------------
-# Kinematics (Figs. 5, 6)
-# ---------------------------------------------------------------------------------------------
-
-def _points(points, name: str = "points") -> np.ndarray:
-    p = np.asarray(points, dtype=float)
-    if p.ndim != 2 or p.shape[1] != 3:
-        raise ValueError(f"{name} must be a (T, 3) array, got shape {p.shape}")
-    return p
-
-
-def path_length(points) -> float:
-    """Length (m) of the polyline through the (T, 3) points (m); 0 for fewer than 2 points."""
-    p = _points(points)
-    if len(p) < 2:
-        return 0.0
-    return float(np.linalg.norm(np.diff(p, axis=0), axis=1).sum())
-
 
 def reaching_speed(hand, contacts, dt: float = DT) -> float:
-    """Mean hand speed (m/s) from the start of the trial to the first touch (Fig. 5,
-    bottom-left): length of the hand's path over rows 0..first_touch divided by
-    first_touch * dt (dt in s).
-
-    NaN when the ball is never touched, or touched already at step 0 (no movement to time).
-    """
-    k = first_touch(contacts)
-    if k <= 0:
-        return math.nan
-    return path_length(_points(hand, "hand")[:k + 1]) / (k * dt)
+    """Mean hand speed (m/s) from the start of the trial to the first touch of ``contacts``
+    (Fig. 5, bottom-left; ``kinematics.reaching_speed``). NaN when the ball is never touched,
+    or touched already at step 0."""
+    return kinematics.reaching_speed(hand, first_touch(contacts), dt)
 
 
-def straightness(hand, ball, contacts) -> float:
-    """Reaching straightness (Fig. 5 caption, after [26], [27]): the initial hand-ball distance
-    (hand palm point to ball centre, row 0) divided by the length of the hand's path from the
-    start to the first touch (rows 0..first_touch). Dimensionless; 1 = a straight line.
-
-    NaN when the ball is never touched or the path has zero length (touch at step 0).
-
-    Not bounded by 1: the path ends where the hand touches the ball's surface, not at its
-    centre, and the ball (a pendulum) may swing towards the hand, so a direct reach can give a
-    ratio slightly above 1 (by up to about (ball radius + palm-to-contact offset) / path).
-    """
-    k = first_touch(contacts)
-    if k < 0:
-        return math.nan
-    h, b = _points(hand, "hand"), _points(ball, "ball")
-    length = path_length(h[:k + 1])
-    if length <= 0.0:
-        return math.nan
-    return float(np.linalg.norm(h[0] - b[0])) / length
+def straightness(hand, ball, contacts, radius: float = 0.0) -> float:
+    """Reaching straightness (Fig. 5 caption, after [26], [27]) up to the first touch of
+    ``contacts``: the initial hand-ball distance less ``radius`` over the hand's path
+    (``kinematics.straightness``; ``radius`` = the ball's radius measures it to the ball's
+    surface, 0 to its centre). NaN when the ball is never touched or the path has zero
+    length."""
+    return kinematics.straightness(hand, ball, first_touch(contacts), radius)
 
 
-def joint_variability(joints) -> dict[str, float]:
+def joint_variability(joints, ranges=None) -> dict[str, float]:
     """Movement variability per joint group (Fig. 6, bottom: "standard deviation of the joint
     encoders"): the standard deviation over time (population std, ddof = 0; rad) of each joint
     of the group, averaged over the group's joints.
 
     ``joints``: (T, 14) rad in ``ctrnn.MOTOR_NAMES`` order. Keys "elbow" (r_elbow),
     "shoulder" (r_shoulder pitch/roll/yaw), "trunk" (torso pitch/roll/yaw). NaN for T = 0.
+    ``ranges``: (14,) joint ranges (rad): each joint's standard deviation is then divided by
+    its range before averaging (dimensionless; joints of unequal range weigh alike).
     """
     q = np.asarray(joints, dtype=float)
     if q.ndim != 2 or q.shape[1] != len(MOTOR_NAMES):
@@ -169,6 +88,8 @@ def joint_variability(joints) -> dict[str, float]:
     if len(q) == 0:
         return {name: math.nan for name in JOINT_GROUPS}
     sd = q.std(axis=0)
+    if ranges is not None:
+        sd = sd / np.asarray(ranges, dtype=float)
     return {name: float(sd[list(idx)].mean()) for name, idx in JOINT_GROUPS.items()}
 
 
@@ -207,13 +128,13 @@ def variability_over_time(joints, window: int = VARIABILITY_WINDOW) -> dict[str,
 
 def hand_shoulder_distance(hand, shoulder) -> np.ndarray:
     """(T,) distance (m) between the palm point and the shoulder at each step (Fig. 6, top)."""
-    return np.linalg.norm(_points(hand, "hand") - _points(shoulder, "shoulder"), axis=1)
+    return np.linalg.norm(points(hand, "hand") - points(shoulder, "shoulder"), axis=1)
 
 
 def hand_ball_distance(hand, ball) -> np.ndarray:
     """(T,) distance (m) between the palm point and the ball centre at each step (Fig. 6,
     top)."""
-    return np.linalg.norm(_points(hand, "hand") - _points(ball, "ball"), axis=1)
+    return np.linalg.norm(points(hand, "hand") - points(ball, "ball"), axis=1)
 
 
 # ---------------------------------------------------------------------------------------------
@@ -231,80 +152,108 @@ def elbow_freezing(hand, shoulder) -> float:
     return float(d.std()) if len(d) else math.nan
 
 
-def hand_periodicity(hand, dt: float = DT) -> tuple[float, float]:
-    """Dominant frequency and its power share of the hand's movement, a measure of the
-    "quasi-periodic circular movements" of motor babbling (section IV-A-1; not in the paper).
-
-    Each coordinate of the (T, 3) hand path (m) loses its least-squares linear trend (which also
-    removes its mean); the power spectra (``numpy.fft.rfft``, bins k / (T dt) Hz) of the three
-    coordinates are summed and the DC bin dropped. Returns (frequency of the strongest bin in
-    Hz, share of the total non-DC power in that bin and its two neighbours). The share is near 1
-    for a single steady oscillation (a circle, a to-and-fro swing), about 1/m for m equal
-    oscillations at distinct frequencies, and small for noise.
-
-    (nan, nan) when the hand is at rest (RMS of the detrended path below ``REST_TOLERANCE``),
-    moves along a straight line at constant speed, or T < 4.
-    """
-    h = _points(hand, "hand")
-    n = len(h)
-    if n < 4:
-        return math.nan, math.nan
-    t = np.arange(n, dtype=float)
-    design = np.column_stack([np.ones(n), t - t.mean()])
-    coef, *_ = np.linalg.lstsq(design, h, rcond=None)
-    resid = h - design @ coef
-    if math.sqrt(float(np.mean(resid ** 2))) <= REST_TOLERANCE:
-        return math.nan, math.nan
-    power = (np.abs(np.fft.rfft(resid, axis=0)) ** 2).sum(axis=1)[1:]
-    freqs = np.fft.rfftfreq(n, dt)[1:]
-    total = float(power.sum())
-    k = int(np.argmax(power))
-    share = float(power[max(k - 1, 0):k + 2].sum()) / total
-    return float(freqs[k]), share
-
-
 # ---------------------------------------------------------------------------------------------
 # One trial as a table row
 # ---------------------------------------------------------------------------------------------
 
-def trial_metrics(data, dt: float = DT) -> dict[str, float | int | bool]:
+#: Radius (m) of the shipped ball (``world.BallConfig``), the default of ``trial_metrics``.
+BALL_RADIUS = 0.035
+#: Motor index of the hand (mean finger flexion, rad) in ``TrialData.joints``.
+HAND_MOTOR = MOTOR_NAMES.index("r_hand_fingers")
+
+
+def trial_metrics(data, dt: float = DT, ball_radius: float = BALL_RADIUS,
+                  joint_ranges=None) -> dict[str, float | int | bool]:
     """Every per-trial measure of a ``task.TrialData`` as a flat dict (one table row).
 
     Only the first ``data.steps_run`` rows are used (a diverged trial stops early and its later
-    rows are zeros); contacts before the divergence count. Times in s, distances in m, speed in
-    m/s, joint variability in rad, frequency in Hz. Keys:
+    rows are zeros); contacts before the divergence count. Times in s, distances in m, speeds
+    in m/s, joint variability in rad, frequency in Hz. ``ball_radius`` (m): the run's ball;
+    ``joint_ranges``: (14,) rad, the run's joint ranges (``World.motor_limit_upper -
+    motor_limit_lower``), for the normalised variabilities (NaN without them). Definitions,
+    thresholds and the paper's words each measure stands for: docs/analysis.md. Keys:
 
-    sector, fitness (``data.fitness``: mean p_multimodal, 0 when diverged), reached, grasped,
-    first_touch_s / first_grasp_s (NaN if none), speed, straightness, var_elbow, var_shoulder,
-    var_trunk, hand_shoulder_mean, elbow_freezing, hand_ball_initial, hand_ball_min,
-    babbling_freq_hz, babbling_share, diverged, steps_run.
+    - who and how well: sector, fitness (``data.fitness``: mean p_multimodal, 0 when
+      diverged), diverged, steps_run;
+    - reach and grasp (IV-A): reached (any face of the hand touches the ball, the paper's
+      reach), reached_inner (an inner face: the touch sensors' definition), grasped (palm and
+      a finger on their inner faces at one step), first_touch_s (any face),
+      first_touch_inner_s, first_grasp_s (NaN if none), touches (touch onsets, any face);
+    - the reach (Fig. 5; up to the first touch on any face): movement_onset_s, speed (mean
+      from t = 0), speed_peak, speed_final (the final approach), straightness (initial
+      distance to the ball's surface over the path), straightness_centre (to its centre, the
+      definition before issue 22), straightness_onset (displacement over path from movement
+      onset), movement_units (speed peaks: smoothness);
+    - joints (Fig. 6): var_elbow, var_shoulder, var_trunk (whole trial, rad), var_*_before
+      (before the first touch; the whole trial without one), var_*_norm (whole trial, each
+      joint's s.d. over its range);
+    - arm (IV-A-1, Table I): hand_shoulder_mean (extension, m), hand_shoulder_cv and
+      elbow_freezing (constancy), hand_ball_initial, hand_ball_min, approach and heading (arm
+      orienting);
+    - babbling (IV-A-1): hand_path (m), hand_amplitude (m), babbling_freq_hz, babbling_share,
+      babbling (rhythm and amplitude above the thresholds of ``kinematics``);
+    - the hand (Table I, IV-A-2): anticipatory_grasp (1/0, NaN without a palm touch),
+      grasp_lead_s, palm_up_swipe (1/0, NaN without a touch), swipes.
+
+    A trial read back from a recording without any-face touches (``contacts_any`` None) uses
+    the inner-face ones for both.
     """
     n = int(data.steps_run)
     hand, shoulder, ball = data.hand[:n], data.shoulder[:n], data.ball[:n]
     contacts, joints = data.contacts[:n], data.joints[:n]
-    touch, grasp = first_touch(contacts), first_grasp(contacts)
-    var = joint_variability(joints)
+    any_face = contacts if data.contacts_any is None else data.contacts_any[:n]
+    normal = None if data.palm_normal is None else data.palm_normal[:n]
+    touch, inner, grasp = first_touch(any_face), first_touch(contacts), first_grasp(contacts)
+    var, before = joint_variability(joints), joint_variability(joints[:touch] if touch >= 0
+                                                               else joints)
+    norm = (joint_variability(joints, joint_ranges) if joint_ranges is not None
+            else dict.fromkeys(JOINT_GROUPS, math.nan))
     d_shoulder = hand_shoulder_distance(hand, shoulder)
     d_ball = hand_ball_distance(hand, ball)
     freq, share = hand_periodicity(hand, dt)
+    amplitude = kinematics.hand_amplitude(hand)
+    onset = kinematics.movement_onset(hand, touch if touch >= 0 else None, dt)
+    anticipatory, lead = touches.anticipatory_grasp(joints[:, HAND_MOTOR], contacts, dt)
+    swipe, swipes = touches.upward_swipes(hand, ball, normal, any_face, dt)
+    seconds = lambda k: k * dt if k >= 0 else math.nan  # noqa: E731
     return {
         "sector": int(data.sector),
         "fitness": float(data.fitness),
         "reached": touch >= 0,
+        "reached_inner": inner >= 0,
         "grasped": grasp >= 0,
-        "first_touch_s": touch * dt if touch >= 0 else math.nan,
-        "first_grasp_s": grasp * dt if grasp >= 0 else math.nan,
-        "speed": reaching_speed(hand, contacts, dt),
-        "straightness": straightness(hand, ball, contacts),
-        "var_elbow": var["elbow"],
-        "var_shoulder": var["shoulder"],
-        "var_trunk": var["trunk"],
+        "first_touch_s": seconds(touch),
+        "first_touch_inner_s": seconds(inner),
+        "first_grasp_s": seconds(grasp),
+        "touches": len(touches.touch_onsets(any_face)),
+        "movement_onset_s": seconds(onset),
+        "speed": kinematics.reaching_speed(hand, touch, dt),
+        "speed_peak": kinematics.peak_speed(hand, touch, dt),
+        "speed_final": kinematics.final_speed(hand, ball, touch, dt),
+        "straightness": kinematics.straightness(hand, ball, touch, ball_radius),
+        "straightness_centre": kinematics.straightness(hand, ball, touch),
+        "straightness_onset": kinematics.straightness_onset(hand, touch, dt),
+        "movement_units": kinematics.movement_units(hand, touch, dt),
+        **{f"var_{g}": var[g] for g in JOINT_GROUPS},
+        **{f"var_{g}_before": before[g] for g in JOINT_GROUPS},
+        **{f"var_{g}_norm": norm[g] for g in JOINT_GROUPS},
         "hand_shoulder_mean": float(d_shoulder.mean()) if n else math.nan,
+        "hand_shoulder_cv": (float(d_shoulder.std() / d_shoulder.mean())
+                             if n and d_shoulder.mean() > 0 else math.nan),
         "elbow_freezing": elbow_freezing(hand, shoulder),
         "hand_ball_initial": float(d_ball[0]) if n else math.nan,
         "hand_ball_min": float(d_ball.min()) if n else math.nan,
+        "approach": kinematics.approach(hand, ball, touch) if n else math.nan,
+        "heading": kinematics.heading(hand, ball, touch),
+        "hand_path": kinematics.path_length(hand),
+        "hand_amplitude": amplitude,
         "babbling_freq_hz": freq,
         "babbling_share": share,
+        "babbling": kinematics.is_babbling(freq, share, amplitude),
+        "anticipatory_grasp": anticipatory,
+        "grasp_lead_s": lead,
+        "palm_up_swipe": swipe,
+        "swipes": swipes,
         "diverged": bool(data.diverged),
         "steps_run": n,
     }
@@ -500,3 +449,63 @@ def replication_performance(table: pl.DataFrame, senses: str = "normal", robots:
                  *[pl.col(c).mean() for c in ("fitness", "reach_rate", "grasp_rate",
                                               "lifetime_fitness")])
             .sort([*by, "replication"]))
+
+
+# ---------------------------------------------------------------------------------------------
+# Per robot: peri-personal space, one condition against another (sections IV-A-2, IV-B, V)
+# ---------------------------------------------------------------------------------------------
+
+def peripersonal_space(table: pl.DataFrame,
+                       by: Sequence[str] = ("phase", "senses", "replication", "rank")
+                       ) -> pl.DataFrame:
+    """The region of its peri-personal space in which each robot (group of ``by``) succeeds:
+    the space that shrinks during gross-reaching and re-expands in fine-reaching (IV-A-2, V;
+    Fig. 7), per robot instead of pooled.
+
+    Columns: ``*by``, trials, sectors_reached / sectors_grasped (sectors, of 9, with at least
+    one reach / grasp among the robot's trials there), reach_entropy (Shannon entropy of the
+    robot's reaches over the 9 sectors divided by log 9: 1 = reaches spread evenly over every
+    sector, 0 = all in one; NaN without a reach). Sorted by ``by``.
+    """
+    by = list(by)
+    _require(table, [*by, "sector", "reached", "grasped"])
+    per_sector = (table.group_by([*by, "sector"])
+                  .agg(pl.len().alias("n"), pl.col("reached").cast(pl.Int64).sum().alias("r"),
+                       pl.col("grasped").cast(pl.Int64).sum().alias("g")))
+    total = pl.col("r").sum().over(by)
+    share = pl.col("r") / total
+    term = pl.when(pl.col("r") > 0).then(-share * share.log()).otherwise(0.0)
+    n_sectors = SECTOR_ROWS * SECTOR_COLS
+    return (per_sector.with_columns(term.alias("h"))
+            .group_by(by)
+            .agg(pl.col("n").sum().alias("trials"),
+                 (pl.col("r") > 0).sum().cast(pl.Int64).alias("sectors_reached"),
+                 (pl.col("g") > 0).sum().cast(pl.Int64).alias("sectors_grasped"),
+                 pl.col("r").sum().alias("_reaches"), pl.col("h").sum().alias("_h"))
+            .with_columns(pl.when(pl.col("_reaches") > 0)
+                          .then(pl.col("_h") / math.log(n_sectors)).otherwise(math.nan)
+                          .alias("reach_entropy"))
+            .drop("_reaches", "_h").sort(by))
+
+
+def condition_contrast(table: pl.DataFrame, values: Sequence[str], a: str = "normal",
+                       b: str = "no-sight", column: str = "senses",
+                       robot: Sequence[str] = ("phase", "replication", "rank")) -> pl.DataFrame:
+    """Each robot under two post-evaluation conditions (``column`` = ``a`` and = ``b``, e.g.
+    normal and no-sight, normal and no-ball), side by side: the per-robot deprivation drop of
+    section IV-B and the paired comparison of the ball-absent test (IV-A-1).
+
+    One row per robot present under both: ``*robot``, then for each measure v of ``values``
+    (the robot's mean over its trials, NaN ignored, booleans as rates) ``v_a``, ``v_b`` and
+    ``v_drop`` = v_a - v_b (> 0: lower without the sense or the ball). Sorted by ``robot``.
+    """
+    robot, values = list(robot), list(values)
+    _require(table, [*robot, column, *values])
+    means = {c: robot_means(table.filter(pl.col(column) == c), values, by=robot).drop("n")
+             for c in (a, b)}
+    out = means[a].rename({v: f"{v}_a" for v in values}).join(
+        means[b].rename({v: f"{v}_b" for v in values}), on=robot, how="inner")
+    return (out.with_columns([(pl.col(f"{v}_a") - pl.col(f"{v}_b")).alias(f"{v}_drop")
+                              for v in values])
+            .select([*robot, *[f"{v}_{s}" for v in values for s in ("a", "b", "drop")]])
+            .sort(robot))

@@ -59,7 +59,7 @@ from . import metrics
 from .ctrnn import MOTOR_NAMES, N_HIDDEN, OFFSET, PROPRIO, SIGHT, TOUCH, TOUCH_NAMES
 from .files import atomic_write
 from .icub import HAND_SEGMENTS
-from .task import TrialData
+from .task import Senses, TrialData
 
 APP_ID = "dart_reach"
 #: Version of the entity layout, in every recording's properties (2: the five signal entities;
@@ -96,10 +96,13 @@ SIGNALS = (
 )
 
 #: The per-trial measures a recording carries in its property ``trial``.
-MEASURES = ("fitness", "reached", "grasped", "first_touch_s", "first_grasp_s", "speed",
-            "straightness", "var_elbow", "var_shoulder", "var_trunk", "hand_shoulder_mean",
-            "elbow_freezing", "hand_ball_initial", "hand_ball_min", "babbling_freq_hz",
-            "babbling_share", "diverged")
+MEASURES = ("fitness", "reached", "reached_inner", "grasped", "first_touch_s",
+            "first_touch_inner_s", "first_grasp_s", "speed", "speed_peak", "speed_final",
+            "straightness", "straightness_onset", "movement_units", "var_elbow", "var_shoulder",
+            "var_trunk", "hand_shoulder_mean", "hand_shoulder_cv", "elbow_freezing",
+            "hand_ball_initial", "hand_ball_min", "approach", "heading", "hand_path",
+            "hand_amplitude", "babbling_freq_hz", "babbling_share", "babbling",
+            "anticipatory_grasp", "grasp_lead_s", "palm_up_swipe", "diverged")
 
 
 def _variability(data: TrialData) -> np.ndarray:
@@ -114,6 +117,8 @@ def _variability(data: TrialData) -> np.ndarray:
 
 _GREY, _RED, _HAND_COLOUR = (170, 170, 180, 255), (230, 40, 40, 255), (40, 120, 230, 255)
 _TOUCH, _STRING = (255, 200, 0, 255), (90, 90, 90, 255)
+#: The ball of a ball-absent trial (``Senses.NO_BALL``): drawn faint where it would hang.
+_ABSENT = (230, 40, 40, 50)
 
 
 class RecordingError(ValueError):
@@ -388,7 +393,8 @@ def trial_rrd(data: TrialData, info: TrialInfo, model: RobotModel, dt: float = 0
     radii = np.concatenate([model.sphere_radius, [model.ball_radius, 0.008]])
     rec.log("world/spheres", rr.Ellipsoids3D(
         half_sizes=np.repeat(radii[:, None], 3, 1), fill_mode="solid",
-        colors=[_GREY] * len(model.sphere_radius) + [_RED, _HAND_COLOUR],
+        colors=[_GREY] * len(model.sphere_radius) + [
+            _ABSENT if info.senses == Senses.NO_BALL.value else _RED, _HAND_COLOUR],
         labels=["head"] * len(model.sphere_radius) + ["ball", "palm"], show_labels=False),
         static=True)
     rec.send_columns("world/spheres", indexes=index, columns=rr.Ellipsoids3D.columns(

@@ -338,8 +338,31 @@ def _run_figures(run_dir: Path) -> str:
              _try(figures.fig8_trajectories, table, run_dir, phases),
              _try(figures.fig8_babbling, table, phases),
              "<h4>Fig. 9: sensory deprivation</h4>",
-             _try(figures.fig9_sensory_deprivation, table, phases)]
-    return "".join(parts)
+             _try(figures.fig9_sensory_deprivation, table, phases),
+             "<h4>Table I: the behaviours of each phase</h4>",
+             _try(figures.table1_behaviours, table, phases)]
+    return "".join(parts + _development_figures(run_dir))
+
+
+def _development_figures(run_dir: Path) -> list[str]:
+    """The measures' course over generations (``development.py``): from the snapshots'
+    post-evaluation if the run has one, else from its best-of-generation recordings."""
+    from . import development
+
+    try:
+        table = development.load_development(run_dir)
+        source = "post-evaluation of the snapshots (evaluate --development)"
+        if table is None:
+            table = development.recorded_development(run_dir)
+            source = "best-of-generation recordings (one trial each, inner-face touches)"
+        if table.height == 0:
+            return []
+        course = development.course(table)
+    except (ValueError, OSError) as exc:
+        return [f"<p class='missing'>development not drawn: {html.escape(str(exc))}</p>"]
+    return [f"<h4>Development over generations: {html.escape(source)}</h4>",
+            *[_try(figures.development_figure, course, m, label)
+              for m, label in development.MEASURES]]
 
 
 def _fig10(table: pl.DataFrame) -> str:

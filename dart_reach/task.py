@@ -25,7 +25,7 @@ from . import sensors
 from .ctrnn import (N_HIDDEN, N_MOTORS, N_SENSORS, OFFSET, PROPRIO, SIGHT, TOUCH, Network,
                     NetworkParams, motor_targets)
 from .icub import HAND_SEGMENTS, TOUCH_BODIES
-from .world import N_SECTORS, World
+from .world import BALL_PARKED, N_SECTORS, World, palm_normal, palm_point
 
 #: Indices in ``HAND_SEGMENTS`` of the six touch-sensor bodies (palm, fingertips).
 TOUCH_SEGMENTS = np.array([HAND_SEGMENTS.index(b) for b in TOUCH_BODIES])
@@ -33,13 +33,21 @@ N_SEGMENTS = len(HAND_SEGMENTS)
 
 
 class Senses(enum.Enum):
-    """Sensory conditions of the post-evaluation (section IV-B, Fig. 9): the deprived inputs are
-    clamped to the value that means "nothing sensed"."""
+    """Conditions of the post-evaluation. The sensory conditions of section IV-B (Fig. 9): the
+    deprived inputs are clamped to the value that means "nothing sensed". ``NO_BALL``, the
+    ball-absent test of section IV-A-1 (Fig. 8): the ball is taken out of the scene (parked at
+    ``world.BALL_PARKED``, out of reach and out of view) and the touch, sight and offset inputs
+    read "nothing sensed"; the trial's ``ball`` record holds where the ball would hang."""
 
     NORMAL = "normal"
     NO_TOUCH = "no-touch"
     NO_SIGHT = "no-sight"
     NOTHING = "nothing"
+    NO_BALL = "no-ball"
+
+
+_NO_TOUCH = (Senses.NO_TOUCH, Senses.NOTHING, Senses.NO_BALL)
+_NO_SIGHT = (Senses.NO_SIGHT, Senses.NOTHING, Senses.NO_BALL)
 
 
 @dataclass(frozen=True)
@@ -76,8 +84,8 @@ class TrialData:
     joints: np.ndarray  # (T, 14) rad: the 13 joints and the mean finger flexion
     hand: np.ndarray  # (T, 3) m, centre of the palm's inner face
     shoulder: np.ndarray  # (T, 3) m
-    ball: np.ndarray  # (T, 3) m
-    contacts: np.ndarray  # (T, 16) bool, per hand segment (icub.HAND_SEGMENTS)
+    ball: np.ndarray  # (T, 3) m; ball-absent (Senses.NO_BALL): where it would hang
+    contacts: np.ndarray  # (T, 16) bool, per hand segment (icub.HAND_SEGMENTS), inner faces
     sensors: np.ndarray  # (T, 25) the network's inputs
     hidden: np.ndarray  # (T, 8) internal neuron states
     motor: np.ndarray  # (T, 14) motor neuron states in [0, 1]
@@ -86,6 +94,12 @@ class TrialData:
     p_touch: np.ndarray  # (T,)
     p_multimodal: np.ndarray  # (T,)
     dofs: np.ndarray  # (T, ndof) rad, every joint of the skeleton (to draw the robot)
+    #: (T, 16) bool, per hand segment, touches on any face (the reach of IV-A-1); None in a
+    #: trial read back from a recording of layout <= 3 (which holds inner-face touches only).
+    contacts_any: np.ndarray | None = None
+    #: (T, 3) unit vector, world direction of the palm's inner face (+z = palm up); None when
+    #: unknown (a trial read back from a recording).
+    palm_normal: np.ndarray | None = None
     diverged: bool = False
     steps_run: int = 0
 
@@ -95,7 +109,8 @@ class TrialData:
         z = lambda *shape: np.zeros((steps, *shape))  # noqa: E731
         return cls(sector, np.asarray(ball_start, float).copy(), z(N_MOTORS), z(3), z(3), z(3),
                    np.zeros((steps, N_SEGMENTS), bool), z(N_SENSORS), z(N_HIDDEN), z(N_MOTORS),
-                   z(N_MOTORS), np.zeros(steps), np.zeros(steps), np.zeros(steps), z(n_dofs))
+                   z(N_MOTORS), np.zeros(steps), np.zeros(steps), np.zeros(steps), z(n_dofs),
+                   np.zeros((steps, N_SEGMENTS), bool), z(3))
 
     @property
     def fitness(self) -> float:
@@ -122,6 +137,8 @@ class Trial:
         self._x = np.zeros(N_SENSORS)
         self._q = np.zeros(N_MOTORS)
         self._contacts = np.zeros(N_SEGMENTS, bool)
+        self._contacts_any = np.zeros(N_SEGMENTS, bool)
+        self._ball_at = np.zeros(3)  # where the ball hangs (or would hang) in this trial
         self._targets = np.zeros(N_MOTORS)
         self._proprio_span = world.motor_limit_upper - world.motor_limit_lower
 
@@ -132,24 +149,25 @@ class Trial:
         w, cfg, x = self.world, self.config, self._x
         q = w.motor_positions(self._q)
         contacts = w.hand_contacts(self._contacts)
-        hand, ball = w.hand_position(), w.ball_position()
+        hand_pose = w.hand_transform()
+        hand, ball = palm_point(hand_pose), w.ball_position()
         cam = w.camera_pose()
         R, origin = cam[:3, :3], cam[:3, 3]
         ball_cam = (ball - origin) @ R  # R^T (p - o)
         hand_cam = (hand - origin) @ R
         sensors.proprioception(q, w.motor_limit_lower, w.motor_limit_upper, out=x[PROPRIO],
                                span=self._proprio_span)
-        if cfg.senses in (Senses.NO_TOUCH, Senses.NOTHING):
+        if cfg.senses in _NO_TOUCH:
             x[TOUCH] = sensors.NO_TOUCH
         else:
             sensors.touch(contacts[TOUCH_SEGMENTS], out=x[TOUCH])
         cx, cy, ball_visible = sensors.project(ball_cam)
-        if cfg.senses in (Senses.NO_SIGHT, Senses.NOTHING):
+        if cfg.senses in _NO_SIGHT:
             x[SIGHT] = sensors.NO_SIGHT
         else:
             sensors.sight(cx, cy, float(np.linalg.norm(ball_cam)), ball_visible, cfg.acuity,
                           out=x[SIGHT])
-        if cfg.offset_sensors and cfg.senses not in (Senses.NO_SIGHT, Senses.NOTHING):
+        if cfg.offset_sensors and cfg.senses not in _NO_SIGHT:
             hand_visible = sensors.project(hand_cam)[2]
             sensors.offset(sensors.visual_angles(ball_cam), sensors.visual_angles(hand_cam),
                            ball_visible and hand_visible, out=x[OFFSET])
@@ -162,8 +180,10 @@ class Trial:
         data.dofs[t] = w.robot.getPositions()
         data.hand[t] = hand
         data.shoulder[t] = w.shoulder_position()
-        data.ball[t] = ball
+        data.ball[t] = self._ball_at if cfg.senses is Senses.NO_BALL else ball
         data.contacts[t] = contacts
+        w.hand_contacts_any(data.contacts_any[t])
+        palm_normal(hand_pose, out=data.palm_normal[t])
         data.sensors[t] = x
         data.p_sight[t] = p_s
         data.p_touch[t] = p_t
@@ -175,7 +195,8 @@ class Trial:
         """One trial of ``config.steps`` steps with the ball at ``ball_position`` (in
         ``sector``). The network is reset to the state that holds the home posture."""
         w = self.world
-        w.reset(ball_position)
+        self._ball_at[:] = ball_position
+        w.reset(BALL_PARKED if self.config.senses is Senses.NO_BALL else ball_position)
         network.reset(motor=(w.home_targets + 1.0) / 2.0)
         data = TrialData.empty(self.config.steps, sector, ball_position, w.robot.getNumDofs())
         targets = self._targets

@@ -36,6 +36,9 @@ N_SECTORS = 9
 POINTS_PER_SECTOR = 5
 #: Fraction of each joint's range kept free of targets at both ends (see ``World``).
 LIMIT_MARGIN = 0.01
+#: Where the ball-absent test (``task.Senses.NO_BALL``, section IV-A-1) hangs the ball (m, world
+#: frame): 50 m behind the robot, out of its reach and behind its camera whatever its posture.
+BALL_PARKED = np.array([50.0, 0.0, 0.0])
 
 
 class SkeletonError(ValueError):
@@ -244,6 +247,7 @@ class World:
                     inner = shape.getRelativeTransform().rotation().T @ np.asarray(direction)
                     self._touch_faces[shape] = (i, inner, cos_limit)
         self._touch = np.zeros(len(self._segments), bool)
+        self._touch_any = np.zeros(len(self._segments), bool)
         self._segment_index = {body: i for i, body in enumerate(self._segments)}
 
     def _set_home(self) -> None:
@@ -305,6 +309,7 @@ class World:
         self.ball_skeleton.clearConstraintImpulses()
         self.world.setTime(0.0)
         self._touch[:] = False
+        self._touch_any[:] = False
         self._q_cmd[:] = self.home_motor
         self.set_targets(self.home_targets)
 
@@ -340,21 +345,30 @@ class World:
         self.robot.setCommands(self.robot.getGravityForces())
 
     def step(self, targets) -> None:
-        """One control step (0.1 s): new targets, then the physics substeps. The inner-face
-        touches of every substep are gathered (``hand_contacts``)."""
+        """One control step (0.1 s): new targets, then the physics substeps. The touches of
+        every substep are gathered: on the inner faces (``hand_contacts``) and on any face
+        (``hand_contacts_any``)."""
         self.set_targets(targets)
         world, touch, segment = self.world, self._touch, self._segment_index
+        touch_any = self._touch_any
         touch[:] = False
+        touch_any[:] = False
         for _ in range(self.config.substeps):
             world.step(False)
             result = world.getLastCollisionResult()
             if result.getNumContacts():
-                # List the contacts (costly) only when a segment not yet marked touches.
+                # Only the ball collides with the robot (self-collision is off), so a hand
+                # segment among the colliding bodies touches the ball on some face. List the
+                # contacts (costly) only when a segment not yet marked as touching on its inner
+                # face collides.
+                gather = False
                 for body in result.getCollidingBodyNodes():
                     i = segment.get(body)
-                    if i is not None and not touch[i]:
-                        self._gather_touch(result, touch)
-                        break
+                    if i is not None:
+                        touch_any[i] = True
+                        gather = gather or not touch[i]
+                if gather:
+                    self._gather_touch(result, touch)
 
     def _gather_touch(self, result, touch: np.ndarray) -> None:
         """Mark the hand segments that touch the ball on their inner face in one substep's
@@ -402,8 +416,12 @@ class World:
 
     def hand_position(self) -> np.ndarray:
         """World position (m) of the centre of the inner face of the palm."""
-        T = self.hand.getTransform().matrix()
-        return T[:3, :3] @ icub.PALM_POINT + T[:3, 3]
+        return palm_point(self.hand_transform())
+
+    def hand_transform(self) -> np.ndarray:
+        """4x4 world pose of the hand (``r_hand``): the palm point and the palm's normal
+        (``palm_point``, ``palm_normal``) from one read."""
+        return self.hand.getTransform().matrix()
 
     def shoulder_position(self) -> np.ndarray:
         return self.shoulder.getTransform().matrix()[:3, 3]
@@ -411,6 +429,15 @@ class World:
     def camera_pose(self) -> np.ndarray:
         """4x4 world pose of the head camera (+z optical axis, +x right, +y down)."""
         return self.camera.getTransform().matrix()
+
+    def hand_contacts_any(self, out: np.ndarray | None = None) -> np.ndarray:
+        """Which hand segments touched the ball on any face (inner, back or side) in any
+        physics substep of the last control step: the touch of the paper's reach ("touch the
+        object at least once with the hand", IV-A-1). A superset of ``hand_contacts``."""
+        if out is None:
+            return self._touch_any.copy()
+        out[:] = self._touch_any
+        return out
 
     def hand_contacts(self, out: np.ndarray | None = None) -> np.ndarray:
         """Which hand segments (``icub.HAND_SEGMENTS``) touched the ball on their inner face
@@ -425,6 +452,22 @@ class World:
         return bool(np.isfinite(self.robot.getPositions()).all()
                     and np.isfinite(self.robot.getVelocities()).all()
                     and np.isfinite(self.ball_skeleton.getPositions()).all())
+
+
+def palm_point(hand_pose: np.ndarray) -> np.ndarray:
+    """World position (m) of the centre of the palm's inner face (``icub.PALM_POINT``) for a
+    4x4 world pose of the hand (``World.hand_transform``)."""
+    return hand_pose[:3, :3] @ icub.PALM_POINT + hand_pose[:3, 3]
+
+
+#: The palm's inner face normal in the ``r_hand`` frame (``icub.INNER_FACES``).
+PALM_NORMAL = np.asarray(icub.INNER_FACES["palm"][0])
+
+
+def palm_normal(hand_pose: np.ndarray, out: np.ndarray | None = None) -> np.ndarray:
+    """Unit world direction the palm's inner face looks toward (+z = palm up) for a 4x4
+    world pose of the hand."""
+    return np.matmul(hand_pose[:3, :3], PALM_NORMAL, out=out)
 
 
 def _load_skeleton(path) -> dart.dynamics.Skeleton:

@@ -78,7 +78,7 @@ def test_table_measures_agree_with_the_recording(evaluated):
         hand = rec.select("^robot/positions/hand/.*$").to_numpy()
         ball = rec.select("^robot/positions/ball/.*$").to_numpy()
         contacts = rec.select("^robot/contacts/.*$").to_numpy() > 0.5
-        assert metrics.reached(contacts) == row["reached"]
+        assert metrics.reached(contacts) == row["reached_inner"]  # recordings: inner faces
         assert metrics.grasped(contacts) == row["grasped"]
         assert rec["fitness/p_multimodal"].mean() == pytest.approx(row["fitness"], abs=1e-15)
         shoulder = rec.select("^robot/positions/shoulder/.*$").to_numpy()
@@ -185,3 +185,53 @@ def test_bad_input(trained, tmp_path):
     (run / "evaluation.parquet").write_bytes(b"not parquet")
     _one_line_error(_cli("evaluate", run), "evaluation.parquet: unreadable")
     assert (run / "evaluation.parquet").read_bytes() == b"not parquet"
+
+
+def test_rows_of_an_older_version_of_the_measures_are_measured_again(evaluated, tmp_path):
+    """A table written before issue 22 (no measures_version; reach on inner faces) still
+    opens, and evaluating its robots again replaces their rows instead of mixing versions."""
+    src, _ = evaluated
+    out = tmp_path / "run"
+    shutil.copytree(src, out)
+    current = pl.read_parquet(out / "evaluation.parquet")
+    old = current.drop("measures_version", "reached_inner").with_columns(
+        pl.lit(False).alias("reached"))  # as an older version measured them
+    old.write_parquet(out / "evaluation.parquet")
+    assert (load_evaluation(out)["measures_version"] == 1).all()
+    table = evaluate_run(out, senses=["no-touch"], robots=2, record="none", workers=1)
+    assert table.height == current.height and (table["measures_version"] == 2).all()
+    key = ["phase", "replication", "rank", "trial"]
+    assert table.sort(key).select(current.columns).drop("recording").equals(
+        current.sort(key).drop("recording"))
+
+
+def test_the_ball_absent_test_is_a_condition_of_its_own(evaluated, tmp_path):
+    """no-ball (IV-A-1): stored and recorded like the senses; nothing is touched, the table
+    holds where the ball would hang; Fig. 8 gets its row."""
+    from dart_reach import figures
+    from dart_reach.evaluation import BALL_ABSENT, TESTS, parse_senses
+
+    assert parse_senses("all") == TESTS == (*SENSES, BALL_ABSENT) and BALL_ABSENT == "no-ball"
+    src, _ = evaluated
+    out = tmp_path / "run"
+    shutil.copytree(src, out)
+    result = _cli("evaluate", out, "--sensors", "no-ball", "--robots", "1", "--workers", "1")
+    assert result.returncode == 0, result.stderr
+    table = load_evaluation(out)
+    absent = table.filter(pl.col("senses") == "no-ball")
+    assert absent.height == 3 * 2 * TRIALS
+    assert not absent["reached"].any() and (absent["fitness"] == 0).all()
+    normal_positions = table.filter(pl.col("senses") == "no-touch").select(
+        "trial", "ball_x", "ball_y", "ball_z").unique().sort("trial")
+    assert absent.select("trial", "ball_x", "ball_y", "ball_z").unique().sort("trial").equals(
+        normal_positions)
+    recorded = absent.filter(pl.col("recording").is_not_null())
+    assert recorded.height == 3 * TRIALS and "/no-ball/" in recorded["recording"][0]
+    row = recorded.row(20, named=True)
+    assert read_properties(out / row["recording"])["senses"] == "no-ball"
+    rec = read_rrd(out / row["recording"])
+    ball = rec.select("^robot/positions/ball/.*$").to_numpy()
+    assert np.allclose(ball, [row["ball_x"], row["ball_y"], row["ball_z"]])
+    fig = figures.fig8_trajectories(table, out, senses=["no-touch", "no-ball"])
+    assert len(fig.axes) == 2 * 3 + 1  # two rows of three phases and the colour bar
+    assert "no-ball" in fig.axes[3].get_ylabel()

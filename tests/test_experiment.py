@@ -190,13 +190,37 @@ def test_bad_input_is_refused_and_loses_nothing(tmp_path):
 
 def test_training_recordings(tmp_path):
     """training.rrd mirrors generations.parquet; best-individual recordings every K generations
-    do not change the training's result."""
+    and snapshots of the best robots do not change the training's result; a snapshot holds
+    the best 5 of every replication, best first; a run made without snapshots resumes with
+    them to the same result."""
+    from dart_reach.experiment import SNAPSHOT_ROBOTS
     from dart_reach.recording import read_properties, read_rrd, verify
 
     cond = [scaled(load_condition("standard"), 3)]
-    recorded = train(cond, TINY, tmp_path / "rec", workers=1, record_every=2)
+    recorded = train(cond, TINY, tmp_path / "rec", workers=1, record_every=2, snapshot_every=2)
     plain = train(cond, TINY, tmp_path / "plain", workers=1)
     assert _same(_result(recorded.out), _result(plain.out))
+    assert not list(plain.out.rglob("snapshots"))
+    for _, phase in recorded.unique_phases():
+        shots = recorded.snapshots(phase)
+        assert [g for g, _, _ in shots] == [1, 2, 3]  # 1, 2 early; 3 the last
+        genomes, fitness = shots[-1][1:]
+        final, final_fitness = recorded.load_final(phase)
+        assert genomes.dtype == np.uint8 and genomes.shape == (2, SNAPSHOT_ROBOTS, final.shape[2])
+        assert np.array_equal(genomes, final[:, :SNAPSHOT_ROBOTS])
+        assert np.array_equal(fitness, final_fitness[:, :SNAPSHOT_ROBOTS])
+
+    def stop_after_first(progress):
+        if progress.done_generations == 1:
+            raise KeyboardInterrupt
+
+    with pytest.raises(KeyboardInterrupt):
+        train(cond, TINY, tmp_path / "old", workers=1, progress=stop_after_first)  # none
+    old = train(cond, TINY, tmp_path / "old", workers=1, progress=False, resume=True,
+                snapshot_every=2)
+    assert _same(_result(old.out), _result(plain.out))
+    pre = old.unique_phases()[0][1]
+    assert [g for g, _, _ in old.snapshots(pre)] == [2, 3]  # generation 1 came before
     stats = pl.read_parquet(recorded.out / "generations.parquet")
     series = read_rrd(recorded.out / "training.rrd")
     for (phase, rep), rows in stats.group_by("phase", "replication"):

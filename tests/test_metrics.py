@@ -219,6 +219,7 @@ def make_trial():
     d.shoulder[:n] = [0.0, 0.0, 0.3]
     d.contacts[8, 4] = True  # first touch: a finger phalanx at step 8
     d.contacts[20, [0, 2]] = True  # grasp at step 20
+    d.contacts_any[:] = d.contacts  # inner faces are faces
     d.joints[:n, MOTOR_NAMES.index("r_elbow")] = np.where(np.arange(n) % 2, 0.1, -0.1)
     d.p_multimodal[:n] = 0.5
     # junk after steps_run
@@ -231,18 +232,25 @@ def make_trial():
 def test_trial_metrics_uses_only_the_steps_run():
     d = make_trial()
     r = m.trial_metrics(d, dt=0.1)
-    assert set(r) == {"sector", "fitness", "reached", "grasped", "first_touch_s", "first_grasp_s",
-                      "speed", "straightness", "var_elbow", "var_shoulder", "var_trunk",
-                      "hand_shoulder_mean", "elbow_freezing", "hand_ball_initial",
-                      "hand_ball_min", "babbling_freq_hz", "babbling_share", "diverged",
-                      "steps_run"}
+    assert set(r) == {
+        "sector", "fitness", "reached", "reached_inner", "grasped", "first_touch_s",
+        "first_touch_inner_s", "first_grasp_s", "touches", "movement_onset_s", "speed",
+        "speed_peak", "speed_final", "straightness", "straightness_centre",
+        "straightness_onset", "movement_units", "var_elbow", "var_shoulder", "var_trunk",
+        "var_elbow_before", "var_shoulder_before", "var_trunk_before", "var_elbow_norm",
+        "var_shoulder_norm", "var_trunk_norm", "hand_shoulder_mean", "hand_shoulder_cv",
+        "elbow_freezing", "hand_ball_initial", "hand_ball_min", "approach", "heading",
+        "hand_path", "hand_amplitude", "babbling_freq_hz", "babbling_share", "babbling",
+        "anticipatory_grasp", "grasp_lead_s", "palm_up_swipe", "swipes", "diverged",
+        "steps_run"}
     assert r["sector"] == 5 and r["steps_run"] == 30 and r["diverged"] is True
     assert r["fitness"] == 0.0  # diverged
     assert r["reached"] is True and r["grasped"] is True
     assert r["first_touch_s"] == pytest.approx(0.8)
     assert r["first_grasp_s"] == pytest.approx(2.0)
     assert r["speed"] == pytest.approx(0.25)
-    assert r["straightness"] == pytest.approx(0.17 / 0.2)  # hypot(0.08, 0.15) = 0.17
+    assert r["straightness_centre"] == pytest.approx(0.17 / 0.2)  # hypot(0.08, 0.15) = 0.17
+    assert r["straightness"] == pytest.approx((0.17 - m.BALL_RADIUS) / 0.2)  # to the surface
     assert r["var_elbow"] == pytest.approx(0.1)
     assert r["var_shoulder"] == 0.0 and r["var_trunk"] == 0.0
     assert r["hand_ball_initial"] == pytest.approx(0.17)
@@ -439,3 +447,75 @@ def test_replication_performance_best_robot_and_best_k():
         m.replication_performance(t, senses="nothing")
     with pytest.raises(ValueError):
         m.replication_performance(t, robots=0)
+
+
+def test_a_touch_with_the_back_of_the_hand_is_a_reach_but_not_an_inner_touch():
+    """The paper's reach is "touch the object at least once with the hand" (IV-A-1): any face.
+    Grasp and the touch sensors keep the inner faces."""
+    d = make_trial()
+    d.contacts_any[5, 0] = True  # the back of the hand brushes the ball at step 5
+    r = m.trial_metrics(d, dt=0.1)
+    assert r["reached"] and r["reached_inner"]
+    assert r["first_touch_s"] == pytest.approx(0.5)
+    assert r["first_touch_inner_s"] == pytest.approx(0.8)
+    assert r["speed"] == pytest.approx(path_length_of(d.hand[:6]) / 0.5)
+    d.contacts[:] = False  # only back-of-hand touches
+    r = m.trial_metrics(d, dt=0.1)
+    assert r["reached"] and not r["reached_inner"] and not r["grasped"]
+    assert math.isnan(r["first_touch_inner_s"])
+
+
+def path_length_of(p):
+    return float(np.linalg.norm(np.diff(p, axis=0), axis=1).sum())
+
+
+def test_variability_before_the_touch_is_not_lowered_by_holding_the_ball():
+    d = TrialData.empty(200, sector=4, ball_start=[0.3, 0.0, 0.0])
+    d.steps_run = 200
+    elbow = MOTOR_NAMES.index("r_elbow")
+    d.joints[:20, elbow] = np.where(np.arange(20) % 2, 0.2, -0.2)  # moves for 2 s...
+    d.joints[20:, elbow] = 0.2  # ...then holds the ball for 18 s
+    d.contacts[20:, [0, 3]] = d.contacts_any[20:, [0, 3]] = True
+    ranges = np.full(len(MOTOR_NAMES), 2.0)
+    r = m.trial_metrics(d, dt=0.1, joint_ranges=ranges)
+    assert r["var_elbow_before"] == pytest.approx(0.2)
+    assert r["var_elbow"] < 0.1  # the whole trial: diluted by the hold
+    assert r["var_elbow_norm"] == pytest.approx(r["var_elbow"] / 2.0)
+    assert math.isnan(m.trial_metrics(d, dt=0.1)["var_elbow_norm"])  # no ranges given
+    d.contacts[:] = d.contacts_any[:] = False  # never touched: the whole trial is "before"
+    r = m.trial_metrics(d, dt=0.1)
+    assert r["var_elbow_before"] == r["var_elbow"]
+
+
+def test_trial_metrics_default_ball_radius_is_the_shipped_balls():
+    from dart_reach.world import BallConfig
+
+    assert m.BALL_RADIUS == BallConfig().radius
+
+
+def test_peripersonal_space_counts_and_spreads_the_sectors_a_robot_reaches():
+    rows = []
+    for rank, sectors in ((0, range(9)), (1, (4,)), (2, ())):  # everywhere, one sector, none
+        for s in range(9):
+            for _ in range(5):
+                rows.append({"phase": "p", "senses": "normal", "replication": 0, "rank": rank,
+                             "sector": s, "reached": s in sectors, "grasped": s == 4})
+    space = m.peripersonal_space(pl.DataFrame(rows))
+    assert space["trials"].to_list() == [45, 45, 45]
+    assert space["sectors_reached"].to_list() == [9, 1, 0]
+    assert space["sectors_grasped"].to_list() == [1, 1, 1]
+    e = space["reach_entropy"].to_list()
+    assert e[0] == pytest.approx(1.0) and e[1] == pytest.approx(0.0) and math.isnan(e[2])
+
+
+def test_condition_contrast_pairs_each_robot_with_itself():
+    rows = [{"phase": "fine", "replication": r, "rank": 0, "senses": s, "fitness": f,
+             "reached": f > 0.05}
+            for r, (normal, blind) in enumerate(((0.10, 0.02), (0.08, 0.08)))
+            for s, f in (("normal", normal), ("no-sight", blind))]
+    rows.append({"phase": "fine", "replication": 2, "rank": 0, "senses": "normal",
+                 "fitness": 0.5, "reached": True})  # never tested blind: left out
+    out = m.condition_contrast(pl.DataFrame(rows), ["fitness", "reached"])
+    assert out["replication"].to_list() == [0, 1]
+    assert out["fitness_drop"].to_list() == pytest.approx([0.08, 0.0])
+    assert out["reached_a"].to_list() == [1.0, 1.0] and out["reached_b"].to_list() == [0.0, 1.0]

@@ -76,8 +76,8 @@ def test_every_figure_has_its_panels(tiny_run, table):
         # 2 rows x 3 phases + colour bar
         "fig7": (figures.fig7_sector_maps(table, PHASES), 7),
         "fig7 regression": (figures.fig7_reach_regression(table), 2),
-        # 4 senses x 3 phases + colour bar
-        "fig8": (figures.fig8_trajectories(table, tiny_run, PHASES), 13),
+        # 4 senses and the ball-absent test x 3 phases + colour bar
+        "fig8": (figures.fig8_trajectories(table, tiny_run, PHASES), 16),
         "fig8 side": (figures.fig8_trajectories(table, tiny_run, PHASES, senses=["normal"],
                                                 view="side"), 4),
         "fig8 babbling": (figures.fig8_babbling(table, PHASES), 2),
@@ -157,7 +157,7 @@ def test_figures_survive_missing_and_degenerate_data(tiny_run, table):
     assert len(_render(figures.fig6_distances_variability(pre, tiny_run, PHASES)).axes) == 5
     assert len(_render(figures.fig7_sector_maps(pre, PHASES)).axes) == 7
     assert len(_render(figures.fig7_reach_regression(pre)).axes) == 2  # no "gross": a message
-    assert len(_render(figures.fig8_trajectories(pre, tiny_run, PHASES)).axes) == 13
+    assert len(_render(figures.fig8_trajectories(pre, tiny_run, PHASES)).axes) == 16
     _render(figures.fig8_babbling(pre, PHASES))
     st = figures.fig9_statistics(pre, PHASES)
     assert math.isnan(st["kruskal"]["p"][0]) and st["pairs"].height == 0

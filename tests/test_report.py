@@ -33,8 +33,11 @@ def test_the_report_holds_every_section_figure_and_claim(tiny_run, tmp_path):
                    "statistics"):
         assert f'<section id="{anchor}">' in text, anchor
     images = re.findall(r'src="data:image/png;base64,([A-Za-z0-9+/=]+)"', text)
-    # training, Figs. 5, 6, 7, 8 (paths and babbling), 9, 10
-    assert len(images) == 8
+    # training, Figs. 5, 6, 7, 8 (paths and babbling), 9, Table I behaviours, 10 (the tiny
+    # run keeps neither snapshots nor best-of-generation recordings: no development figures)
+    assert len(images) == 9
+    assert "Table I: the behaviours of each phase" in text
+    assert "Development over generations" not in text
     assert all(base64.b64decode(i)[:8] == b"\x89PNG\r\n\x1a\n" for i in images)
     assert "not drawn" not in text
     assert "src=\"http" not in text and "<script" not in text  # nothing fetched: offline

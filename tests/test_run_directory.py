@@ -54,7 +54,8 @@ def condition(tmp_path_factory) -> Path:
 
 def _train_args(condition: Path, out: Path, *extra) -> list[str]:
     return ["train", str(condition), "--replications", "1", "--trials", "1", "--steps", "3",
-            "--seed", "2", "--workers", "1", "--record-every", "1", "--out", str(out), *extra]
+            "--seed", "2", "--workers", "1", "--record-every", "1", "--snapshot-every", "1",
+            "--out", str(out), *extra]
 
 
 def _cli(*args, timeout=300, prefix=()):
@@ -252,6 +253,26 @@ def test_manifest_with_a_null_ball_and_a_binary_manifest(reference, tmp_path):
     (out / "manifest.json").write_bytes(bytes(range(256)))
     result = _cli("evaluate", out)
     assert result.returncode == 2 and "manifest.json" in result.stderr, result.stderr
+
+
+def test_snapshots_are_kept_and_a_damaged_one_is_named(reference, tmp_path):
+    src, expected, _ = reference
+    shots = [f for f in expected["files"] if "/snapshots/" in f]
+    assert len(shots) == 2, expected["files"]  # generation 1 of each phase
+    out = tmp_path / "run"
+    shutil.copytree(src, out)
+    result = _cli("evaluate", out, "--robots", "1", "--record", "none", "--development", "1",
+                  "--workers", "1")
+    assert result.returncode == 0, result.stderr
+    assert pl.read_parquet(out / "development.parquet").height == 2 * 45
+    (out / shots[0]).write_bytes(b"not a snapshot")
+    (out / "development.parquet").unlink()
+    result = _cli("evaluate", out, "--robots", "1", "--record", "none", "--development", "1",
+                  "--workers", "1")
+    last = result.stderr.strip().splitlines()[-1]  # after the post-evaluation's own lines
+    assert result.returncode == 2 and shots[0] in last and "unreadable snapshot" in last, \
+        result.stderr
+    assert "Traceback" not in result.stderr
 
 
 def test_same_named_conditions_and_unfit_names_are_refused(condition, tmp_path):

@@ -135,3 +135,101 @@ def test_an_exploding_simulation_scores_zero_with_a_flag(world):
     # the trial
     assert data.diverged and data.steps_run == 6 and data.fitness == 0.0
     assert np.isfinite(data.fitness)
+
+
+# ------------------------------------------------------------------ issue 22: nothing changed
+#: Digests of every record (dofs, joints, hand, shoulder, ball, contacts, sensors, hidden,
+#: motor, targets, p_sight, p_touch, p_multimodal) of 6 trials per phase and senses, computed
+#: with the code before issue 22's measures (commit 7804bb0) on x86_64, dartpy 6.20.0, numpy
+#: 2.4.6: recording any-face touches and the palm's normal, and the ball-absent condition,
+#: must leave the trials of every other condition the same to the last bit.
+GOLDEN = {"pre/normal": "a5bdf409dd3b0545", "pre/no-touch": "a705815512f4863d",
+          "pre/no-sight": "1bda4af485bb400d", "pre/nothing": "fdad038bef1f08dd",
+          "fine/normal": "9ac782c6064c217d", "fine/no-touch": "9ac782c6064c217d",
+          "fine/no-sight": "753892e4b7fe7023", "fine/nothing": "753892e4b7fe7023"}
+GOLDEN_PLATFORM = ("x86_64", "6.20.0", "2.4.6")
+RECORDS = ("dofs", "joints", "hand", "shoulder", "ball", "contacts", "sensors", "hidden",
+           "motor", "targets", "p_sight", "p_touch", "p_multimodal")
+
+
+def _digest(*arrays) -> str:
+    import hashlib
+
+    h = hashlib.sha256()
+    for a in arrays:
+        a = np.ascontiguousarray(a)
+        h.update(str(a.dtype).encode())
+        h.update(str(a.shape).encode())
+        h.update(a.tobytes())
+    return h.hexdigest()[:16]
+
+
+def _golden_platform() -> bool:
+    import platform
+    from importlib.metadata import version
+
+    return (platform.machine(), version("dartpy"), np.__version__) == GOLDEN_PLATFORM
+
+
+def _panel_trials(world, phase: str, senses: str, runner=None):
+    """The 6 trials of a phase's panel (2 genomes x sectors 1, 4, 7; 120 steps): the shipped
+    evolved pre-reachers, random genomes for fine-reaching."""
+    from dart_reach import bench
+    from dart_reach.experiment import standard_trial
+    from dart_reach.genome import ParamGroup, decode
+    from dart_reach.task import network_for
+
+    cfg = standard_trial(phase, senses=Senses(senses), steps=120)
+    trial = runner or Trial(world, cfg)
+    groups = {ParamGroup.DIRECT} if phase == "pre" else set(ParamGroup)
+    for genome in bench.panel_genomes("evolved" if phase == "pre" else "random", 2):
+        network = network_for(decode(genome, groups), cfg)
+        for k in (1, 4, 7):
+            yield trial.run(network, k, world.sector_point(k, 0.3, 0.6))
+
+
+def test_normal_and_deprived_trials_are_bit_identical_to_before_issue_22(world):
+    if not _golden_platform():
+        pytest.skip(f"digests recorded on {GOLDEN_PLATFORM} (machine, dartpy, numpy)")
+    import hashlib
+
+    found = {}
+    for key in GOLDEN:
+        phase, senses = key.split("/")
+        per_trial = [_digest(*(getattr(d, f) for f in RECORDS))
+                     for d in _panel_trials(world, phase, senses)]
+        found[key] = hashlib.sha256("".join(per_trial).encode()).hexdigest()[:16]
+    assert found == GOLDEN
+
+
+def test_a_ball_absent_trial_senses_nothing_and_leaves_the_world_as_it_was():
+    """The ball-absent test (IV-A-1): no touch on any face, touch and sight inputs at "nothing
+    sensed", the ball record where it would hang; and a normal trial run after it in the same
+    world is the same, to the last bit, as in a fresh world."""
+    world = World()
+    fresh = [d for d in _panel_trials(World(), "pre", "normal")]
+    absent = list(_panel_trials(world, "pre", "no-ball"))
+    for d in absent:
+        assert not d.contacts.any() and not d.contacts_any.any()
+        assert (d.sensors[:, TOUCH] == sensors.NO_TOUCH).all()
+        assert (d.sensors[:, SIGHT] == sensors.NO_SIGHT).all()
+        assert (d.sensors[:, OFFSET] == sensors.NO_SIGHT).all()
+        assert (d.ball == d.ball_start).all()  # where the ball would hang, at rest
+        assert d.fitness == 0.0
+        assert np.linalg.norm(world.ball_position() - d.ball_start) > 10.0  # parked away
+    # the same robots move differently without the ball: the condition does something
+    assert any(not np.array_equal(a.hand, b.hand) for a, b in zip(fresh, absent))
+    again = list(_panel_trials(world, "pre", "normal"))
+    for a, b in zip(fresh, again):
+        for f in RECORDS + ("contacts_any", "palm_normal"):
+            assert np.array_equal(getattr(a, f), getattr(b, f)), f
+
+
+def test_any_face_touches_include_the_inner_ones_and_the_palm_normal_is_a_unit_vector(world):
+    seen_more = False
+    for d in _panel_trials(world, "pre", "normal"):
+        assert not (d.contacts & ~d.contacts_any).any()  # every inner touch is a touch
+        seen_more |= bool((d.contacts_any & ~d.contacts).any())
+        n = np.linalg.norm(d.palm_normal, axis=1)
+        assert np.allclose(n, 1.0)
+    assert seen_more, "evolved pre-reachers also touch with the back or sides of the hand"

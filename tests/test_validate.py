@@ -48,6 +48,20 @@ def test_ball_on_the_back_of_the_hand_is_no_touch(world):
     touched = _press(world, "r_hand", -np.asarray(icub.INNER_FACES["palm"][0]))
     assert world.world.getLastCollisionResult().getNumContacts() > 0, "the ball is in contact"
     assert not touched.any()
+    # ... but it is a touch of the hand on some face: the paper's reach (IV-A-1)
+    assert world.hand_contacts_any()[0] and world.hand_contacts_any().sum() == 1
+
+
+def test_any_face_touches_mark_the_touched_segment_whatever_its_face(world):
+    for body, direction in (("r_hand", icub.INNER_FACES["palm"][0]),
+                            ("r_hand_index_2", (0.0, -1.0, 0.0)),  # the back of a finger
+                            ("r_hand_index_2", (0.0, 0.0, 1.0))):  # its side
+        _press(world, body, direction, steps=1)
+        assert world.hand_contacts_any()[icub.HAND_SEGMENTS.index(body)], (body, direction)
+        assert not (world.hand_contacts() & ~world.hand_contacts_any()).any()
+    world.reset(world.sector_point(4, 0.5, 0.5))
+    world.step(world.home_targets)  # the ball far from the hand: nothing on any face
+    assert not world.hand_contacts_any().any() and not world.hand_contacts().any()
 
 
 def test_ball_on_a_fingertip_pad_is_that_fingertip(world):
