@@ -256,7 +256,13 @@ def build(run_dirs: Sequence, out=None) -> Path:
     baselines = [load_evaluation(d, baseline=True).with_columns(pl.lit(d.name).alias("run"))
                  for d in evaluated]
     baseline = pl.concat(baselines, how="diagonal_relaxed") if baselines else None
-    found = findings.findings(table if table is not None else _empty_table(), baseline)
+    from .development import load_development
+
+    developments = [dev.with_columns(pl.lit(d.name).alias("run")) for d in evaluated
+                    if (dev := load_development(d)) is not None]
+    found = findings.findings(table if table is not None else _empty_table(), baseline,
+                              development=pl.concat(developments, how="diagonal_relaxed")
+                              if developments else None)
     counts = findings.summary(found)
 
     missing = [d for d in run_dirs if d not in evaluated]

@@ -15,7 +15,7 @@ from dart_reach import findings as fd
 from dart_reach import verdicts as vd
 
 MEASURES = ("fitness", "speed", "straightness", "var_elbow", "var_shoulder", "var_trunk",
-            "elbow_freezing")
+            "hand_shoulder_cv", "hand_path", "heading")
 
 
 def _trials(groups: dict[str, dict], replications: int = 4, ranks: int = 2,
@@ -220,10 +220,10 @@ def test_conditions_compare_replications():
 
 
 def test_hand_shoulder_constancy_and_babbling_against_the_baseline():
-    table = _trials({"pre": {"elbow_freezing": 0.01, "babbling": 0.8},
-                     "fine": {"elbow_freezing": 0.05}})
-    base = _trials({"pre": {"elbow_freezing": 0.04, "babbling": 0.1},
-                    "gross": {"elbow_freezing": 0.0, "babbling": 0.9}}, seed=1)
+    table = _trials({"pre": {"hand_shoulder_cv": 0.01, "babbling": 0.8},
+                     "fine": {"hand_shoulder_cv": 0.05}})
+    base = _trials({"pre": {"hand_shoulder_cv": 0.04, "babbling": 0.1},
+                    "gross": {"hand_shoulder_cv": 0.0, "babbling": 0.9}}, seed=1)
     found = fd.findings(table, base)
     assert _verdict(found, "F1 hand-shoulder constant vs random") == fd.REPRODUCED
     assert _verdict(found, "F1 hand-shoulder constant vs fine") == fd.REPRODUCED
@@ -273,3 +273,58 @@ def test_paired_sameness_is_shown_by_equivalence_not_by_absence_of_a_difference(
     assert vd.paired_equivalent(ref, ref).verdict == vd.REPRODUCED  # every robot unchanged
     assert vd.paired_equivalent(np.zeros(10), np.zeros(10)).verdict == vd.INCONCLUSIVE  # floor
     assert vd.paired_equivalent(ref[:2], ref[:2]).verdict == vd.UNDERPOWERED
+
+
+# ------------------------------------------------------------------------------ issue 22's claims
+def test_ball_absent_and_deprivation_claims_pair_each_robot_with_itself():
+    senses = ("normal", "no-touch", "no-sight", "nothing", "no-ball")
+    same = {"pre": {"hand_path": 2.0, "fitness": 0.1}, "fine": {"fitness": 0.6}}
+    same["fine"].update({"fitness no-sight": 0.05, "fitness no-ball": 0.0,
+                         "fitness no-touch": 0.4})
+    same["pre"].update({"fitness no-sight": 0.1, "fitness no-touch": 0.1,
+                        "fitness no-ball": 0.0})
+    found = fd.findings(_trials(same, replications=5, senses=senses))
+    # every robot's hand path is its own under the ball's absence (the jitter is per robot)
+    assert _verdict(found, "A1 ball absent, pre: hand_path same") == fd.REPRODUCED
+    assert _verdict(found, "D1 no-sight drop: fine > pre") == fd.REPRODUCED
+    assert _verdict(found, "D2 no touch, pre: fitness same") == fd.REPRODUCED
+    assert _verdict(found, "D3 no touch, fine: fitness down") == fd.REPRODUCED
+    moved = {"pre": dict(same["pre"])}
+    table = _trials(moved, replications=5, senses=senses)
+    table = table.with_columns(pl.when(pl.col("senses") == "no-ball")
+                               .then(pl.col("hand_path") * 0.3).otherwise(pl.col("hand_path"))
+                               .alias("hand_path"))
+    assert _verdict(fd.findings(table), "A1 ball absent, pre: hand_path same") \
+        == fd.CONTRADICTED
+    assert _verdict(fd.findings(_trials(same)), "A1 ball absent, pre: hand_path same") \
+        == fd.NOT_RUN  # no ball-absent trials
+
+
+def test_development_claims_compare_generation_windows():
+    rng = np.random.default_rng(8)
+    rows = []
+    for notation, gens, path in (("pre", (1, 5, 10), 2.0), ("gross", (1, 5, 10), 1.0)):
+        for g in gens:
+            for rep in range(4):
+                for rank in range(5):
+                    value = (0.5 if (notation, g) in (("gross", 1), ("gross", 5)) else path)
+                    rows.append({"notation": notation, "generation": g, "replication": rep,
+                                 "rank": rank, "hand_path": value + rng.normal(0, 0.05),
+                                 "babbling": float(rng.random() < 0.02)})
+    dev = pl.DataFrame(rows)
+    table = _trials({"pre": {}})
+    found = fd.findings(table, development=dev)
+    row = _row(found, "V1 motor suppression at the start of gross")
+    assert row["verdict"] == fd.REPRODUCED  # 20 robots each side
+    assert row["n"] == "20 vs 20 robots (4 vs 4 replications)"
+    assert _verdict(fd.findings(table), "V1 motor suppression at the start of gross") \
+        == fd.NOT_RUN
+    star = dev.with_columns(pl.lit("fine*").alias("notation"))
+    assert _verdict(fd.findings(table, development=pl.concat([dev, star])),
+                    "V5 fine* never babbles during development") != fd.CONTRADICTED
+
+
+def test_control_behaviour_claims_are_judged_on_replications():
+    table = _trials({"pre": {"heading": 0.3}, "pre-h": {"heading": 0.3}})
+    row = _row(fd.findings(table), "C pre-h: heading same")
+    assert row["verdict"] == fd.UNDERPOWERED and row["n"] == "4 vs 4 replication means"
