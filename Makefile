@@ -5,7 +5,7 @@ PY ?= $(shell command -v python3.11 || command -v python3)
 VENV := .venv
 BIN := $(VENV)/bin
 
-.PHONY: demo test bench skeleton clean notebooks screenshots scene-study pythons
+.PHONY: demo test bench skeleton clean notebooks screenshots scene-study pythons replication-50
 
 $(BIN)/python:
 	$(PY) -m venv $(VENV)
@@ -79,6 +79,16 @@ scene-study: $(VENV)/.installed
 		test -f $(STUDY)/$$s/evaluation.parquet \
 			|| $(BIN)/dart-reach evaluate $(STUDY)/$$s --robots 5 --baseline 10 || exit $$?; \
 	done
+
+# The longer replication of docs/replication.md (issue 23): the standard condition and gross^,
+# 50 generations per phase (gross^ 100), 4 replications, on the scene the scene study chose.
+# Many hours of 2 cores: run it again after any interruption (it resumes), and commit the
+# compact state under recordings/replication-50/ (docs/replication.md, "Resuming").
+REPLICATION := recordings/replication-50
+replication-50: $(VENV)/.installed
+	$(BIN)/dart-reach train standard gross-hat --generations 50 --replications 4 --seed 2013 \
+		--scene arm-length-shoulder --record-every 5 --snapshot-every 5 --out $(REPLICATION) \
+		$$(test -f $(REPLICATION)/manifest.json && echo --resume)
 
 test: $(VENV)/.installed-dev
 	$(BIN)/python -m pytest -q
