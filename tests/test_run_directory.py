@@ -75,8 +75,9 @@ def _npz(path: Path) -> dict:
 
 def snapshot(out: Path) -> dict:
     """Everything a run directory holds, comparable across runs: tables without wall times,
-    arrays, recordings' contents; the manifest without its creation time and command line
-    (which names the run's own directory)."""
+    arrays, recordings' contents; the manifest without its creation time, command line (which
+    names the run's own directory) and the state of the source tree it was made from (a run
+    started again after an edit records the edit)."""
     files = sorted(p.relative_to(out) for p in out.rglob("*") if p.is_file() and p.name != ".lock")
     assert not [f for f in files if f.name.endswith(".tmp")], files
     snap: dict = {"files": [str(f) for f in files]}
@@ -91,7 +92,8 @@ def snapshot(out: Path) -> dict:
             snap[str(f)] = read_rrd(p)
         elif f.name == "manifest.json":
             snap[str(f)] = {k: v for k, v in json.loads(p.read_text()).items()
-                            if k not in ("created", "command")}
+                            if k not in ("created", "command", "git_revision", "git_dirty",
+                                         "git_diff_sha256")}
     return snap
 
 
