@@ -65,7 +65,8 @@ $(VENV)/.installed-notebooks: pyproject.toml | $(BIN)/python
 	touch $@
 
 # The scene study of docs/task.md: pre-reaching alone on each candidate scene, the same seeds,
-# then the post-evaluation of the best 5 robots of each replication beside 10 random genomes.
+# then the post-evaluation of the best 5 robots of each replication beside 10 random genomes
+# (normal senses and the ball absent), and docs/scene-study.md and .png.
 # Resumable: run it again after an interruption. About 1 h per scene on 2 idle cores.
 SCENES := near near-shoulder arm-length-shoulder
 STUDY := recordings/scene-study
@@ -75,10 +76,11 @@ scene-study: $(VENV)/.installed
 			--generations 60 --trials 18 --seed 20 --record-every 0 --out $(STUDY)/$$s \
 			$$(test -f $(STUDY)/$$s/manifest.json && echo --resume) || exit $$?; \
 	done
-	for s in $(SCENES); do \
-		test -f $(STUDY)/$$s/evaluation.parquet \
-			|| $(BIN)/dart-reach evaluate $(STUDY)/$$s --robots 5 --baseline 10 || exit $$?; \
-	done
+	for s in $(SCENES); do for senses in normal no-ball; do \
+		$(BIN)/dart-reach evaluate $(STUDY)/$$s --robots 5 --baseline 10 --sensors $$senses \
+			--record none || exit $$?; \
+	done; done
+	$(BIN)/python -m dart_reach.scene_study $(STUDY) docs
 
 # The longer replication of docs/replication.md (issue 23): the standard condition and gross^,
 # 50 generations per phase (gross^ 100), 4 replications, on the scene the scene study chose.
