@@ -219,14 +219,17 @@ def git_state(directory=None) -> dict:
     tracked files differ from it or files git does not ignore are untracked) and
     ``git_diff_sha256`` (SHA-256 of ``git diff HEAD --binary`` followed by each untracked
     file's path and content: two runs with the same revision and the same hash ran the same
-    code). All None outside a git working tree."""
+    code). Run directories under ``recordings/`` are not source: left out of both. All None
+    outside a git working tree."""
     directory = Path(directory) if directory is not None else Path(__file__).parent
     head = _git(directory, "rev-parse", "HEAD")
     if not head:
         return {"git_revision": None, "git_dirty": None, "git_diff_sha256": None}
     root = Path((_git(directory, "rev-parse", "--show-toplevel") or b".").decode().strip())
-    diff = _git(root, "diff", "HEAD", "--binary") or b""
-    untracked = (_git(root, "ls-files", "--others", "--exclude-standard", "-z") or b"")
+    outside = ("--", ".", ":(exclude)recordings")
+    diff = _git(root, "diff", "HEAD", "--binary", *outside) or b""
+    untracked = (_git(root, "ls-files", "--others", "--exclude-standard", "-z", *outside)
+                 or b"")
     digest = hashlib.sha256(diff)
     for name in sorted(n for n in untracked.split(b"\0") if n):
         digest.update(b"\0untracked\0" + name + b"\0")
@@ -345,6 +348,21 @@ class Run:
             raise RunError(f"{path}: malformed or written by an incompatible version "
                            f"({type(exc).__name__}: {exc})") from None
         return cls(out, conditions, settings, resume=True)
+
+    def record_session(self, command: str | None) -> None:
+        """Append to the manifest's ``sessions`` the source this invocation trains with (its
+        revision, whether the tree was dirty, the hash of its diff), when and how it started and
+        the generations committed before it: a run resumed over days records every revision it
+        was trained with."""
+        path = self.out / "manifest.json"
+        manifest = _read_manifest(path)
+        done = {f"{c.name}/{p.name}": int(self.stats.filter(pl.col("phase_key") == p.key)
+                                          ["generation"].max() or 0)
+                for c, p in self.unique_phases()}
+        manifest.setdefault("sessions", []).append(
+            {"started": time.strftime("%Y-%m-%dT%H:%M:%S%z"), "command": command,
+             **git_state(), "generations_done": done})
+        atomic_write(path, lambda p: p.write_text(json.dumps(manifest, indent=2)))
 
     def unfinished(self) -> list[str]:
         """The phases not trained to the end, as "condition/phase"."""
@@ -714,6 +732,7 @@ def train(conditions: list[Condition], settings: Settings, out: Path, workers: i
         run = Run(out, conditions, settings, resume=resume, command=command)
         if resume:
             run.repair()
+        run.record_session(command)
         evaluator = make_evaluator(workers, ray_address)
         bar = training_bar() if progress is True else None
         try:

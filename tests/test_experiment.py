@@ -106,6 +106,12 @@ def test_resume_after_sigkill_is_bit_identical(tmp_path):
     result = _cli(*_train_cmd(cut, "--resume"))
     assert result.returncode == 0, result.stderr
     assert _same(_result(whole), _result(cut))
+    # the manifest records each invocation's source and where it took over
+    sessions = json.loads((cut / "manifest.json").read_text())["sessions"]
+    assert len(sessions) == 2 and "--resume" in sessions[1]["command"]
+    assert all(s["git_diff_sha256"] for s in sessions)
+    assert sum(sessions[0]["generations_done"].values()) == 0
+    assert sessions[1]["generations_done"]["standard/pre"] > 0
 
 
 def test_ctrl_c_stops_cleanly_and_says_how_to_resume(tmp_path):

@@ -93,7 +93,7 @@ def snapshot(out: Path) -> dict:
         elif f.name == "manifest.json":
             snap[str(f)] = {k: v for k, v in json.loads(p.read_text()).items()
                             if k not in ("created", "command", "git_revision", "git_dirty",
-                                         "git_diff_sha256")}
+                                         "git_diff_sha256", "sessions")}
     return snap
 
 
