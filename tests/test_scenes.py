@@ -14,6 +14,7 @@ import numpy as np
 import pytest
 
 from dart_reach import validate
+from dart_reach.evaluation import evaluate_run
 from dart_reach.experiment import Run
 from dart_reach.scenes import (DEFAULT_SCENE, SceneError, load_scene, scene_from_dict,
                                scene_names, scene_of)
@@ -110,6 +111,11 @@ def test_a_run_keeps_its_scene_and_resume_refuses_another(tmp_path):
     assert done.returncode == 0, done.stderr
     assert Run.open(out).settings.world.sectors == load_scene("arm-length-shoulder").sectors
     assert json.loads((out / "manifest.json").read_text())["scene"] == "arm-length-shoulder"
+    # the post-evaluation puts the ball where the run's own scene does, whatever the default
+    table = evaluate_run(out, robots=1, record="none", workers=1, progress=False)
+    world = World(load_scene("arm-length-shoulder").world())
+    positions = table.sort("trial").select("ball_x", "ball_y", "ball_z").to_numpy()
+    assert np.allclose(positions, world.systematic_points())
     refused = _cli(*tiny, "--scene", "near", "--resume", cwd=root)
     assert refused.returncode == 2 and len(refused.stderr.strip().splitlines()) == 1
     bad = _cli(*tiny[:-1], str(tmp_path / "other"), "--scene", "nowhere", cwd=root)
