@@ -454,8 +454,8 @@ def _band(claim: Claim, data: _Data) -> dict:
     out = verdicts.in_band(reps[claim.measure].to_numpy(), ABOUT_HALF,
                            np.random.default_rng(BOOTSTRAP_SEED))
     lo, hi = ABOUT_HALF
-    return _row(claim, out, f"{claim.measure} rate {out.effect:.2f} (95% CI {out.low:.2f}-"
-                            f"{out.high:.2f})",
+    ci = f" (95% CI {out.low:.2f}-{out.high:.2f})" if math.isfinite(out.low) else ""
+    return _row(claim, out, f"{claim.measure} rate {out.effect:.2f}{ci}",
                 f"percentile bootstrap over replications of their robots' mean rate: interval "
                 f"inside [{lo:.2f}, {hi:.2f}]: reproduced; wholly outside: contradicted",
                 f"{reps.height} replications, {_values(robots_, claim.b, claim.measure).size} "
@@ -473,8 +473,8 @@ def _every_sector(claim: Claim, data: _Data) -> dict:
     cells = {f"{what} in sector {k}": per.filter(pl.col("sector") == k)[col].to_numpy()
              for k in range(9) for col, what in (("reached", "reach"), ("grasped", "grasp"))}
     out = verdicts.at_least(cells, verdicts.SECTOR_FLOOR, np.random.default_rng(BOOTSTRAP_SEED))
-    return _row(claim, out, f"lowest sector rate {out.effect:.2f} (95% CI {out.low:.2f}-"
-                            f"{out.high:.2f})",
+    ci = f" (95% CI {out.low:.2f}-{out.high:.2f})" if math.isfinite(out.low) else ""
+    return _row(claim, out, f"lowest sector rate {out.effect:.2f}{ci}",
                 f"each sector's reach and grasp rate, bootstrap over replications: every lower "
                 f"bound > {verdicts.SECTOR_FLOOR:g}: reproduced; an upper bound below: "
                 "contradicted", f"{per['replication'].n_unique()} replications, "
@@ -500,8 +500,8 @@ def _never(claim: Claim, data: _Data) -> dict:
         return _not_run(claim, f"no {claim.b} robots")
     eps = verdicts.NEVER_EPSILON
     out = verdicts.at_most(reps["value"].to_numpy(), eps, np.random.default_rng(BOOTSTRAP_SEED))
-    return _row(claim, out, f"{claim.measure} {out.effect:.3f} (upper 95% bound "
-                            f"{out.high:.3f})",
+    bound = f" (upper 95% bound {out.high:.3f})" if math.isfinite(out.high) else ""
+    return _row(claim, out, f"{claim.measure} {out.effect:.3f}{bound}",
                 f"bootstrap over replications: upper bound <= {eps:g}: reproduced; lower bound "
                 f"> {eps:g}: contradicted", f"{reps.height} replications")
 

@@ -191,10 +191,11 @@ def bootstrap_mean_interval(units, rng: np.random.Generator, confidence: float =
 
 
 def _too_few(units) -> Outcome | None:
-    n = len(_finite(units))
-    if n < MIN_BOOTSTRAP_UNITS:
-        return Outcome(UNDERPOWERED, note=f"{n} replications; an interval needs at least "
-                                          f"{MIN_BOOTSTRAP_UNITS}")
+    x = _finite(units)
+    if len(x) < MIN_BOOTSTRAP_UNITS:
+        return Outcome(UNDERPOWERED, effect=float(x.mean()) if len(x) else math.nan,
+                       note=f"{len(x)} replications; an interval needs at least "
+                            f"{MIN_BOOTSTRAP_UNITS}")
     return None
 
 
