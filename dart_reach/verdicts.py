@@ -27,7 +27,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 from scipy import stats as sps
@@ -222,7 +222,8 @@ def at_least(units_by_cell: dict, floor: float, rng: np.random.Generator) -> Out
     cell's upper bound is below it; otherwise inconclusive. ``effect``: the lowest cell mean."""
     cells = list(units_by_cell.values())
     if (few := _too_few(cells[0] if cells else [])) is not None:
-        return few
+        means = [float(np.mean(_finite(c))) for c in cells if len(_finite(c))]
+        return replace(few, effect=min(means) if means else math.nan)
     bounds = {k: bootstrap_mean_interval(v, rng) for k, v in units_by_cell.items()}
     worst = min(bounds, key=lambda k: bounds[k][1])
     below = [k for k, (_, _, high) in bounds.items() if high < floor]
