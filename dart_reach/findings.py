@@ -255,6 +255,7 @@ _SCHEMA = {"claim": pl.Utf8, "section": pl.Utf8, "paper": pl.Utf8, "kind": pl.Ut
            "measured": pl.Utf8, "test": pl.Utf8, "n": pl.Utf8, "effect": pl.Float64,
            "effect_low": pl.Float64, "effect_high": pl.Float64, "p": pl.Float64,
            "p_holm": pl.Float64, "paper_level_met": pl.Boolean, "p_replications": pl.Float64,
+           "p_paper_test": pl.Float64,
            "replications_agree": pl.Boolean, "verdict": pl.Utf8, "note": pl.Utf8}
 
 
@@ -368,12 +369,14 @@ class _Data:
 
 # ------------------------------------------------------------------------------ judging
 def _row(claim: Claim, out: Outcome, measured: str, test: str, n: str,
-         p_rep: float = math.nan, agree: bool | None = None) -> dict:
+         p_rep: float = math.nan, agree: bool | None = None,
+         p_paper_test: float = math.nan) -> dict:
     return {"claim": claim.id, "section": claim.section, "paper": claim.paper,
             "kind": claim.kind.value, "measured": measured, "test": test, "n": n,
             "effect": out.effect, "effect_low": out.low, "effect_high": out.high, "p": out.p,
             "p_holm": math.nan, "paper_level_met": out.paper_level_met,
-            "p_replications": p_rep, "replications_agree": agree, "verdict": out.verdict,
+            "p_replications": p_rep, "replications_agree": agree,
+            "p_paper_test": p_paper_test, "verdict": out.verdict,
             "note": out.note}
 
 
@@ -525,7 +528,7 @@ def _paired(claim: Claim, data: _Data) -> dict:
     return _row(claim, out, f"fitness: {means}",
                 f"Friedman, robot as block, p < {ALPHA:g}; effect: Kendall's W; the paper: "
                 f"Kruskal-Wallis p < {claim.level:g} (here, as independent groups: p = "
-                f"{kw:.2g})", f"{wide.height} robots x 4 conditions")
+                f"{kw:.2g})", f"{wide.height} robots x 4 conditions", p_paper_test=kw)
 
 
 _JUDGES = {Kind.DIRECTIONAL: _two_groups, Kind.NO_DIFFERENCE: _two_groups, Kind.BAND: _band,
@@ -545,7 +548,8 @@ def findings(table: pl.DataFrame, baseline: pl.DataFrame | None = None,
 
     Columns: claim, section, paper, kind, measured, test, n, effect, effect_low, effect_high,
     p, p_holm (Holm over the table's p), paper_level_met, p_replications, replications_agree,
-    verdict (one of ``VERDICTS``), note.
+    p_paper_test (the paper's own test where ours differs: F4's Kruskal-Wallis), verdict (one
+    of ``VERDICTS``), note.
     """
     missing = [c for c in ("notation", "senses", "replication", "rank", "sector", "fitness",
                            "reached", "grasped") if c not in table.columns]

@@ -182,7 +182,8 @@ def test_senses_are_tested_with_the_robot_as_block():
                   "F4 normal: fine > gross", "F4 normal: gross > pre",
                   "F4 no-sight: gross > fine", "F4 nothing: gross > fine"):
         assert _verdict(found, claim) == fd.REPRODUCED, claim
-    assert "Kruskal-Wallis" in _row(found, "F4 senses differ (pre)")["test"]
+    kw = _row(found, "F4 senses differ (pre)")
+    assert "Kruskal-Wallis" in kw["test"] and 0 <= kw["p_paper_test"] < 0.01
     only_normal = fd.findings(_trials(spec))
     assert _verdict(only_normal, "F4 senses differ (pre)") == fd.NOT_RUN
     two = fd.findings(_trials(spec, replications=1, senses=senses))  # 2 robots as blocks
