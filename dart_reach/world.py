@@ -111,8 +111,12 @@ class WorldConfig:
     sectors: SectorConfig = field(default_factory=SectorConfig)
 
     def __post_init__(self):
+        for key in ("physics_dt", "control_dt"):
+            if not 0 < getattr(self, key) < math.inf:
+                raise ValueError(f"{key} must be a positive number of seconds, got "
+                                 f"{getattr(self, key)!r}")
         ratio = self.control_dt / self.physics_dt
-        if self.physics_dt <= 0 or ratio < 1 or abs(ratio - round(ratio)) > 1e-9:
+        if ratio < 1 or abs(ratio - round(ratio)) > 1e-9:
             raise ValueError(
                 f"control_dt ({self.control_dt}) must be a whole multiple of physics_dt "
                 f"({self.physics_dt})")

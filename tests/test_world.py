@@ -252,6 +252,9 @@ def test_bad_inputs_raise_clear_errors(world, tmp_path):
         world.reset([0.0, np.inf, 0.0])
     with pytest.raises(ValueError, match="multiple"):
         WorldConfig(physics_dt=0.03)
+    for bad in (0.0, -0.01, float("nan"), float("inf")):
+        with pytest.raises(ValueError, match="physics_dt must be a positive number"):
+            WorldConfig(physics_dt=bad)
 
 
 def _cli(*args, cwd=None):
