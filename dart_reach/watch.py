@@ -64,7 +64,7 @@ def _shipped(phase, condition, replication, rank) -> _Choice:
     from .conditions import load_condition
     from .data import index, robots
     from .experiment import Settings
-    from .world import WorldConfig
+    from .world import SectorConfig, WorldConfig
 
     wanted = robots(phase, condition)
     if phase is None:  # the most developed phase that ships
@@ -104,8 +104,10 @@ def _shipped(phase, condition, replication, rank) -> _Choice:
         raise ValueError(f"{robot.source}: its phase differs from the shipped condition "
                          f"{robot.condition}'s {robot.phase} (made by another version)")
     budget = robot.provenance.get("budget") or {}
-    settings = Settings(replications=1, steps=int(budget.get("steps", 200)),
-                        world=WorldConfig(physics_dt=float(budget.get("physics_dt", 0.02))))
+    world = WorldConfig(physics_dt=float(budget.get("physics_dt", 0.02)))
+    if "sectors" in budget:  # the scene the robots evolved in (docs/task.md, "The scene")
+        world = replace(world, sectors=SectorConfig(**budget["sectors"]))
+    settings = Settings(replications=1, steps=int(budget.get("steps", 200)), world=world)
     return _Choice(robot.genome, robot.condition, ph, settings, robot.replication,
                    "shipped robot " + robot.describe())
 

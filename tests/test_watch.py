@@ -16,7 +16,9 @@ from dart_reach import data
 from dart_reach.conditions import load_condition, scaled
 from dart_reach.experiment import Settings, train
 from dart_reach.recording import read_properties, read_rrd
+from dart_reach.scenes import load_scene
 from dart_reach.watch import display_available, watch
+from dart_reach.world import SectorConfig
 
 
 def _cli(*args):
@@ -35,6 +37,9 @@ def test_shipped_robots_keep_their_provenance():
     assert [r.lifetime_fitness for r in shipped] == sorted(fitness.tolist(), reverse=True)
     assert shipped[0].rank == 0 and shipped[-1].rank == 19
     assert info["budget"]["generations"] == 30 and "learning-check" in info["command"]
+    # the scene they evolved in, which watch puts the ball in (docs/task.md, "The scene")
+    assert info["budget"]["scene"] == "near"
+    assert SectorConfig(**info["budget"]["sectors"]) == load_scene("near").sectors
     assert data.robots("fine") == [] and data.robots("pre", "gross-hat") == []
     assert [(r["condition"], r["phase"]) for r in data.index()] == [("standard", "pre")]
 
@@ -58,7 +63,8 @@ def test_watch_records_the_best_shipped_robot_in_seconds(tmp_path):
 
 def test_watch_a_trained_run_and_export_its_robots(tmp_path):
     run = train([scaled(load_condition("standard"), 1)],
-                Settings(replications=2, trials=1, steps=4, seed=5), tmp_path / "run",
+                Settings(replications=2, trials=1, steps=4, seed=5,
+                         world=load_scene("arm-length-shoulder").world()), tmp_path / "run",
                 workers=1, progress=False)
     w = watch(run=run.out, out=tmp_path / "t.rrd", viewer=False)
     assert "standard/fine" in w.robot and str(run.out) in w.robot  # the last phase trained
@@ -68,6 +74,7 @@ def test_watch_a_trained_run_and_export_its_robots(tmp_path):
     path = data.export_robots(run.out, "gross", tmp_path / "robots" / "gross.json")
     info = json.loads(path.read_text())
     assert info["budget"]["replications"] == 2 and info["replication"] == [0, 0, 1, 1]
+    assert info["budget"]["scene"] == "arm-length-shoulder"
     shipped = data.robots("gross", directory=tmp_path / "robots")
     genomes, fitness = run.load_final(run.conditions[0].phases[1])
     assert np.array_equal(shipped[0].genome, genomes[int(np.argmax(fitness[:, 0])), 0])

@@ -9,7 +9,8 @@ provenance (``ROBOTS_FORMAT``)::
     what           a sentence: which run, which population
     command        the command line that trained them
     git_revision   the revision of dart_reach that trained them
-    budget         generations, replications, trials, steps, physics_dt, seed
+    budget         generations, replications, trials, steps, physics_dt, seed, scene and
+                   sectors (where the ball hung: ``world.SectorConfig``)
     phase          condition, phase (a shipped condition's phase), free_groups, acuity,
                    reflexes (checked against the shipped condition when loaded)
     replication    per genome, its replication in the run
@@ -24,6 +25,7 @@ standard condition, 1 replication, 30 generations).
 
 from __future__ import annotations
 
+import dataclasses
 import json
 from collections.abc import Mapping
 from dataclasses import dataclass, field
@@ -150,7 +152,8 @@ def export_robots(run_dir, phase: str, path, condition: str | None = None,
         "command": manifest.get("command"), "git_revision": manifest.get("git_revision"),
         "budget": {"generations": ph.generations, "replications": s.replications,
                    "trials": s.trials, "steps": s.steps, "physics_dt": s.world.physics_dt,
-                   "seed": s.seed},
+                   "seed": s.seed, "scene": manifest.get("scene"),
+                   "sectors": dataclasses.asdict(s.world.sectors)},
         "phase": {"condition": cond.name, "phase": ph.name,
                   "free_groups": [g.value for g in ph.free_groups], "acuity": ph.acuity,
                   "reflexes": ph.reflexes},
