@@ -350,6 +350,33 @@ def cmd_report(args) -> int:
     return 0
 
 
+def cmd_status(args) -> int:
+    """Where a run's training stands: generations, fitness and wall time per phase and
+    replication, and the sessions that trained it."""
+    from .experiment import Run
+
+    run = Run.open(args.run_dir)
+    table = run.status()
+    head = ("condition", "phase", "replication", "generations", "best", "mean", "wall (h)")
+    rows = [(r["condition"], r["phase"], str(r["replication"]),
+             f"{r['generations']} / {r['of']}", f"{r['best']:.4f}", f"{r['mean']:.4f}",
+             f"{r['wall_h']:.2f}") for r in table.iter_rows(named=True)]
+    if args.markdown:
+        print("| " + " | ".join(head) + " |\n|" + "---|" * len(head))
+        print("\n".join("| " + " | ".join(r) + " |" for r in rows))
+    else:
+        widths = [max(len(x) for x in col) for col in zip(head, *rows)]
+        for r in (head, *rows):
+            print("  ".join(x.ljust(w) for x, w in zip(r, widths)))
+    done, total = int(table["generations"].sum()), int(table["of"].sum())
+    wall = table.unique(["condition", "phase"])["wall_h"].sum()
+    sessions = json.loads((run.out / "manifest.json").read_text()).get("sessions", [])
+    print(f"{done} of {total} replication-generations ({done / total:.0%}), {wall:.1f} h of "
+          f"wall time, {len(sessions)} session(s) recorded; unfinished: "
+          f"{', '.join(run.unfinished()) or 'none'}")
+    return 0
+
+
 def cmd_read(args) -> int:
     """Print what a .rrd file holds; optionally save its time series as parquet."""
     from .files import atomic_write
@@ -560,6 +587,14 @@ def build_parser() -> argparse.ArgumentParser:
                    help="where to write it, in an existing directory (default "
                         "RUN_DIR/report.html of the first run)")
     p.set_defaults(func=cmd_report)
+
+    p = command("status", "where a run's training stands: generations, fitness and wall "
+                          "time per phase and replication")
+    p.add_argument("run_dir", type=Path, metavar="RUN_DIR", help="a run directory of 'train'")
+    p.add_argument("--markdown", action="store_true",
+                   help="print the table as markdown, e.g. for docs/replication.md "
+                        "(default: a plain table)")
+    p.set_defaults(func=cmd_status)
 
     p = command("read", "show a .rrd recording's properties and series; "
                                     "--parquet saves them as a table")

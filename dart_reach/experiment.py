@@ -626,6 +626,28 @@ class Run:
                 raise RunError(f"{path}: unreadable snapshot ({exc})") from None
         return out
 
+    def status(self) -> pl.DataFrame:
+        """Where training stands (``dart-reach status``): one row per phase trained in this run
+        and replication: condition, phase, replication, generations (committed), of (the
+        phase's budget), best and mean fitness at the last committed generation, and wall_h,
+        the phase's wall time so far in hours (a generation of all replications counted
+        once)."""
+        rows = []
+        for c, p in self.unique_phases():
+            stats = self.stats.filter(pl.col("phase_key") == p.key)
+            wall = float(stats.group_by("generation").agg(pl.col("wall_s").first())["wall_s"]
+                         .sum()) / 3600
+            for r in range(self.settings.replications):
+                last = stats.filter(pl.col("replication") == r).sort("generation").tail(1)
+                done = last.height > 0
+                rows.append({"condition": c.name, "phase": p.name, "replication": r,
+                             "generations": int(last["generation"][0]) if done else 0,
+                             "of": p.generations,
+                             "best": float(last["best"][0]) if done else float("nan"),
+                             "mean": float(last["mean"][0]) if done else float("nan"),
+                             "wall_h": wall})
+        return pl.DataFrame(rows)
+
     def unique_phases(self) -> list[tuple[Condition, Phase]]:
         """Each phase trained in this run once (a phase shared by conditions comes with the
         first of them), in training order."""

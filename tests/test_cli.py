@@ -143,3 +143,21 @@ def test_a_long_run_says_its_size_and_cost_before_starting(tmp_path):
     small = _cli("train", "standard", "--generations", "1", "--replications", "1",
                  "--trials", "1", "--steps", "2", "--workers", "1", "--out", out)
     assert "replication-generations" not in small.stderr
+
+
+def test_status_says_where_training_stands(tmp_path):
+    out = tmp_path / "run"
+    tiny = ["train", "standard", "--generations", "2", "--replications", "2", "--trials", "1",
+            "--steps", "3", "--workers", "1", "--record-every", "0", "--out", str(out)]
+    assert _cli(*tiny).returncode == 0
+    status = _cli("status", str(out))
+    assert status.returncode == 0, status.stderr
+    lines = status.stdout.splitlines()
+    assert lines[0].split()[:3] == ["condition", "phase", "replication"]
+    assert sum("2 / 2" in line for line in lines) == 6  # 3 phases x 2 replications, done
+    assert "12 of 12 replication-generations (100%)" in lines[-1]
+    assert "1 session(s)" in lines[-1] and "unfinished: none" in lines[-1]
+    markdown = _cli("status", str(out), "--markdown").stdout.splitlines()
+    assert markdown[0].startswith("| condition |") and markdown[1].startswith("|---|")
+    missing = _cli("status", str(tmp_path / "none"))
+    assert missing.returncode == 2 and "no such run directory" in missing.stderr
