@@ -545,7 +545,9 @@ class Run:
                         states = self._initial_states(phase, previous)
                     else:
                         states = loaded[0]
+                        # Trained by an earlier process: neither done here nor left to do.
                         done += states[0].generation
+                        done_at_start += states[0].generation
                     trial = trial_config(phase, s)
                     mask = free_mask(phase.free_groups)
                     groups = as_groups(phase.free_groups)

@@ -87,3 +87,29 @@ def test_evaluation_lines():
     with evaluation_bar(out, bar=False) as bar:
         bar(EvaluationProgress(4, 10, 8.0, "gross", "no-sight"))
     assert out.getvalue() == "evaluate | gross | no-sight | 4/10 robots | ETA 0m12s\n"
+
+
+def test_a_resumed_run_counts_only_what_it_trains(tmp_path):
+    """After a resume part-way through a phase, the generations trained by the earlier process
+    are neither done nor left to do: the rate and the ETA are this process's."""
+    from dart_reach.conditions import load_condition, scaled
+    from dart_reach.experiment import Settings, train
+
+    class Stop(Exception):
+        pass
+
+    def stop_after_one(p: Progress) -> None:
+        raise Stop
+
+    args = ([scaled(load_condition("standard"), 3)], Settings(replications=1, trials=1, steps=4),
+            tmp_path / "r")
+    try:
+        train(*args, workers=1, progress=stop_after_one)
+    except Stop:
+        pass
+    seen: list[Progress] = []
+    train(*args, workers=1, progress=seen.append, resume=True)
+    first = seen[0]
+    assert (first.phase, first.generation) == ("pre", 2)
+    assert (first.done_generations, first.total_generations) == (1, 9 - 1), first
+    assert seen[-1].done_generations == seen[-1].total_generations
