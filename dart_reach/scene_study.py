@@ -7,8 +7,9 @@ each replication and 10 random genomes, normal senses and the ball absent. ``sum
 one row per scene and group (evolved robots, random genomes) with F1's measures: means over
 robots (a robot: its mean over its 45 trials) and a 95 % percentile bootstrap interval over
 robots for the reach rate; ``sector_rates`` the reach rate per sector (Fig. 7's top row);
-``figure`` draws both. ``python -m dart_reach.scene_study STUDY_DIR OUT_DIR`` writes
-``scene-study.md`` (the table) and ``scene-study.png`` (the figure) into OUT_DIR.
+``figure`` draws both; ``levers`` says how each measure moves when one lever of the scene
+changes (``LEVERS``). ``python -m dart_reach.scene_study STUDY_DIR OUT_DIR`` writes
+``scene-study.md`` (both tables) and ``scene-study.png`` (the figure) into OUT_DIR.
 """
 
 from __future__ import annotations
@@ -19,6 +20,8 @@ from pathlib import Path
 
 import numpy as np
 import polars as pl
+
+from scipy import stats as sps
 
 from . import metrics, verdicts
 from .evaluation import load_evaluation
@@ -34,6 +37,11 @@ MEASURES = (("reached", "reach"), ("grasped", "grasp"), ("first_touch_s", "first
             ("hand_amplitude", "amplitude (m)"), ("babbling", "babbling"))
 _ROBOT = ("replication", "rank")
 BOOTSTRAP_SEED = 2013
+#: The scene study's contrasts (lever, scene before, scene after): each changes one lever of
+#: the scene, the last both (docs/task.md, "The scene").
+LEVERS = (("height: neck level to shoulder level", "near", "near-shoulder"),
+          ("distance: 0.30 m to arm's length", "near-shoulder", "arm-length-shoulder"),
+          ("both", "near", "arm-length-shoulder"))
 
 
 def _groups(run_dir: Path) -> list[tuple[str, pl.DataFrame]]:
@@ -71,6 +79,67 @@ def summary(run_dirs: Sequence[Path]) -> pl.DataFrame:
                                              .mean()) if absent.height else np.nan)
             rows.append(row)
     return pl.DataFrame(rows)
+
+
+def robots(run_dirs: Sequence[Path]) -> pl.DataFrame:
+    """The evolved robots' means over their normal-senses trials, one row per robot: scene,
+    replication, rank and every measure of ``MEASURES`` (first_touch_s: the mean over its
+    reached trials)."""
+    names = [m for m, _ in MEASURES]
+    tables = []
+    for d in map(Path, run_dirs):
+        scene = scene_of(Run.open(d).settings.world.sectors) or d.name
+        normal = _groups(d)[0][1].filter(pl.col("senses") == "normal")
+        tables.append(metrics.robot_means(normal, names, by=_ROBOT)
+                      .with_columns(pl.lit(scene).alias("scene")))
+    return pl.concat(tables).select("scene", *_ROBOT, *names)
+
+
+def levers(robot_table: pl.DataFrame, pairs=LEVERS) -> pl.DataFrame:
+    """How each measure moves with each lever: one row per (lever, measure) whose two scenes
+    are both in ``robot_table`` (``robots``): the means over robots before and after, the
+    Hodges-Lehmann shift (after - before) with its 95 % interval and the two-sided
+    Mann-Whitney p over robots, and ``replications_agree``: every replication's mean after
+    differs from every replication's mean before in the shift's direction. Robots of one
+    replication descend from one population, so the replication is the independent unit: with
+    2 replications per scene, read p as a description of the robots, and trust a shift whose
+    replications agree."""
+    rows = []
+    scenes = set(robot_table["scene"].to_list())
+    for lever, before, after in pairs:
+        if before not in scenes or after not in scenes:
+            continue
+        a_tab = robot_table.filter(pl.col("scene") == before)
+        b_tab = robot_table.filter(pl.col("scene") == after)
+        for m, label in MEASURES:
+            a, b = a_tab[m].drop_nans().to_numpy(), b_tab[m].drop_nans().to_numpy()
+            if len(a) < 2 or len(b) < 2:
+                continue
+            shift, low, high = verdicts.hodges_lehmann(a, b)
+            p = (1.0 if np.ptp(np.concatenate([a, b])) == 0
+                 else float(sps.mannwhitneyu(b, a, alternative="two-sided").pvalue))
+            rep_a, rep_b = (t.group_by("replication").agg(pl.col(m).fill_nan(None).mean())[m]
+                            .drop_nulls().to_numpy() for t in (a_tab, b_tab))
+            gaps = (rep_b[None, :] - rep_a[:, None]).ravel()
+            agree = bool(shift != 0 and gaps.size and np.all(np.sign(gaps) == np.sign(shift)))
+            rows.append({"lever": lever, "before": before, "after": after, "measure": label,
+                         "mean_before": float(a.mean()), "mean_after": float(b.mean()),
+                         "shift": shift, "shift_low": low, "shift_high": high, "p": p,
+                         "replications_agree": agree})
+    return pl.DataFrame(rows)
+
+
+def levers_markdown(table: pl.DataFrame) -> str:
+    """``levers`` as a markdown table."""
+    head = ["lever", "measure", "before", "after", "shift [95% CI]", "p (robots)",
+            "replications agree"]
+    lines = ["| " + " | ".join(head) + " |", "|" + "---|" * len(head)]
+    for r in table.iter_rows(named=True):
+        lines.append("| " + " | ".join([
+            r["lever"], r["measure"], f"{r['mean_before']:.3g}", f"{r['mean_after']:.3g}",
+            f"{r['shift']:+.3g} [{r['shift_low']:+.3g}, {r['shift_high']:+.3g}]",
+            f"{r['p']:.2g}", "yes" if r["replications_agree"] else "no"]) + " |")
+    return "\n".join(lines) + "\n"
 
 
 def sector_rates(run_dirs: Sequence[Path]) -> pl.DataFrame:
@@ -153,9 +222,10 @@ def main(argv=None) -> int:
         print(f"{study}: no post-evaluated scene run", file=sys.stderr)
         return 2
     table = summary(runs)
-    (out / "scene-study.md").write_text(markdown(table))
+    text = markdown(table) + "\n" + levers_markdown(levers(robots(runs)))
+    (out / "scene-study.md").write_text(text)
     figure(table, sector_rates(runs)).savefig(out / "scene-study.png", dpi=90)
-    print(markdown(table))
+    print(text)
     return 0
 
 
