@@ -4,6 +4,8 @@ runs trained and post-evaluated on two scenes."""
 
 from __future__ import annotations
 
+from pathlib import Path
+
 import numpy as np
 import polars as pl
 import pytest
@@ -59,7 +61,7 @@ def study(tmp_path_factory):
     for name in ("near", "arm-length-shoulder"):
         settings = Settings(replications=2, trials=1, steps=6, seed=20,
                             world=load_scene(name).world())
-        train([scaled(load_condition("docs/learning-check.toml"), 1)], settings, root / name,
+        train([scaled(load_condition(Path(__file__).parents[1] / "docs" / "learning-check.toml"), 1)], settings, root / name,
               workers=1, progress=False)
         evaluate_run(root / name, senses=("normal", "no-ball"), robots=2, workers=1,
                      progress=False, baseline=2, record="none")

@@ -8,6 +8,7 @@ import json
 import subprocess
 import sys
 import time
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -82,6 +83,27 @@ def test_watch_a_trained_run_and_export_its_robots(tmp_path):
         data.export_robots(run.out, "gross", path)
     with pytest.raises(ValueError, match="replication=7"):
         watch(run=run.out, replication=7, viewer=False, out=tmp_path / "x.rrd")
+
+
+def test_the_learning_checks_robots_ship_as_the_standard_conditions(tmp_path):
+    """The learning check's pre-only/pre trains the maturational state of standard/pre: its
+    robots ship under standard (loadable by watch); a condition whose phase differs refuses."""
+    check = Path(__file__).parents[1] / "docs" / "learning-check.toml"
+    run = train([scaled(load_condition(check), 1)],
+                Settings(replications=1, trials=1, steps=4, seed=5), tmp_path / "run",
+                workers=1, progress=False)
+    path = data.export_robots(run.out, "pre", tmp_path / "pre.json", ship_as="standard")
+    assert json.loads(path.read_text())["phase"]["condition"] == "standard"
+    assert [r.condition for r in data.robots("pre", directory=tmp_path)] == ["standard"] * 2
+    with pytest.raises(ValueError, match="pre-star has no phase 'pre'"):
+        data.export_robots(run.out, "pre", tmp_path / "x.json", ship_as="pre-star")
+    other = tmp_path / "no-reflexes.toml"
+    other.write_text(check.read_text()
+                     .replace('name = "pre-only"', 'name = "no-reflexes"')
+                     .replace("reflexes = true", "reflexes = false"))
+    with pytest.raises(ValueError, match="reflexes differ"):
+        data.export_robots(run.out, "pre", tmp_path / "x.json", ship_as=str(other))
+    assert not (tmp_path / "x.json").exists()
 
 
 def test_cli_watch_without_a_display_writes_and_says_how_to_open(tmp_path):

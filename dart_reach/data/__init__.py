@@ -124,12 +124,17 @@ def evolved_pre() -> tuple[np.ndarray, np.ndarray, dict]:
 
 
 def export_robots(run_dir, phase: str, path, condition: str | None = None,
-                  per_replication: int = 2, what: str = "") -> Path:
+                  per_replication: int = 2, what: str = "", ship_as: str | None = None
+                  ) -> Path:
     """Write the best ``per_replication`` robots of each replication of a trained run's
     ``phase`` (of ``condition``; default the run's first condition that has it) as a robots
     file at ``path`` (a new file): put it in ``dart_reach/data/`` to ship them. The
     condition must be a shipped one (``conditions.load_condition(name)``), so that a user's
-    installation can rebuild the phase's maturational state."""
+    installation can rebuild the phase's maturational state; ``ship_as``: the shipped
+    condition to file them under when the run's is not shipped (the learning check's
+    ``pre-only``): its phase of that name must be its first and train the same maturational
+    state (acuity, offset sensors, free groups, reflexes), else ValueError."""
+    from ..conditions import load_condition
     from ..experiment import Run
 
     run = Run.open(run_dir)
@@ -139,6 +144,16 @@ def export_robots(run_dir, phase: str, path, condition: str | None = None,
         raise ValueError(f"{run.out}: no phase {phase!r}"
                          + (f" in condition {condition!r}" if condition else ""))
     cond, ph = found[0]
+    shipped_name = cond.name
+    if ship_as is not None:
+        twin = {p.name: p for p in load_condition(ship_as).phases}.get(ph.name)
+        same = ("acuity", "offset_sensors", "free_groups", "reflexes", "previous_key")
+        differ = (f"{ship_as} has no phase {ph.name!r}" if twin is None else ", ".join(
+            k for k in same if getattr(twin, k) != getattr(ph, k)))
+        if differ:
+            raise ValueError(f"{run.out}: {cond.name}/{ph.name} cannot ship as {ship_as}/"
+                             f"{ph.name}: {differ}" + (" differ" if twin else ""))
+        shipped_name = ship_as
     genomes, fitness = run.load_final(ph)
     n = min(per_replication, genomes.shape[1])
     if n < 1:
@@ -154,7 +169,7 @@ def export_robots(run_dir, phase: str, path, condition: str | None = None,
                    "trials": s.trials, "steps": s.steps, "physics_dt": s.world.physics_dt,
                    "seed": s.seed, "scene": manifest.get("scene"),
                    "sectors": dataclasses.asdict(s.world.sectors)},
-        "phase": {"condition": cond.name, "phase": ph.name,
+        "phase": {"condition": shipped_name, "phase": ph.name,
                   "free_groups": [g.value for g in ph.free_groups], "acuity": ph.acuity,
                   "reflexes": ph.reflexes},
         "replication": [r for r in range(genomes.shape[0]) for _ in range(n)],
