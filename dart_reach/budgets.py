@@ -175,7 +175,7 @@ def budgets(by_budget: pl.DataFrame) -> list[Budget]:
 
 
 # ------------------------------------------------------------------------------ direction
-def _fold(effect: float, low: float, high: float, centre: float, top: float):
+def _fold(effect: float, centre: float, top: float):
     """``top - |x - centre|`` of a value, and the map of an interval to its image."""
     def image(lo: float, hi: float) -> tuple[float, float]:
         far = max(abs(lo - centre), abs(hi - centre))
@@ -196,9 +196,9 @@ def _toward(kind: str, sign: int, effect: float, low: float, high: float
     if kind in (Kind.DIRECTIONAL.value, Kind.CHANGE_PAIRED.value):
         point, image = sign * effect, lambda lo, hi: sorted((sign * lo, sign * hi))
     elif kind == Kind.NO_DIFFERENCE.value:
-        point, image = _fold(effect, low, high, 0.5, verdicts.EQUIVALENCE_MARGIN)
+        point, image = _fold(effect, 0.5, verdicts.EQUIVALENCE_MARGIN)
     elif kind == Kind.SAME_PAIRED.value:
-        point, image = _fold(effect, low, high, 0.0, 0.0)
+        point, image = _fold(effect, 0.0, 0.0)
     elif kind == Kind.BAND.value:
         centre = sum(findings.ABOUT_HALF) / 2
         point = _band_depth(effect)

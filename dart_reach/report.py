@@ -8,6 +8,10 @@ baseline, the figures (5-10, drawn by ``figures`` as the notebooks draw them) an
 statistics behind them. Figures are matplotlib PNGs embedded as data URIs, tables plain HTML,
 the page a ``string.Template`` (``templates/report.html``): it opens offline in any browser.
 
+Runs trained at different budgets (scene, generations per phase: ``budgets``) are judged
+apart: the findings of each budget, and, when there are several, the claims side by side with
+how each moves as the budget grows and the figure of their effects against the budget.
+
 Every number in it is computed from the run directories when the report is built.
 """
 
@@ -27,7 +31,7 @@ import polars as pl
 
 from . import budgets, figures, findings
 from .errors import UsageError
-from .evaluation import load_evaluation, run_phases
+from .evaluation import run_phases
 from .experiment import Run, RunError
 from .files import atomic_write
 
