@@ -8,6 +8,10 @@ baseline, the figures (5-10, drawn by ``figures`` as the notebooks draw them) an
 statistics behind them. Figures are matplotlib PNGs embedded as data URIs, tables plain HTML,
 the page a ``string.Template`` (``templates/report.html``): it opens offline in any browser.
 
+Runs trained at different budgets (scene, generations per phase: ``budgets``) are judged
+apart: the findings of each budget, and, when there are several, the claims side by side with
+how each moves as the budget grows and the figure of their effects against the budget.
+
 Every number in it is computed from the run directories when the report is built.
 """
 
@@ -17,7 +21,6 @@ import base64
 import html
 import io
 import json
-import math
 import time
 from collections.abc import Sequence
 from importlib import resources
@@ -26,9 +29,9 @@ from string import Template
 
 import polars as pl
 
-from . import figures, findings
+from . import budgets, figures, findings
 from .errors import UsageError
-from .evaluation import load_evaluation, run_phases
+from .evaluation import run_phases
 from .experiment import Run, RunError
 from .files import atomic_write
 
@@ -67,31 +70,37 @@ def _figure(fig) -> str:
 
 def _cell(value) -> str:
     if isinstance(value, float):
-        if math.isnan(value):
-            return "–"
-        return f"{value:.3g}" if abs(value) >= 1e-3 or value == 0 else f"{value:.1e}"
+        return budgets.number_text(value)
     if isinstance(value, bool):
         return "■" if value else ""
     return html.escape(str(value))
 
 
-def table_html(df: pl.DataFrame, css: str = "") -> str:
-    """A polars table as a plain HTML table (floats to 3 significant digits)."""
-    head = "".join(f"<th>{html.escape(c)}</th>" for c in df.columns)
-    rows = []
-    for row in df.iter_rows():
-        cells = "".join(f"<td>{_cell(v)}</td>" for v in row)
-        rows.append(f"<tr>{cells}</tr>")
+def table_html(df: pl.DataFrame, css: str = "", group: str | None = None,
+               cell_class=None) -> str:
+    """A polars table as a plain HTML table (floats to 3 significant digits). ``group``: a
+    column whose value heads each run of equal values (a row of its own) instead of being a
+    column; ``cell_class(column, value)``: the CSS class of a cell ("" for none)."""
+    columns = [c for c in df.columns if c != group]
+    head = "".join(f"<th>{html.escape(c)}</th>" for c in columns)
+    rows, current = [], None
+    for row in df.iter_rows(named=True):
+        if group is not None and row[group] != current:
+            current = row[group]
+            rows.append(f'<tr class="group"><th colspan="{len(columns)}">'
+                        f"{html.escape(str(current))}</th></tr>")
+        cells = []
+        for c in columns:
+            css_ = cell_class(c, row[c]) if cell_class is not None else ""
+            cells.append(f'<td class="{css_}">{_cell(row[c])}</td>' if css_
+                         else f"<td>{_cell(row[c])}</td>")
+        rows.append(f"<tr>{''.join(cells)}</tr>")
     return (f'<table class="{css}"><thead><tr>{head}</tr></thead>'
             f'<tbody>{"".join(rows)}</tbody></table>')
 
 
 def _effect(r: dict) -> str:
-    if math.isnan(r["effect"]):
-        return "–"
-    ci = (f" [{_cell(r['effect_low'])}, {_cell(r['effect_high'])}]"
-          if not math.isnan(r["effect_low"]) else "")
-    return _cell(r["effect"]) + ci
+    return html.escape(budgets.effect_text(r["effect"], r["effect_low"], r["effect_high"]))
 
 
 def _findings_html(found: pl.DataFrame) -> str:
@@ -123,8 +132,7 @@ def budget_text(run_dirs: Sequence[Path], table: pl.DataFrame | None) -> str:
     parts = []
     for d in run_dirs:
         run = Run.open(d)
-        gens = sorted({p.generations // p.budget_phases for c in run.conditions
-                       for p in c.phases})
+        gens = budgets.generations_per_phase(run)
         parts.append(f"{d.name}: {'/'.join(map(str, gens))} generations per phase "
                      f"({gens[-1] / 500:.0%} of the paper's 500), "
                      f"{run.settings.replications} replications (the paper: 10)")
@@ -231,6 +239,84 @@ def _try(draw, *args, **kwargs) -> str:
         return f'<p class="missing">not drawn: {html.escape(str(exc))}</p>'
 
 
+#: Above the findings: what the verdicts mean.
+VERDICTS_NOTE = (
+    "<i>Underpowered</i>: even the most favourable data could not reach p &lt; 0.05 at this n "
+    "(decided from the sizes before any test); <i>inconclusive</i>: the data cannot decide; a "
+    "claim of no difference is <i>reproduced</i> only by an equivalence test.")
+#: Under the figure of the effects against the budget.
+BUDGET_FIGURE_NOTE = (
+    "Each claim's effect at each budget, on a scale where up is the paper's direction (the "
+    "claim's own units: a shift for a directional claim, 0.15 - |theta - 0.5| for a claim of "
+    "no difference, the depth inside the band, the weakest sector's rate above the floor, ...; "
+    "docs/analysis.md, \"Several budgets\"), with its interval; hollow: no interval or an "
+    "unbounded one. The dashed line is 0: no effect, or the claim's boundary. Only the claims "
+    "with an effect at two budgets or more are drawn; the word in each panel is the movement "
+    "of the table above.")
+
+
+def _baseline_html(budget, pooled_, heading: bool) -> str:
+    """The measures beside the random baseline of one budget's runs (budgets never pooled)."""
+    return ((f"<h3>{html.escape(budget.label)}</h3>" if heading else "")
+            + table_html(baseline_table(pooled_.table, pooled_.baseline)))
+
+
+def _counts(found: pl.DataFrame) -> str:
+    return ('<p class="counts">' + " · ".join(
+        f"{v}: <b>{n}</b>" for v, n in findings.summary(found).items()) + "</p>")
+
+
+def _verdict_class(column: str, value) -> str:
+    """The CSS class of a cell of ``budgets.side_by_side``: its verdict, or its movement."""
+    if column.endswith(": verdict"):
+        return value.split()[0]
+    if column.startswith("as the budget grows") and value:
+        return value.split()[0] if value.split()[0] in (budgets.TOWARD, budgets.AWAY) else ""
+    return ""
+
+
+def _findings_body(blocks: list) -> str:
+    """The findings of each budget (``budgets``: runs of one scene and one number of
+    generations per phase are pooled, others never): for one budget, its table as ever; for
+    several, the claims side by side with their movement as the budget grows, the figure of
+    the effects against the budget, then each budget's table under its heading."""
+    def block_html(budget, dirs, pooled_, found, heading):
+        head = (f"<h3>{html.escape(budget.label)}: {html.escape(', '.join(d.name for d in dirs))}"
+                "</h3>" if heading else "")
+        return (head + _counts(found) + "<p>What the budget can test: "
+                + html.escape(budget_text(dirs, pooled_.table)) + f". {VERDICTS_NOTE}</p>"
+                + _findings_html(found))
+
+    if len(blocks) == 1:
+        return block_html(*blocks[0], heading=False)
+    by_budget = pl.concat([budgets.label_findings(found, budget, dirs)
+                           for budget, dirs, _, found in blocks])
+    scenes = list(dict.fromkeys(budget.scene for budget, *_ in blocks))
+    parts = []
+    if len(scenes) > 1:
+        parts.append(f"<p class='missing'>These runs were trained on {len(scenes)} scenes "
+                     f"({html.escape(', '.join(scenes))}): each scene's runs are compared as "
+                     "separate groups, never pooled, and the movement is within a scene.</p>")
+    parts.append(
+        f"<p>{len(blocks)} budgets: "
+        + html.escape("; ".join(f"{b.label} ({', '.join(d.name for d in dirs)})"
+                                for b, dirs, *_ in blocks))
+        + ". The runs of one budget (scene and generations per phase) are pooled and judged "
+          "together; runs of different budgets never are. <i>As the budget grows</i>: from the "
+          "smallest to the largest budget of a scene, <i>toward</i> the paper when the effect's "
+          "interval at the largest lies wholly above its interval at the smallest on a scale "
+          "where the paper's direction is up, <i>away</i> when wholly below, <i>no change</i> "
+          "when they overlap; <i>(points)</i>: decided on the two effects where an interval is "
+          "missing, no evidence against noise; <i>not run</i>: no effect at either end "
+          "(docs/analysis.md, \"Several budgets\").</p>")
+    parts.append(table_html(budgets.side_by_side(by_budget), "findings budgets",
+                            group="section", cell_class=_verdict_class))
+    parts.append(_try(figures.budget_figure, by_budget)
+                 + f"<p>{html.escape(BUDGET_FIGURE_NOTE)}</p>")
+    parts += [block_html(*block, heading=True) for block in blocks]
+    return "".join(parts)
+
+
 # ------------------------------------------------------------------------------ the report
 def build(run_dirs: Sequence, out=None) -> Path:
     """Write the report of ``run_dirs`` to ``out`` (default ``<first run>/report.html``) and
@@ -252,34 +338,23 @@ def build(run_dirs: Sequence, out=None) -> Path:
                          cli=f"{out} exists and is not a dart_reach report; choose another "
                              f"--out")
     evaluated = [d for d in run_dirs if (d / "evaluation.parquet").is_file()]
-    table = figures.load_runs(evaluated) if evaluated else None
-    baselines = [load_evaluation(d, baseline=True).with_columns(pl.lit(d.name).alias("run"))
-                 for d in evaluated]
-    baseline = pl.concat(baselines, how="diagonal_relaxed") if baselines else None
-    from .development import load_development
-
-    developments = [dev.with_columns(pl.lit(d.name).alias("run")) for d in evaluated
-                    if (dev := load_development(d)) is not None]
-    found = findings.findings(table if table is not None else _empty_table(), baseline,
-                              development=pl.concat(developments, how="diagonal_relaxed")
-                              if developments else None)
-    counts = findings.summary(found)
+    everything = budgets.pooled(evaluated)
+    table, baseline = everything.table, everything.baseline
+    groups = budgets.budget_groups(run_dirs)
+    blocks = [(budget, dirs, everything if len(groups) == 1 else budgets.pooled(dirs))
+              for budget, dirs in groups.items()]
+    blocks = [(budget, dirs, pooled_, pooled_.findings()) for budget, dirs, pooled_ in blocks]
 
     missing = [d for d in run_dirs if d not in evaluated]
     notice = ("" if not missing else "<p class='missing'>not post-evaluated yet: "
               + ", ".join(html.escape(str(d)) for d in missing) + ". The findings and figures "
               "need the post-evaluation: run <code>dart-reach evaluate RUN --sensors all "
               "--baseline 20</code> first.</p>")
-    sections = [_section("Findings of section IV", notice + (
-        '<p class="counts">' + " · ".join(f"{v}: <b>{n}</b>" for v, n in counts.items())
-        + f"</p><p>What the budget can test: {html.escape(budget_text(run_dirs, table))}. "
-          "<i>Underpowered</i>: even the most favourable data could not reach p &lt; 0.05 at "
-          "this n (decided from the sizes before any test); <i>inconclusive</i>: the data "
-          "cannot decide; a claim of no difference is <i>reproduced</i> only by an "
-          "equivalence test.</p>" + _findings_html(found)
-        + "<p>Verdicts are computed from the data when this report is built "
-          "(<code>dart_reach.findings</code>, <code>dart_reach.verdicts</code>; the rules "
-          "and their reasons are in docs/analysis.md, \"Verdicts\").</p>"), "findings")]
+    sections = [_section("Findings of section IV", notice + _findings_body(blocks)
+                         + "<p>Verdicts are computed from the data when this report is built "
+                           "(<code>dart_reach.findings</code>, <code>dart_reach.verdicts</code>; "
+                           "the rules and their reasons are in docs/analysis.md, "
+                           "\"Verdicts\").</p>", "findings")]
 
     prov, train = [], []
     for d in run_dirs:
@@ -304,7 +379,8 @@ def build(run_dirs: Sequence, out=None) -> Path:
                                  "--sensors all --baseline 20</code></p>", "evaluation"))
     else:
         sections.append(_section("Measures beside the random baseline",
-                                 table_html(baseline_table(table, baseline))
+                                 "".join(_baseline_html(b, p, len(blocks) > 1)
+                                         for b, _, p, _ in blocks if p.table is not None)
                                  + "<p>Means over robots (a robot: its mean over its trials, "
                                    "normal senses); <i>random</i>: random genomes of the phase "
                                    "under the same senses.</p>", "baseline"))
@@ -320,15 +396,6 @@ def build(run_dirs: Sequence, out=None) -> Path:
         generated=time.strftime("%Y-%m-%d %H:%M:%S %z"), body="\n".join(sections))
     atomic_write(out, lambda p: p.write_text(text, encoding="utf-8"))
     return out
-
-
-def _empty_table() -> pl.DataFrame:
-    cols = {"notation": pl.Utf8, "senses": pl.Utf8, "replication": pl.Int64, "rank": pl.Int64,
-            "sector": pl.Int64, "reached": pl.Boolean, "grasped": pl.Boolean,
-            "lifetime_fitness": pl.Float64}
-    cols.update({m: pl.Float64 for m in ("fitness", "speed", "straightness", "var_elbow",
-                                         "var_shoulder", "var_trunk", "babbling_share")})
-    return pl.DataFrame(schema=cols)
 
 
 def _run_figures(run_dir: Path) -> str:

@@ -1,17 +1,22 @@
 """``dart-reach report``: one self-contained HTML file built from a tiny real run (the
 standard condition and gross^, post-evaluated under every sensory condition with a random
-baseline): every section, every figure embedded, a findings row per claim."""
+baseline): every section, every figure embedded, a findings row per claim; beside it a run of
+the standard condition at another budget (2 generations per phase): the two budgets are judged
+apart and set side by side."""
 
 from __future__ import annotations
 
 import base64
+import html
 import re
+import shutil
 import subprocess
 import sys
 
+import polars as pl
 import pytest
 
-from dart_reach import findings, report
+from dart_reach import budgets, figures, findings, report
 from dart_reach.conditions import load_condition, scaled
 from dart_reach.evaluation import SENSES, evaluate_run
 from dart_reach.experiment import Settings, train
@@ -22,6 +27,16 @@ def tiny_run(tmp_path_factory):
     out = tmp_path_factory.mktemp("report") / "tiny"
     train([scaled(load_condition(c), 1) for c in ("standard", "gross-hat")],
           Settings(replications=2, trials=1, steps=6, seed=2), out, workers=1)
+    evaluate_run(out, senses=SENSES, robots=2, workers=1, baseline=2)
+    return out
+
+
+@pytest.fixture(scope="module")
+def other_budget(tmp_path_factory):
+    """The standard condition at 2 generations per phase (``tiny_run``: 1), same scene."""
+    out = tmp_path_factory.mktemp("report") / "tiny-2"
+    train([scaled(load_condition("standard"), 2)],
+          Settings(replications=2, trials=1, steps=6, seed=3), out, workers=1)
     evaluate_run(out, senses=SENSES, robots=2, workers=1, baseline=2)
     return out
 
@@ -51,6 +66,9 @@ def test_the_report_holds_every_section_figure_and_claim(tiny_run, tmp_path):
     assert verdicts["F5 gross &gt; gross^"] != findings.NOT_RUN
     assert verdicts["F6 pre vs pre-h"] == findings.NOT_RUN
     assert "random pre" in text and "git revision" in text
+    # one budget: its findings as ever, no comparison of budgets
+    assert "findings budgets" not in text and "as the budget grows" not in text
+    assert html.escape(report.BUDGET_FIGURE_NOTE) not in text
 
 
 def test_cli_writes_the_report_and_never_overwrites_a_foreign_file(tiny_run, tmp_path):
@@ -74,13 +92,9 @@ def test_cli_writes_the_report_and_never_overwrites_a_foreign_file(tiny_run, tmp
 
 
 def test_report_reads_at_100_percent_and_states_its_corrections(tiny_run, tmp_path):
-    import polars as pl
-
     from dart_reach.evaluation import run_phases
 
     text = report.build([tiny_run], tmp_path / "r.html").read_text()
-    import html
-
     assert html.escape(report.TRAINING_NOTE) in text
     assert text.count(html.escape(report.HOLM_NOTE)) == 2  # Figs. 9 and 10
     assert "p_holm" in text
@@ -90,3 +104,62 @@ def test_report_reads_at_100_percent_and_states_its_corrections(tiny_run, tmp_pa
     assert phases == [("standard", "pre"), ("standard", "gross"), ("standard", "fine"),
                       ("gross-hat", "gross-hat")]
     assert report.DPI >= 100
+
+
+def _alone(run_dirs) -> pl.DataFrame:
+    """The findings of runs pooled, as ``report.build`` judged every run given before budgets
+    were told apart."""
+    from dart_reach.development import load_development
+    from dart_reach.evaluation import load_evaluation
+
+    baseline = pl.concat([load_evaluation(d, baseline=True).with_columns(
+        pl.lit(d.name).alias("run")) for d in run_dirs], how="diagonal_relaxed")
+    developments = [dev for d in run_dirs if (dev := load_development(d)) is not None]
+    return findings.findings(figures.load_runs(run_dirs), baseline,
+                             development=pl.concat(developments) if developments else None)
+
+
+def _same(a: pl.DataFrame, b: pl.DataFrame) -> bool:
+    return a.select(sorted(b.columns)).equals(b.select(sorted(b.columns)), null_equal=True)
+
+
+def test_budgets_are_never_pooled_and_runs_of_one_budget_are(tiny_run, other_budget, tmp_path):
+    by_budget = budgets.findings_by_budget([other_budget, tiny_run])
+    assert by_budget.select("generations_per_phase", "runs").unique(maintain_order=True).rows() \
+        == [(1, "tiny"), (2, "tiny-2")]
+    assert set(by_budget["scene"]) == {"near"}
+    for gens, run in ((1, tiny_run), (2, other_budget)):
+        block = by_budget.filter(pl.col("generations_per_phase") == gens)
+        assert block.height == len(findings.CLAIMS)
+        assert _same(block.drop(budgets.KEY_COLUMNS), _alone([run]))
+    # pooling both would have judged other samples (the test can fail)
+    both = _alone([tiny_run, other_budget])
+    assert both["n"].to_list() != by_budget.filter(
+        pl.col("generations_per_phase") == 1)["n"].to_list()
+    # a copy of a run is a second run of the same budget: pooled with it
+    twin = tmp_path / "tiny-twin"
+    shutil.copytree(tiny_run, twin, ignore=shutil.ignore_patterns("*.rrd", "report.html"))
+    pooled = budgets.findings_by_budget([tiny_run, twin])
+    assert pooled["runs"].unique().to_list() == ["tiny, tiny-twin"]
+    assert _same(pooled.drop(budgets.KEY_COLUMNS), _alone([tiny_run, twin]))
+
+
+def test_a_report_of_two_budgets_sets_them_side_by_side(tiny_run, other_budget, tmp_path):
+    text = report.build([tiny_run, other_budget], tmp_path / "r.html").read_text()
+    start, end = text.index('<section id="findings">'), text.index('<section id="provenance">')
+    found = text[start:end]
+    table = re.search(r'<table class="findings budgets">.*?</table>', found).group(0)
+    head = re.findall(r"<th>([^<]*)</th>", table.split("</thead>")[0])
+    assert head == ["claim", "kind", "1 gen/phase: effect [CI]", "1 gen/phase: verdict",
+                    "2 gen/phase: effect [CI]", "2 gen/phase: verdict", "as the budget grows"]
+    rows = re.findall(r"<tr><td>([^<]*)</td>", table)
+    assert len(rows) == len(findings.CLAIMS) == len(set(rows))
+    moves = re.findall(r"<td(?: class=\"\w+\")?>([^<]*)</td></tr>", table)
+    assert {m.split(" (")[0] for m in moves} <= set(budgets.MOVEMENTS)
+    # the figure of the effects against the budget, then each budget's own table
+    assert re.search(r'<img alt="figure" src="data:image/png;base64,[A-Za-z0-9+/=]+">'
+                     + re.escape(f"<p>{html.escape(report.BUDGET_FIGURE_NOTE)}</p>"), found)
+    assert found.count('<table class="findings">') == 2
+    assert "<h3>near, 1 generation per phase: tiny</h3>" in found
+    assert "<h3>near, 2 generations per phase: tiny-2</h3>" in found
+    assert "scenes" not in found.split("<table")[0]  # one scene: no notice
