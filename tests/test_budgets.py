@@ -35,7 +35,7 @@ def test_the_budget_is_the_scene_and_the_generations_per_phase(tmp_path):
     a = _run(tmp_path / "a", 50, shoulder)
     b = _run(tmp_path / "b", 50, shoulder, conditions=("pre-h",))
     c = _run(tmp_path / "c", 10, shoulder)
-    d = _run(tmp_path / "d", 50)  # the default scene
+    d = _run(tmp_path / "d", 50, load_scene("near").sectors)
     # gross^ trains 100 generations: 2 phases' worth of 50
     assert bd.budget_of(a) == bd.Budget("arm-length-shoulder", 50)
     assert bd.budget_of(b) == bd.budget_of(a)
