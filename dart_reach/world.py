@@ -68,14 +68,18 @@ class SectorConfig:
     origin of ``neck_1`` at the home posture), cut into 3 x 3 cells by azimuth (0 = straight ahead,
     positive to the robot's right) and elevation (0 = neck height, positive up), in degrees.
     Sector k has elevation row k // 3 (0 = lowest) and azimuth column k % 3 (0 = leftmost).
-    The paper does not give the bounds; these put every point, corners included, in front of
-    the right shoulder, inside the head camera's field of view at the home posture, 22-33 cm
-    from the eyes (inside the 50 cm of the distance sensor, Eq. 3), clear of the resting arm and
-    within the reach of the right arm (``dart-reach validate``; docs/world.md)."""
+    The paper does not give the bounds (it copies the infant experiments, II-B, III); the
+    defaults are the scene study's ``arm-length-shoulder`` scene (docs/task.md, "The scene"):
+    the ball at shoulder height, 0-45 deg to the right of the midline, the farthest point at the
+    extended arm's length. Every point, corners included, is in front of the right shoulder,
+    inside the head camera's field of view at the home posture, 25-34 cm from the eyes (inside
+    the 50 cm of the distance sensor, Eq. 3), clear of the resting arm and within the reach of
+    the right arm (``dart-reach validate``; docs/world.md). Other scenes:
+    ``dart_reach.scenes``."""
 
-    radius: float = 0.30
+    radius: float = 0.344
     azimuth_edges: tuple[float, float, float, float] = (0.0, 15.0, 30.0, 45.0)
-    elevation_edges: tuple[float, float, float, float] = (-45.0, -30.0, -15.0, 0.0)
+    elevation_edges: tuple[float, float, float, float] = (-35.9, -20.9, -5.9, 9.1)
 
     def __post_init__(self):
         r = self.radius

@@ -17,7 +17,7 @@ from dart_reach import data
 from dart_reach.conditions import load_condition, scaled
 from dart_reach.experiment import Settings, train
 from dart_reach.recording import read_properties, read_rrd
-from dart_reach.scenes import load_scene
+from dart_reach.scenes import DEFAULT_SCENE, load_scene
 from dart_reach.watch import display_available, watch
 from dart_reach.world import SectorConfig
 
@@ -36,11 +36,13 @@ def test_shipped_robots_keep_their_provenance():
     assert len(shipped) == len(genomes) == 20
     assert np.array_equal(shipped[0].genome, genomes[0])
     assert [r.lifetime_fitness for r in shipped] == sorted(fitness.tolist(), reverse=True)
-    assert shipped[0].rank == 0 and shipped[-1].rank == 19
-    assert info["budget"]["generations"] == 30 and "learning-check" in info["command"]
-    # the scene they evolved in, which watch puts the ball in (docs/task.md, "The scene")
-    assert info["budget"]["scene"] == "near"
-    assert SectorConfig(**info["budget"]["sectors"]) == load_scene("near").sectors
+    assert np.all(np.diff(fitness) <= 0)
+    assert [(r.replication, r.rank) for r in shipped if r.rank == 0] == [(1, 0), (0, 0)]
+    assert sorted(r.rank for r in shipped) == sorted(list(range(10)) * 2)
+    assert info["budget"]["generations"] == 60 and "learning-check" in info["command"]
+    # the scene they evolved in, which watch puts the ball in: the default (docs/task.md)
+    assert info["budget"]["scene"] == DEFAULT_SCENE == "arm-length-shoulder"
+    assert SectorConfig(**info["budget"]["sectors"]) == SectorConfig()
     assert data.robots("fine") == [] and data.robots("pre", "gross-hat") == []
     assert [(r["condition"], r["phase"]) for r in data.index()] == [("standard", "pre")]
 
@@ -50,7 +52,7 @@ def test_watch_records_the_best_shipped_robot_in_seconds(tmp_path):
     w = watch(out=tmp_path / "w.rrd", viewer=False)
     assert time.monotonic() - t0 < 30
     assert w.viewer_pid is None and w.layout.is_file() and w.layout.suffix == ".rbl"
-    assert "standard/pre replication 0 rank 0" in w.robot and "evolved_pre.json" in w.robot
+    assert "standard/pre replication 1 rank 0" in w.robot and "evolved_pre.json" in w.robot
     trial = read_properties(w.recording)
     assert trial["phase"] == "pre" and trial["sector"] == 4 and trial["trial"] == 20
     assert read_rrd(w.recording).height == 200  # 20 s of 0.1 s steps

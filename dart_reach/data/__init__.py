@@ -19,8 +19,9 @@ provenance (``ROBOTS_FORMAT``)::
 
 ``robots()`` reads them all (``index()`` lists the files); ``export_robots()`` writes such a
 file from a trained run: a file dropped into this folder is shipped from then on. Today one
-file ships: the final population of the pre-reaching learning check (``evolved_pre.json``,
-standard condition, 1 replication, 30 generations).
+file ships (``evolved_pre.json``): the best 10 robots of each of the 2 replications of the
+scene study's ``arm-length-shoulder`` run (docs/task.md, "The scene"): the standard condition's
+pre-reaching phase alone, 60 generations, on the default scene.
 """
 
 from __future__ import annotations
@@ -114,13 +115,17 @@ def robots(phase: str | None = None, condition: str | None = "standard",
 
 
 def evolved_pre() -> tuple[np.ndarray, np.ndarray, dict]:
-    """The final population of the learning check of docs/analysis.md (pre-reaching, 30
-    generations): genomes (20, N_GENES) uint8 best first, their lifetime fitness, and the
-    provenance (command, git revision, budget, phase)."""
+    """The shipped pre-reaching robots (``evolved_pre.json``: 60 generations on the default
+    scene, the best 10 of each of 2 replications): genomes (20, N_GENES) uint8, best lifetime
+    fitness first over both replications, their lifetime fitness, and the provenance (command,
+    git revision, budget, phase; ``replication`` in the same order as the genomes)."""
     info = _read(resources.files(__package__).joinpath("evolved_pre.json"))
     genomes = np.array([np.frombuffer(bytes.fromhex(h), np.uint8)
                         for h in info.pop("genomes_hex")])
-    return genomes, np.array(info.pop("lifetime_fitness")), info
+    fitness = np.array(info.pop("lifetime_fitness"))
+    order = np.argsort(-fitness, kind="stable")
+    info["replication"] = [info["replication"][i] for i in order]
+    return genomes[order], fitness[order], info
 
 
 def export_robots(run_dir, phase: str, path, condition: str | None = None,
@@ -136,6 +141,7 @@ def export_robots(run_dir, phase: str, path, condition: str | None = None,
     state (acuity, offset sensors, free groups, reflexes), else ValueError."""
     from ..conditions import load_condition
     from ..experiment import Run
+    from ..scenes import scene_of
 
     run = Run.open(run_dir)
     found = [(c, p) for c in run.conditions for p in c.phases
@@ -167,7 +173,7 @@ def export_robots(run_dir, phase: str, path, condition: str | None = None,
         "command": manifest.get("command"), "git_revision": manifest.get("git_revision"),
         "budget": {"generations": ph.generations, "replications": s.replications,
                    "trials": s.trials, "steps": s.steps, "physics_dt": s.world.physics_dt,
-                   "seed": s.seed, "scene": manifest.get("scene"),
+                   "seed": s.seed, "scene": manifest.get("scene") or scene_of(s.world.sectors),
                    "sectors": dataclasses.asdict(s.world.sectors)},
         "phase": {"condition": shipped_name, "phase": ph.name,
                   "free_groups": [g.value for g in ph.free_groups], "acuity": ph.acuity,

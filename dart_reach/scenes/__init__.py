@@ -36,7 +36,7 @@ from ..world import SectorConfig, WorldConfig
 
 #: The scene of ``WorldConfig()`` (its ``SectorConfig`` defaults), chosen by the scene study's
 #: rule (docs/task.md).
-DEFAULT_SCENE = "near"
+DEFAULT_SCENE = "arm-length-shoulder"
 
 _NAME_RE = re.compile(r"^[A-Za-z0-9][A-Za-z0-9._-]{0,63}$")
 _TOP_KEYS = ("name", "description", "sectors")
