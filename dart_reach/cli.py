@@ -609,10 +609,11 @@ def build_parser() -> argparse.ArgumentParser:
                    help="also write the figures to FILE, a new file (default: none)")
     p.add_argument("--grid", type=_int_at_least(2), default=7,
                    help="start positions per sector side checked (default 7: 49 per sector)")
-    p.add_argument("--networks", type=_positive, default=40,
-                   help="random networks of the reflex checks (default 40)")
-    p.add_argument("--chance-networks", type=_positive, default=6,
-                   help="random networks post-evaluated for the chance level (default 6)")
+    # validate.REFLEX_NETWORKS and CHANCE_NETWORKS (not imported here: it loads dartpy)
+    p.add_argument("--networks", type=_positive, default=200,
+                   help="random networks of the reflex checks (default 200)")
+    p.add_argument("--chance-networks", type=_positive, default=30,
+                   help="random networks post-evaluated for the chance level (default 30)")
     p.add_argument("--scene-only", action="store_true",
                    help="only the scene checks and the scripted grasps (seconds, not minutes)")
     _add_scene(p)

@@ -91,8 +91,12 @@ def test_orienting_reflex_turns_the_head_toward_the_ball(world):
             # low acuity drives the reflex by c^3: weaker near the centre
             assert on.p_sight[-1] > on.p_sight[0] + (0.05 if acuity == 1 else 0.01), sector
             assert off.p_sight[-1] == pytest.approx(off.p_sight[0], abs=0.01)
-            # no oscillation: the image moves by less than 0.15 of p_sight per step
-            assert np.abs(np.diff(on.p_sight)).max() < 0.15
+            # no oscillation: the image settles (steady over the last 2 s) and swings back from
+            # its best by at most a quarter of its rise. The size of one step is not bounded:
+            # it grows with how far out the ball starts (the scene's choice)
+            p = on.p_sight
+            assert np.ptp(p[-20:]) < 0.01, (acuity, sector)
+            assert p.max() - p[-1] <= 0.25 * (p.max() - p[0]), (acuity, sector)
 
 
 def test_grasp_reflex_closes_the_hand_on_a_palm_touch(world):
@@ -142,7 +146,9 @@ def test_an_exploding_simulation_scores_zero_with_a_flag(world):
 #: motor, targets, p_sight, p_touch, p_multimodal) of 6 trials per phase and senses, computed
 #: with the code before issue 22's measures (commit 7804bb0) on x86_64, dartpy 6.20.0, numpy
 #: 2.4.6: recording any-face touches and the palm's normal, and the ball-absent condition,
-#: must leave the trials of every other condition the same to the last bit.
+#: must leave the trials of every other condition the same to the last bit. They were computed
+#: on the scene of the time (``near``) with the evolved robots then shipped
+#: (tests/data/golden_pre_near.json), and are checked on them.
 GOLDEN = {"pre/normal": "a5bdf409dd3b0545", "pre/no-touch": "a705815512f4863d",
           "pre/no-sight": "1bda4af485bb400d", "pre/nothing": "fdad038bef1f08dd",
           "fine/normal": "9ac782c6064c217d", "fine/no-touch": "9ac782c6064c217d",
@@ -171,9 +177,17 @@ def _golden_platform() -> bool:
     return (platform.machine(), version("dartpy"), np.__version__) == GOLDEN_PLATFORM
 
 
-def _panel_trials(world, phase: str, senses: str, runner=None):
+def _golden_pre() -> np.ndarray:
+    import json
+    from pathlib import Path
+
+    info = json.loads((Path(__file__).parent / "data" / "golden_pre_near.json").read_text())
+    return np.array([np.frombuffer(bytes.fromhex(h), np.uint8) for h in info["genomes_hex"]])
+
+
+def _panel_trials(world, phase: str, senses: str, runner=None, pre=None):
     """The 6 trials of a phase's panel (2 genomes x sectors 1, 4, 7; 120 steps): the shipped
-    evolved pre-reachers, random genomes for fine-reaching."""
+    evolved pre-reachers (or the genomes ``pre``), random genomes for fine-reaching."""
     from dart_reach import bench
     from dart_reach.experiment import standard_trial
     from dart_reach.genome import ParamGroup, decode
@@ -182,22 +196,28 @@ def _panel_trials(world, phase: str, senses: str, runner=None):
     cfg = standard_trial(phase, senses=Senses(senses), steps=120)
     trial = runner or Trial(world, cfg)
     groups = {ParamGroup.DIRECT} if phase == "pre" else set(ParamGroup)
-    for genome in bench.panel_genomes("evolved" if phase == "pre" else "random", 2):
+    if phase == "pre":
+        genomes = bench.panel_genomes("evolved", 2) if pre is None else pre
+    else:
+        genomes = bench.panel_genomes("random", 2)
+    for genome in genomes:
         network = network_for(decode(genome, groups), cfg)
         for k in (1, 4, 7):
             yield trial.run(network, k, world.sector_point(k, 0.3, 0.6))
 
 
-def test_normal_and_deprived_trials_are_bit_identical_to_before_issue_22(world):
+def test_normal_and_deprived_trials_are_bit_identical_to_before_issue_22():
     if not _golden_platform():
         pytest.skip(f"digests recorded on {GOLDEN_PLATFORM} (machine, dartpy, numpy)")
     import hashlib
+    from dart_reach.scenes import load_scene
 
+    near, pre = World(load_scene("near").world()), _golden_pre()
     found = {}
     for key in GOLDEN:
         phase, senses = key.split("/")
         per_trial = [_digest(*(getattr(d, f) for f in RECORDS))
-                     for d in _panel_trials(world, phase, senses)]
+                     for d in _panel_trials(near, phase, senses, pre=pre)]
         found[key] = hashlib.sha256("".join(per_trial).encode()).hexdigest()[:16]
     assert found == GOLDEN
 

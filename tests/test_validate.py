@@ -114,16 +114,23 @@ def test_scripted_reach_and_grasp_grasps_at_all_45_points(world):
 
 
 def test_reflexes_act_in_a_random_population_and_not_without_them(world):
-    on = validate.reflex_rates(world, True, networks=30)
-    off = validate.reflex_rates(world, False, networks=30)
+    on = validate.reflex_rates(world, True)  # validate's sample: ~100 networks judged
+    off = validate.reflex_rates(world, False)
+    assert on["head_turn_judged"] > 50 and off["head_turn_judged"] > 50
     assert on["grasp_rate_touched"] > 0.7 and on["grasp_rate_untouched"] < 0.1
     assert abs(off["grasp_rate_touched"] - off["grasp_rate_untouched"]) < 0.25
     assert on["head_turn_rate"] > 0.6 > 0.4 > off["head_turn_rate"]
 
 
 def test_random_networks_rarely_reach(world):
-    r = validate.chance(world, networks=2)
-    assert r["random_reach_rate"] < 0.4  # the paper's pre-reachers: about 0.5
+    """The typical random network (the median of 6) reaches in few trials. The mean over trials
+    is validate's check, on 30 networks: one network in six may reach in nearly every trial,
+    so a mean over six could not decide it."""
+    r = validate.chance(world, networks=6)
+    per = r["random_reach_per_network"]
+    assert len(per) == 6 and np.mean(per) == pytest.approx(r["random_reach_rate"])
+    assert np.median(per) < 0.25  # the paper's pre-reachers: about 0.5
+    assert r["random_reach_rate_low"] <= r["random_reach_rate"] <= r["random_reach_rate_high"]
     assert r["random_grasp_rate"] <= r["random_reach_rate"]
 
 
@@ -135,11 +142,12 @@ def test_verdicts_fail_when_a_figure_is_bad():
             "noreflex_grasp_rate_touched": 0.4, "noreflex_grasp_rate_untouched": 0.5,
             "reflex_head_turn_rate": 0.8, "reflex_image_closer_rate": 0.1,
             "noreflex_head_turn_rate": 0.2, "noreflex_image_closer_rate": 0.1,
-            "random_reach_rate": 0.1, "random_grasp_rate": 0.05, "random_fitness": 0.001}
+            "random_reach_rate": 0.1, "random_grasp_rate": 0.05, "random_fitness": 0.001,
+            "random_networks": 30, "random_reach_rate_low": 0.05, "random_reach_rate_high": 0.2}
     assert all(c.passed for c in validate.verdicts(good))
     for key, bad in (("in_view_fraction", 0.98), ("palm_gap_min_m", 0.05),
                      ("scripted_grasps", 44), ("reflex_head_turn_rate", 0.3),
-                     ("random_reach_rate", 0.5)):
+                     ("random_reach_rate", 0.5), ("random_reach_rate_high", 0.55)):
         assert not all(c.passed for c in validate.verdicts({**good, key: bad})), key
 
 
