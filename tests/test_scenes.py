@@ -107,17 +107,21 @@ def test_a_run_keeps_its_scene_and_resume_refuses_another(tmp_path):
             "--trials", "1", "--steps", "3", "--workers", "1", "--record-every", "0",
             "--out", str(out)]
     root = Path(__file__).parent.parent
-    done = _cli(*tiny, "--scene", "arm-length-shoulder", cwd=root)
+    # a run on a scene that is not the default
+    other = next(n for n in ("near", "arm-length-shoulder") if n != DEFAULT_SCENE)
+    assert load_scene(other).sectors != WorldConfig().sectors
+    done = _cli(*tiny, "--scene", other, cwd=root)
     assert done.returncode == 0, done.stderr
-    assert Run.open(out).settings.world.sectors == load_scene("arm-length-shoulder").sectors
-    assert json.loads((out / "manifest.json").read_text())["scene"] == "arm-length-shoulder"
-    # the post-evaluation puts the ball where the run's own scene does, whatever the default
+    assert Run.open(out).settings.world.sectors == load_scene(other).sectors
+    assert json.loads((out / "manifest.json").read_text())["scene"] == other
+    # the post-evaluation puts the ball where the run's own scene does, not the default
     table = evaluate_run(out, robots=1, record="none", workers=1, progress=False)
-    world = World(load_scene("arm-length-shoulder").world())
+    world = World(load_scene(other).world())
     positions = table.sort("trial").select("ball_x", "ball_y", "ball_z").to_numpy()
     assert np.allclose(positions, world.systematic_points())
-    refused = _cli(*tiny, "--scene", "near", "--resume", cwd=root)
+    refused = _cli(*tiny, "--scene", DEFAULT_SCENE, "--resume", cwd=root)
     assert refused.returncode == 2 and len(refused.stderr.strip().splitlines()) == 1
+    assert "scene" in refused.stderr
     bad = _cli(*tiny[:-1], str(tmp_path / "other"), "--scene", "nowhere", cwd=root)
     assert bad.returncode == 2 and "unknown scene 'nowhere'" in bad.stderr
     assert not (tmp_path / "other").exists()
