@@ -15,7 +15,7 @@ import pytest
 
 from dart_reach import data
 from dart_reach.conditions import load_condition, scaled
-from dart_reach.experiment import Settings, train
+from dart_reach.experiment import RunError, Settings, train
 from dart_reach.recording import read_properties, read_rrd
 from dart_reach.scenes import DEFAULT_SCENE, load_scene
 from dart_reach.watch import display_available, watch
@@ -85,6 +85,41 @@ def test_watch_a_trained_run_and_export_its_robots(tmp_path):
         data.export_robots(run.out, "gross", path)
     with pytest.raises(ValueError, match="replication=7"):
         watch(run=run.out, replication=7, viewer=False, out=tmp_path / "x.rrd")
+
+
+def test_every_phase_of_a_run_exports_and_loads_back_by_run(tmp_path):
+    """export_run: one robots file per condition and phase, loadable with one call, filtered
+    by run; an existing file or an unfinished phase stops it before anything is written."""
+    run = train([scaled(load_condition(c), 1) for c in ("standard", "gross-hat")],
+                Settings(replications=2, trials=1, steps=4, seed=5), tmp_path / "run-a",
+                workers=1, progress=False)
+    out = tmp_path / "robots"
+    out.mkdir()
+    paths = data.export_run(run.out, out, per_replication=1)
+    assert [p.name for p in paths] == ["run-a-standard-pre.json", "run-a-standard-gross.json",
+                                       "run-a-standard-fine.json",
+                                       "run-a-gross-hat-gross-hat.json"]
+    assert {(r["condition"], r["phase"], r["run"], r["robots"]) for r in data.index(out)} == {
+        ("standard", "pre", "run-a", 2), ("standard", "gross", "run-a", 2),
+        ("standard", "fine", "run-a", 2), ("gross-hat", "gross-hat", "run-a", 2)}
+    hat = data.robots("gross-hat", "gross-hat", directory=out, run="run-a")
+    genomes, fitness = run.load_final(run.conditions[1].phases[0])
+    assert [(r.replication, r.rank) for r in hat] == sorted(
+        [(0, 0), (1, 0)], key=lambda rr: -fitness[rr[0], 0])
+    assert np.array_equal(hat[0].genome, genomes[int(np.argmax(fitness[:, 0])), 0])
+    assert hat[0].provenance["run"] == "run-a" and hat[0].provenance["budget"]["generations"] == 2
+    assert data.robots("gross-hat", "gross-hat", directory=out, run="another") == []
+    # nothing is written when one file exists, or when a phase has not finished
+    again = tmp_path / "again"
+    again.mkdir()
+    (again / "run-a-standard-fine.json").write_text("{}")
+    with pytest.raises(FileExistsError, match="run-a-standard-fine.json"):
+        data.export_run(run.out, again)
+    assert [p.name for p in again.iterdir()] == ["run-a-standard-fine.json"]
+    run.final_path(run.conditions[0].phases[2]).unlink()
+    with pytest.raises(RunError, match="phase fine has not finished"):
+        data.export_run(run.out, tmp_path / "robots-2")
+    assert not (tmp_path / "robots-2").exists()
 
 
 def test_the_learning_checks_robots_ship_as_the_standard_conditions(tmp_path):

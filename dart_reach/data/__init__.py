@@ -9,6 +9,8 @@ provenance (``ROBOTS_FORMAT``)::
     what           a sentence: which run, which population
     command        the command line that trained them
     git_revision   the revision of dart_reach that trained them
+    run            the name of the run directory they come from (files written since
+                   ``export_run``; older files lack it)
     budget         generations, replications, trials, steps, physics_dt, seed, scene and
                    sectors (where the ball hung: ``world.SectorConfig``)
     phase          condition, phase (a shipped condition's phase), free_groups, acuity,
@@ -18,7 +20,8 @@ provenance (``ROBOTS_FORMAT``)::
     genomes_hex    per genome, its uint8 genes as hexadecimal
 
 ``robots()`` reads them all (``index()`` lists the files); ``export_robots()`` writes such a
-file from a trained run: a file dropped into this folder is shipped from then on. Today one
+file from one phase of a trained run, ``export_run()`` one per phase of every condition of a
+run: a file dropped into this folder is shipped from then on. Today one
 file ships (``evolved_pre.json``): the best 10 robots of each of the 2 replications of the
 scene study's ``arm-length-shoulder`` run (docs/task.md, "The scene"): the standard condition's
 pre-reaching phase alone, 60 generations, on the default scene.
@@ -85,26 +88,30 @@ def index(directory=None) -> list[dict]:
         info = _read(f)
         rows.append({"file": f.name, "condition": info["phase"]["condition"],
                      "phase": info["phase"]["phase"], "robots": len(info["genomes_hex"]),
-                     **{k: info.get(k) for k in ("budget", "what", "command", "git_revision")}})
+                     **{k: info.get(k) for k in ("run", "budget", "what", "command",
+                                                 "git_revision")}})
     return rows
 
 
 def robots(phase: str | None = None, condition: str | None = "standard",
-           directory=None) -> list[ShippedRobot]:
+           directory=None, run: str | None = None) -> list[ShippedRobot]:
     """The shipped robots of ``phase`` ("pre", "gross", "fine"; None: every phase) of
     ``condition`` (None: every condition), best lifetime fitness first; empty when none
-    ships. ``directory``: read robots files there instead of the package's."""
+    ships. ``run``: only those of the run directory of that name (``index()`` lists them;
+    lifetime fitness compares robots of one run and budget only). ``directory``: read robots
+    files there instead of the package's."""
     out = []
     for f in _files(directory):
         info = _read(f)
         where = info["phase"]
         if (phase is not None and where["phase"] != phase) or (
-                condition is not None and where["condition"] != condition):
+                condition is not None and where["condition"] != condition) or (
+                run is not None and info.get("run") != run):
             continue
         fitness = info["lifetime_fitness"]
         reps = info.get("replication") or [0] * len(fitness)
-        provenance = {k: info.get(k) for k in ("what", "command", "git_revision", "budget",
-                                               "phase")}
+        provenance = {k: info.get(k) for k in ("what", "command", "git_revision", "run",
+                                               "budget", "phase")}
         seen: dict[int, int] = {}
         for h, fit, r in zip(info["genomes_hex"], fitness, reps):
             rank = seen[r] = seen.get(r, -1) + 1  # files list each replication best first
@@ -171,6 +178,7 @@ def export_robots(run_dir, phase: str, path, condition: str | None = None,
         "what": what or f"best {n} robots of each replication of {cond.name}/{ph.name}, "
                         f"{run.out.name}",
         "command": manifest.get("command"), "git_revision": manifest.get("git_revision"),
+        "run": run.out.name,
         "budget": {"generations": ph.generations, "replications": s.replications,
                    "trials": s.trials, "steps": s.steps, "physics_dt": s.world.physics_dt,
                    "seed": s.seed, "scene": manifest.get("scene") or scene_of(s.world.sectors),
@@ -186,3 +194,24 @@ def export_robots(run_dir, phase: str, path, condition: str | None = None,
     with open(path, "x") as f:
         f.write(json.dumps(info, indent=1) + "\n")
     return path
+
+
+def export_run(run_dir, directory, per_replication: int = 2) -> list[Path]:
+    """``export_robots`` for every phase of every condition of a trained run: one robots file
+    ``RUN-CONDITION-PHASE.json`` each in ``directory`` (RUN: the run directory's name), a
+    phase shared by two conditions under each. Every phase must have finished training and
+    no file may exist yet: the run is checked first, so that nothing is written when one
+    fails (RunError or FileExistsError)."""
+    from ..experiment import Run, RunError
+
+    run = Run.open(run_dir)
+    jobs = [(c.name, p, Path(directory) / f"{run.out.name}-{c.name}-{p.name}.json")
+            for c in run.conditions for p in c.phases]
+    for _, p, path in jobs:
+        if not run.final_path(p).is_file():
+            raise RunError(f"{run.out}: phase {p.name} has not finished training "
+                           f"(no {run.final_path(p).name}); nothing exported")
+        if path.exists():
+            raise FileExistsError(f"{path} exists; nothing exported")
+    return [export_robots(run.out, p.name, path, condition=c, per_replication=per_replication)
+            for c, p, path in jobs]
