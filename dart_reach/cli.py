@@ -304,11 +304,14 @@ def cmd_evaluate(args) -> int:
     from .evaluation import BLUEPRINT, RECORDINGS, TABLE, evaluate_run, parse_senses
 
     senses = parse_senses(args.sensors)
+    if args.finished_only and args.development:
+        raise ValueError("--development needs the whole run trained: not with --finished-only")
     try:
         with evaluation_bar() as bar:
             table = evaluate_run(args.run_dir, senses=senses, robots=args.robots,
                                  record=args.record, workers=args.workers, ray_address=args.ray,
-                                 progress=_checked(bar), baseline=args.baseline)
+                                 progress=_checked(bar), baseline=args.baseline,
+                                 finished_only=args.finished_only)
     except KeyboardInterrupt as exc:
         print(f"\ninterrupted: the robots finished so far are saved in {args.run_dir}/{TABLE}; "
               f"run the same command again to evaluate the rest", file=sys.stderr)
@@ -576,6 +579,10 @@ def build_parser() -> argparse.ArgumentParser:
                    help="also post-evaluate the best N robots of each replication of every "
                         "snapshot (train --snapshot-every): the measures' course over "
                         "generations, in development.parquet (default 0: not)")
+    p.add_argument("--finished-only", action="store_true",
+                   help="evaluate the phases that have finished training in a run that has "
+                        "not (on a copy of a run still training: it holds the lock); "
+                        "not with --development")
     _add_workers(p)
     p.set_defaults(func=cmd_evaluate)
 

@@ -167,10 +167,13 @@ def parse_senses(text: str) -> tuple[str, ...]:
     return (text,)
 
 
-def open_finished(run_dir) -> Run:
-    """The run in ``run_dir``, refusing one whose training has not finished."""
+def open_finished(run_dir, finished_only: bool = False) -> Run:
+    """The run in ``run_dir``, refusing one whose training has not finished (with
+    ``finished_only``: one in which no phase has)."""
     run = Run.open(run_dir)
     missing = run.unfinished()
+    if finished_only and len(missing) < sum(len(c.phases) for c in run.conditions):
+        return run
     if missing:
         unfinished = f"{run.out}: unfinished run: {', '.join(missing)} not trained to the end " \
                      f"(no final.npz); finish it with "
@@ -210,13 +213,17 @@ def evaluate_run(run_dir, senses: Iterable[str] = ("normal",), robots: int = 5,
                  record: Record | str = Record.BEST, workers: int | None = None,
                  ray_address: str | None = None,
                  progress: Callable[[EvaluationProgress], None] | bool = True,
-                 save_every_s: float = 10.0, baseline: int = 0) -> pl.DataFrame:
+                 save_every_s: float = 10.0, baseline: int = 0, finished_only: bool = False
+                 ) -> pl.DataFrame:
     """Post-evaluate a finished run (the function ``dart-reach evaluate`` calls) and return its
     whole evaluation table, baseline rows included. ``baseline``: random genomes per phase
     evaluated beside the trained robots (never recorded). ``progress``: True (default) shows
     a progress bar (plain lines where the output is not a terminal), False nothing, a
-    callable is told each ``EvaluationProgress``."""
-    run = open_finished(run_dir)
+    callable is told each ``EvaluationProgress``. ``finished_only``: evaluate the phases that
+    have finished training in a run that has not (a look at a long run part-way, on a copy of
+    its directory: the training holds the run's lock); evaluating again once the run has
+    finished adds the rest."""
+    run = open_finished(run_dir, finished_only)
     bar = evaluation_bar() if progress is True else None
     try:
         with DirectoryLock(run.out):
@@ -243,6 +250,8 @@ def _evaluate(run: Run, senses, robots, record, workers, ray_address, progress, 
         table.filter(pl.col("measures_version") >= MEASURES_VERSION).select(_KEY).iter_rows())
     jobs = []
     for condition, phase in run.unique_phases():
+        if not run.final_path(phase).exists():
+            continue  # not trained to the end (finished_only)
         genomes, fitness = run.load_final(phase)
         best_replication = int(np.argmax(fitness[:, 0]))
         base = trial_config(phase, run.settings)

@@ -187,6 +187,37 @@ def test_bad_input(trained, tmp_path):
     assert (run / "evaluation.parquet").read_bytes() == b"not parquet"
 
 
+def test_the_finished_phases_of_an_unfinished_run_and_later_the_rest(evaluated, tmp_path):
+    """--finished-only evaluates the phases trained to the end (a look at a long run
+    part-way); once the run has finished, evaluating again adds only the rest, and the rows
+    are those of a whole evaluation."""
+    src, _ = evaluated
+    whole = pl.read_parquet(src / "evaluation.parquet")
+    part = tmp_path / "part"
+    shutil.copytree(src, part)
+    (part / "evaluation.parquet").unlink()
+    fine = next((part / "phases").glob("fine-*/final.npz"))
+    kept = fine.read_bytes()
+    fine.unlink()
+    args = ("--sensors", "no-touch", "--robots", "2", "--workers", "1", "--record", "none")
+    _one_line_error(_cli("evaluate", part, "--finished-only", "--development", "1", *args),
+                    "not with --finished-only")
+    done = _cli("evaluate", part, "--finished-only", *args)
+    assert done.returncode == 0, done.stderr
+    table = pl.read_parquet(part / "evaluation.parquet")
+    assert sorted(set(table["phase"])) == ["gross", "pre"] and table.height == 2 * 2 * 2 * TRIALS
+    fine.write_bytes(kept)  # the run finishes
+    assert _cli("evaluate", part, *args).returncode == 0
+    after = load_evaluation(part).drop("recording").sort("phase", "replication", "rank", "trial")
+    assert after.height == whole.height
+    assert after.equals(whole.drop("recording").sort("phase", "replication", "rank", "trial"))
+    none = tmp_path / "none"
+    shutil.copytree(src, none)
+    for f in (none / "phases").glob("*/final.npz"):
+        f.unlink()
+    _one_line_error(_cli("evaluate", none, "--finished-only"), "unfinished run")
+
+
 def test_rows_of_an_older_version_of_the_measures_are_measured_again(evaluated, tmp_path):
     """A table written before issue 22 (no measures_version; reach on inner faces) still
     opens, and evaluating its robots again replaces their rows instead of mixing versions."""
