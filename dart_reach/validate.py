@@ -34,8 +34,8 @@ ORIENT_SECONDS = 3.0
 #: Control steps the palm is touched before the hand's target is read (0.5 s).
 GRASP_STEPS = 5
 #: Random networks of the reflex checks. About half have the ball in view to judge the head's
-#: turn, so 200 give ~100 judged: a rate's standard error ~0.05 (40 gave 58-81 % on one scene
-#: as the sample changed, around the checks' thresholds); 3-4 s each way.
+#: turn, so 200 give ~100 judged: a rate's standard error ~0.05 (30 and 40 networks gave 59 %
+#: and 81 % on one scene, around the checks' thresholds); 3-4 s each way.
 REFLEX_NETWORKS = 200
 #: Random networks of the chance check (1,350 trials, ~1.5 min). The unit is the network: one in
 #: six may reach in nearly every trial, so six networks could not decide "fewer than half".

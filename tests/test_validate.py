@@ -151,6 +151,14 @@ def test_verdicts_fail_when_a_figure_is_bad():
         assert not all(c.passed for c in validate.verdicts({**good, key: bad})), key
 
 
+def test_cli_defaults_are_the_libraries():
+    from dart_reach.cli import build_parser
+
+    args = build_parser().parse_args(["validate"])
+    assert (args.networks, args.chance_networks) == (validate.REFLEX_NETWORKS,
+                                                     validate.CHANCE_NETWORKS)
+
+
 def test_cli_validate_bad_input_is_one_line_and_exit_code_2(tmp_path):
     for args in (["--grid", "1"], ["--networks", "0"], ["--json", str(tmp_path)]):
         p = subprocess.run([sys.executable, "-m", "dart_reach.cli", "validate", *args],
