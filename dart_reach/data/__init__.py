@@ -21,10 +21,10 @@ provenance (``ROBOTS_FORMAT``)::
 
 ``robots()`` reads them all (``index()`` lists the files); ``export_robots()`` writes such a
 file from one phase of a trained run, ``export_run()`` one per phase of every condition of a
-run: a file dropped into this folder is shipped from then on. Today one
-file ships (``evolved_pre.json``): the best 10 robots of each of the 2 replications of the
-scene study's ``arm-length-shoulder`` run (docs/task.md, "The scene"): the standard condition's
-pre-reaching phase alone, 60 generations, on the default scene.
+run: a file dropped into this folder is shipped from then on. Today one file ships
+(``evolved_pre.json``): the best 10 robots of each of the 2 replications of the scene study's
+``arm-length-shoulder`` run (docs/task.md, "The scene"): the standard condition's pre-reaching
+phase alone, 60 generations, on the default scene.
 """
 
 from __future__ import annotations
