@@ -167,16 +167,19 @@ def parse_senses(text: str) -> tuple[str, ...]:
     return (text,)
 
 
-def open_finished(run_dir, finished_only: bool = False) -> Run:
+def open_finished(run_dir, finished_only: bool | None = None) -> Run:
     """The run in ``run_dir``, refusing one whose training has not finished (with
-    ``finished_only``: one in which no phase has)."""
+    ``finished_only`` True: one in which no phase has; False: the message names the option,
+    None: it does not offer it)."""
     run = Run.open(run_dir)
     missing = run.unfinished()
     if finished_only and len(missing) < sum(len(c.phases) for c in run.conditions):
         return run
     if missing:
         unfinished = f"{run.out}: unfinished run: {', '.join(missing)} not trained to the end " \
-                     f"(no final.npz); finish it with "
+                     f"(no final.npz)" + {True: "; no phase has finished yet",
+                                          False: " (--finished-only: the finished phases alone)",
+                                          None: ""}[finished_only] + "; finish it with "
         raise RunError(unfinished + f"experiment.train(..., out={str(run.out)!r}, resume=True)",
                        cli=unfinished + f"'dart-reach train ... --resume --out {run.out}'")
     return run
@@ -221,8 +224,8 @@ def evaluate_run(run_dir, senses: Iterable[str] = ("normal",), robots: int = 5,
     a progress bar (plain lines where the output is not a terminal), False nothing, a
     callable is told each ``EvaluationProgress``. ``finished_only``: evaluate the phases that
     have finished training in a run that has not (a look at a long run part-way, on a copy of
-    its directory: the training holds the run's lock); evaluating again once the run has
-    finished adds the rest."""
+    its directory: the training holds the run's lock). Its ``evaluation.parquet``, copied into
+    the run once it has finished, is kept: evaluating the run then adds only the rest."""
     run = open_finished(run_dir, finished_only)
     bar = evaluation_bar() if progress is True else None
     try:

@@ -34,7 +34,7 @@ ORIENT_SECONDS = 3.0
 #: Control steps the palm is touched before the hand's target is read (0.5 s).
 GRASP_STEPS = 5
 #: Random networks of the reflex checks. About half have the ball in view to judge the head's
-#: turn, so 200 give ~100 judged: a rate's standard error ~0.05 (30 and 40 networks gave 59 %
+#: turn, so 200 give ~110 judged: a rate's standard error ~0.04 (30 and 40 networks gave 59 %
 #: and 81 % on one scene, around the checks' thresholds); 3-4 s each way.
 REFLEX_NETWORKS = 200
 #: Random networks of the chance check (1,350 trials, ~1.5 min). The unit is the network: one in

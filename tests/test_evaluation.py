@@ -187,35 +187,38 @@ def test_bad_input(trained, tmp_path):
     assert (run / "evaluation.parquet").read_bytes() == b"not parquet"
 
 
-def test_the_finished_phases_of_an_unfinished_run_and_later_the_rest(evaluated, tmp_path):
+def test_the_finished_phases_of_an_unfinished_run_and_later_the_rest(trained, tmp_path):
     """--finished-only evaluates the phases trained to the end (a look at a long run
-    part-way); once the run has finished, evaluating again adds only the rest, and the rows
-    are those of a whole evaluation."""
-    src, _ = evaluated
-    whole = pl.read_parquet(src / "evaluation.parquet")
+    part-way); its table, kept once the run has finished, is completed with only the rest,
+    and the rows (baseline and every sensory condition included) are those of a whole
+    evaluation."""
+    args = ("--sensors", "all", "--robots", "1", "--baseline", "1", "--workers", "1",
+            "--record", "none")
+    whole = tmp_path / "whole"
+    shutil.copytree(trained, whole)
+    assert _cli("evaluate", whole, *args).returncode == 0
     part = tmp_path / "part"
-    shutil.copytree(src, part)
-    (part / "evaluation.parquet").unlink()
+    shutil.copytree(trained, part)
     fine = next((part / "phases").glob("fine-*/final.npz"))
     kept = fine.read_bytes()
     fine.unlink()
-    args = ("--sensors", "no-touch", "--robots", "2", "--workers", "1", "--record", "none")
+    _one_line_error(_cli("evaluate", part, *args), "unfinished run", "--finished-only")
     _one_line_error(_cli("evaluate", part, "--finished-only", "--development", "1", *args),
                     "not with --finished-only")
     done = _cli("evaluate", part, "--finished-only", *args)
     assert done.returncode == 0, done.stderr
     table = pl.read_parquet(part / "evaluation.parquet")
-    assert sorted(set(table["phase"])) == ["gross", "pre"] and table.height == 2 * 2 * 2 * TRIALS
+    assert sorted(set(table["phase"])) == ["gross", "pre"]
+    assert table.height == 2 * (len(SENSES) + 1) * (2 + 1) * TRIALS  # phases, senses + no-ball
     fine.write_bytes(kept)  # the run finishes
     assert _cli("evaluate", part, *args).returncode == 0
-    after = load_evaluation(part).drop("recording").sort("phase", "replication", "rank", "trial")
-    assert after.height == whole.height
-    assert after.equals(whole.drop("recording").sort("phase", "replication", "rank", "trial"))
+    key = ("phase", "senses", "baseline", "replication", "rank", "trial")
+    assert load_evaluation(part, None).sort(key).equals(load_evaluation(whole, None).sort(key))
     none = tmp_path / "none"
-    shutil.copytree(src, none)
+    shutil.copytree(trained, none)
     for f in (none / "phases").glob("*/final.npz"):
         f.unlink()
-    _one_line_error(_cli("evaluate", none, "--finished-only"), "unfinished run")
+    _one_line_error(_cli("evaluate", none, "--finished-only"), "no phase has finished yet")
 
 
 def test_rows_of_an_older_version_of_the_measures_are_measured_again(evaluated, tmp_path):

@@ -45,8 +45,8 @@ ROBOTS_FORMAT = 1
 class ShippedRobot:
     """An evolved genome with where it comes from. ``rank``: its place in its replication's
     final population (0 = best); ``lifetime_fitness``: mean p_multimodal (Eq. 5) over its
-    evaluations during training; ``provenance``: the file's what, command, git_revision and
-    budget; ``source``: the file's name."""
+    evaluations during training; ``provenance``: the file's what, command, git_revision,
+    run, budget and phase; ``source``: the file's name."""
 
     condition: str
     phase: str
@@ -82,7 +82,7 @@ def _read(file) -> dict:
 
 def index(directory=None) -> list[dict]:
     """One row per robots file (default: the package's): file, condition, phase, robots,
-    budget, what, command, git_revision."""
+    run (None in files that predate it), budget, what, command, git_revision."""
     rows = []
     for f in _files(directory):
         info = _read(f)
@@ -97,8 +97,9 @@ def robots(phase: str | None = None, condition: str | None = "standard",
            directory=None, run: str | None = None) -> list[ShippedRobot]:
     """The shipped robots of ``phase`` ("pre", "gross", "fine"; None: every phase) of
     ``condition`` (None: every condition), best lifetime fitness first; empty when none
-    ships. ``run``: only those of the run directory of that name (``index()`` lists them;
-    lifetime fitness compares robots of one run and budget only). ``directory``: read robots
+    ships. ``run``: only those of the run directory of that name (files written by
+    ``export_robots``/``export_run`` name it, ``index()`` lists it; ``evolved_pre.json``
+    predates it; lifetime fitness compares robots of one run and budget only). ``directory``: read robots
     files there instead of the package's."""
     out = []
     for f in _files(directory):
@@ -201,10 +202,12 @@ def export_run(run_dir, directory, per_replication: int = 2) -> list[Path]:
     ``RUN-CONDITION-PHASE.json`` each in ``directory`` (RUN: the run directory's name), a
     phase shared by two conditions under each. Every phase must have finished training and
     no file may exist yet: the run is checked first, so that nothing is written when one
-    fails (RunError or FileExistsError)."""
+    fails (RunError, FileExistsError; FileNotFoundError when ``directory`` does not exist)."""
     from ..experiment import Run, RunError
 
     run = Run.open(run_dir)
+    if not Path(directory).is_dir():
+        raise FileNotFoundError(f"{directory}: no such directory; nothing exported")
     jobs = [(c.name, p, Path(directory) / f"{run.out.name}-{c.name}-{p.name}.json")
             for c in run.conditions for p in c.phases]
     for _, p, path in jobs:
