@@ -224,6 +224,20 @@ def _checked(callback):
     return report
 
 
+def cmd_robots(args) -> int:
+    """The shipped robots files (``data.index()``)."""
+    from .data import index
+
+    print(f"{'run':<22}{'condition/phase':<26}{'robots':>6}  {'generations':>11}  "
+          f"{'replications':>12}  {'scene':<22}file")
+    for r in index():
+        b = r["budget"] or {}
+        print(f"{str(r['run']):<22}{r['condition'] + '/' + r['phase']:<26}{r['robots']:>6}  "
+              f"{b.get('generations', '?'):>11}  {b.get('replications', '?'):>12}  "
+              f"{str(b.get('scene', '?')):<22}{r['file']}")
+    return 0
+
+
 def cmd_conditions(args) -> int:
     from .conditions import list_conditions
 
@@ -402,7 +416,8 @@ def cmd_watch(args) -> int:
     from .watch import watch
 
     watched = watch(args.phase, args.condition, args.replication, args.rank, args.sector,
-                    args.senses, args.run, args.out, viewer=False if args.no_viewer else None)
+                    args.senses, args.run, args.out, viewer=False if args.no_viewer else None,
+                    shipped=args.shipped)
     m = watched.measures
     print(f"{watched.robot}\nsector {args.sector}, {args.senses} senses: "
           f"{'reached' if m['reached'] else 'no reach'}, "
@@ -487,6 +502,9 @@ def build_parser() -> argparse.ArgumentParser:
                    help="the condition the robot was trained in")
     p.add_argument("--run", type=Path, default=None, metavar="RUN_DIR",
                    help="watch this trained run's robot (default: a shipped robot)")
+    p.add_argument("--shipped", default=None, metavar="NAME",
+                   help="a shipped robot of the shipped run NAME (see 'robots'; default: "
+                        "the run that trained the phase longest)")
     p.add_argument("--replication", type=_non_negative, default=None, metavar="R",
                    help="the robot's replication (default: the best replication)")
     p.add_argument("--rank", type=_non_negative, default=0,
@@ -527,6 +545,10 @@ def build_parser() -> argparse.ArgumentParser:
     p = command("scenes", "list the shipped scenes (where the ball hangs) and their geometry "
                           "relative to the arm")
     p.set_defaults(func=cmd_scenes)
+
+    p = command("robots", "list the shipped evolved robots (their run, phase and budget; "
+                          "'watch --shipped RUN' shows one)")
+    p.set_defaults(func=cmd_robots)
 
     p = command("conditions", "list the shipped conditions")
     p.set_defaults(func=cmd_conditions)

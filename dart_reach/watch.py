@@ -59,27 +59,50 @@ class _Choice:
     text: str
 
 
-def _shipped(phase, condition, replication, rank) -> _Choice:
-    """The best shipped robot asked for."""
+def _longest_trained(robots: list) -> list:
+    """The robots of the run that trained them longest among shipped robots of one phase
+    (most generations, then most replications, then the last run name): two runs' ranks and
+    replications are never mixed."""
+    by_run: dict = {}
+    for r in robots:
+        by_run.setdefault(r.provenance.get("run"), []).append(r)
+
+    def size(run):
+        b = by_run[run][0].provenance.get("budget") or {}
+        return b.get("generations", 0), b.get("replications", 0), run or ""
+    return by_run[max(by_run, key=size)]
+
+
+def _shipped(phase, condition, replication, rank, shipped=None) -> _Choice:
+    """The best shipped robot asked for (of the run named ``shipped``, default the
+    longest-trained run that ships the phase)."""
     from .conditions import load_condition
     from .data import index, robots
     from .experiment import Settings
     from .world import SectorConfig, WorldConfig
 
-    wanted = robots(phase, condition)
+    wanted = robots(phase, condition, run=shipped)
     if phase is None:  # the most developed phase that ships
         for name in reversed(PHASES):
             if any(r.phase == name for r in wanted):
                 wanted = [r for r in wanted if r.phase == name]
                 break
     if not wanted:
-        shipped = ", ".join(sorted({f"{r['condition']}/{r['phase']}" for r in index()}))
-        asked = f"{condition}/{phase}" if phase else condition
+        runs = sorted({str(r["run"]) for r in index()})
+        if shipped is not None and shipped not in runs:
+            raise UsageError(f"shipped={shipped!r}: no such shipped run (shipped runs: "
+                             f"{', '.join(runs)})", cli=f"--shipped {shipped}: no such shipped "
+                                                        f"run (shipped runs: {', '.join(runs)})")
+        ships = ", ".join(sorted({f"{r['condition']}/{r['phase']}" for r in index()
+                                  if shipped is None or r["run"] == shipped}))
+        asked = (f"{condition}/{phase}" if phase else condition) + (
+            f" in shipped run {shipped!r}" if shipped else "")
         raise UsageError(
-            f"no shipped robot of {asked}: only {shipped} ships today; train one "
+            f"no shipped robot of {asked}: only {ships} ships; train one "
             f"(experiment.train) and watch it with run=RUN_DIR",
-            cli=f"no shipped robot of {asked}: only {shipped} ships today; train one "
+            cli=f"no shipped robot of {asked}: only {ships} ships; train one "
                 f"(dart-reach train {condition}) and watch it with --run RUN_DIR")
+    wanted = _longest_trained(wanted)
     if replication is not None:
         have = sorted({r.replication for r in wanted})
         wanted = [r for r in wanted if r.replication == replication]
@@ -156,7 +179,8 @@ def _trained(run_dir, phase, condition, replication, rank) -> _Choice:
 
 def watch(phase: str | None = None, condition: str | None = "standard",
           replication: int | None = None, rank: int = 0, sector: int = 4,
-          senses: str = "normal", run=None, out=None, viewer: bool | None = None) -> Watched:
+          senses: str = "normal", run=None, out=None, viewer: bool | None = None,
+          shipped: str | None = None) -> Watched:
     """Run one trial of an evolved robot with the ball at the centre of ``sector`` (0..8; the
     post-evaluation's trial 5 x sector) and record it with the trial layout.
 
@@ -164,7 +188,8 @@ def watch(phase: str | None = None, condition: str | None = "standard",
     replication (or of ``replication``) of ``phase`` of ``condition`` (default: the run's last
     trained phase; the run's first condition when it lacks ``condition``); without, the
     best shipped robot of ``phase`` of ``condition`` (``data.robots``; default: the most
-    developed phase that ships). ``senses``: normal, no-touch, no-sight or nothing (Fig. 9).
+    developed phase that ships) from the shipped run named ``shipped`` (``data.index()``'s
+    ``run``; default: the run that trained that phase longest). ``senses``: normal, no-touch, no-sight or nothing (Fig. 9).
 
     Writes ``out`` (default ``recordings/watch/<condition>-<phase>-sector<K>.rrd``, made
     with its folder) and its layout beside it (``.rbl``). ``viewer``: True starts the Rerun
@@ -189,8 +214,11 @@ def watch(phase: str | None = None, condition: str | None = "standard",
         choices = ", ".join(s.value for s in Senses)
         raise UsageError(f"senses must be one of {choices}, got {senses!r}",
                          cli=f"--senses must be one of {choices}, got {senses!r}") from None
+    if run is not None and shipped is not None:
+        raise UsageError("give run (a trained run directory) or shipped (a shipped run's "
+                         "name), not both", cli="give --run or --shipped, not both")
     robot = (_trained(run, phase, condition, replication, rank) if run is not None
-             else _shipped(phase, condition, replication, rank))
+             else _shipped(phase, condition, replication, rank, shipped))
     ph, settings = robot.phase, robot.settings
     trial = replace(trial_config(ph, settings), senses=how)
     runner = worker_trial(settings.world, trial)

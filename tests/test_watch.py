@@ -4,6 +4,7 @@ exported from a run load back; unavailable phases are one clear line."""
 
 from __future__ import annotations
 
+import dataclasses
 import json
 import subprocess
 import sys
@@ -126,6 +127,50 @@ def test_every_phase_of_a_run_exports_and_loads_back_by_run(tmp_path):
     assert list(empty.iterdir()) == []
 
 
+def test_watch_takes_one_shipped_runs_robots_the_longest_trained_by_default(tmp_path):
+    """Two runs ship the same phase: watch never mixes their replications and ranks; it
+    takes the run with more generations per phase (then more replications)."""
+    from dart_reach.watch import _longest_trained
+
+    out = tmp_path / "robots"
+    out.mkdir()
+    for name, generations, replications in (("short", 1, 4), ("long", 2, 2)):
+        run = train([scaled(load_condition("standard"), generations)],
+                    Settings(replications=replications, trials=1, steps=4, seed=5),
+                    tmp_path / name, workers=1, progress=False)
+        data.export_robots(run.out, "pre", out / f"{name}.json", per_replication=1)
+    both = data.robots("pre", directory=out)
+    assert {r.provenance["run"] for r in both} == {"short", "long"} and len(both) == 6
+    chosen = _longest_trained(both)
+    assert {r.provenance["run"] for r in chosen} == {"long"} and len(chosen) == 2
+    same = [r for r in both if r.provenance["run"] == "short"]
+    assert _longest_trained(same) == same
+    # equal generations: the run with more replications
+    widened = [dataclasses.replace(r, provenance={**r.provenance, "budget": {
+        **r.provenance["budget"], "generations": 2}}) for r in same]
+    assert _longest_trained(widened + chosen) == widened
+
+
+def test_cli_lists_the_shipped_robots_and_watches_one_shipped_run(tmp_path):
+    result = _cli("robots")
+    assert result.returncode == 0, result.stderr
+    lines = result.stdout.splitlines()
+    assert len(lines) == 1 + len(data.index())
+    for row, line in zip(data.index(), lines[1:]):
+        assert line.startswith(str(row["run"])) and line.endswith(row["file"])
+        assert f"{row['condition']}/{row['phase']}" in line
+    result = _cli("watch", "pre", "--shipped", "arm-length-shoulder", "--out", tmp_path / "w.rrd")
+    assert result.returncode == 0, result.stderr
+    assert "evolved_pre.json" in result.stdout
+    result = _cli("watch", "--shipped", "no-such-run", "--out", tmp_path / "n.rrd")
+    assert result.returncode == 2 and result.stderr.count("\n") == 1
+    assert "--shipped no-such-run: no such shipped run" in result.stderr
+    result = _cli("watch", "--shipped", "arm-length-shoulder", "--run", tmp_path,
+                  "--out", tmp_path / "b.rrd")
+    assert result.returncode == 2 and "not both" in result.stderr
+    assert not (tmp_path / "n.rrd").exists() and not (tmp_path / "b.rrd").exists()
+
+
 def test_the_learning_checks_robots_ship_as_the_standard_conditions(tmp_path):
     """The learning check's pre-only/pre trains the maturational state of standard/pre: its
     robots ship under standard (loadable by watch); a condition whose phase differs refuses."""
@@ -154,7 +199,7 @@ def test_cli_watch_without_a_display_writes_and_says_how_to_open(tmp_path):
     assert "shipped robot standard/pre" in result.stdout
     result = _cli("watch", "fine", "--out", tmp_path / "f.rrd")
     assert result.returncode == 2 and result.stderr.count("\n") == 1
-    assert "only standard/pre ships today" in result.stderr and "--run" in result.stderr
+    assert "only standard/pre ships" in result.stderr and "--run" in result.stderr
     assert not (tmp_path / "f.rrd").exists()
 
 
