@@ -362,8 +362,10 @@ def cmd_report(args) -> int:
                 f"figures come from the post-evaluation; run first: "
                 + shlex.join(["dart-reach", "evaluate", str(run_dir), "--sensors", "all",
                               "--baseline", "20"]))
-    path = report.build(args.run_dirs, args.out)
+    path = report.build(args.run_dirs, args.out, findings_out=args.findings)
     print(f"report: {path}\nopen it in a browser (it is self-contained, works offline)")
+    if args.findings:
+        print(f"findings: {args.findings} (every claim at every budget, as in the report)")
     return 0
 
 
@@ -615,6 +617,9 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--out", type=Path, default=None, metavar="FILE.html",
                    help="where to write it, in an existing directory (default "
                         "RUN_DIR/report.html of the first run)")
+    p.add_argument("--findings", type=Path, default=None, metavar="FILE.parquet",
+                   help="also write the findings, every claim at every budget, to this new "
+                        "parquet file (default: none)")
     p.set_defaults(func=cmd_report)
 
     p = command("status", "where a run's training stands: generations, fitness and wall "

@@ -191,7 +191,7 @@ def course(table: pl.DataFrame, measures: Sequence[str] = tuple(m for m, _ in ME
     measures = [m for m in measures if m in table.columns]
     keys = ["condition", "phase", "notation", "replication", "generation", "offset"]
     values = [pl.col(m).cast(pl.Float64).fill_nan(None) for m in measures]
-    robots = table.group_by([*keys, "rank"]).agg([v.mean() for v in values])
+    robots = table.group_by([*keys, "rank"]).agg([v.mean() for v in values]).sort([*keys, "rank"])
     out = (robots.group_by(keys).agg(pl.len().alias("robots"),
                                      *[pl.col(m).mean() for m in measures])
            .with_columns((pl.col("offset") + pl.col("generation")).alias("x"),

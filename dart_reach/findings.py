@@ -289,7 +289,8 @@ def replications(table: pl.DataFrame, senses: str = "normal") -> pl.DataFrame:
 def _replication_means(units: pl.DataFrame, measure: str) -> pl.DataFrame:
     """Per (notation, run, replication): the mean of ``measure`` over the replication's robots."""
     return (units.filter(pl.col(measure).is_not_nan())
-            .group_by("notation", "run", "replication").agg(pl.col(measure).mean()))
+            .group_by("notation", "run", "replication").agg(pl.col(measure).mean())
+            .sort("notation", "run", "replication"))
 
 
 def _values(units: pl.DataFrame, group: str, measure: str) -> np.ndarray:
@@ -438,7 +439,8 @@ def _paired_change(claim: Claim, data: _Data) -> dict:
                 f"({claim.versus} - {claim.senses}); the paper: "
                 f"{'higher' if claim.sign > 0 else 'lower'} under {claim.versus}")
     out = judge(pairs["ref"].to_numpy(), pairs["new"].to_numpy())
-    reps = pairs.group_by("run", "replication").agg(pl.col("ref").mean(), pl.col("new").mean())
+    reps = (pairs.group_by("run", "replication").agg(pl.col("ref").mean(), pl.col("new").mean())
+            .sort("run", "replication"))
     at_reps = judge(reps["ref"].to_numpy(), reps["new"].to_numpy())
     agree = at_reps.verdict == out.verdict
     if not agree:
@@ -472,7 +474,8 @@ def _every_sector(claim: Claim, data: _Data) -> dict:
         return _not_run(claim, f"no {claim.b} robots")
     per = (trials.group_by("run", "replication", "sector")
            .agg(pl.col("reached").cast(pl.Float64).mean(),
-                pl.col("grasped").cast(pl.Float64).mean()))
+                pl.col("grasped").cast(pl.Float64).mean())
+           .sort("run", "replication", "sector"))  # the bootstrap's draws: the same every time
     cells = {f"{what} in sector {k}": per.filter(pl.col("sector") == k)[col].to_numpy()
              for k in range(9) for col, what in (("reached", "reach"), ("grasped", "grasp"))}
     out = verdicts.at_least(cells, verdicts.SECTOR_FLOOR, np.random.default_rng(BOOTSTRAP_SEED))
@@ -499,6 +502,7 @@ def _never(claim: Claim, data: _Data) -> dict:
         reps = (trials.group_by("run", "replication", "generation")
                 .agg(pl.col(claim.measure).cast(pl.Float64).mean().alias("value"))
                 .group_by("run", "replication").agg(pl.col("value").max()))
+    reps = reps.sort("run", "replication")  # the bootstrap's draws: the same every time
     if reps.height == 0:
         return _not_run(claim, f"no {claim.b} robots")
     eps = verdicts.NEVER_EPSILON

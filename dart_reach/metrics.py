@@ -443,7 +443,8 @@ def replication_performance(table: pl.DataFrame, senses: str = "normal", robots:
         raise ValueError(f"no trials with senses {senses!r} and rank < {robots} in the table")
     per_robot = (sub.group_by([*by, "replication", "rank"])
                  .agg(pl.col("fitness").cast(pl.Float64).mean(), *_rates(),
-                      pl.col("lifetime_fitness").cast(pl.Float64).first()))
+                      pl.col("lifetime_fitness").cast(pl.Float64).first())
+                 .sort([*by, "replication", "rank"]))  # the means below: the same bits always
     return (per_robot.group_by([*by, "replication"])
             .agg(pl.len().alias("robots"),
                  *[pl.col(c).mean() for c in ("fitness", "reach_rate", "grasp_rate",
@@ -471,7 +472,8 @@ def peripersonal_space(table: pl.DataFrame,
     _require(table, [*by, "sector", "reached", "grasped"])
     per_sector = (table.group_by([*by, "sector"])
                   .agg(pl.len().alias("n"), pl.col("reached").cast(pl.Int64).sum().alias("r"),
-                       pl.col("grasped").cast(pl.Int64).sum().alias("g")))
+                       pl.col("grasped").cast(pl.Int64).sum().alias("g"))
+                  .sort([*by, "sector"]))  # sums below in sector order: the same bits every time
     total = pl.col("r").sum().over(by)
     share = pl.col("r") / total
     term = pl.when(pl.col("r") > 0).then(-share * share.log()).otherwise(0.0)

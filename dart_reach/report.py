@@ -275,7 +275,7 @@ def _verdict_class(column: str, value) -> str:
     return ""
 
 
-def _findings_body(blocks: list) -> str:
+def _findings_body(blocks: list, by_budget: pl.DataFrame) -> str:
     """The findings of each budget (``budgets``: runs of one scene and one number of
     generations per phase are pooled, others never): for one budget, its table as ever; for
     several, the claims side by side with their movement as the budget grows, the figure of
@@ -289,8 +289,6 @@ def _findings_body(blocks: list) -> str:
 
     if len(blocks) == 1:
         return block_html(*blocks[0], heading=False)
-    by_budget = pl.concat([budgets.label_findings(found, budget, dirs)
-                           for budget, dirs, _, found in blocks])
     scenes = list(dict.fromkeys(budget.scene for budget, *_ in blocks))
     parts = []
     if len(scenes) > 1:
@@ -318,10 +316,12 @@ def _findings_body(blocks: list) -> str:
 
 
 # ------------------------------------------------------------------------------ the report
-def build(run_dirs: Sequence, out=None) -> Path:
+def build(run_dirs: Sequence, out=None, findings_out=None) -> Path:
     """Write the report of ``run_dirs`` to ``out`` (default ``<first run>/report.html``) and
     return its path. Runs without a post-evaluation get provenance and training only, and
-    their claims are "not run"."""
+    their claims are "not run". ``findings_out``: also write the findings the report shows,
+    every claim at every budget (``budgets.findings_by_budget``'s frame), to this parquet
+    file, a new one."""
     run_dirs = [Path(d) for d in run_dirs]
     if not run_dirs:
         raise ValueError("the report needs at least one run directory")
@@ -337,6 +337,12 @@ def build(run_dirs: Sequence, out=None) -> Path:
         raise UsageError(f"{out} exists and is not a dart_reach report; choose another out",
                          cli=f"{out} exists and is not a dart_reach report; choose another "
                              f"--out")
+    if findings_out is not None:
+        findings_out = Path(findings_out)
+        if findings_out.exists():
+            raise FileExistsError(f"{findings_out} exists; choose another file for the findings")
+        if not findings_out.parent.is_dir():
+            raise FileNotFoundError(f"{findings_out.parent}: no such directory for the findings")
     evaluated = [d for d in run_dirs if (d / "evaluation.parquet").is_file()]
     everything = budgets.pooled(evaluated)
     table, baseline = everything.table, everything.baseline
@@ -344,13 +350,15 @@ def build(run_dirs: Sequence, out=None) -> Path:
     blocks = [(budget, dirs, everything if len(groups) == 1 else budgets.pooled(dirs))
               for budget, dirs in groups.items()]
     blocks = [(budget, dirs, pooled_, pooled_.findings()) for budget, dirs, pooled_ in blocks]
+    by_budget = pl.concat([budgets.label_findings(found, budget, dirs)
+                           for budget, dirs, _, found in blocks])
 
     missing = [d for d in run_dirs if d not in evaluated]
     notice = ("" if not missing else "<p class='missing'>not post-evaluated yet: "
               + ", ".join(html.escape(str(d)) for d in missing) + ". The findings and figures "
               "need the post-evaluation: run <code>dart-reach evaluate RUN --sensors all "
               "--baseline 20</code> first.</p>")
-    sections = [_section("Findings of section IV", notice + _findings_body(blocks)
+    sections = [_section("Findings of section IV", notice + _findings_body(blocks, by_budget)
                          + "<p>Verdicts are computed from the data when this report is built "
                            "(<code>dart_reach.findings</code>, <code>dart_reach.verdicts</code>; "
                            "the rules and their reasons are in docs/analysis.md, "
@@ -395,6 +403,8 @@ def build(run_dirs: Sequence, out=None) -> Path:
         generator=GENERATOR, title=html.escape("dart_reach report: " + ", ".join(d.name for d in run_dirs)),
         generated=time.strftime("%Y-%m-%d %H:%M:%S %z"), body="\n".join(sections))
     atomic_write(out, lambda p: p.write_text(text, encoding="utf-8"))
+    if findings_out is not None:
+        atomic_write(findings_out, lambda p: by_budget.write_parquet(p))
     return out
 
 

@@ -91,6 +91,9 @@ def test_cli_writes_the_report_and_never_overwrites_a_foreign_file(tiny_run, tmp
     assert r.returncode == 2 and "no such run directory" in r.stderr
     r = cli(str(tiny_run), "--out", str(tmp_path / "r.pdf"))
     assert r.returncode == 2 and ".html" in r.stderr
+    r = cli(str(tiny_run), "--findings", str(foreign))
+    assert r.returncode == 2 and "notes.html exists" in r.stderr
+    assert foreign.read_text() == "<p>my notes</p>"
 
 
 def test_report_reads_at_100_percent_and_states_its_corrections(tiny_run, tmp_path):
@@ -142,6 +145,10 @@ def test_budgets_are_never_pooled_and_runs_of_one_budget_are(tiny_run, other_bud
         block = by_budget.filter(pl.col("generations_per_phase") == gens)
         assert block.height == len(findings.CLAIMS)
         assert _same(block.drop(budgets.KEY_COLUMNS), _alone([run]))
+    # the same data, the same findings to the last bit, every time (group orders, bootstrap
+    # draws): this caught sums over polars groups taken in a random order
+    for _ in range(4):
+        assert _same(budgets.findings_by_budget([other_budget, tiny_run]), by_budget)
     # pooling both would have judged other samples (the test can fail)
     both = _alone([tiny_run, other_budget])
     assert both["n"].to_list() != by_budget.filter(
@@ -155,7 +162,16 @@ def test_budgets_are_never_pooled_and_runs_of_one_budget_are(tiny_run, other_bud
 
 
 def test_a_report_of_two_budgets_sets_them_side_by_side(tiny_run, other_budget, tmp_path):
-    text = report.build([tiny_run, other_budget], tmp_path / "r.html").read_text()
+    text = report.build([tiny_run, other_budget], tmp_path / "r.html",
+                        findings_out=tmp_path / "found.parquet").read_text()
+    # the findings as data: the frame the table is drawn from, every claim at both budgets
+    found_data = pl.read_parquet(tmp_path / "found.parquet")
+    assert_frame_equal(found_data, budgets.findings_by_budget([tiny_run, other_budget]))
+    assert found_data.group_by("generations_per_phase").len().sort(
+        "generations_per_phase").rows() == [(1, len(findings.CLAIMS)), (2, len(findings.CLAIMS))]
+    with pytest.raises(FileExistsError, match="found.parquet exists"):
+        report.build([tiny_run], tmp_path / "r2.html", findings_out=tmp_path / "found.parquet")
+    assert not (tmp_path / "r2.html").exists()
     start, end = text.index('<section id="findings">'), text.index('<section id="provenance">')
     found = text[start:end]
     table = re.search(r'<table class="findings budgets">.*?</table>', found).group(0)
