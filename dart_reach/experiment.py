@@ -349,11 +349,12 @@ class Run:
                            f"({type(exc).__name__}: {exc})") from None
         return cls(out, conditions, settings, resume=True)
 
-    def record_session(self, command: str | None) -> None:
+    def record_session(self, command: str | None, workers: int | None = None) -> None:
         """Append to the manifest's ``sessions`` the source this invocation trains with (its
-        revision, whether the tree was dirty, the hash of its diff), when and how it started and
-        the generations committed before it: a run resumed over days records every revision it
-        was trained with."""
+        revision, whether the tree was dirty, the hash of its diff), when and how it started,
+        on how many ``workers`` (processes or a Ray cluster's CPUs: with the generations'
+        ``wall_s``, the core-seconds a generation took) and the generations committed before
+        it: a run resumed over days records every revision it was trained with."""
         path = self.out / "manifest.json"
         manifest = _read_manifest(path)
         done = {f"{c.name}/{p.name}": int(self.stats.filter(pl.col("phase_key") == p.key)
@@ -361,7 +362,8 @@ class Run:
                 for c, p in self.unique_phases()}
         manifest.setdefault("sessions", []).append(
             {"started": time.strftime("%Y-%m-%dT%H:%M:%S%z"), "command": command,
-             **git_state(), "generations_done": done})
+             **git_state(), "generations_done": done,
+             **({"workers": workers} if workers is not None else {})})
         atomic_write(path, lambda p: p.write_text(json.dumps(manifest, indent=2)))
 
     def unfinished(self) -> list[str]:
@@ -756,10 +758,11 @@ def train(conditions: list[Condition], settings: Settings, out: Path, workers: i
         run = Run(out, conditions, settings, resume=resume, command=command)
         if resume:
             run.repair()
-        run.record_session(command)
         evaluator = make_evaluator(workers, ray_address)
-        bar = training_bar() if progress is True else None
+        bar = None
         try:
+            run.record_session(command, evaluator.workers)
+            bar = training_bar() if progress is True else None
             run.train(evaluator, bar or progress or None, record_every, snapshot_every)
         finally:
             evaluator.close()

@@ -46,6 +46,9 @@ def test_same_seed_same_result_whatever_the_evaluator(tmp_path):
     pool = train(cond, TINY, tmp_path / "pool", workers=2)
     a, b = _result(serial.out), _result(pool.out)
     assert _same(a, b)
+    # the manifest says on how many workers each session trained (its cost in core-seconds)
+    assert [[s["workers"] for s in json.loads((r.out / "manifest.json").read_text())
+             ["sessions"]] for r in (serial, pool)] == [[1], [2]]
     stats = a[0]
     assert stats.height == 3 * 2 * 2  # phases x replications x generations
     assert set(stats.columns) >= {"condition", "phase", "replication", "generation", "best",
