@@ -228,13 +228,15 @@ def cmd_robots(args) -> int:
     """The shipped robots files (``data.index()``)."""
     from .data import index
 
-    print(f"{'run':<22}{'condition/phase':<26}{'robots':>6}  {'generations':>11}  "
-          f"{'replications':>12}  {'scene':<22}file")
+    rows = [("run", "condition/phase", "robots", "generations", "replications", "scene", "file")]
     for r in index():
         b = r["budget"] or {}
-        print(f"{str(r['run']):<22}{r['condition'] + '/' + r['phase']:<26}{r['robots']:>6}  "
-              f"{b.get('generations', '?'):>11}  {b.get('replications', '?'):>12}  "
-              f"{str(b.get('scene', '?')):<22}{r['file']}")
+        rows.append((str(r["run"] or "?"), f"{r['condition']}/{r['phase']}", str(r["robots"]),
+                     *(str(b.get(k) or "?") for k in ("generations", "replications", "scene")),
+                     r["file"]))
+    widths = [max(len(row[i]) for row in rows) for i in range(len(rows[0]) - 1)]
+    for row in rows:
+        print("  ".join(x.ljust(w) for x, w in zip(row, widths)) + "  " + row[-1])
     return 0
 
 

@@ -43,6 +43,7 @@ missing or older than the generations the table records.
 
 from __future__ import annotations
 
+import contextlib
 import hashlib
 import json
 import os
@@ -352,9 +353,10 @@ class Run:
     def record_session(self, command: str | None, workers: int | None = None) -> None:
         """Append to the manifest's ``sessions`` the source this invocation trains with (its
         revision, whether the tree was dirty, the hash of its diff), when and how it started,
-        on how many ``workers`` (processes or a Ray cluster's CPUs: with the generations'
-        ``wall_s``, the core-seconds a generation took) and the generations committed before
-        it: a run resumed over days records every revision it was trained with."""
+        on how many ``workers`` (local processes, or the Ray cluster's CPUs when it started:
+        with the generations' ``wall_s``, the core-seconds a generation took) and the
+        generations committed before it: a run resumed over days records every revision it
+        was trained with."""
         path = self.out / "manifest.json"
         manifest = _read_manifest(path)
         done = {f"{c.name}/{p.name}": int(self.stats.filter(pl.col("phase_key") == p.key)
@@ -639,8 +641,8 @@ class Run:
         rows = []
         for c, p in self.unique_phases():
             stats = self.stats.filter(pl.col("phase_key") == p.key)
-            wall = float(stats.group_by("generation").agg(pl.col("wall_s").first())["wall_s"]
-                         .sum()) / 3600
+            wall = float(stats.group_by("generation", maintain_order=True)
+                         .agg(pl.col("wall_s").first())["wall_s"].sum()) / 3600
             for r in range(self.settings.replications):
                 last = stats.filter(pl.col("replication") == r).sort("generation").tail(1)
                 done = last.height > 0
@@ -758,14 +760,12 @@ def train(conditions: list[Condition], settings: Settings, out: Path, workers: i
         run = Run(out, conditions, settings, resume=resume, command=command)
         if resume:
             run.repair()
-        evaluator = make_evaluator(workers, ray_address)
-        bar = None
-        try:
+        with contextlib.ExitStack() as stack:  # closed in reverse: the bar, then the workers
+            evaluator = make_evaluator(workers, ray_address)
+            stack.callback(evaluator.close)
             run.record_session(command, evaluator.workers)
             bar = training_bar() if progress is True else None
-            run.train(evaluator, bar or progress or None, record_every, snapshot_every)
-        finally:
-            evaluator.close()
             if bar is not None:
-                bar.close()
+                stack.callback(bar.close)
+            run.train(evaluator, bar or progress or None, record_every, snapshot_every)
     return run

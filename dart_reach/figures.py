@@ -164,7 +164,7 @@ def load_runs(run_dirs: Sequence) -> pl.DataFrame:
         table = load_evaluation(run_dir)
         order = (run_phases(run_dir).unique("phase_key", keep="first", maintain_order=True)
                  .with_row_index("phase_order").select("phase_key", "phase_order"))
-        table = (table.join(order, on="phase_key", how="left")
+        table = (table.join(order, on="phase_key", how="left", maintain_order="left")
                  .with_columns(pl.lit(label).alias("run"), pl.lit(i).alias("run_index"),
                                pl.col("phase_order").cast(pl.Int64)))
         frames.append(table)
@@ -180,7 +180,7 @@ def load_runs(run_dirs: Sequence) -> pl.DataFrame:
         .otherwise(pl.col("notation")).alias("group"))
     categories = list(dict.fromkeys(units["group"].to_list()))
     table = table.join(units.select("run", "phase_key", "group"), on=["run", "phase_key"],
-                       how="left")
+                       how="left", maintain_order="left")
     return table.with_columns(pl.col("group").cast(pl.Enum(categories)))
 
 

@@ -274,7 +274,7 @@ def robots(table: pl.DataFrame, senses: str = "normal") -> pl.DataFrame:
     means = metrics.robot_means(table, present, by=_ROBOT)
     spread = (metrics.peripersonal_space(table, by=_ROBOT)
               .select(*_ROBOT, *[pl.col(c).cast(pl.Float64) for c in _SPREAD]))
-    return means.join(spread, on=list(_ROBOT), how="left")
+    return means.join(spread, on=list(_ROBOT), how="left", maintain_order="left")
 
 
 def replications(table: pl.DataFrame, senses: str = "normal") -> pl.DataFrame:
@@ -327,7 +327,7 @@ class _Data:
                                         "new": pl.Float64, claim.measure: pl.Float64})
         ref, new = (self.robots(s).select(*_ROBOT, pl.col(claim.measure).alias(name))
                     for s, name in ((claim.senses, "ref"), (claim.versus, "new")))
-        return (ref.join(new, on=list(_ROBOT), how="inner")
+        return (ref.join(new, on=list(_ROBOT), how="inner", maintain_order="left")
                 .with_columns((pl.col("ref") - pl.col("new")).alias(claim.measure)))
 
     def development_units(self, claim: Claim) -> pl.DataFrame:
@@ -483,7 +483,7 @@ def _every_sector(claim: Claim, data: _Data) -> dict:
     return _row(claim, out, f"lowest sector rate {out.effect:.2f}{ci}",
                 f"each sector's reach and grasp rate, bootstrap over replications: every lower "
                 f"bound > {verdicts.SECTOR_FLOOR:g}: reproduced; an upper bound below: "
-                "contradicted", f"{per['replication'].n_unique()} replications, "
+                "contradicted", f"{per.select('run', 'replication').n_unique()} replications, "
                                 f"{trials.height} trials")
 
 
@@ -522,7 +522,7 @@ def _paired(claim: Claim, data: _Data) -> dict:
                                "(evaluate --sensors all)")
     wide = per[0]
     for p in per[1:]:
-        wide = wide.join(p, on=list(_ROBOT[1:]), how="inner")
+        wide = wide.join(p, on=list(_ROBOT[1:]), how="inner", maintain_order="left")
     out = verdicts.paired(wide.select(_SENSES).to_numpy(), claim.level)
     long = pl.concat([p.rename({s: "fitness"}).with_columns(pl.lit(s).alias("senses"))
                       for s, p in zip(_SENSES, per)])

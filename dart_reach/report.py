@@ -192,8 +192,8 @@ def _provenance(run_dir: Path) -> pl.DataFrame:
     stats_path = run_dir / "generations.parquet"
     if stats_path.is_file():
         # wall_s is the whole generation's (all replications), repeated on each row
-        wall = float(pl.read_parquet(stats_path).unique(["phase_key", "generation"])
-                     ["wall_s"].sum())
+        wall = float(pl.read_parquet(stats_path).unique(["phase_key", "generation"],
+                                                        maintain_order=True)["wall_s"].sum())
     machine = manifest.get("machine") or {}
     rows = [
         ("command", manifest.get("command") or "not recorded (made before commands were)"),
@@ -339,10 +339,7 @@ def build(run_dirs: Sequence, out=None, findings_out=None) -> Path:
                              f"--out")
     if findings_out is not None:
         findings_out = Path(findings_out)
-        if findings_out.exists():
-            raise FileExistsError(f"{findings_out} exists; choose another file for the findings")
-        if not findings_out.parent.is_dir():
-            raise FileNotFoundError(f"{findings_out.parent}: no such directory for the findings")
+        _check_findings_out(findings_out)
     evaluated = [d for d in run_dirs if (d / "evaluation.parquet").is_file()]
     everything = budgets.pooled(evaluated)
     table, baseline = everything.table, everything.baseline
@@ -402,10 +399,26 @@ def build(run_dirs: Sequence, out=None, findings_out=None) -> Path:
     text = page.substitute(
         generator=GENERATOR, title=html.escape("dart_reach report: " + ", ".join(d.name for d in run_dirs)),
         generated=time.strftime("%Y-%m-%d %H:%M:%S %z"), body="\n".join(sections))
-    atomic_write(out, lambda p: p.write_text(text, encoding="utf-8"))
-    if findings_out is not None:
+    if findings_out is not None:  # first: a failure leaves the previous report as it was
+        _check_findings_out(findings_out)  # still new, minutes later
         atomic_write(findings_out, lambda p: by_budget.write_parquet(p))
+    atomic_write(out, lambda p: p.write_text(text, encoding="utf-8"))
     return out
+
+
+def _check_findings_out(path: Path) -> None:
+    """``build``'s ``findings_out``: a new parquet file in an existing directory."""
+    if path.suffix.lower() != ".parquet":
+        raise UsageError(f"findings_out={str(path)!r}: the findings are a parquet file; give a "
+                         f"name ending in .parquet", cli=f"--findings {path}: the findings are "
+                                                        f"a parquet file; give a name ending "
+                                                        f"in .parquet")
+    if path.exists():
+        raise UsageError(f"findings_out={str(path)!r} exists; choose another file",
+                         cli=f"--findings {path} exists; choose another file")
+    if not path.parent.is_dir():
+        raise UsageError(f"findings_out={str(path)!r}: no such directory {path.parent}",
+                         cli=f"--findings {path}: no such directory {path.parent}")
 
 
 def _run_figures(run_dir: Path) -> str:

@@ -60,17 +60,17 @@ class _Choice:
 
 
 def _longest_trained(robots: list) -> list:
-    """The robots of the run that trained them longest among shipped robots of one phase
-    (most generations, then most replications, then the last run name): two runs' ranks and
-    replications are never mixed."""
-    by_run: dict = {}
+    """The robots of one shipped file (one run's condition and phase) among ``robots``: the
+    file whose run trained longest (most generations, then most replications, then the last
+    file name), so that two files' replications and ranks are never mixed."""
+    by_file: dict = {}
     for r in robots:
-        by_run.setdefault(r.provenance.get("run"), []).append(r)
+        by_file.setdefault(r.source, []).append(r)
 
-    def size(run):
-        b = by_run[run][0].provenance.get("budget") or {}
-        return b.get("generations", 0), b.get("replications", 0), run or ""
-    return by_run[max(by_run, key=size)]
+    def size(source):
+        b = by_file[source][0].provenance.get("budget") or {}
+        return b.get("generations") or 0, b.get("replications") or 0, source
+    return by_file[max(by_file, key=size)]
 
 
 def _shipped(phase, condition, replication, rank, shipped=None) -> _Choice:
@@ -88,12 +88,13 @@ def _shipped(phase, condition, replication, rank, shipped=None) -> _Choice:
                 wanted = [r for r in wanted if r.phase == name]
                 break
     if not wanted:
-        runs = sorted({str(r["run"]) for r in index()})
+        files = index()
+        runs = sorted({r["run"] for r in files if r["run"] is not None})
         if shipped is not None and shipped not in runs:
             raise UsageError(f"shipped={shipped!r}: no such shipped run (shipped runs: "
                              f"{', '.join(runs)})", cli=f"--shipped {shipped}: no such shipped "
                                                         f"run (shipped runs: {', '.join(runs)})")
-        ships = ", ".join(sorted({f"{r['condition']}/{r['phase']}" for r in index()
+        ships = ", ".join(sorted({f"{r['condition']}/{r['phase']}" for r in files
                                   if shipped is None or r["run"] == shipped}))
         asked = (f"{condition}/{phase}" if phase else condition) + (
             f" in shipped run {shipped!r}" if shipped else "")

@@ -92,8 +92,12 @@ def test_cli_writes_the_report_and_never_overwrites_a_foreign_file(tiny_run, tmp
     r = cli(str(tiny_run), "--out", str(tmp_path / "r.pdf"))
     assert r.returncode == 2 and ".html" in r.stderr
     r = cli(str(tiny_run), "--findings", str(foreign))
-    assert r.returncode == 2 and "notes.html exists" in r.stderr
-    assert foreign.read_text() == "<p>my notes</p>"
+    assert r.returncode == 2 and "give a name ending in .parquet" in r.stderr
+    mine = tmp_path / "mine.parquet"
+    mine.write_bytes(b"my table")
+    r = cli(str(tiny_run), "--findings", str(mine))
+    assert r.returncode == 2 and r.stderr.count("\n") == 1 and "mine.parquet exists" in r.stderr
+    assert foreign.read_text() == "<p>my notes</p>" and mine.read_bytes() == b"my table"
 
 
 def test_report_reads_at_100_percent_and_states_its_corrections(tiny_run, tmp_path):
@@ -166,10 +170,10 @@ def test_a_report_of_two_budgets_sets_them_side_by_side(tiny_run, other_budget, 
                         findings_out=tmp_path / "found.parquet").read_text()
     # the findings as data: the frame the table is drawn from, every claim at both budgets
     found_data = pl.read_parquet(tmp_path / "found.parquet")
-    assert_frame_equal(found_data, budgets.findings_by_budget([tiny_run, other_budget]))
+    assert _same(found_data, budgets.findings_by_budget([tiny_run, other_budget]))
     assert found_data.group_by("generations_per_phase").len().sort(
         "generations_per_phase").rows() == [(1, len(findings.CLAIMS)), (2, len(findings.CLAIMS))]
-    with pytest.raises(FileExistsError, match="found.parquet exists"):
+    with pytest.raises(ValueError, match="found.parquet' exists"):
         report.build([tiny_run], tmp_path / "r2.html", findings_out=tmp_path / "found.parquet")
     assert not (tmp_path / "r2.html").exists()
     start, end = text.index('<section id="findings">'), text.index('<section id="provenance">')

@@ -9,8 +9,8 @@ provenance (``ROBOTS_FORMAT``)::
     what           a sentence: which run, which population
     command        the command line that trained them
     git_revision   the revision of dart_reach that trained them
-    run            the name of the run directory they come from (files written since
-                   ``export_run``; older files lack it)
+    run            the name of the run directory they come from (``dart-reach robots``
+                   lists the shipped runs; files written elsewhere before it may lack it)
     budget         generations, replications, trials, steps, physics_dt, seed, scene and
                    sectors (where the ball hung: ``world.SectorConfig``)
     phase          condition, phase (a shipped condition's phase), free_groups, acuity,
@@ -21,10 +21,10 @@ provenance (``ROBOTS_FORMAT``)::
 
 ``robots()`` reads them all (``index()`` lists the files); ``export_robots()`` writes such a
 file from one phase of a trained run, ``export_run()`` one per phase of every condition of a
-run: a file dropped into this folder is shipped from then on. Today one file ships
-(``evolved_pre.json``): the best 10 robots of each of the 2 replications of the scene study's
-``arm-length-shoulder`` run (docs/task.md, "The scene"): the standard condition's pre-reaching
-phase alone, 60 generations, on the default scene.
+run: a file dropped into this folder is shipped from then on. ``evolved_pre.json``, which
+tests and benchmarks use, holds the best 10 robots of each of the 2 replications of the scene
+study's ``arm-length-shoulder`` run (docs/task.md, "The scene"): the standard condition's
+pre-reaching phase alone, 60 generations, on the default scene.
 """
 
 from __future__ import annotations
@@ -62,8 +62,10 @@ class ShippedRobot:
         b = self.provenance.get("budget", {})
         budget = ", ".join(f"{v} {k}" for k, v in b.items() if k in
                            ("generations", "replications", "trials", "steps"))
+        run = self.provenance.get("run")
         return (f"{self.condition}/{self.phase} replication {self.replication} rank {self.rank} "
-                f"(lifetime fitness {self.lifetime_fitness:.4f}; shipped {self.source}: "
+                f"(lifetime fitness {self.lifetime_fitness:.4f}; shipped {self.source}"
+                f"{f' of run {run}' if run else ''}: "
                 f"{budget}; revision {str(self.provenance.get('git_revision'))[:10]})")
 
 
@@ -97,10 +99,9 @@ def robots(phase: str | None = None, condition: str | None = "standard",
            directory=None, run: str | None = None) -> list[ShippedRobot]:
     """The shipped robots of ``phase`` ("pre", "gross", "fine"; None: every phase) of
     ``condition`` (None: every condition), best lifetime fitness first; empty when none
-    ships. ``run``: only those of the run directory of that name (files written by
-    ``export_robots``/``export_run`` name it, ``index()`` lists it; ``evolved_pre.json``
-    predates it; lifetime fitness compares robots of one run and budget only). ``directory``: read robots
-    files there instead of the package's."""
+    ships. ``run``: only those of the run directory of that name (every shipped file names
+    it, ``index()`` lists it; lifetime fitness compares robots of one run and budget only).
+    ``directory``: read robots files there instead of the package's."""
     out = []
     for f in _files(directory):
         info = _read(f)
