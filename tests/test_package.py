@@ -27,6 +27,8 @@ def test_the_wheel_ships_both_licences_typing_and_the_robots(tmp_path):
                  "dart_reach/skeletons/LICENSE-icub-models", "dart_reach/py.typed",
                  "dart_reach/data/evolved_pre.json", "dart_reach/watch.py"):
         assert path in names, path
+    for robots in (ROOT / "dart_reach" / "data").glob("*.json"):  # every shipped robots file
+        assert f"dart_reach/data/{robots.name}" in names, robots.name
     assert any(n.endswith(".dist-info/licenses/LICENSE") for n in names)
     assert "License-Expression: MIT AND CC-BY-SA-4.0" in meta
     assert "Requires-Python: <3.14,>=3.11" in meta or "Requires-Python: >=3.11,<3.14" in meta

@@ -33,7 +33,7 @@ def _cli(*args):
 
 def test_shipped_robots_keep_their_provenance():
     genomes, fitness, info = data.evolved_pre()
-    shipped = data.robots("pre")
+    shipped = data.robots("pre", run="arm-length-shoulder")
     assert len(shipped) == len(genomes) == 20
     assert np.array_equal(shipped[0].genome, genomes[0])
     assert [r.lifetime_fitness for r in shipped] == sorted(fitness.tolist(), reverse=True)
@@ -44,14 +44,37 @@ def test_shipped_robots_keep_their_provenance():
     # the scene they evolved in, which watch puts the ball in: the default (docs/task.md)
     assert info["budget"]["scene"] == DEFAULT_SCENE == "arm-length-shoulder"
     assert SectorConfig(**info["budget"]["sectors"]) == SectorConfig()
-    assert data.robots("fine") == [] and data.robots("pre", "gross-hat") == []
-    assert [(r["condition"], r["phase"]) for r in data.index()] == [("standard", "pre")]
+    assert data.robots("pre", "gross-hat") == []  # gross-hat has no phase pre
+    # every shipped file: its phase, its run's budget and scene, genomes that decode
+    rows = data.index()
+    assert ("evolved_pre.json", "arm-length-shoulder") in [(r["file"], r["run"]) for r in rows]
+    for row in rows:
+        assert row["run"] and row["robots"] >= 1 and row["git_revision"]
+        if row["file"] != "evolved_pre.json":  # export_run's names: RUN-CONDITION-PHASE.json
+            assert row["file"] == f"{row['run']}-{row['condition']}-{row['phase']}.json"
+        phases = {p.name: p for p in load_condition(row["condition"]).phases}
+        assert row["phase"] in phases
+        assert row["budget"]["scene"] == DEFAULT_SCENE and row["budget"]["trials"] == 18
+        robots = data.robots(row["phase"], row["condition"], run=row["run"])
+        assert len(robots) == row["robots"] and all(
+            r.genome.dtype == np.uint8 and r.genome.size == robots[0].genome.size
+            for r in robots)
 
 
 def test_watch_records_the_best_shipped_robot_in_seconds(tmp_path):
+    # by default: the most developed standard phase that ships, from its longest-trained file
     t0 = time.monotonic()
-    w = watch(out=tmp_path / "w.rrd", viewer=False)
+    w = watch(out=tmp_path / "default.rrd", viewer=False)
     assert time.monotonic() - t0 < 30
+    standard = [r for r in data.index() if r["condition"] == "standard"]
+    order = [p.name for p in load_condition("standard").phases]
+    top = max(order.index(r["phase"]) for r in standard)
+    longest = max((r for r in standard if order.index(r["phase"]) == top),
+                  key=lambda r: (r["budget"]["generations"], r["budget"]["replications"],
+                                 r["file"]))
+    assert f"standard/{order[top]} replication" in w.robot and longest["file"] in w.robot
+    assert read_properties(w.recording)["phase"] == order[top]
+    w = watch("pre", shipped="arm-length-shoulder", out=tmp_path / "w.rrd", viewer=False)
     assert w.viewer_pid is None and w.layout.is_file() and w.layout.suffix == ".rbl"
     assert "standard/pre replication 1 rank 0" in w.robot and "evolved_pre.json" in w.robot
     trial = read_properties(w.recording)
@@ -59,8 +82,8 @@ def test_watch_records_the_best_shipped_robot_in_seconds(tmp_path):
     assert read_rrd(w.recording).height == 200  # 20 s of 0.1 s steps
     # the robot is the shipped one: it reaches the centre of sector 4, as in the learning check
     assert w.measures["reached"]
-    other = watch(out=tmp_path / "nothing.rrd", senses="nothing", sector=0, rank=5,
-                  viewer=False)
+    other = watch("pre", shipped="arm-length-shoulder", out=tmp_path / "nothing.rrd",
+                  senses="nothing", sector=0, rank=5, viewer=False)
     assert read_properties(other.recording)["senses"] == "nothing"
     assert "rank 5" in other.robot
 
@@ -193,13 +216,14 @@ def test_the_learning_checks_robots_ship_as_the_standard_conditions(tmp_path):
 
 
 def test_cli_watch_without_a_display_writes_and_says_how_to_open(tmp_path):
-    result = _cli("watch", "--out", tmp_path / "w.rrd")
+    result = _cli("watch", "pre", "--out", tmp_path / "w.rrd")
     assert result.returncode == 0, result.stderr
     assert f"rerun {tmp_path / 'w.rrd'} {tmp_path / 'w.rbl'}" in result.stdout
     assert "shipped robot standard/pre" in result.stdout
-    result = _cli("watch", "fine", "--out", tmp_path / "f.rrd")
+    result = _cli("watch", "gross", "--condition", "pre-star", "--out", tmp_path / "f.rrd")
     assert result.returncode == 2 and result.stderr.count("\n") == 1
-    assert "only standard/pre ships" in result.stderr and "--run" in result.stderr
+    assert "no shipped robot of pre-star/gross: only " in result.stderr
+    assert "standard/pre" in result.stderr and "--run" in result.stderr
     assert not (tmp_path / "f.rrd").exists()
 
 
