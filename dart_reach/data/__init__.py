@@ -21,7 +21,9 @@ provenance (``ROBOTS_FORMAT``)::
 
 ``robots()`` reads them all (``index()`` lists the files); ``export_robots()`` writes such a
 file from one phase of a trained run, ``export_run()`` one per phase of every condition of a
-run: a file dropped into this folder is shipped from then on. ``evolved_pre.json``, which
+run: a file dropped into this folder is shipped from then on. ``replication-50-*.json``: the
+best 2 robots of each of the 4 replications of every phase of the longer replication's stage
+1 (docs/replication.md; 50 generations per phase, gross^ 100). ``evolved_pre.json``, which
 tests and benchmarks use, holds the best 10 robots of each of the 2 replications of the scene
 study's ``arm-length-shoulder`` run (docs/task.md, "The scene"): the standard condition's
 pre-reaching phase alone, 60 generations, on the default scene.
