@@ -337,10 +337,10 @@ def cmd_evaluate(args) -> int:
     if args.development:
         from .development import TABLE as DEVELOPMENT, evaluate_snapshots
 
-        with ProgressBar(lambda p: (*p, "robot", "development")) as bar:
+        with evaluation_bar() as bar:
             dev = evaluate_snapshots(args.run_dir, robots=args.development,
                                      workers=args.workers, ray_address=args.ray,
-                                     progress=lambda n, total: _checked(bar)((n, total)))
+                                     progress=_checked(bar))
         print(f"{dev.height} trials of the snapshots' best robots in {out / DEVELOPMENT}",
               file=sys.stderr)
     recorded = table.filter(table["recording"].is_not_null())["recording"] if table.height else []

@@ -34,7 +34,7 @@ import numpy as np
 import polars as pl
 
 from .ctrnn import MOTOR_NAMES
-from .evaluation import RobotJob, _save, open_finished, run_robot
+from .evaluation import EvaluationProgress, RobotJob, _save, open_finished, run_robot
 from .evaluator import make_evaluator
 from .experiment import Run, RunError, trial_config
 from .files import DirectoryLock, remove_temporaries
@@ -84,7 +84,7 @@ def load_development(run_dir) -> pl.DataFrame | None:
 
 def evaluate_snapshots(run_dir, robots: int = 1, workers: int | None = None,
                        ray_address: str | None = None,
-                       progress: Callable[[int, int], None] | None = None,
+                       progress: Callable[[EvaluationProgress], None] | None = None,
                        save_every_s: float = 10.0) -> pl.DataFrame:
     """Post-evaluate the best ``robots`` (<= the snapshots' 5) of every replication of every
     snapshot of a finished run on the 45 systematic positions, normal senses, and return
@@ -92,7 +92,8 @@ def evaluate_snapshots(run_dir, robots: int = 1, workers: int | None = None,
     the phase), phase, phase_key, notation, replication, rank, generation, offset
     (generations of the condition's earlier phases), lifetime_fitness, trial, sector,
     ball_x/y/z, every measure of ``metrics.trial_metrics`` and measures_version. Snapshots
-    already evaluated are kept. ``progress(done, total)`` is told after each robot."""
+    already evaluated are kept. ``progress`` is told an ``evaluation.EvaluationProgress``
+    (robots done of those left, with an ETA) after each robot."""
     run = open_finished(run_dir)
     if robots < 1:
         raise ValueError(f"robots must be at least 1, got {robots}")
@@ -119,16 +120,18 @@ def evaluate_snapshots(run_dir, robots: int = 1, workers: int | None = None,
             return table if table is not None else pl.DataFrame()
         evaluator = make_evaluator(workers, ray_address)
         rows: list[dict] = []
-        last_save = time.monotonic()
+        t0 = last_save = time.monotonic()
         try:
-            for n, (more, (job_rows, _)) in enumerate(
-                    zip(extra, evaluator.imap(run_robot, jobs)), start=1):
+            for n, (job, more, (job_rows, _)) in enumerate(
+                    zip(jobs, extra, evaluator.imap(run_robot, jobs)), start=1):
                 rows.extend(dict(row, **more) for row in job_rows)
                 if time.monotonic() - last_save > save_every_s:
                     table, rows = _save(path, table, rows, _KEY), []
                     last_save = time.monotonic()
                 if progress:
-                    progress(n, len(jobs))
+                    progress(EvaluationProgress(n, len(jobs), time.monotonic() - t0,
+                                                f"{job.phase.name} @{more['generation']}",
+                                                "development"))
         finally:
             evaluator.close()
             if rows:

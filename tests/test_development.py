@@ -38,8 +38,12 @@ def runs(tmp_path_factory):
 
 def test_development_course_from_snapshots(runs):
     _, _, snap = runs
-    table = dev.evaluate_snapshots(snap.out, robots=1, workers=1)
+    told = []
+    table = dev.evaluate_snapshots(snap.out, robots=1, workers=1, progress=told.append)
     assert table.height == 3 * 2 * 2 * 45  # phases x snapshots x replications x positions
+    assert [p.robots_done for p in told] == list(range(1, 13))
+    assert {p.robots_total for p in told} == {12} and told[-1].eta_s == 0.0
+    assert all(p.eta_s > 0 for p in told[:-1]) and told[0].phase.startswith("pre @")
     assert (snap.out / dev.TABLE).is_file()
     again = dev.evaluate_snapshots(snap.out, robots=1, workers=1)
     assert again.equals(table)  # nothing evaluated twice
