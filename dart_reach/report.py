@@ -306,7 +306,9 @@ def _findings_body(blocks: list, by_budget: pl.DataFrame) -> str:
           "where the paper's direction is up, <i>away</i> when wholly below, <i>no change</i> "
           "when they overlap; <i>(points)</i>: decided on the two effects where an interval is "
           "missing, no evidence against noise; <i>not run</i>: no effect at either end "
-          "(docs/analysis.md, \"Several budgets\").</p>")
+          "(docs/analysis.md, \"Several budgets\"). A verdict marked <i>(robots only)</i> "
+          "holds with the robot as the unit, not on the replications' means (docs/analysis.md, "
+          "\"Replication-level check\").</p>")
     parts.append(table_html(budgets.side_by_side(by_budget), "findings budgets",
                             group="section", cell_class=_verdict_class))
     parts.append(_try(figures.budget_figure, by_budget)
