@@ -46,10 +46,11 @@ MOVEMENTS = (TOWARD, AWAY, NO_CHANGE, NOT_RUN)
 #: What a movement was decided on: the two intervals, or the two points where an interval is
 #: missing (Friedman's W, the paired median change, fewer units than an interval needs).
 INTERVALS, POINTS = "intervals", "points"
-#: Appended to a verdict in ``side_by_side`` where the replication-level check disagrees
-#: (``replications_agree`` false: the verdict holds with the robot as the unit only;
-#: docs/analysis.md, "Replication-level check").
+#: Appended in ``side_by_side`` to a reproduced or contradicted verdict the replication-level
+#: check does not give (``replications_agree`` false: it holds with the robot as the unit
+#: only; docs/analysis.md, "Replication-level check").
 ROBOTS_ONLY = " (robots only)"
+DECIDED = (verdicts.REPRODUCED, verdicts.CONTRADICTED)
 #: Columns ``findings_by_budget`` puts before the findings' own.
 KEY_COLUMNS = ("scene", "generations_per_phase", "runs", "sign")
 
@@ -324,7 +325,8 @@ def side_by_side(by_budget: pl.DataFrame) -> pl.DataFrame:
     """One row per claim (in the frame's order): claim, section, kind; for each budget
     (``budgets``; named by ``budget_column``) its ``effect [CI]`` (the claim's own effect,
     ``effect_text``) and ``verdict`` ("not run" where the budget's runs lack it;
-    ``ROBOTS_ONLY`` appended where the replication means do not give the same verdict); and the
+    ``ROBOTS_ONLY`` appended to a reproduced or contradicted verdict the replication means do
+    not give); and the
     movement (``movement``) as "as the budget grows" (one column per scene with two budgets or
     more, named after the scene when there are several), "(points)" appended where it rests on
     points, not intervals."""
@@ -342,8 +344,8 @@ def side_by_side(by_budget: pl.DataFrame) -> pl.DataFrame:
                  pl.col(c).fill_null(math.nan) for c in ("effect", "effect_low", "effect_high")
              ).iter_rows()],
              f"{name}: verdict": [
-                 v + (ROBOTS_ONLY if agree is False else "") for v, agree in
-                 block.select("verdict", "replications_agree").iter_rows()]})
+                 (v or findings.NOT_RUN) + (ROBOTS_ONLY if agree is False and v in DECIDED else "")
+                 for v, agree in block.select("verdict", "replications_agree").iter_rows()]})
         out = out.join(cells, on="claim", how="left", maintain_order="left").with_columns(
             pl.col(f"{name}: effect [CI]").fill_null("–"),
             pl.col(f"{name}: verdict").fill_null(findings.NOT_RUN))

@@ -3,8 +3,8 @@ in Jupyter (``tqdm.auto`` draws a widget there), one plain line per update anywh
 log file, a pipe), so that logs stay readable.
 
 ``training_bar()`` and ``evaluation_bar()`` make callbacks for ``experiment.train`` and
-``evaluation.evaluate_run`` (which use them by default); a callback is also a context
-manager that closes its bar.
+``evaluation.evaluate_run`` (which use them by default) and ``development.evaluate_snapshots``;
+a callback is also a context manager that closes its bar.
 """
 
 from __future__ import annotations
@@ -80,6 +80,7 @@ def training_bar(stream=None, bar: bool | None = None) -> ProgressBar:
 
 
 def evaluation_bar(stream=None, bar: bool | None = None) -> ProgressBar:
-    """Progress of ``evaluation.evaluate_run``: robots post-evaluated."""
+    """Progress of ``evaluation.evaluate_run`` and ``development.evaluate_snapshots``: robots
+    post-evaluated."""
     return ProgressBar(lambda p: (p.robots_done, p.robots_total, "robot",
                                   f"evaluate | {p.phase} | {p.senses}"), stream, bar)

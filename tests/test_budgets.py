@@ -59,8 +59,9 @@ def _rows(budget: int, specs: dict, scene: str = "near") -> list[dict]:
     return [{"scene": scene, "generations_per_phase": budget, "runs": f"r{budget}",
              "sign": sign, "claim": claim, "section": "S", "kind": kind.value,
              "effect": e, "effect_low": lo, "effect_high": hi,
-             "verdict": fd.NOT_RUN if math.isnan(e) else fd.INCONCLUSIVE,
-             "replications_agree": False if claim == "overlap" and budget == 50 else None}
+             "verdict": (fd.NOT_RUN if math.isnan(e) else fd.REPRODUCED if claim == "overlap"
+                         else fd.INCONCLUSIVE),
+             "replications_agree": False if claim in ("overlap", "unbounded") else None}
             for claim, (kind, sign, e, lo, hi) in specs.items()]
 
 
@@ -152,9 +153,12 @@ def test_side_by_side_has_one_row_per_claim_and_the_movement():
     assert row["only at 50"]["10 gen/phase: verdict"] == fd.NOT_RUN
     assert row["only at 50"]["10 gen/phase: effect [CI]"] == "–"
     assert row["overlap"]["as the budget grows"] == "no change"
-    # the replication means disagree: the verdict says it holds with robots as units only
-    assert row["overlap"]["50 gen/phase: verdict"] == fd.INCONCLUSIVE + bd.ROBOTS_ONLY
-    assert row["overlap"]["10 gen/phase: verdict"] == fd.INCONCLUSIVE
+    # the replication means disagree: a decided verdict says it holds with robots as units
+    # only; an undecided one stays as it is
+    assert row["overlap"]["50 gen/phase: verdict"] == fd.REPRODUCED + bd.ROBOTS_ONLY
+    assert row["overlap"]["10 gen/phase: verdict"] == fd.REPRODUCED + bd.ROBOTS_ONLY
+    assert row["unbounded"]["50 gen/phase: verdict"] == fd.INCONCLUSIVE
+    assert row["up, intervals apart"]["50 gen/phase: verdict"] == fd.INCONCLUSIVE
 
 
 def test_scenes_are_never_compared_with_each_other():
