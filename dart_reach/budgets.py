@@ -50,7 +50,7 @@ INTERVALS, POINTS = "intervals", "points"
 #: check does not give (``replications_agree`` false: it holds with the robot as the unit
 #: only; docs/analysis.md, "Replication-level check").
 ROBOTS_ONLY = " (robots only)"
-DECIDED = (verdicts.REPRODUCED, verdicts.CONTRADICTED)
+_DECIDED = (verdicts.REPRODUCED, verdicts.CONTRADICTED)
 #: Columns ``findings_by_budget`` puts before the findings' own.
 KEY_COLUMNS = ("scene", "generations_per_phase", "runs", "sign")
 
@@ -343,9 +343,10 @@ def side_by_side(by_budget: pl.DataFrame) -> pl.DataFrame:
              f"{name}: effect [CI]": [effect_text(*r) for r in block.select(
                  pl.col(c).fill_null(math.nan) for c in ("effect", "effect_low", "effect_high")
              ).iter_rows()],
-             f"{name}: verdict": [
-                 (v or findings.NOT_RUN) + (ROBOTS_ONLY if agree is False and v in DECIDED else "")
-                 for v, agree in block.select("verdict", "replications_agree").iter_rows()]})
+             f"{name}: verdict": block.select(pl.when(
+                 pl.col("verdict").is_in(_DECIDED)
+                 & pl.col("replications_agree").cast(pl.Boolean).not_())
+                 .then(pl.col("verdict") + ROBOTS_ONLY).otherwise("verdict")).to_series()})
         out = out.join(cells, on="claim", how="left", maintain_order="left").with_columns(
             pl.col(f"{name}: effect [CI]").fill_null("–"),
             pl.col(f"{name}: verdict").fill_null(findings.NOT_RUN))
