@@ -128,9 +128,10 @@ class Settings:
 
 #: Core-seconds of one replication-generation at the paper's budget (20 genotypes, steady
 #: state: 40 evaluations of 18 trials of 200 control steps, the shipped evolved robots):
-#: ``generation_core_s`` of ``dart-reach bench``, low and high of five runs on the project's
-#: 2-core reference machine (README, Benchmarks).
-GENERATION_CORE_S = (60.0, 67.0)
+#: ``generation_core_s`` of ``dart-reach bench``, low and high of five quiet runs on the
+#: project's 2-core reference machine on 2026-11-24 (README, Benchmarks; the host's speed
+#: varies by about a third from day to day).
+GENERATION_CORE_S = (43.0, 44.7)
 
 
 @dataclass(frozen=True)

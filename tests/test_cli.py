@@ -131,15 +131,19 @@ def test_python_errors_name_python_arguments(tmp_path):
 
 
 def test_a_long_run_says_its_size_and_cost_before_starting(tmp_path):
-    # the default budget: 15,000 replication-generations, ~250-280 core-hours; the run
-    # then stops at once on a directory that holds something else
+    # the default budget: 15,000 replication-generations at the measured core-seconds each;
+    # the run then stops at once on a directory that holds something else
+    from dart_reach.experiment import GENERATION_CORE_S
+
+    low, high = (15_000 * s / 3600 for s in GENERATION_CORE_S)
     out = tmp_path / "busy"
     out.mkdir()
     (out / "something").write_text("x")
     result = _cli("train", "standard", "--workers", "1", "--out", out)
     assert result.returncode == 2
     assert "15,000 replication-generations" in result.stderr
-    assert "250-279 core-hours" in result.stderr and "--generations" in result.stderr
+    assert f"{low:,.0f}-{high:,.0f} core-hours" in result.stderr
+    assert "--generations" in result.stderr
     small = _cli("train", "standard", "--generations", "1", "--replications", "1",
                  "--trials", "1", "--steps", "2", "--workers", "1", "--out", out)
     assert "replication-generations" not in small.stderr
