@@ -84,7 +84,7 @@ scene-study: $(VENV)/.installed
 	$(BIN)/python -m dart_reach.scene_study $(STUDY) docs
 
 # The longer replication of docs/replication.md (issue 23): the standard condition and gross^,
-# 50 generations per phase (gross^ 100), 4 replications, on the scene the scene study chose.
+# 50 generations per phase (gross^ 100), 4 replications, on the scene the scene study's rule fixed.
 # Many hours of 2 cores: run it again after any interruption (it resumes), and commit the
 # compact state under recordings/replication-50/ (docs/replication.md, "Resuming").
 REPLICATION := recordings/replication-50

@@ -26,9 +26,9 @@ best 2 robots of each of the 4 replications of every phase of the longer replica
 1 (docs/replication.md; 50 generations per phase, gross^ 100); ``replication-10-*.json``: the
 same of stage 2, all eight conditions of Fig. 10 at 10 generations per phase (gross^ and
 gross^* 20, fine^ and fine* 30; pre-h, shared by pre-h and gross-h, under each).
-``evolved_pre.json``, which tests and benchmarks use, holds the best 10 robots of each of the 2 replications of the scene
-study's ``arm-length-shoulder`` run (docs/task.md, "The scene"): the standard condition's
-pre-reaching phase alone, 60 generations, on the default scene.
+``evolved_pre.json``, which tests and benchmarks use, holds the best 10 robots of each of the
+2 replications of the scene study's ``arm-length-shoulder`` run (docs/task.md, "The scene"):
+the standard condition's pre-reaching phase alone, 60 generations, on the default scene.
 """
 
 from __future__ import annotations
