@@ -326,10 +326,9 @@ def side_by_side(by_budget: pl.DataFrame) -> pl.DataFrame:
     (``budgets``; named by ``budget_column``) its ``effect [CI]`` (the claim's own effect,
     ``effect_text``) and ``verdict`` ("not run" where the budget's runs lack it;
     ``ROBOTS_ONLY`` appended to a reproduced or contradicted verdict the replication means do
-    not give); and the
-    movement (``movement``) as "as the budget grows" (one column per scene with two budgets or
-    more, named after the scene when there are several), "(points)" appended where it rests on
-    points, not intervals."""
+    not give); and the movement (``movement``) as "as the budget grows" (one column per scene
+    with two budgets or more, named after the scene when there are several), "(points)"
+    appended where it rests on points, not intervals."""
     order = by_budget.select("claim", "section", "kind").unique("claim", maintain_order=True)
     all_budgets = budgets(by_budget)
     scenes = list(dict.fromkeys(b.scene for b in all_budgets))
