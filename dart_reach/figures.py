@@ -24,7 +24,7 @@ global state: display it in a notebook, or ``fig.savefig(path)``).
 The statistics drawn are also returned as tables (``performance_summary``,
 ``phase_statistics``, ``fig9_statistics``, ``fig10_statistics``) so that a notebook can show the
 numbers behind every bar. Bars are means over robots (a robot's value is the mean over its
-trials, see ``metrics.robot_means``), error bars one standard error of that mean. Missing data
+trials, see ``summaries.robot_means``), error bars one standard error of that mean. Missing data
 (a phase not evaluated, a measure that is NaN for every robot, a trial not recorded) leaves an
 empty slot marked "n/a" rather than failing.
 
@@ -48,7 +48,7 @@ from matplotlib.lines import Line2D
 from matplotlib.patches import Circle
 from matplotlib.ticker import MaxNLocator
 
-from . import budgets, metrics, stats
+from . import budgets, metrics, stats, summaries
 from .evaluation import BALL_ABSENT, SENSES, TESTS, load_evaluation, run_phases
 from .experiment import Run
 from .recording import read_rrd
@@ -223,11 +223,11 @@ def performance_summary(table: pl.DataFrame, measures: Sequence[str],
                         phases: Sequence[str] | None = None,
                         senses: str = "normal") -> pl.DataFrame:
     """Mean, s.d. and s.e.m. over robots of each measure per phase (the bars of Figs. 5, 6 and
-    ``fig8_babbling``): ``metrics.group_summary`` of ``metrics.robot_means`` of the trials of
+    ``fig8_babbling``): ``summaries.group_summary`` of ``summaries.robot_means`` of the trials of
     ``senses``, phases in the order given."""
     phases = _phases(table, phases)
-    robots = metrics.robot_means(_select(table, phases, senses), measures, by=_ROBOT)
-    summary = metrics.group_summary(robots, measures, by=("phase",))
+    robots = summaries.robot_means(_select(table, phases, senses), measures, by=_ROBOT)
+    summary = summaries.group_summary(robots, measures, by=("phase",))
     rank = {p: i for i, p in enumerate(phases)}
     return (summary.with_columns(pl.col("phase").replace_strict(rank, return_dtype=pl.Int64)
                                  .alias("_p"))
@@ -263,7 +263,7 @@ def phase_statistics(table: pl.DataFrame, measures: Sequence[str],
     being the unit (its mean over its trials): the p-values section IV-A quotes for Figs. 5 and
     6. Columns: measure, then those of ``stats.mann_whitney``."""
     phases = _phases(table, phases)
-    robots = metrics.robot_means(_select(table, phases, senses), measures, by=_ROBOT)
+    robots = summaries.robot_means(_select(table, phases, senses), measures, by=_ROBOT)
     parts = [_mann_whitney(robots, m, "phase", phases, alpha)
              .with_columns(pl.lit(m).alias("measure")) for m in measures]
     out = pl.concat(parts, how="diagonal_relaxed") if parts else pl.DataFrame(schema=_PAIRS_SCHEMA)
@@ -274,7 +274,7 @@ def phase_statistics(table: pl.DataFrame, measures: Sequence[str],
 
 def fig9_statistics(table: pl.DataFrame, phases: Sequence[str] | None = None,
                     senses: Sequence[str] = SENSES, alpha: float = 0.05) -> dict[str, pl.DataFrame]:
-    """The numbers of Fig. 9: ``robots`` (one row per robot: ``metrics.robot_performance`` of
+    """The numbers of Fig. 9: ``robots`` (one row per robot: ``summaries.robot_performance`` of
     each phase x senses, with its group label "phase / senses"), ``summary`` (mean, s.d., s.e.m.
     of the robots' fitness per phase and senses), ``kruskal`` (Kruskal-Wallis across senses
     within each phase, section IV-B; NaN when fewer than two sensory conditions have robots),
@@ -284,10 +284,10 @@ def fig9_statistics(table: pl.DataFrame, phases: Sequence[str] | None = None,
     after Holm's correction)."""
     phases = _phases(table, phases)
     senses = list(senses)
-    robots = metrics.robot_performance(_select(table, phases, senses),
+    robots = summaries.robot_performance(_select(table, phases, senses),
                                        by=("phase", "senses", "replication", "rank"))
     robots = robots.with_columns(pl.format("{} / {}", "phase", "senses").alias("group"))
-    summary = metrics.group_summary(robots, ["fitness"], by=("phase", "senses"))
+    summary = summaries.group_summary(robots, ["fitness"], by=("phase", "senses"))
     order = [f"{p} / {s}" for p in phases for s in senses]
     key = {g: i for i, g in enumerate(order)}
     summary = (summary.with_columns(pl.format("{} / {}", "phase", "senses")
@@ -323,7 +323,7 @@ def _groups(replications: pl.DataFrame, order: Sequence[str] | None) -> list[str
 def fig10_statistics(replications: pl.DataFrame, order: Sequence[str] | None = None,
                      value: str = "fitness", alpha: float = 0.05) -> dict[str, pl.DataFrame]:
     """The numbers of Fig. 10 from a per-replication table with a ``group`` column (e.g.
-    ``metrics.replication_performance(load_runs(dirs), by=("group",))``): ``summary`` (per
+    ``summaries.replication_performance(load_runs(dirs), by=("group",))``): ``summary`` (per
     group: replications, median, mean, min, max of ``value``; the median is the thickness of
     the boxes of the paper's top diagram), ``pairs`` (two-tailed Mann-Whitney between every pair
     of groups, with Holm's ``p_holm``), ``matrix`` (``stats.significance_matrix``, uncorrected
@@ -599,7 +599,7 @@ def fig7_sector_maps(table: pl.DataFrame, phases: Sequence[str] | None = None,
     azimuth column 0 (straight ahead) on the left. Grey: no trial."""
     phases = _phases(table, phases)
     sectors = sectors or SectorConfig()
-    rates = metrics.sector_success(_select(table, phases, senses), by=("phase",))
+    rates = summaries.sector_success(_select(table, phases, senses), by=("phase",))
     n = max(len(phases), 1)
     fig = Figure(figsize=(2.9 * n + 1.2, 6.0), layout="constrained")
     axes = fig.subplots(2, n, squeeze=False)
@@ -610,7 +610,7 @@ def fig7_sector_maps(table: pl.DataFrame, phases: Sequence[str] | None = None,
         sub = rates.filter(pl.col("phase") == p) if p is not None else rates.head(0)
         for i, (value, what) in enumerate((("reach_rate", "reach"), ("grasp_rate", "grasp"))):
             ax = axes[i, j]
-            grid = metrics.sector_grid(sub, value) * 100
+            grid = summaries.sector_grid(sub, value) * 100
             image = ax.imshow(np.ma.masked_invalid(grid), origin="lower", cmap=cmap, vmin=0,
                               vmax=100, interpolation="nearest")
             _annotate_grid(ax, grid, lambda r, c, g=grid: f"{g[r, c]:.0f}%"
@@ -629,7 +629,7 @@ def fig7_sector_maps(table: pl.DataFrame, phases: Sequence[str] | None = None,
 def fig7_reach_regression(table: pl.DataFrame, before: str = "pre", after: str = "gross",
                           senses: str = "normal", sectors: SectorConfig | None = None) -> Figure:
     """Beyond the paper (section IV-A-2, Fig. 7): the change of the reach rate per sector from
-    phase ``before`` to phase ``after`` (``metrics.reach_regression``), in percentage points;
+    phase ``before`` to phase ``after`` (``summaries.reach_regression``), in percentage points;
     red where reaching regresses, blue where it improves. Each cell reads
     "before% -> after%"."""
     sectors = sectors or SectorConfig()
@@ -638,7 +638,7 @@ def fig7_reach_regression(table: pl.DataFrame, before: str = "pre", after: str =
     cmap = colormaps["RdBu"].with_extremes(bad="0.85")
     sub = table.filter(pl.col("senses") == senses)
     try:
-        reg = metrics.reach_regression(sub, before, after)
+        reg = summaries.reach_regression(sub, before, after)
     except ValueError as exc:
         reg, message = None, str(exc)
     if reg is None:
@@ -646,9 +646,9 @@ def fig7_reach_regression(table: pl.DataFrame, before: str = "pre", after: str =
         ax.text(0.5, 0.5, message, transform=ax.transAxes, ha="center", va="center",
                 fontsize=9, color="0.3")
     else:
-        grid = metrics.sector_grid(reg, "change") * 100
-        b = metrics.sector_grid(reg, "reach_before") * 100
-        a = metrics.sector_grid(reg, "reach_after") * 100
+        grid = summaries.sector_grid(reg, "change") * 100
+        b = summaries.sector_grid(reg, "reach_before") * 100
+        a = summaries.sector_grid(reg, "reach_after") * 100
 
     def text(r, c):
         if reg is None:
@@ -865,7 +865,7 @@ def fig9_sensory_deprivation(table: pl.DataFrame, phases: Sequence[str] | None =
 def fig10_conditions(replications: pl.DataFrame, order: Sequence[str] | None = None,
                      value: str = "fitness", alpha: float = 0.05) -> Figure:
     """Fig. 10 (bottom). Left: the per-replication performance of every group (a phase of a
-    condition: ``load_runs`` then ``metrics.replication_performance(..., by=("group",))``),
+    condition: ``load_runs`` then ``summaries.replication_performance(..., by=("group",))``),
     each replication a dot, with a box plot where a group has at least ``BOX_MIN`` values
     (a red line at the median otherwise). Right: black squares where two groups differ
     (two-tailed Mann-Whitney, p < ``alpha`` after Holm's correction; grey: uncorrected

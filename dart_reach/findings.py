@@ -12,7 +12,7 @@ the paper's Figs. 5-9 ("50 robots ... for 45 trials"). Robots of one replication
 independent, and the replications of gross- and fine-reaching descend from one merged
 population (III-D): every robot-level claim is therefore judged again on replication means
 (``p_replications``), and the note says where the two disagree. A *replication* (its best
-robot's post-evaluation fitness, ``metrics.replication_performance``) for the conditions of
+robot's post-evaluation fitness, ``summaries.replication_performance``) for the conditions of
 Fig. 10, and the replication means of robots for the band, sector and "never" claims. The rules
 and their thresholds, fixed before any data was looked at, are in docs/analysis.md
 ("Verdicts").
@@ -27,7 +27,7 @@ from dataclasses import dataclass, replace
 import numpy as np
 import polars as pl
 
-from . import metrics, stats, verdicts
+from . import stats, summaries, verdicts
 from .verdicts import (ALPHA, CONTRADICTED, INCONCLUSIVE, NOT_RUN, REPRODUCED, UNDERPOWERED,
                        VERDICTS, Outcome)
 
@@ -268,11 +268,11 @@ def robots(table: pl.DataFrame, senses: str = "normal") -> pl.DataFrame:
     """One row per robot (notation, run, replication, rank) of ``senses``: the mean over its
     trials of each measure (booleans: rates), and ``sectors_reached``, the number of sectors
     in which it reached the ball at least once (the spread of success, Fig. 7), and
-    ``reach_entropy`` (``metrics.peripersonal_space``)."""
+    ``reach_entropy`` (``summaries.peripersonal_space``)."""
     table = _with_run(table).filter(pl.col("senses") == senses)
     present = [m for m in _MEASURES if m in table.columns]
-    means = metrics.robot_means(table, present, by=_ROBOT)
-    spread = (metrics.peripersonal_space(table, by=_ROBOT)
+    means = summaries.robot_means(table, present, by=_ROBOT)
+    spread = (summaries.peripersonal_space(table, by=_ROBOT)
               .select(*_ROBOT, *[pl.col(c).cast(pl.Float64) for c in _SPREAD]))
     return means.join(spread, on=list(_ROBOT), how="left", maintain_order="left")
 
@@ -283,7 +283,7 @@ def replications(table: pl.DataFrame, senses: str = "normal") -> pl.DataFrame:
     table = _with_run(table)
     if table.filter((pl.col("senses") == senses) & (pl.col("rank") == 0)).height == 0:
         return pl.DataFrame(schema={"notation": pl.Utf8, "fitness": pl.Float64})
-    return metrics.replication_performance(table, senses=senses, by=("notation", "run"))
+    return summaries.replication_performance(table, senses=senses, by=("notation", "run"))
 
 
 def _replication_means(units: pl.DataFrame, measure: str) -> pl.DataFrame:
@@ -347,7 +347,7 @@ class _Data:
             first = last if lo == "last" else int(lo)
             upto = last if (hi or lo) == "last" else int(hi or lo)
             sub = sub.filter(pl.col("generation").is_between(first, upto))
-            out.append(metrics.robot_means(sub, [claim.measure], by=_ROBOT[1:])
+            out.append(summaries.robot_means(sub, [claim.measure], by=_ROBOT[1:])
                        .with_columns(pl.lit(group).alias("notation")))
         return (pl.concat(out, how="diagonal_relaxed") if out
                 else pl.DataFrame(schema={"notation": pl.Utf8, claim.measure: pl.Float64}))

@@ -173,7 +173,7 @@ def baseline_table(table: pl.DataFrame, baseline: pl.DataFrame | None) -> pl.Dat
     if both.height == 0:
         return pl.DataFrame({"phase": []})
     names = [m for m, _ in MEASURES]
-    robots = figures.metrics.robot_means(both, names, by=("notation", "replication", "rank"))
+    robots = figures.summaries.robot_means(both, names, by=("notation", "replication", "rank"))
     order = {n: i for i, n in enumerate(dict.fromkeys(both["notation"].to_list()))}
     out = (robots.group_by("notation", maintain_order=True)
            .agg(pl.len().alias("robots"), *[pl.col(m).mean() for m in names])
@@ -465,7 +465,7 @@ def _development_figures(run_dir: Path) -> list[str]:
 
 def _fig10(table: pl.DataFrame) -> str:
     try:
-        reps = figures.metrics.replication_performance(table, by=("group",))
+        reps = figures.summaries.replication_performance(table, by=("group",))
     except ValueError as exc:
         return f"<p class='missing'>not drawn: {html.escape(str(exc))}</p>"
     st = figures.fig10_statistics(reps)

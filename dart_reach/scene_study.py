@@ -23,7 +23,7 @@ import polars as pl
 
 from scipy import stats as sps
 
-from . import metrics, verdicts
+from . import summaries, verdicts
 from .evaluation import load_evaluation
 from .experiment import Run
 from .scenes import scene_of
@@ -66,7 +66,7 @@ def summary(run_dirs: Sequence[Path]) -> pl.DataFrame:
             if normal.height == 0:
                 continue
             names = [m for m, _ in MEASURES]
-            robots = metrics.robot_means(normal, names, by=_ROBOT)
+            robots = summaries.robot_means(normal, names, by=_ROBOT)
             row = {"scene": scene, "group": group, "robots": robots.height,
                    "radius_m": run.settings.world.sectors.radius}
             row.update({m: float(robots[m].mean()) for m in names})
@@ -75,7 +75,7 @@ def summary(run_dirs: Sequence[Path]) -> pl.DataFrame:
                 robots["reached"].to_numpy(), rng)
             absent = trials.filter(pl.col("senses") == "no-ball")
             for m in ("babbling", "hand_amplitude"):
-                row[f"{m}_no_ball"] = (float(metrics.robot_means(absent, [m], by=_ROBOT)[m]
+                row[f"{m}_no_ball"] = (float(summaries.robot_means(absent, [m], by=_ROBOT)[m]
                                              .mean()) if absent.height else np.nan)
             rows.append(row)
     return pl.DataFrame(rows)
@@ -90,7 +90,7 @@ def robots(run_dirs: Sequence[Path]) -> pl.DataFrame:
     for d in map(Path, run_dirs):
         scene = scene_of(Run.open(d).settings.world.sectors) or d.name
         normal = _groups(d)[0][1].filter(pl.col("senses") == "normal")
-        tables.append(metrics.robot_means(normal, names, by=_ROBOT)
+        tables.append(summaries.robot_means(normal, names, by=_ROBOT)
                       .with_columns(pl.lit(scene).alias("scene")))
     return pl.concat(tables).select("scene", *_ROBOT, *names)
 
@@ -148,7 +148,7 @@ def sector_rates(run_dirs: Sequence[Path]) -> pl.DataFrame:
     for d in map(Path, run_dirs):
         scene = scene_of(Run.open(d).settings.world.sectors) or d.name
         normal = _groups(d)[0][1].filter(pl.col("senses") == "normal")
-        tables.append(metrics.sector_success(normal.with_columns(pl.lit(scene).alias("scene")),
+        tables.append(summaries.sector_success(normal.with_columns(pl.lit(scene).alias("scene")),
                                              by=("scene",)))
     return pl.concat(tables)
 
@@ -199,7 +199,7 @@ def figure(table: pl.DataFrame, sectors: pl.DataFrame):
     axes[0].legend(fontsize=9)
     grids = top[1].subplots(1, len(scenes), squeeze=False)[0]
     for ax, scene in zip(grids, scenes):
-        grid = metrics.sector_grid(sectors.filter(pl.col("scene") == scene), "reach_rate")
+        grid = summaries.sector_grid(sectors.filter(pl.col("scene") == scene), "reach_rate")
         im = ax.imshow(grid, origin="lower", vmin=0, vmax=1, cmap="viridis")
         for (i, j), v in np.ndenumerate(grid):
             ax.text(j, i, f"{v:.0%}", ha="center", va="center", fontsize=9,

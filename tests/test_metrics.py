@@ -10,6 +10,7 @@ import polars as pl
 import pytest
 
 from dart_reach import metrics as m
+from dart_reach import summaries
 from dart_reach.ctrnn import MOTOR_NAMES
 from dart_reach.icub import HAND_SEGMENTS
 from dart_reach.task import TrialData
@@ -313,7 +314,7 @@ def post_table():
 
 
 def test_sector_success_and_grid():
-    s = m.sector_success(post_table())
+    s = summaries.sector_success(post_table())
     assert s.columns == ["phase", "sector", "n", "reach_rate", "grasp_rate", "row", "col"]
     pre = s.filter(pl.col("phase") == "pre")
     assert pre["sector"].to_list() == [0, 4, 8]
@@ -321,26 +322,26 @@ def test_sector_success_and_grid():
     assert pre["reach_rate"].to_list() == [0.5, 1.0, 0.0]
     assert pre["grasp_rate"].to_list() == [0.25, 0.0, 0.0]
     assert pre["row"].to_list() == [0, 1, 2] and pre["col"].to_list() == [0, 1, 2]
-    grid = m.sector_grid(pre)
+    grid = summaries.sector_grid(pre)
     expected = np.full((3, 3), np.nan)
     expected[0, 0], expected[1, 1], expected[2, 2] = 0.5, 1.0, 0.0
     np.testing.assert_array_equal(grid, expected)
-    gross = m.sector_grid(s.filter(pl.col("phase") == "gross"), "grasp_rate")
+    gross = summaries.sector_grid(s.filter(pl.col("phase") == "gross"), "grasp_rate")
     assert gross[0, 0] == 0.5 and gross[2, 2] == pytest.approx(2 / 3) and np.isnan(gross[0, 1])
     with pytest.raises(ValueError, match="one group"):
-        m.sector_grid(s)
+        summaries.sector_grid(s)
     with pytest.raises(ValueError):
-        m.sector_success(post_table().drop("reached"))
+        summaries.sector_success(post_table().drop("reached"))
 
 
 def test_sector_grid_row_and_col_of_sector_five():
     rates = pl.DataFrame({"sector": [5], "reach_rate": [0.7]})
-    grid = m.sector_grid(rates)
+    grid = summaries.sector_grid(rates)
     assert grid[1, 2] == 0.7 and np.isnan(grid).sum() == 8  # 5 // 3 = 1, 5 % 3 = 2
 
 
 def test_reach_regression():
-    r = m.reach_regression(post_table(), before="pre", after="gross")
+    r = summaries.reach_regression(post_table(), before="pre", after="gross")
     assert r.columns == ["sector", "row", "col", "n_before", "n_after", "reach_before",
                          "reach_after", "change"]
     assert r["sector"].to_list() == [0, 4, 8]
@@ -348,14 +349,14 @@ def test_reach_regression():
     assert r["reach_after"].to_list() == [0.5, 0.0, 1.0]
     assert r["change"].to_list() == [0.0, -1.0, 1.0]
     assert r["n_before"].to_list() == [4, 2, 3] and r["n_after"].to_list() == [2, 2, 3]
-    by = m.reach_regression(post_table(), by=("senses",))
+    by = summaries.reach_regression(post_table(), by=("senses",))
     assert by.columns[:2] == ["senses", "sector"] and by["change"].to_list() == [0.0, -1.0, 1.0]
     with pytest.raises(ValueError, match="fine"):
-        m.reach_regression(post_table(), after="fine")
+        summaries.reach_regression(post_table(), after="fine")
 
 
 def test_robot_performance():
-    p = m.robot_performance(post_table())
+    p = summaries.robot_performance(post_table())
     assert p.columns == ["phase", "senses", "replication", "rank", "n", "fitness", "reach_rate",
                          "grasp_rate"]
     # sorted by phase: "gross" < "pre"
@@ -370,7 +371,7 @@ def test_robot_performance():
     assert gross1["n"] == 3 and gross1["fitness"] == pytest.approx(0.2 / 3)
     assert gross1["reach_rate"] == pytest.approx(1 / 3) and gross1["grasp_rate"] == 0.0
     with pytest.raises(ValueError):
-        m.robot_performance(post_table().drop("fitness"))
+        summaries.robot_performance(post_table().drop("fitness"))
 
 
 # ------------------------------------------------------------------ figure summaries
@@ -391,7 +392,7 @@ def speed_table():
 
 
 def test_robot_means_ignores_nan_and_counts_booleans():
-    r = m.robot_means(speed_table(), ["speed", "reached"])
+    r = summaries.robot_means(speed_table(), ["speed", "reached"])
     assert r.columns == ["phase", "senses", "replication", "rank", "n", "speed", "reached"]
     assert r["phase"].to_list() == ["gross", "pre", "pre", "pre"]
     assert r["n"].to_list() == [1, 3, 2, 1]
@@ -399,14 +400,14 @@ def test_robot_means_ignores_nan_and_counts_booleans():
     assert speed[0] == 0.5 and speed[1] == 2.0 and math.isnan(speed[2]) and speed[3] == 4.0
     assert r["reached"].to_list() == [1.0, pytest.approx(2 / 3), 0.0, 1.0]
     with pytest.raises(ValueError):
-        m.robot_means(speed_table(), ["nope"])
+        summaries.robot_means(speed_table(), ["nope"])
     with pytest.raises(ValueError):
-        m.robot_means(speed_table(), [])
+        summaries.robot_means(speed_table(), [])
 
 
 def test_group_summary_mean_sd_sem():
-    robots = m.robot_means(speed_table(), ["speed", "reached"])
-    s = m.group_summary(robots, ["speed", "reached"])
+    robots = summaries.robot_means(speed_table(), ["speed", "reached"])
+    s = summaries.group_summary(robots, ["speed", "reached"])
     assert s.columns == ["phase", "measure", "n", "mean", "sd", "sem"]
     assert s["phase"].to_list() == ["gross", "gross", "pre", "pre"]
     assert s["measure"].to_list() == ["speed", "reached"] * 2
@@ -420,16 +421,16 @@ def test_group_summary_mean_sd_sem():
     # pre reached: 2/3, 0, 1 -> mean 5/9
     assert pre_reached["n"] == 3 and pre_reached["mean"] == pytest.approx(5 / 9)
     # a group without any finite value: n 0, mean NaN
-    empty = m.group_summary(robots.filter(pl.col("speed").is_nan()), ["speed"])
+    empty = summaries.group_summary(robots.filter(pl.col("speed").is_nan()), ["speed"])
     assert empty["n"].to_list() == [0] and math.isnan(empty["mean"][0])
     # no grouping: one row per measure
-    assert m.group_summary(robots, ["speed"], by=())["n"].to_list() == [3]
+    assert summaries.group_summary(robots, ["speed"], by=())["n"].to_list() == [3]
 
 
 def test_replication_performance_best_robot_and_best_k():
     t = post_table().with_columns(
         pl.when(pl.col("rank") == 0).then(0.9).otherwise(0.5).alias("lifetime_fitness"))
-    best = m.replication_performance(t)
+    best = summaries.replication_performance(t)
     assert best.columns == ["phase", "replication", "robots", "fitness", "reach_rate",
                             "grasp_rate", "lifetime_fitness"]
     assert best["phase"].to_list() == ["gross", "pre"]
@@ -438,15 +439,15 @@ def test_replication_performance_best_robot_and_best_k():
     # sector 0 row 1 (0.5), sector 4 row 1 (0.0), sector 8 rows 1-2 (0.6, 0.4) -> 1.5 / 4
     assert best["fitness"].to_list() == [pytest.approx(1.5 / 4), pytest.approx(0.7 / 4)]
     assert best["lifetime_fitness"].to_list() == [0.9, 0.9]
-    two = m.replication_performance(t, robots=2)
+    two = summaries.replication_performance(t, robots=2)
     assert two["robots"].to_list() == [2, 2]
     # pre: robot 0 -> 0.175, robot 1 -> (0 + 0 + 0.3 + 0 + 0) / 5 = 0.06
     assert two.filter(pl.col("phase") == "pre")["fitness"][0] == pytest.approx((0.175 + 0.06) / 2)
     assert two["lifetime_fitness"].to_list() == [pytest.approx(0.7)] * 2
     with pytest.raises(ValueError, match="no trials"):
-        m.replication_performance(t, senses="nothing")
+        summaries.replication_performance(t, senses="nothing")
     with pytest.raises(ValueError):
-        m.replication_performance(t, robots=0)
+        summaries.replication_performance(t, robots=0)
 
 
 def test_a_touch_with_the_back_of_the_hand_is_a_reach_but_not_an_inner_touch():
@@ -500,7 +501,7 @@ def test_peripersonal_space_counts_and_spreads_the_sectors_a_robot_reaches():
             for _ in range(5):
                 rows.append({"phase": "p", "senses": "normal", "replication": 0, "rank": rank,
                              "sector": s, "reached": s in sectors, "grasped": s == 4})
-    space = m.peripersonal_space(pl.DataFrame(rows))
+    space = summaries.peripersonal_space(pl.DataFrame(rows))
     assert space["trials"].to_list() == [45, 45, 45]
     assert space["sectors_reached"].to_list() == [9, 1, 0]
     assert space["sectors_grasped"].to_list() == [1, 1, 1]
@@ -515,7 +516,7 @@ def test_condition_contrast_pairs_each_robot_with_itself():
             for s, f in (("normal", normal), ("no-sight", blind))]
     rows.append({"phase": "fine", "replication": 2, "rank": 0, "senses": "normal",
                  "fitness": 0.5, "reached": True})  # never tested blind: left out
-    out = m.condition_contrast(pl.DataFrame(rows), ["fitness", "reached"])
+    out = summaries.condition_contrast(pl.DataFrame(rows), ["fitness", "reached"])
     assert out["replication"].to_list() == [0, 1]
     assert out["fitness_drop"].to_list() == pytest.approx([0.08, 0.0])
     assert out["reached_a"].to_list() == [1.0, 1.0] and out["reached_b"].to_list() == [0.0, 1.0]

@@ -19,7 +19,7 @@ import polars as pl
 import pytest
 from matplotlib.figure import Figure
 
-from dart_reach import figures, metrics
+from dart_reach import figures, summaries
 from dart_reach.conditions import load_condition, scaled
 from dart_reach.evaluation import SENSES, evaluate_run, load_evaluation, run_phases
 from dart_reach.experiment import Run, Settings, train
@@ -83,7 +83,7 @@ def test_every_figure_has_its_panels(tiny_run, table):
         "fig8 babbling": (figures.fig8_babbling(table, PHASES), 2),
         # bars, significance matrix, bars grouped by senses
         "fig9": (figures.fig9_sensory_deprivation(table, PHASES), 3),
-        "fig10": (figures.fig10_conditions(metrics.replication_performance(
+        "fig10": (figures.fig10_conditions(summaries.replication_performance(
             figures.load_runs([tiny_run]), by=("group",))), 2),
     }
     for name, (fig, n_axes) in counts.items():
@@ -118,7 +118,7 @@ def test_load_runs_labels_groups(tiny_run, tmp_path):
     one = figures.load_runs([tiny_run])
     assert one.schema["group"] == pl.Enum(PHASES)
     assert set(one["run"].unique()) == {"tiny"}
-    reps = metrics.replication_performance(one, by=("group",))
+    reps = summaries.replication_performance(one, by=("group",))
     assert reps["group"].cast(pl.Utf8).to_list() == ["pre", "pre", "gross", "gross", "fine",
                                                      "fine"]
     st = figures.fig10_statistics(reps)
@@ -135,7 +135,7 @@ def test_load_runs_labels_groups(tiny_run, tmp_path):
     groups = two.schema["group"].categories.to_list()
     assert groups[:3] == [f"{p} [{tiny_run}]" for p in PHASES]
     assert groups[3:] == [f"{p} [{other}]" for p in PHASES]
-    reps = metrics.replication_performance(two, by=("group",))
+    reps = summaries.replication_performance(two, by=("group",))
     assert reps.height == 2 * 3 * 2
     with pytest.raises(ValueError):
         figures.load_runs([])
@@ -163,7 +163,7 @@ def test_figures_survive_missing_and_degenerate_data(tiny_run, table):
     assert math.isnan(st["kruskal"]["p"][0]) and st["pairs"].height == 0
     _render(figures.fig9_sensory_deprivation(pre, PHASES))
     _render(figures.fig9_sensory_deprivation(table.head(0), PHASES))
-    reps = metrics.replication_performance(
+    reps = summaries.replication_performance(
         figures.load_runs([tiny_run]).with_columns(pl.lit(0.0).alias("fitness")), by=("group",))
     st = figures.fig10_statistics(reps)
     assert st["pairs"]["p"].to_list() == [1.0, 1.0, 1.0]  # all zero: no difference
