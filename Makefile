@@ -55,7 +55,7 @@ LAVAPIPE := /usr/share/vulkan/icd.d/lvp_icd.x86_64.json
 screenshots: demo
 	@test -f $(LAVAPIPE) || apt-get install -y -q --no-install-recommends mesa-vulkan-drivers \
 		|| echo "install Mesa's Vulkan drivers (Debian: mesa-vulkan-drivers) to render headless"
-	$(BIN)/python -m dart_reach.screenshots $(DEMO_OUT) docs
+	$(BIN)/python -m dart_reach.viewing.headless $(DEMO_OUT) docs
 
 # Jupyter Lab on the analysis notebooks (installs the 'notebooks' extra on first use).
 notebooks: $(VENV)/.installed-notebooks
@@ -81,7 +81,7 @@ scene-study: $(VENV)/.installed
 		$(BIN)/dart-reach evaluate $(STUDY)/$$s --robots 5 --baseline 10 --sensors $$senses \
 			--record none || exit $$?; \
 	done; done
-	$(BIN)/python -m dart_reach.scene_study $(STUDY) docs
+	$(BIN)/python -m dart_reach.studies.scene_study $(STUDY) docs
 
 # The longer replication of docs/replication.md (issue 23): the standard condition and gross^,
 # 50 generations per phase (gross^ 100), 4 replications, on the scene the scene study's rule fixed.

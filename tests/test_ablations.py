@@ -9,7 +9,7 @@ from pathlib import Path
 import polars as pl
 import pytest
 
-from dart_reach.conditions import ConditionError, load_condition, variant
+from dart_reach.evolution.conditions import ConditionError, load_condition, variant
 
 DOC = Path(__file__).resolve().parents[1] / "docs" / "ablations.md"
 

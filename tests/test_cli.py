@@ -118,8 +118,8 @@ def test_report_needs_a_post_evaluation_and_an_existing_directory(tmp_path):
 
 
 def test_python_errors_name_python_arguments(tmp_path):
-    from dart_reach.conditions import load_condition, scaled
-    from dart_reach.experiment import RunError, Settings, train
+    from dart_reach.evolution.conditions import load_condition, scaled
+    from dart_reach.evolution.run import RunError, Settings, train
 
     cond = [scaled(load_condition("standard"), 1)]
     settings = Settings(replications=1, trials=1, steps=2)
@@ -133,7 +133,7 @@ def test_python_errors_name_python_arguments(tmp_path):
 def test_a_long_run_says_its_size_and_cost_before_starting(tmp_path):
     # the default budget: 15,000 replication-generations at the measured core-seconds each;
     # the run then stops at once on a directory that holds something else
-    from dart_reach.experiment import GENERATION_CORE_S
+    from dart_reach.evolution.run import GENERATION_CORE_S
 
     low, high = (15_000 * s / 3600 for s in GENERATION_CORE_S)
     out = tmp_path / "busy"

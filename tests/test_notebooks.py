@@ -1,4 +1,4 @@
-"""The figures of section IV (``dart_reach.figures``) and the six analysis notebooks, on a tiny
+"""The figures of section IV (``dart_reach.analysis.figures``) and the six analysis notebooks, on a tiny
 real run (trained and post-evaluated through the library): every figure function returns a
 figure with its panels, renders with degenerate data, and every notebook runs in a real Jupyter
 kernel of this environment and shows at least one image."""
@@ -19,10 +19,10 @@ import polars as pl
 import pytest
 from matplotlib.figure import Figure
 
-from dart_reach import figures, summaries
-from dart_reach.conditions import load_condition, scaled
-from dart_reach.evaluation import SENSES, evaluate_run, load_evaluation, run_phases
-from dart_reach.experiment import Run, Settings, train
+from dart_reach.analysis import figures, summaries
+from dart_reach.evolution.conditions import load_condition, scaled
+from dart_reach.postevaluation.systematic import SENSES, evaluate_run, load_evaluation, run_phases
+from dart_reach.evolution.run import Run, Settings, train
 
 NOTEBOOKS_DIR = Path(__file__).resolve().parents[1] / "notebooks"
 NOTEBOOKS = ("fig5_performance.ipynb", "fig6_distances_variability.ipynb",

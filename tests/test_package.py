@@ -25,10 +25,12 @@ def test_the_wheel_ships_both_licences_typing_and_the_robots(tmp_path):
         meta = z.read(next(n for n in names if n.endswith(".dist-info/METADATA"))).decode()
     for path in ("dart_reach/skeletons/icub_upper_body.urdf",
                  "dart_reach/skeletons/LICENSE-icub-models", "dart_reach/py.typed",
-                 "dart_reach/data/evolved_pre.json", "dart_reach/watch.py"):
+                 "dart_reach/analysis/templates/report.html"):
         assert path in names, path
-    for robots in (ROOT / "dart_reach" / "data").glob("*.json"):  # every shipped robots file
-        assert f"dart_reach/data/{robots.name}" in names, robots.name
+    package = ROOT / "dart_reach"
+    for pattern in ("*.py", "*.json", "*.toml"):  # every module, shipped robot, condition, scene
+        for f in package.rglob(pattern):
+            assert f"dart_reach/{f.relative_to(package).as_posix()}" in names, f
     assert any(n.endswith(".dist-info/licenses/LICENSE") for n in names)
     assert "License-Expression: MIT AND CC-BY-SA-4.0" in meta
     assert "Requires-Python: <3.14,>=3.11" in meta or "Requires-Python: >=3.11,<3.14" in meta

@@ -19,7 +19,7 @@ import time
 import nbclient
 import nbformat
 
-from dart_reach.experiment import Progress
+from dart_reach.evolution.run import Progress
 from dart_reach.progress import evaluation_bar, training_bar
 
 TINY = ["standard", "--generations", "1", "--replications", "1", "--trials", "1", "--steps", "4",
@@ -68,8 +68,8 @@ def test_a_bar_on_a_real_terminal(tmp_path):
 def test_a_widget_in_jupyter(tmp_path):
     """Training called from Python in a real Jupyter kernel shows a progress widget."""
     code = textwrap.dedent(f"""
-        from dart_reach.conditions import load_condition, scaled
-        from dart_reach.experiment import Settings, train
+        from dart_reach.evolution.conditions import load_condition, scaled
+        from dart_reach.evolution.run import Settings, train
         train([scaled(load_condition("standard"), 1)], Settings(replications=1, trials=1,
               steps=4), {str(tmp_path / "nb")!r}, workers=1)
         """)
@@ -81,7 +81,7 @@ def test_a_widget_in_jupyter(tmp_path):
 
 
 def test_evaluation_lines():
-    from dart_reach.evaluation import EvaluationProgress
+    from dart_reach.postevaluation.systematic import EvaluationProgress
 
     out = io.StringIO()
     with evaluation_bar(out, bar=False) as bar:
@@ -92,8 +92,8 @@ def test_evaluation_lines():
 def test_a_resumed_run_counts_only_what_it_trains(tmp_path):
     """After a resume part-way through a phase, the generations trained by the earlier process
     are neither done nor left to do: the rate and the ETA are this process's."""
-    from dart_reach.conditions import load_condition, scaled
-    from dart_reach.experiment import Settings, train
+    from dart_reach.evolution.conditions import load_condition, scaled
+    from dart_reach.evolution.run import Settings, train
 
     class Stop(Exception):
         pass

@@ -1,0 +1,362 @@
+"""Findings of runs trained at different budgets, side by side (issue 23; docs/analysis.md,
+"Several budgets").
+
+The paper trains 500 generations per phase (III-D); the replications here train fewer, and the
+same claim is judged at several budgets to see where it is heading. A run's *budget* is its
+scene and its generations per phase (:class:`Budget`, :func:`budget_of`). Runs of one budget
+are pooled, as the paper's replications are, and judged once (``findings.findings``); runs of
+different budgets are never pooled: ``findings_by_budget`` gives one block of findings rows
+per budget.
+
+Each claim's effect is put on one scale per claim on which the paper's direction is up
+(:func:`toward_paper`, in the units of the claim's effect), and the claim *moves toward* the
+paper as the budget grows when its interval at the largest budget of a scene lies wholly above
+its interval at the smallest, *away* when wholly below, *no change* when they overlap
+(:func:`movement`). ``side_by_side`` is the table of the report: one row per claim, each
+budget's effect [CI] and verdict, and the movement.
+
+Every function but :func:`budget_of`, :func:`budget_groups`, :func:`pooled` and
+:func:`findings_by_budget` (which read run directories) is pure: it takes the
+findings-by-budget frame, so a notebook or a script (docs/replication.md) gets the same tables
+as the report.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Sequence
+from dataclasses import dataclass
+from pathlib import Path
+
+import polars as pl
+
+from . import findings, verdicts
+from ..evolution.run import Run
+from .findings import Kind
+from ..model.scenes import scene_of
+
+__all__ = ["Budget", "Pooled", "MOVEMENTS", "TOWARD", "AWAY", "NO_CHANGE", "NOT_RUN",
+           "budget_of", "budget_groups", "pooled", "label_findings", "findings_by_budget",
+           "budgets", "toward_paper", "movement", "side_by_side", "number_text", "effect_text",
+           "ROBOTS_ONLY"]
+
+#: The movement of a claim's effect from the smallest to the largest budget of a scene.
+TOWARD, AWAY, NO_CHANGE, NOT_RUN = "toward", "away", "no change", "not run"
+MOVEMENTS = (TOWARD, AWAY, NO_CHANGE, NOT_RUN)
+#: What a movement was decided on: the two intervals, or the two points where an interval is
+#: missing (Friedman's W, the paired median change, fewer units than an interval needs).
+INTERVALS, POINTS = "intervals", "points"
+#: Appended in ``side_by_side`` to a reproduced or contradicted verdict the replication-level
+#: check does not give (``replications_agree`` false: it holds with the robot as the unit
+#: only; docs/analysis.md, "Replication-level check").
+ROBOTS_ONLY = " (robots only)"
+_DECIDED = (verdicts.REPRODUCED, verdicts.CONTRADICTED)
+#: Columns ``findings_by_budget`` puts before the findings' own.
+KEY_COLUMNS = ("scene", "generations_per_phase", "runs", "sign")
+
+
+@dataclass(frozen=True, order=True)
+class Budget:
+    """What a run was trained at, as far as pooling goes: the scene (the ball's sectors, II-B)
+    and the generations per standard phase (the paper: 500, III-D). Ordered by scene, then
+    generations."""
+
+    scene: str
+    generations_per_phase: int
+
+    @property
+    def label(self) -> str:
+        n = self.generations_per_phase
+        return f"{self.scene}, {n} generation{'' if n == 1 else 's'} per phase"
+
+
+def generations_per_phase(run: Run) -> tuple[int, ...]:
+    """The generations per standard phase of a run's phases (``generations // budget_phases``:
+    gross^ trains 2 phases' worth, fine^ 3), sorted; one value for a run trained with one
+    ``--generations``."""
+    return tuple(sorted({p.generations // p.budget_phases for c in run.conditions
+                         for p in c.phases}))
+
+
+def _scene_name(run: Run) -> str:
+    """The shipped scene whose sectors the run was trained with (``scenes.scene_of``), else its
+    sectors written out: two custom scenes are two scenes. The sectors of the settings decide,
+    not the manifest's ``scene``, which older runs lack and which names every user scene
+    "custom"."""
+    sectors = run.settings.world.sectors
+    name = scene_of(sectors)
+    if name is not None:
+        return name
+    az, el = sectors.azimuth_edges, sectors.elevation_edges
+    return (f"custom (radius {sectors.radius:g} m, azimuth {az[0]:g} to {az[-1]:g} deg, "
+            f"elevation {el[0]:g} to {el[-1]:g} deg, edges "
+            f"{'/'.join(f'{x:g}' for x in (*az, *el))})")
+
+
+def budget_of(run_dir) -> Budget:
+    """The budget of a run directory: its scene and its largest generations per phase (the
+    budget ``report.budget_text`` states)."""
+    run = Run.open(run_dir)
+    return Budget(_scene_name(run), generations_per_phase(run)[-1])
+
+
+def budget_groups(run_dirs: Sequence) -> dict[Budget, list[Path]]:
+    """The runs of each budget, budgets in order (scene, then generations per phase), runs in
+    the order given; a run given twice counts once."""
+    groups: dict[Budget, list[Path]] = {}
+    for d in {Path(d).resolve(): Path(d) for d in run_dirs}.values():
+        groups.setdefault(budget_of(d), []).append(d)
+    return dict(sorted(groups.items()))
+
+
+@dataclass(frozen=True)
+class Pooled:
+    """The post-evaluation tables of the evaluated runs among some runs, pooled: trials
+    (``figures.load_runs``), random baseline trials and development (snapshot) trials, each
+    with a ``run`` column; None where no run has them."""
+
+    table: pl.DataFrame | None
+    baseline: pl.DataFrame | None
+    development: pl.DataFrame | None
+
+    def findings(self) -> pl.DataFrame:
+        """Every claim judged on these tables (``findings.findings``; every claim "not run"
+        when no run is post-evaluated)."""
+        table = self.table if self.table is not None else _empty_table()
+        return findings.findings(table, self.baseline, development=self.development)
+
+
+def pooled(run_dirs: Sequence) -> Pooled:
+    """The pooled tables of ``run_dirs`` (those without ``evaluation.parquet`` are left out)."""
+    from . import figures
+    from ..postevaluation.snapshots import load_development
+    from ..postevaluation.systematic import load_evaluation
+
+    evaluated = [Path(d) for d in run_dirs if (Path(d) / "evaluation.parquet").is_file()]
+    if not evaluated:
+        return Pooled(None, None, None)
+    baselines = [load_evaluation(d, baseline=True).with_columns(pl.lit(d.name).alias("run"))
+                 for d in evaluated]
+    developments = [dev.with_columns(pl.lit(d.name).alias("run")) for d in evaluated
+                    if (dev := load_development(d)) is not None]
+    return Pooled(figures.load_runs(evaluated), pl.concat(baselines, how="diagonal_relaxed"),
+                  pl.concat(developments, how="diagonal_relaxed") if developments else None)
+
+
+def _empty_table() -> pl.DataFrame:
+    cols = {"notation": pl.Utf8, "senses": pl.Utf8, "replication": pl.Int64, "rank": pl.Int64,
+            "sector": pl.Int64, "reached": pl.Boolean, "grasped": pl.Boolean,
+            "lifetime_fitness": pl.Float64}
+    cols.update({m: pl.Float64 for m in ("fitness", "speed", "straightness", "var_elbow",
+                                         "var_shoulder", "var_trunk", "babbling_share")})
+    return pl.DataFrame(schema=cols)
+
+
+def label_findings(found: pl.DataFrame, budget: Budget, run_dirs: Sequence,
+                   claims: tuple[findings.Claim, ...] = findings.CLAIMS) -> pl.DataFrame:
+    """``found`` (``findings.findings`` of the runs of one budget) with the columns of
+    ``KEY_COLUMNS`` in front: the budget, the runs' names, and each claim's ``sign`` (+1 or -1
+    for a directional or change claim, 0 otherwise)."""
+    signs = {c.id: c.sign for c in claims}
+    return found.select(
+        pl.lit(budget.scene).alias("scene"),
+        pl.lit(budget.generations_per_phase, dtype=pl.Int64).alias("generations_per_phase"),
+        pl.lit(", ".join(Path(d).name for d in run_dirs)).alias("runs"),
+        pl.col("claim").replace_strict(signs, default=0, return_dtype=pl.Int64).alias("sign"),
+        pl.all())
+
+
+def findings_by_budget(run_dirs: Sequence) -> pl.DataFrame:
+    """The findings of ``run_dirs``, one block of rows per budget (``budget_groups``): the runs
+    of a budget pooled and judged together (``findings.findings``, Holm within the block), runs
+    of different budgets never. Columns: ``KEY_COLUMNS``, then the findings' columns."""
+    return pl.concat([label_findings(pooled(dirs).findings(), budget, dirs)
+                      for budget, dirs in budget_groups(run_dirs).items()])
+
+
+def budgets(by_budget: pl.DataFrame) -> list[Budget]:
+    """The budgets of a findings-by-budget frame, in order."""
+    return sorted(Budget(s, g) for s, g in
+                  by_budget.select("scene", "generations_per_phase").unique().iter_rows())
+
+
+# ------------------------------------------------------------------------------ direction
+def _fold(effect: float, centre: float, top: float):
+    """``top - |x - centre|`` of a value, and the map of an interval to its image."""
+    def image(lo: float, hi: float) -> tuple[float, float]:
+        far = max(abs(lo - centre), abs(hi - centre))
+        near = 0.0 if lo <= centre <= hi else min(abs(lo - centre), abs(hi - centre))
+        return top - far, top - near
+    return top - abs(effect - centre), image
+
+
+def _band_depth(x: float) -> float:
+    lo, hi = findings.ABOUT_HALF
+    return min(x - lo, hi - x)
+
+
+def _toward(kind: str, sign: int, effect: float, low: float, high: float
+            ) -> tuple[float, float, float]:
+    """One claim's effect and interval on the scale where the paper's direction is up (see
+    ``toward_paper``); the interval NaN where the claim has none."""
+    if kind in (Kind.DIRECTIONAL.value, Kind.CHANGE_PAIRED.value):
+        point, image = sign * effect, lambda lo, hi: sorted((sign * lo, sign * hi))
+    elif kind == Kind.NO_DIFFERENCE.value:
+        point, image = _fold(effect, 0.5, verdicts.EQUIVALENCE_MARGIN)
+    elif kind == Kind.SAME_PAIRED.value:
+        point, image = _fold(effect, 0.0, 0.0)
+    elif kind == Kind.BAND.value:
+        centre = sum(findings.ABOUT_HALF) / 2
+        point = _band_depth(effect)
+        def image(lo, hi):
+            return min(_band_depth(lo), _band_depth(hi)), _band_depth(min(max(centre, lo), hi))
+    elif kind == Kind.EVERY_SECTOR.value:
+        f = verdicts.SECTOR_FLOOR
+        point, image = effect - f, lambda lo, hi: (lo - f, hi - f)
+    elif kind == Kind.NEVER.value:
+        e = verdicts.NEVER_EPSILON
+        point, image = e - effect, lambda lo, hi: (e - hi, e - lo)
+    elif kind == Kind.PAIRED.value:  # Kendall's W: the senses matter more
+        point, image = effect, lambda lo, hi: (lo, hi)
+    else:
+        raise ValueError(f"unknown kind of claim {kind!r}")
+    if math.isnan(point) or math.isnan(low) or math.isnan(high):
+        return point, math.nan, math.nan
+    lo, hi = image(low, high)
+    return point, lo, hi
+
+
+def toward_paper(by_budget: pl.DataFrame) -> pl.DataFrame:
+    """``by_budget`` with ``toward``, ``toward_low``, ``toward_high``: each claim's effect and
+    interval (NaN: none) on a scale where up is the paper's direction, in the units of the
+    claim's effect:
+
+    - directional, change (paired): ``sign`` x effect (0: no difference);
+    - no difference: 0.15 - |theta - 0.5| (``verdicts.EQUIVALENCE_MARGIN``; 0: the margin,
+      above it: inside);
+    - no change (paired): -|mean change| (0: no change; the margin is relative to the data);
+    - band: the distance inside the band [1/3, 2/3] (negative: outside);
+    - every sector: the weakest sector's rate - 0.10 (``verdicts.SECTOR_FLOOR``);
+    - never: 0.05 - the share (``verdicts.NEVER_EPSILON``);
+    - paired (Friedman): Kendall's W.
+
+    An interval maps to its image (e.g. theta's interval [0.45, 0.6] to [0.05, 0.15])."""
+    rows = [_toward(k, s, e, lo, hi) for k, s, e, lo, hi in by_budget.select(
+        "kind", "sign", pl.col("effect").fill_null(math.nan),
+        pl.col("effect_low").fill_null(math.nan),
+        pl.col("effect_high").fill_null(math.nan)).iter_rows()]
+    t, lo, hi = zip(*rows) if rows else ((), (), ())
+    return by_budget.with_columns(pl.Series("toward", t, pl.Float64),
+                                  pl.Series("toward_low", lo, pl.Float64),
+                                  pl.Series("toward_high", hi, pl.Float64))
+
+
+def _move(small: tuple[float, float, float], large: tuple[float, float, float]
+          ) -> tuple[str, str]:
+    (s, s_lo, s_hi), (b, b_lo, b_hi) = small, large
+    if math.isnan(s) or math.isnan(b):
+        return NOT_RUN, ""
+    if any(math.isnan(x) for x in (s_lo, s_hi, b_lo, b_hi)):
+        return (TOWARD if b > s else AWAY if b < s else NO_CHANGE), POINTS
+    return (TOWARD if b_lo > s_hi else AWAY if b_hi < s_lo else NO_CHANGE), INTERVALS
+
+
+def movement(by_budget: pl.DataFrame) -> pl.DataFrame:
+    """How each claim moves as the budget grows, per scene with at least two budgets: from
+    its smallest to its largest generations per phase, on the ``toward_paper`` scale.
+
+    - ``not run``: no effect at either end (the claim not run, or decided underpowered before
+      any effect was computed);
+    - with an interval at both ends: ``toward`` when the largest budget's interval lies wholly
+      above the smallest's, ``away`` when wholly below, ``no change`` when they overlap
+      (basis ``intervals``; an unbounded interval overlaps everything);
+    - where either end has no interval (Friedman's W, the paired median change, fewer
+      replications than an interval needs): the two points, ``toward`` if it rose, ``away`` if
+      it fell, ``no change`` if equal (basis ``points``: no evidence against noise).
+
+    Columns: claim, scene, from_generations, to_generations, movement (one of ``MOVEMENTS``),
+    basis (``intervals``, ``points`` or "" for not run); one row per claim and scene, in the
+    frame's order."""
+    scored = toward_paper(by_budget)
+    claims = scored["claim"].unique(maintain_order=True).to_list()
+    rows = []
+    for scene in scored["scene"].unique(maintain_order=True).to_list():
+        gens = sorted(scored.filter(pl.col("scene") == scene)["generations_per_phase"]
+                      .unique().to_list())
+        if len(gens) < 2:
+            continue
+        ends = [{r[0]: tuple(r[1:]) for r in scored.filter(
+            (pl.col("scene") == scene) & (pl.col("generations_per_phase") == g))
+            .select("claim", "toward", "toward_low", "toward_high").iter_rows()}
+            for g in (gens[0], gens[-1])]
+        nan3 = (math.nan,) * 3
+        for claim in claims:
+            word, basis = _move(ends[0].get(claim, nan3), ends[1].get(claim, nan3))
+            rows.append((claim, scene, gens[0], gens[-1], word, basis))
+    return pl.DataFrame(rows, orient="row", schema={
+        "claim": pl.Utf8, "scene": pl.Utf8, "from_generations": pl.Int64,
+        "to_generations": pl.Int64, "movement": pl.Utf8, "basis": pl.Utf8})
+
+
+# ------------------------------------------------------------------------------ the table
+def number_text(value: float) -> str:
+    """A number to 3 significant digits (small ones in exponent form; NaN: "–")."""
+    if math.isnan(value):
+        return "–"
+    return f"{value:.3g}" if abs(value) >= 1e-3 or value == 0 else f"{value:.1e}"
+
+
+def effect_text(effect: float, low: float, high: float) -> str:
+    """"effect [low, high]", the interval left out where there is none."""
+    if effect is None or math.isnan(effect):
+        return "–"
+    ci = (f" [{number_text(low)}, {number_text(high)}]"
+          if low is not None and not math.isnan(low) else "")
+    return number_text(effect) + ci
+
+
+def budget_column(budget: Budget, one_scene: bool) -> str:
+    """The name of a budget's columns in ``side_by_side``."""
+    return (f"{budget.generations_per_phase} gen/phase" if one_scene
+            else f"{budget.scene}, {budget.generations_per_phase} gen/phase")
+
+
+def side_by_side(by_budget: pl.DataFrame) -> pl.DataFrame:
+    """One row per claim (in the frame's order): claim, section, kind; for each budget
+    (``budgets``; named by ``budget_column``) its ``effect [CI]`` (the claim's own effect,
+    ``effect_text``) and ``verdict`` ("not run" where the budget's runs lack it;
+    ``ROBOTS_ONLY`` appended to a reproduced or contradicted verdict the replication means do
+    not give); and the movement (``movement``) as "as the budget grows" (one column per scene
+    with two budgets or more, named after the scene when there are several), "(points)"
+    appended where it rests on points, not intervals."""
+    order = by_budget.select("claim", "section", "kind").unique("claim", maintain_order=True)
+    all_budgets = budgets(by_budget)
+    scenes = list(dict.fromkeys(b.scene for b in all_budgets))
+    out = order
+    for b in all_budgets:
+        name = budget_column(b, len(scenes) == 1)
+        block = by_budget.filter((pl.col("scene") == b.scene)
+                                 & (pl.col("generations_per_phase") == b.generations_per_phase))
+        cells = pl.DataFrame(
+            {"claim": block["claim"],
+             f"{name}: effect [CI]": [effect_text(*r) for r in block.select(
+                 pl.col(c).fill_null(math.nan) for c in ("effect", "effect_low", "effect_high")
+             ).iter_rows()],
+             f"{name}: verdict": block.select(pl.when(
+                 pl.col("verdict").is_in(_DECIDED)
+                 & pl.col("replications_agree").cast(pl.Boolean).not_())
+                 .then(pl.col("verdict") + ROBOTS_ONLY).otherwise("verdict")).to_series()})
+        out = out.join(cells, on="claim", how="left", maintain_order="left").with_columns(
+            pl.col(f"{name}: effect [CI]").fill_null("–"),
+            pl.col(f"{name}: verdict").fill_null(findings.NOT_RUN))
+    moves = movement(by_budget)
+    moved = moves["scene"].unique(maintain_order=True).to_list()
+    for scene in moved:
+        name = ("as the budget grows" if len(scenes) == 1
+                else f"as the budget grows ({scene})")
+        m = (moves.filter(pl.col("scene") == scene)
+             .select("claim", pl.when(pl.col("basis") == POINTS)
+                     .then(pl.format("{} (points)", "movement"))
+                     .otherwise(pl.col("movement")).alias(name)))
+        out = out.join(m, on="claim", how="left", maintain_order="left")
+    return out

@@ -1,0 +1,488 @@
+"""The replication report (``dart-reach report RUN [RUN ...]``): one self-contained HTML file.
+
+What a reviewer of a replication wants to read, in this order: the findings table (every claim
+of section IV against the data, ``findings``), provenance (command, conditions, budgets,
+seeds, revision, versions, machine, physics step, wall time), training (curves and the
+numbers at the start and end of each phase), the measures of Figs. 5-6 beside the random
+baseline, the figures (5-10, drawn by ``figures`` as the notebooks draw them) and the
+statistics behind them. Figures are matplotlib PNGs embedded as data URIs, tables plain HTML,
+the page a ``string.Template`` (``templates/report.html``): it opens offline in any browser.
+
+Runs trained at different budgets (scene, generations per phase: ``budgets``) are judged
+apart: the findings of each budget, and, when there are several, the claims side by side with
+how each moves as the budget grows and the figure of their effects against the budget.
+
+Every number in it is computed from the run directories when the report is built.
+"""
+
+from __future__ import annotations
+
+import base64
+import html
+import io
+import json
+import time
+from collections.abc import Sequence
+from importlib import resources
+from pathlib import Path
+from string import Template
+
+import polars as pl
+
+from . import budgets, figures, findings
+from ..errors import UsageError
+from ..postevaluation.systematic import run_phases
+from ..evolution.run import Run, RunError
+from ..files import atomic_write
+
+#: Pixels per inch of the figures: figures.py's 9-point labels are 12.5 px at 100 % zoom.
+DPI = 100
+#: Under the training curves: why the best fitness of a generation can fall.
+TRAINING_NOTE = (
+    "The best fitness of a generation can fall: a genotype's fitness is its mean over new "
+    "random trials (ball positions) every generation, and the parents kept from one generation "
+    "to the next are evaluated again on new trials (steady state, section III-C), so a lucky "
+    "parent's score regresses toward its true mean. The curves are the best of each "
+    "generation's evaluations, not a record that can only rise.")
+#: Beside the pairwise tests of Figs. 9 and 10.
+HOLM_NOTE = (
+    "p: each pair's two-tailed Mann-Whitney test, uncorrected, as the paper reports them; "
+    "p_holm: corrected for the number of pairs compared (Holm's step-down method, which keeps "
+    "the chance of any false positive among them below alpha). The matrices draw black where "
+    "p_holm < 0.05 and grey where only the uncorrected p is.")
+#: Marks the files this module writes: only those are ever overwritten.
+GENERATOR = '<meta name="generator" content="dart_reach report">'
+#: Measures of the baseline table (Figs. 5, 6 and the babbling measure), with their labels.
+MEASURES = (("fitness", "fitness"), ("reached", "reach rate"), ("grasped", "grasp rate"),
+            ("speed", "speed (m/s)"), ("straightness", "straightness"),
+            ("var_elbow", "elbow var. (rad)"), ("var_shoulder", "shoulder var. (rad)"),
+            ("var_trunk", "trunk var. (rad)"), ("elbow_freezing", "hand-shoulder s.d. (m)"),
+            ("babbling_share", "babbling share"))
+
+
+# ------------------------------------------------------------------------------ pieces
+def _figure(fig) -> str:
+    buf = io.BytesIO()
+    fig.savefig(buf, format="png", dpi=DPI)
+    data = base64.b64encode(buf.getvalue()).decode("ascii")
+    return f'<img alt="figure" src="data:image/png;base64,{data}">'
+
+
+def _cell(value) -> str:
+    if isinstance(value, float):
+        return budgets.number_text(value)
+    if isinstance(value, bool):
+        return "■" if value else ""
+    return html.escape(str(value))
+
+
+def table_html(df: pl.DataFrame, css: str = "", group: str | None = None,
+               cell_class=None) -> str:
+    """A polars table as a plain HTML table (floats to 3 significant digits). ``group``: a
+    column whose value heads each run of equal values (a row of its own) instead of being a
+    column; ``cell_class(column, value)``: the CSS class of a cell ("" for none)."""
+    columns = [c for c in df.columns if c != group]
+    head = "".join(f"<th>{html.escape(c)}</th>" for c in columns)
+    rows, current = [], None
+    for row in df.iter_rows(named=True):
+        if group is not None and row[group] != current:
+            current = row[group]
+            rows.append(f'<tr class="group"><th colspan="{len(columns)}">'
+                        f"{html.escape(str(current))}</th></tr>")
+        cells = []
+        for c in columns:
+            css_ = cell_class(c, row[c]) if cell_class is not None else ""
+            cells.append(f'<td class="{css_}">{_cell(row[c])}</td>' if css_
+                         else f"<td>{_cell(row[c])}</td>")
+        rows.append(f"<tr>{''.join(cells)}</tr>")
+    return (f'<table class="{css}"><thead><tr>{head}</tr></thead>'
+            f'<tbody>{"".join(rows)}</tbody></table>')
+
+
+def _effect(r: dict) -> str:
+    return html.escape(budgets.effect_text(r["effect"], r["effect_low"], r["effect_high"]))
+
+
+def _findings_html(found: pl.DataFrame) -> str:
+    """The findings, grouped by the paper's section and figure, in the table's order."""
+    head = ("<tr><th>claim</th><th>the paper</th><th>measured here</th><th>test</th><th>n</th>"
+            "<th>effect [CI]</th><th>p</th><th>Holm p</th><th>paper's level met</th>"
+            "<th>replication means p</th><th>verdict</th></tr>")
+    rows, section = [], None
+    for r in found.iter_rows(named=True):
+        if r["section"] != section:
+            section = r["section"]
+            rows.append(f'<tr class="group"><th colspan="11">{html.escape(section)}</th></tr>')
+        met = {True: "yes", False: "no", None: "–"}[r["paper_level_met"]]
+        note = f'<br><small>{html.escape(r["note"])}</small>' if r["note"] else ""
+        rows.append(
+            f'<tr class="{r["verdict"].split()[0]}"><td>{html.escape(r["claim"])}</td>'
+            f'<td>{html.escape(r["paper"])}</td><td>{html.escape(r["measured"])}</td>'
+            f'<td>{html.escape(r["test"])}</td><td>{html.escape(r["n"])}</td>'
+            f'<td>{_effect(r)}</td><td>{_cell(r["p"])}</td><td>{_cell(r["p_holm"])}</td>'
+            f'<td>{met}</td><td>{_cell(r["p_replications"])}</td>'
+            f'<td class="verdict">{html.escape(r["verdict"])}{note}</td></tr>')
+    return (f'<table class="findings"><thead>{head}</thead><tbody>{"".join(rows)}</tbody>'
+            "</table>")
+
+
+def budget_text(run_dirs: Sequence[Path], table: pl.DataFrame | None) -> str:
+    """What the runs' budget can test: generations per phase, replications and robots per
+    replication post-evaluated."""
+    parts = []
+    for d in run_dirs:
+        run = Run.open(d)
+        gens = budgets.generations_per_phase(run)
+        parts.append(f"{d.name}: {'/'.join(map(str, gens))} generations per phase "
+                     f"({gens[-1] / 500:.0%} of the paper's 500), "
+                     f"{run.settings.replications} replications (the paper: 10)")
+    if table is not None and table.height:
+        robots_ = table.group_by("notation", "replication").agg(pl.col("rank").n_unique())
+        parts.append(f"{robots_['rank'].max()} robots per replication post-evaluated "
+                     "(the paper: 5)")
+    return "; ".join(parts)
+
+
+def training_summary(stats: pl.DataFrame, phases: pl.DataFrame | None = None) -> pl.DataFrame:
+    """Best and mean fitness at the first and last generation of each phase, per condition,
+    phase and replication (from ``generations.parquet``), conditions in the order of the run
+    and phases in training order (``phases``: ``evaluation.run_phases`` of the run; default:
+    the order of the table)."""
+    keys = ["condition", "phase", "replication"]
+    order = (phases.select("condition", "phase") if phases is not None
+             else stats.select("condition", "phase")).unique(maintain_order=True)
+    s = (stats.join(order.with_row_index("_order"), on=["condition", "phase"], how="left")
+         .sort(["_order", "replication", "generation"], nulls_last=True).drop("_order"))
+    return (s.group_by(keys, maintain_order=True)
+            .agg(pl.col("generation").last().alias("generations"),
+                 pl.col("best").first().alias("best_first"),
+                 pl.col("best").last().alias("best_last"),
+                 pl.col("best").max().alias("best_max"),
+                 pl.col("mean").first().alias("mean_first"),
+                 pl.col("mean").last().alias("mean_last")))
+
+
+def baseline_table(table: pl.DataFrame, baseline: pl.DataFrame | None) -> pl.DataFrame:
+    """Mean over robots of each measure (``MEASURES``) per phase, normal senses, with the
+    random genomes of that phase (``evaluate --baseline``) as rows ``random <phase>``."""
+    parts = [table.filter(pl.col("senses") == "normal")]
+    if baseline is not None and baseline.height:
+        parts.append(baseline.filter(pl.col("senses") == "normal")
+                     .with_columns(pl.format("random {}", "notation").alias("notation")))
+    both = pl.concat(parts, how="diagonal_relaxed")
+    if both.height == 0:
+        return pl.DataFrame({"phase": []})
+    names = [m for m, _ in MEASURES]
+    robots = figures.summaries.robot_means(both, names, by=("notation", "replication", "rank"))
+    order = {n: i for i, n in enumerate(dict.fromkeys(both["notation"].to_list()))}
+    out = (robots.group_by("notation", maintain_order=True)
+           .agg(pl.len().alias("robots"), *[pl.col(m).mean() for m in names])
+           .with_columns(pl.col("notation").replace_strict(order, return_dtype=pl.Int64)
+                         .alias("_o"))
+           .sort("_o").drop("_o"))
+    return out.rename({"notation": "phase", **{m: label for m, label in MEASURES}})
+
+
+def _provenance(run_dir: Path) -> pl.DataFrame:
+    manifest = json.loads((run_dir / "manifest.json").read_text())
+    run = Run.open(run_dir)
+    s = manifest.get("settings", {})
+    phases = run_phases(run_dir)
+    wall = 0.0
+    stats_path = run_dir / "generations.parquet"
+    if stats_path.is_file():
+        # wall_s is the whole generation's (all replications), repeated on each row
+        wall = float(pl.read_parquet(stats_path).unique(["phase_key", "generation"],
+                                                        maintain_order=True)["wall_s"].sum())
+    machine = manifest.get("machine") or {}
+    rows = [
+        ("command", manifest.get("command") or "not recorded (made before commands were)"),
+        ("conditions", ", ".join(f"{c.name} ({c.notation})" for c in run.conditions)),
+        ("phases (generations)", ", ".join(
+            f"{r['notation']} ({r['generations']})"
+            for r in phases.unique("phase_key", maintain_order=True).iter_rows(named=True))),
+        ("replications / trials / steps", f"{s.get('replications')} / {s.get('trials')} / "
+                                          f"{s.get('steps')}"),
+        ("genetic algorithm", json.dumps(s.get("ga"))),
+        ("seeds", json.dumps(manifest.get("seeds"))),
+        ("physics step (s)", str(run.settings.world.physics_dt)),
+        ("git revision", str(manifest.get("git_revision"))),
+        ("uncommitted changes", _dirty(manifest)),
+        ("versions", ", ".join(f"{k} {v}" for k, v in (manifest.get("versions") or {}).items())),
+        ("machine", ", ".join(f"{k} {v}" for k, v in machine.items()) or "not recorded"),
+        ("created", str(manifest.get("created"))),
+        ("training wall time", f"{wall / 3600:.2f} h (sum of the generations' wall times)"),
+    ]
+    return pl.DataFrame(rows, schema=["item", "value"], orient="row")
+
+
+def _dirty(manifest: dict) -> str:
+    """Whether the run's code had uncommitted changes (manifest ``git_dirty``)."""
+    if "git_dirty" not in manifest:
+        return "not recorded (made before the manifest recorded it)"
+    if manifest["git_dirty"] is None:
+        return "unknown (not run from a git working tree)"
+    if not manifest["git_dirty"]:
+        return "none (clean working tree)"
+    return f"yes: diff SHA-256 {manifest.get('git_diff_sha256')}"
+
+
+def _section(title: str, body: str, anchor: str) -> str:
+    return f'<section id="{anchor}"><h2>{html.escape(title)}</h2>{body}</section>'
+
+
+def _try(draw, *args, **kwargs) -> str:
+    """A figure, or a line saying why it could not be drawn (missing data)."""
+    try:
+        return _figure(draw(*args, **kwargs))
+    except (ValueError, RunError, KeyError, pl.exceptions.PolarsError) as exc:
+        return f'<p class="missing">not drawn: {html.escape(str(exc))}</p>'
+
+
+#: Above the findings: what the verdicts mean.
+VERDICTS_NOTE = (
+    "<i>Underpowered</i>: even the most favourable data could not reach p &lt; 0.05 at this n "
+    "(decided from the sizes before any test); <i>inconclusive</i>: the data cannot decide; a "
+    "claim of no difference is <i>reproduced</i> only by an equivalence test.")
+#: Under the figure of the effects against the budget.
+BUDGET_FIGURE_NOTE = (
+    "Each claim's effect at each budget, on a scale where up is the paper's direction (the "
+    "claim's own units: a shift for a directional claim, 0.15 - |theta - 0.5| for a claim of "
+    "no difference, the depth inside the band, the weakest sector's rate above the floor, ...; "
+    "docs/analysis.md, \"Several budgets\"), with its interval; hollow: no interval or an "
+    "unbounded one. The dashed line is 0: no effect, or the claim's boundary. Only the claims "
+    "with an effect at two budgets or more are drawn; the word in each panel is the movement "
+    "of the table above.")
+
+
+def _baseline_html(budget, pooled_, heading: bool) -> str:
+    """The measures beside the random baseline of one budget's runs (budgets never pooled)."""
+    return ((f"<h3>{html.escape(budget.label)}</h3>" if heading else "")
+            + table_html(baseline_table(pooled_.table, pooled_.baseline)))
+
+
+def _counts(found: pl.DataFrame) -> str:
+    return ('<p class="counts">' + " · ".join(
+        f"{v}: <b>{n}</b>" for v, n in findings.summary(found).items()) + "</p>")
+
+
+def _verdict_class(column: str, value) -> str:
+    """The CSS class of a cell of ``budgets.side_by_side``: its verdict, or its movement."""
+    if column.endswith(": verdict"):
+        return value.split()[0]
+    if column.startswith("as the budget grows") and value:
+        return value.split()[0] if value.split()[0] in (budgets.TOWARD, budgets.AWAY) else ""
+    return ""
+
+
+def _findings_body(blocks: list, by_budget: pl.DataFrame) -> str:
+    """The findings of each budget (``budgets``: runs of one scene and one number of
+    generations per phase are pooled, others never): for one budget, its table as ever; for
+    several, the claims side by side with their movement as the budget grows, the figure of
+    the effects against the budget, then each budget's table under its heading."""
+    def block_html(budget, dirs, pooled_, found, heading):
+        head = (f"<h3>{html.escape(budget.label)}: {html.escape(', '.join(d.name for d in dirs))}"
+                "</h3>" if heading else "")
+        return (head + _counts(found) + "<p>What the budget can test: "
+                + html.escape(budget_text(dirs, pooled_.table)) + f". {VERDICTS_NOTE}</p>"
+                + _findings_html(found))
+
+    if len(blocks) == 1:
+        return block_html(*blocks[0], heading=False)
+    scenes = list(dict.fromkeys(budget.scene for budget, *_ in blocks))
+    parts = []
+    if len(scenes) > 1:
+        parts.append(f"<p class='missing'>These runs were trained on {len(scenes)} scenes "
+                     f"({html.escape(', '.join(scenes))}): each scene's runs are compared as "
+                     "separate groups, never pooled, and the movement is within a scene.</p>")
+    parts.append(
+        f"<p>{len(blocks)} budgets: "
+        + html.escape("; ".join(f"{b.label} ({', '.join(d.name for d in dirs)})"
+                                for b, dirs, *_ in blocks))
+        + ". The runs of one budget (scene and generations per phase) are pooled and judged "
+          "together; runs of different budgets never are. <i>As the budget grows</i>: from the "
+          "smallest to the largest budget of a scene, <i>toward</i> the paper when the effect's "
+          "interval at the largest lies wholly above its interval at the smallest on a scale "
+          "where the paper's direction is up, <i>away</i> when wholly below, <i>no change</i> "
+          "when they overlap; <i>(points)</i>: decided on the two effects where an interval is "
+          "missing, no evidence against noise; <i>not run</i>: no effect at either end "
+          "(docs/analysis.md, \"Several budgets\"). A verdict marked <i>(robots only)</i> "
+          "holds with the robot as the unit, not on the replications' means (docs/analysis.md, "
+          "\"Replication-level check\").</p>")
+    parts.append(table_html(budgets.side_by_side(by_budget), "findings budgets",
+                            group="section", cell_class=_verdict_class))
+    parts.append(_try(figures.budget_figure, by_budget)
+                 + f"<p>{html.escape(BUDGET_FIGURE_NOTE)}</p>")
+    parts += [block_html(*block, heading=True) for block in blocks]
+    return "".join(parts)
+
+
+# ------------------------------------------------------------------------------ the report
+def build(run_dirs: Sequence, out=None, findings_out=None) -> Path:
+    """Write the report of ``run_dirs`` to ``out`` (default ``<first run>/report.html``) and
+    return its path. Runs without a post-evaluation get provenance and training only, and
+    their claims are "not run". ``findings_out``: also write the findings the report shows,
+    every claim at every budget (``budgets.findings_by_budget``'s frame), to this parquet
+    file, a new one."""
+    run_dirs = [Path(d) for d in run_dirs]
+    if not run_dirs:
+        raise ValueError("the report needs at least one run directory")
+    for d in run_dirs:
+        Run.open(d)  # one clear error for a path that is not a run
+    out = Path(out) if out is not None else run_dirs[0] / "report.html"
+    if out.suffix.lower() not in (".html", ".htm"):
+        raise ValueError(f"{out}: the report is an HTML file; give a name ending in .html")
+    if not out.parent.is_dir():
+        raise UsageError(f"{out.parent}: no such directory (out={str(out)!r}); create it first",
+                         cli=f"{out.parent}: no such directory (--out {out}); create it first")
+    if out.exists() and GENERATOR not in out.read_text(errors="replace")[:2000]:
+        raise UsageError(f"{out} exists and is not a dart_reach report; choose another out",
+                         cli=f"{out} exists and is not a dart_reach report; choose another "
+                             f"--out")
+    if findings_out is not None:
+        findings_out = Path(findings_out)
+        _check_findings_out(findings_out)
+    evaluated = [d for d in run_dirs if (d / "evaluation.parquet").is_file()]
+    everything = budgets.pooled(evaluated)
+    table, baseline = everything.table, everything.baseline
+    groups = budgets.budget_groups(run_dirs)
+    blocks = [(budget, dirs, everything if len(groups) == 1 else budgets.pooled(dirs))
+              for budget, dirs in groups.items()]
+    blocks = [(budget, dirs, pooled_, pooled_.findings()) for budget, dirs, pooled_ in blocks]
+    by_budget = pl.concat([budgets.label_findings(found, budget, dirs)
+                           for budget, dirs, _, found in blocks])
+
+    missing = [d for d in run_dirs if d not in evaluated]
+    notice = ("" if not missing else "<p class='missing'>not post-evaluated yet: "
+              + ", ".join(html.escape(str(d)) for d in missing) + ". The findings and figures "
+              "need the post-evaluation: run <code>dart-reach evaluate RUN --sensors all "
+              "--baseline 20</code> first.</p>")
+    sections = [_section("Findings of section IV", notice + _findings_body(blocks, by_budget)
+                         + "<p>Verdicts are computed from the data when this report is built "
+                           "(<code>dart_reach.findings</code>, <code>dart_reach.verdicts</code>; "
+                           "the rules and their reasons are in docs/analysis.md, "
+                           "\"Verdicts\").</p>", "findings")]
+
+    prov, train = [], []
+    for d in run_dirs:
+        prov.append(f"<h3>{html.escape(d.name)}</h3>" + table_html(_provenance(d), "provenance"))
+        stats_path = d / "generations.parquet"
+        if stats_path.is_file():
+            stats = pl.read_parquet(stats_path)
+            phases = run_phases(d)
+            train.append(f"<h3>{html.escape(d.name)}</h3>"
+                         + _try(figures.training_curves, stats, phases)
+                         + f"<p>{html.escape(TRAINING_NOTE)}</p>"
+                         + table_html(training_summary(stats, phases)))
+        else:
+            train.append(f"<h3>{html.escape(d.name)}</h3><p class='missing'>no generation "
+                         "trained yet</p>")
+    sections.append(_section("Provenance", "".join(prov), "provenance"))
+    sections.append(_section("Training", "".join(train), "training"))
+
+    if table is None:
+        sections.append(_section("Post-evaluation", "<p class='missing'>no run is "
+                                 "post-evaluated yet: run <code>dart-reach evaluate RUN "
+                                 "--sensors all --baseline 20</code></p>", "evaluation"))
+    else:
+        sections.append(_section("Measures beside the random baseline",
+                                 "".join(_baseline_html(b, p, len(blocks) > 1)
+                                         for b, _, p, _ in blocks if p.table is not None)
+                                 + "<p>Means over robots (a robot: its mean over its trials, "
+                                   "normal senses); <i>random</i>: random genomes of the phase "
+                                   "under the same senses.</p>", "baseline"))
+        sections.append(_section("Figures 5-9 (standard condition)",
+                                 "".join(_run_figures(d) for d in evaluated), "figures"))
+        sections.append(_section("Figure 10 (conditions)", _fig10(table), "fig10"))
+        sections.append(_section("Statistics", "".join(_run_statistics(d) for d in evaluated),
+                                 "statistics"))
+    page = Template(resources.files(__package__).joinpath("templates/report.html")
+                    .read_text(encoding="utf-8"))
+    text = page.substitute(
+        generator=GENERATOR, title=html.escape("dart_reach report: " + ", ".join(d.name for d in run_dirs)),
+        generated=time.strftime("%Y-%m-%d %H:%M:%S %z"), body="\n".join(sections))
+    if findings_out is not None:  # first: a failure leaves the previous report as it was
+        _check_findings_out(findings_out)  # still new, minutes later
+        atomic_write(findings_out, lambda p: by_budget.write_parquet(p))
+    atomic_write(out, lambda p: p.write_text(text, encoding="utf-8"))
+    return out
+
+
+def _check_findings_out(path: Path) -> None:
+    """``build``'s ``findings_out``: a new parquet file in an existing directory."""
+    if path.suffix.lower() != ".parquet":
+        raise UsageError(f"findings_out={str(path)!r}: the findings are a parquet file; give a "
+                         f"name ending in .parquet", cli=f"--findings {path}: the findings are "
+                                                        f"a parquet file; give a name ending "
+                                                        f"in .parquet")
+    if path.exists():
+        raise UsageError(f"findings_out={str(path)!r} exists; choose another file",
+                         cli=f"--findings {path} exists; choose another file")
+    if not path.parent.is_dir():
+        raise UsageError(f"findings_out={str(path)!r}: no such directory {path.parent}",
+                         cli=f"--findings {path}: no such directory {path.parent}")
+
+
+def _run_figures(run_dir: Path) -> str:
+    table, phases = figures.condition_trials(run_dir)
+    parts = [f"<h3>{html.escape(run_dir.name)}</h3>",
+             "<h4>Fig. 5: performance</h4>", _try(figures.fig5_performance, table, phases),
+             "<h4>Fig. 6: distances and movement variability</h4>",
+             _try(figures.fig6_distances_variability, table, run_dir, phases),
+             "<h4>Fig. 7: success per sector</h4>",
+             _try(figures.fig7_sector_maps, table, phases,
+                  sectors=figures.sector_config(run_dir)),
+             "<h4>Fig. 8: hand trajectories and babbling</h4>",
+             _try(figures.fig8_trajectories, table, run_dir, phases),
+             _try(figures.fig8_babbling, table, phases),
+             "<h4>Fig. 9: sensory deprivation</h4>",
+             _try(figures.fig9_sensory_deprivation, table, phases),
+             "<h4>Table I: the behaviours of each phase</h4>",
+             _try(figures.table1_behaviours, table, phases)]
+    return "".join(parts + _development_figures(run_dir))
+
+
+def _development_figures(run_dir: Path) -> list[str]:
+    """The measures' course over generations (``development.py``): from the snapshots'
+    post-evaluation if the run has one, else from its best-of-generation recordings."""
+    from ..postevaluation import snapshots as development
+
+    try:
+        table = development.load_development(run_dir)
+        source = "post-evaluation of the snapshots (evaluate --development)"
+        if table is None:
+            table = development.recorded_development(run_dir)
+            source = "best-of-generation recordings (one trial each, inner-face touches)"
+        if table.height == 0:
+            return []
+        course = development.course(table)
+    except (ValueError, OSError) as exc:
+        return [f"<p class='missing'>development not drawn: {html.escape(str(exc))}</p>"]
+    return [f"<h4>Development over generations: {html.escape(source)}</h4>",
+            *[_try(figures.development_figure, course, m, label)
+              for m, label in development.MEASURES]]
+
+
+def _fig10(table: pl.DataFrame) -> str:
+    try:
+        reps = figures.summaries.replication_performance(table, by=("group",))
+    except ValueError as exc:
+        return f"<p class='missing'>not drawn: {html.escape(str(exc))}</p>"
+    st = figures.fig10_statistics(reps)
+    return (_try(figures.fig10_conditions, reps) + "<h4>Per condition (replications)</h4>"
+            + table_html(st["summary"]) + "<h4>Mann-Whitney, two-tailed</h4>"
+            + f"<p>{html.escape(HOLM_NOTE)}</p>" + table_html(st["pairs"]))
+
+
+def _run_statistics(run_dir: Path) -> str:
+    table, phases = figures.condition_trials(run_dir)
+    measures = [m for m, _, _ in figures.FIG5_MEASURES + figures.FIG6_MEASURES]
+    parts = [f"<h3>{html.escape(run_dir.name)}</h3>",
+             "<h4>Figs. 5-6: phases compared (Mann-Whitney, two-tailed, robots)</h4>",
+             table_html(figures.phase_statistics(table, measures, phases))]
+    f9 = figures.fig9_statistics(table, phases)
+    parts += ["<h4>Fig. 9: Kruskal-Wallis across senses within each phase</h4>",
+              table_html(f9["kruskal"]),
+              "<h4>Fig. 9: Mann-Whitney between phase / senses groups</h4>",
+              f"<p>{html.escape(HOLM_NOTE)}</p>", table_html(f9["pairs"])]
+    return "".join(parts)

@@ -1,0 +1,311 @@
+"""Evaluation of many genomes, behind one interface with three implementations.
+
+``SerialEvaluator`` (one process), ``PoolEvaluator`` (a local process pool, the default: all
+cores) and ``RayEvaluator`` (a Ray cluster, the ``cluster`` extra). A job carries everything
+that defines its result — the genome, the phase's free groups, the trial configuration, the world
+configuration and its own seed — so the fitness of a job does not depend on which worker runs it,
+in which order, or how many workers there are: results are identical to the last bit.
+
+DART worlds cannot be pickled: each worker process builds its world once per ``WorldConfig``
+and keeps it.
+"""
+
+from __future__ import annotations
+
+import multiprocessing
+import os
+import socket
+import threading
+import time
+from concurrent.futures import ProcessPoolExecutor
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Callable, Iterable, Iterator, Sequence, TypeVar
+
+import numpy as np
+
+from ..errors import UsageError
+from .genome import decode
+from ..model.task import Trial, TrialConfig, network_for, trial_positions
+from ..model.world import World, WorldConfig
+
+
+@dataclass(frozen=True)
+class Job:
+    """One evaluation: a genome's fitness over ``trial.trials`` trials."""
+
+    genome: np.ndarray  # uint8 genes
+    free_groups: frozenset
+    trial: TrialConfig
+    world: WorldConfig
+    seed: tuple[int, ...]  # SeedSequence entropy and spawn key, flattened: (entropy, *key)
+
+
+_WORLDS: dict[WorldConfig, World] = {}
+_TRIALS: dict[tuple[WorldConfig, TrialConfig], Trial] = {}
+
+
+def worker_trial(world: WorldConfig, trial: TrialConfig) -> Trial:
+    """The ``Trial`` of this process for a world and trial configuration, built on first use."""
+    runner = _TRIALS.get((world, trial))
+    if runner is None:
+        if world not in _WORLDS:
+            _WORLDS[world] = World(world)
+        runner = _TRIALS[(world, trial)] = Trial(_WORLDS[world], trial)
+    return runner
+
+
+def _rng(job: Job) -> np.random.Generator:
+    return np.random.default_rng(np.random.SeedSequence(job.seed[0], spawn_key=job.seed[1:]))
+
+
+_NETWORK: list = [None, None]  # (genome bytes, groups, trial config), Network: the last built
+
+
+def run_trial(unit: tuple[Job, int]) -> float:
+    """The fitness of trial k of a job (the work unit ``Evaluator.map`` schedules): the same
+    trial, at the same position, as trial k of ``task.evaluate`` with the job's generator."""
+    job, k = unit
+    trial = worker_trial(job.world, job.trial)
+    sector, position = trial_positions(trial.world, _rng(job), job.trial.trials)[k]
+    key = (job.genome.tobytes(), job.free_groups, job.trial)
+    if _NETWORK[0] != key:
+        _NETWORK[:] = key, network_for(decode(job.genome, job.free_groups), job.trial)
+    return trial.run(_NETWORK[1], sector, position).fitness
+
+
+def fitness_of_trials(trials: Sequence[float]) -> float:
+    """An evaluation's fitness from its trials' fitness, exactly as ``task.evaluate`` computes
+    it; a non-finite result scores 0 (the worst)."""
+    fitness = float(np.mean(trials))
+    return fitness if np.isfinite(fitness) else 0.0
+
+
+T = TypeVar("T")
+R = TypeVar("R")
+
+
+class Evaluator:
+    """Runs a module-level function over items on the workers; results in item order."""
+
+    workers: int = 1
+
+    def imap(self, fn: Callable[[T], R], items: Iterable[T]) -> Iterator[R]:
+        raise NotImplementedError
+
+    def map(self, jobs: Sequence[Job]) -> np.ndarray:
+        """The fitness of every job. The work is scheduled trial by trial, so that no worker
+        idles at the end of a generation while another finishes a whole evaluation; the
+        result is the same to the last bit as evaluating job by job (``task.evaluate``)."""
+        units = [(job, k) for job in jobs for k in range(job.trial.trials)]
+        trials = iter(self.imap(run_trial, units))
+        return np.array([fitness_of_trials([next(trials) for _ in range(job.trial.trials)])
+                         for job in jobs], dtype=float)
+
+    def close(self) -> None:
+        pass
+
+
+class SerialEvaluator(Evaluator):
+    def imap(self, fn, items):
+        return map(fn, items)
+
+
+class PoolEvaluator(Evaluator):
+    """A pool of ``workers`` local processes (default: every core)."""
+
+    def __init__(self, workers: int | None = None):
+        self.workers = workers or os.cpu_count() or 1
+        if self.workers < 1:
+            raise ValueError(f"workers must be at least 1, got {self.workers}")
+        self._pool = ProcessPoolExecutor(
+            self.workers, mp_context=multiprocessing.get_context("forkserver"),
+            initializer=_exit_with_parent, initargs=(os.getpid(),))
+
+    def imap(self, fn, items):
+        # One item at a time per worker keeps the load balanced; results come in item order.
+        return self._pool.map(fn, items)
+
+    def close(self) -> None:
+        self._pool.shutdown(cancel_futures=True)
+
+
+def _exit_with_parent(parent: int, period_s: float = 0.5) -> None:
+    """Pool worker initializer: end this worker as soon as the process that made the pool is
+    gone, however it ended (a SIGKILL runs no clean-up of its own)."""
+    def watch() -> None:
+        while True:
+            time.sleep(period_s)
+            try:
+                os.kill(parent, 0)
+            except ProcessLookupError:
+                os._exit(1)
+            except PermissionError:  # the PID now belongs to another user's process
+                os._exit(1)
+    threading.Thread(target=watch, daemon=True, name="exit-with-parent").start()
+
+
+#: Times Ray runs a task again when the node or worker process running it dies (a task is a
+#: pure function of its job: run again, it returns the same result to the last bit).
+RAY_TASK_RETRIES = 5
+#: s to wait for a Ray cluster's address to answer before giving up.
+RAY_CONNECT_TIMEOUT_S = 10.0
+
+
+def _check_reachable(address: str) -> None:
+    """ValueError unless something listens at a ``host:port`` (or ``ray://host:port``)
+    address: ``ray.init`` would wait for minutes."""
+    hostport = address.split("://", 1)[-1]
+    host, sep, port = hostport.rpartition(":")
+    if not sep or not port.isdigit():
+        raise UsageError(f"ray_address={address!r}: expected 'auto', 'local' or HOST:PORT",
+                         cli=f"--ray {address}: expected 'auto', 'local' or HOST:PORT")
+    try:
+        socket.create_connection((host, int(port)), timeout=RAY_CONNECT_TIMEOUT_S).close()
+    except OSError as exc:
+        why = f"no Ray cluster answers there ({exc.strerror or exc})"
+        raise UsageError(f"ray_address={address!r}: {why}", cli=f"--ray {address}: {why}"
+                         ) from None
+
+
+def _driver_ip(address: str) -> dict:
+    """``ray.init`` options for a cluster at ``address``: a cluster on this machine's loopback
+    address (nodes started with ``--node-ip-address 127.0.0.1``) needs the driver on it too,
+    or Ray looks for a node on the machine's outward address and waits for ever."""
+    host = address.split("://", 1)[-1].rpartition(":")[0]
+    return {"_node_ip_address": host} if host in ("127.0.0.1", "localhost") else {}
+
+
+class RayEvaluator(Evaluator):
+    """The same jobs as Ray tasks (``--ray auto`` or a cluster address)."""
+
+    def __init__(self, address: str = "auto", workers: int | None = None):
+        try:
+            import ray
+        except ImportError:
+            extra = "the 'cluster' extra: pip install 'dart_reach[cluster]'"
+            raise UsageError(f"ray_address needs {extra}", cli=f"--ray needs {extra}"
+                             ) from None
+        self._ray = ray
+        if not ray.is_initialized():
+            options = {"include_dashboard": False, "log_to_driver": False}
+            if address == "local":  # a new private instance, never a cluster found on disk
+                ray.init(address="local", num_cpus=workers, **options)
+            elif address == "auto":
+                ray.init(address="auto", **options)
+            else:
+                _check_reachable(address)
+                ray.init(address=address, **options, **_driver_ip(address))
+        self.workers = int(ray.cluster_resources().get("CPU", 1))
+        self._remote = {}
+
+    def imap(self, fn, items):
+        remote = self._remote.get(fn)
+        if remote is None:
+            remote = self._remote[fn] = self._ray.remote(
+                num_cpus=1, max_retries=RAY_TASK_RETRIES)(fn)
+        refs = [remote.remote(item) for item in items]
+        return (self._ray.get(ref) for ref in refs)
+
+
+def make_evaluator(workers: int | None = None, ray_address: str | None = None) -> Evaluator:
+    """Ray if an address is given, else serial for one worker, else a local process pool."""
+    if ray_address:
+        return RayEvaluator(ray_address, workers)
+    if workers == 1:
+        return SerialEvaluator()
+    return PoolEvaluator(workers)
+
+
+class LocalRayCluster:
+    """A Ray cluster of ``nodes`` nodes of ``cpus`` CPUs each on this machine, every node a
+    real ``ray start`` (a raylet, its object store and workers) on the loopback address: what
+    a cluster of machines is, on one machine, for tests and the bench. Each node runs in its
+    own process group, so ``kill_node`` ends one as abruptly as a machine that dies.
+
+    Use as a context manager; ``address`` is what ``--ray`` takes.
+    """
+
+    def __init__(self, nodes: int = 2, cpus: int = 1, timeout_s: float = 90.0):
+        import shutil
+        import sys
+
+        ray = shutil.which("ray", path=os.path.dirname(sys.executable)) or shutil.which("ray")
+        if ray is None:
+            raise ValueError("a Ray cluster needs the 'cluster' extra: "
+                             "pip install 'dart_reach[cluster]'")
+        self._ray, self._cpus_per_node = ray, cpus
+        self._env = dict(os.environ, RAY_USAGE_STATS_ENABLED="0")
+        self._env.setdefault("RAY_AUTH_MODE", "disabled")
+        with socket.socket() as s:
+            s.bind(("127.0.0.1", 0))
+            port = s.getsockname()[1]
+        self.address = f"127.0.0.1:{port}"
+        self.nodes: list = []
+        try:
+            self._start("--head", "--port", str(port), "--include-dashboard=false")
+            self._wait_for(cpus, timeout_s)
+            for _ in range(nodes - 1):
+                self._start("--address", self.address)
+            self._wait_for(nodes * cpus, timeout_s)
+        except BaseException:
+            self.close()
+            raise
+
+    def _start(self, *args) -> None:
+        import subprocess
+
+        self.nodes.append(subprocess.Popen(
+            [self._ray, "start", "--block", "--num-cpus", str(self._cpus_per_node),
+             "--node-ip-address", "127.0.0.1", "--disable-usage-stats", *args],
+            env=self._env, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL,
+            start_new_session=True))
+
+    def cpus(self) -> float:
+        """The CPUs the cluster's head counts among its live nodes (0 if it does not answer)."""
+        import subprocess
+
+        out = subprocess.run([self._ray, "status", "--address", self.address], env=self._env,
+                             text=True, capture_output=True, timeout=60).stdout
+        for line in out.splitlines():  # e.g. " 0.0/2.0 CPU"
+            if line.strip().endswith(" CPU") and "/" in line:
+                return float(line.split("/")[1].split()[0])
+        return 0.0
+
+    def _wait_for(self, cpus: float, timeout_s: float) -> None:
+        deadline = time.monotonic() + timeout_s
+        while self.cpus() < cpus:
+            if time.monotonic() > deadline:
+                raise RuntimeError(f"the local Ray cluster at {self.address} did not reach "
+                                   f"{cpus} CPUs in {timeout_s:.0f} s")
+            time.sleep(1.0)
+
+    def kill_node(self, index: int) -> None:
+        """SIGKILL every process of node ``index`` (0 is the head)."""
+        import signal
+
+        try:
+            os.killpg(self.nodes[index].pid, signal.SIGKILL)
+        except ProcessLookupError:
+            pass
+        self.nodes[index].wait()
+
+    def close(self) -> None:
+        import tempfile
+
+        for i in reversed(range(len(self.nodes))):
+            self.kill_node(i)
+        # Killed nodes cannot tidy up: forget this cluster, or Ray's next ray.init() (and
+        # ``--ray auto``) would look for it.
+        current = Path(tempfile.gettempdir()) / "ray" / "ray_current_cluster"
+        try:
+            if current.read_text().strip().endswith(":" + self.address.rpartition(":")[2]):
+                current.unlink()
+        except OSError:
+            pass
+
+    def __enter__(self) -> "LocalRayCluster":
+        return self
+
+    def __exit__(self, *exc) -> None:
+        self.close()

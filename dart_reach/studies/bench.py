@@ -1,0 +1,384 @@
+"""Benchmarks (``dart-reach bench``): speed figures whose ratios can be trusted.
+
+This machine's speed drifts by 10-40% within minutes, so every ratio is measured in many short
+back-to-back pairs, the two sides in alternating order (AB, BA, AB, ...), and reported as the
+median of the pairwise ratios with its interquartile range (``<name>_iqr``): a drift of the
+machine hits both sides of a pair alike and cancels. Targets are checked here, never in timed
+tests. A real-time factor (RTF) is simulated seconds per wall-clock second on one core.
+"""
+
+from __future__ import annotations
+
+import os
+import platform
+import resource
+import time
+from importlib import metadata
+from typing import Callable
+
+import numpy as np
+
+from ..model.scripted import ScriptedReach
+from ..model.world import World, WorldConfig
+
+#: Robots of the closed-loop figures: random pre-reaching networks and evolved ones.
+PANEL = 5
+
+
+def machine(config: WorldConfig | None = None) -> dict:
+    config = config or WorldConfig()
+    return {
+        "platform": platform.platform(),
+        "processor": platform.processor() or platform.machine(),
+        "cores": os.cpu_count(),
+        "python": platform.python_version(),
+        "dartpy": metadata.version("dartpy"),
+        "physics_dt": config.physics_dt,
+    }
+
+
+def paired(first: Callable[[], object], second: Callable[[], object], pairs: int
+           ) -> tuple[np.ndarray, np.ndarray]:
+    """Wall times (s) of ``first()`` and ``second()`` run back to back ``pairs`` times, in
+    alternating order, so that pair i of both saw the same machine."""
+    a, b = np.empty(pairs), np.empty(pairs)
+    for i in range(pairs):
+        order = ((first, a), (second, b)) if i % 2 == 0 else ((second, b), (first, a))
+        for fn, out in order:
+            t0 = time.perf_counter()
+            fn()
+            out[i] = time.perf_counter() - t0
+    return a, b
+
+
+def ratio(name: str, values) -> dict:
+    """``name``: the median of pairwise ratios; ``name_iqr``: their quartiles."""
+    v = np.asarray(values, float)
+    return {name: float(np.median(v)),
+            f"{name}_iqr": [float(np.percentile(v, 25)), float(np.percentile(v, 75))]}
+
+
+# ------------------------------------------------------------------------------- physics
+def _grasping_world(config: WorldConfig) -> tuple[World, np.ndarray]:
+    """A world whose hand holds the ball (after a scripted reach of 4 s), and the hold targets."""
+    world = World(config)
+    ball = world.sector_point(4, 0.5, 0.5)
+    world.reset(ball)
+    reach = ScriptedReach(world, ball)
+    for _ in range(40):
+        world.step(reach.targets(world.hand_contacts()))
+    return world, reach.targets(world.hand_contacts())
+
+
+def world_rtf(config: WorldConfig | None = None, seconds: float = 2.0, pairs: int = 30) -> dict:
+    """``limit_rtf``: the bare physics step loop with the ball in the hand; ``controlled_rtf``:
+    the same world through ``World.step`` (new targets every 0.1 s, touch gathered) holding
+    the same grasp; ``controlled_over_limit``: their pairwise ratio, in blocks of
+    ``seconds``."""
+    config = config or WorldConfig()
+    world, hold = _grasping_world(config)
+    n_control = int(round(seconds / config.control_dt))
+    n_physics = n_control * config.substeps
+    step, world_step = world.world.step, world.step
+
+    def limit():
+        for _ in range(n_physics):
+            step(False)
+
+    def controlled():
+        for _ in range(n_control):
+            world_step(hold)
+
+    t_limit, t_controlled = paired(limit, controlled, pairs)
+    return {"limit_rtf": seconds / float(np.median(t_limit)),
+            "controlled_rtf": seconds / float(np.median(t_controlled)),
+            **ratio("controlled_over_limit", t_limit / t_controlled),
+            "ball_in_hand": bool(world.hand_contacts().any())}
+
+
+# ------------------------------------------------------------------------------ closed loop
+def panel_genomes(kind: str, n: int = PANEL, seed: int = 0) -> np.ndarray:
+    """``n`` pre-reaching genomes: ``random`` ones, or the best ``evolved`` ones shipped with
+    the package (``data.evolved_pre``: they touch the ball in most trials)."""
+    from ..robots import evolved_pre
+    from ..evolution.genome import random_genome
+
+    if kind == "random":
+        return random_genome(np.random.default_rng(seed), n)
+    return evolved_pre()[0][:n]
+
+
+def closed_loop(kind: str, config: WorldConfig | None = None, trials: int = 9) -> dict:
+    """A full trial (observation, network, touch, every per-step record kept; section III-C)
+    against the bare physics replaying the same targets (the same motion to the last bit),
+    in pairs over the sector centres, for ``PANEL`` robots of ``kind``. Figures (suffix
+    ``_evolved`` for evolved robots): ``closed_loop_rtf``, ``closed_loop_over_limit``
+    (physics time over the whole loop's) and ``python_us_per_control_step`` (what the loop
+    adds to the physics per 0.1 s step, µs)."""
+    from ..evolution.run import standard_trial
+    from ..evolution.genome import ParamGroup, decode
+    from ..model.task import Trial, network_for
+
+    world = World(config or WorldConfig())
+    cfg = standard_trial("pre")
+    runner = Trial(world, cfg)
+    networks = [network_for(decode(g, {ParamGroup.DIRECT}), cfg) for g in panel_genomes(kind)]
+    centres = [world.sector_point(k, 0.5, 0.5) for k in range(9)]
+    closed, replay, steps = [], [], []
+    for i in range(trials * len(networks)):
+        network, k = networks[i % len(networks)], i % 9
+        data = runner.run(network, k, centres[k])  # the targets the replay sends
+        targets, n = data.targets, data.steps_run
+
+        def whole():
+            runner.run(network, k, centres[k])
+
+        def physics():
+            _replay(world, centres[k], targets, n)
+
+        t_whole, t_physics = paired(whole, physics, 1) if i % 2 == 0 else \
+            paired(physics, whole, 1)[::-1]
+        closed.append(t_whole[0])
+        replay.append(t_physics[0])
+        steps.append(n)
+    closed, replay, steps = map(np.asarray, (closed, replay, steps))
+    suffix = "" if kind == "random" else f"_{kind}"
+    return {f"closed_loop_rtf{suffix}": float(np.median(steps * world.config.control_dt
+                                                        / closed)),
+            **ratio(f"closed_loop_over_limit{suffix}", replay / closed),
+            f"python_us_per_control_step{suffix}": float(np.median((closed - replay) / steps))
+            * 1e6}
+
+
+def _replay(world: World, ball: np.ndarray, targets: np.ndarray, steps: int) -> None:
+    """The bare physics of a trial: its first ``steps`` motor targets, nothing observed."""
+    world.reset(ball)
+    substeps, step = world.config.substeps, world.world.step
+    for t in range(steps):
+        world.set_targets(targets[t])
+        for _ in range(substeps):
+            step(False)
+
+
+def reference_world(config: WorldConfig | None = None) -> World:
+    """The world in the configuration it had before the physics was tuned for speed (issue
+    11): DART's deactivation test on. Kept to measure ``physics_speedup`` against, and to test
+    that the tuning changes no result."""
+    world = World(config or WorldConfig())
+    options = world.world.getDeactivationOptions()
+    options.mEnabled = True
+    world.world.setDeactivationOptions(options)
+    return world
+
+
+def physics_speedup(config: WorldConfig | None = None, trials: int = 45) -> dict:
+    """``physics_speedup``: the physics of evolved robots' trials (their motor targets
+    replayed) in the reference configuration over the same in this world's, in pairs, one
+    trial each side."""
+    from ..evolution.run import standard_trial
+    from ..evolution.genome import ParamGroup, decode
+    from ..model.task import Trial, network_for
+
+    config = config or WorldConfig()
+    world, reference = World(config), reference_world(config)
+    cfg = standard_trial("pre")
+    runner = Trial(world, cfg)
+    networks = [network_for(decode(g, {ParamGroup.DIRECT}), cfg)
+                for g in panel_genomes("evolved")]
+    ratios = []
+    for i in range(trials):
+        k = i % 9
+        ball = world.sector_point(k, 0.5, 0.5)
+        data = runner.run(networks[i % len(networks)], k, ball)
+        old, new = (lambda w=w: _replay(w, ball, data.targets, data.steps_run)
+                    for w in (reference, world))
+        t_ref, t_new = paired(old, new, 1) if i % 2 == 0 else paired(new, old, 1)[::-1]
+        ratios.append(t_ref[0] / t_new[0])
+    return ratio("physics_speedup", ratios)
+
+
+# --------------------------------------------------------------------------------- parallel
+def _peak_rss_mb(_=None) -> float:
+    """This process's peak resident memory (MB); run in a pool worker, that worker's."""
+    time.sleep(0.2)  # so that every worker takes one of these tasks
+    return resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024
+
+
+def _generation(kind: str, jobs: int, trials: int, seed: int) -> list:
+    """The jobs of one pre-reaching generation of ``jobs`` evaluations of ``trials`` trials."""
+    from ..evolution.conditions import load_condition
+    from ..evolution.backends import Job
+    from ..evolution.run import Settings, trial_config
+    from ..evolution.genome import as_groups
+
+    phase = load_condition("standard").phases[0]
+    trial = trial_config(phase, Settings(trials=trials))
+    genomes = panel_genomes(kind, PANEL, seed)
+    return [Job(genomes[i % len(genomes)], as_groups(phase.free_groups), trial, WorldConfig(),
+                (seed, 0, i)) for i in range(jobs)]
+
+
+def ray_efficiency(jobs: int = 40, trials: int = 2, pairs: int = 5, seed: int = 0) -> dict:
+    """``ray_efficiency``: a generation on a local cluster of two Ray nodes of one CPU each
+    (``LocalRayCluster``: real ``ray start`` nodes) against the same on a pool of two local
+    processes, in pairs (pool time over Ray time). Results must be identical."""
+    import ray
+
+    from ..evolution.backends import LocalRayCluster, PoolEvaluator, RayEvaluator
+
+    batch = _generation("evolved", jobs, trials, seed)
+    pool = PoolEvaluator(2)
+    try:
+        with LocalRayCluster(nodes=2) as cluster:
+            try:
+                t_pool, t_ray = _time_evaluators(pool, RayEvaluator(cluster.address), batch,
+                                                 pairs, warm=2)
+            finally:
+                ray.shutdown()
+    finally:
+        pool.close()
+    return ratio("ray_efficiency", t_pool / t_ray)
+
+
+def _time_evaluators(a, b, batch: list, pairs: int, warm: int) -> tuple:
+    """Wall times of evaluator ``a`` and ``b`` on ``batch`` in ``pairs`` alternating pairs,
+    after ``warm`` jobs on each (worlds built in every worker); their results must agree."""
+    a.map(batch[:warm])
+    b.map(batch[:warm])
+    results = {}
+    t_a, t_b = paired(lambda: results.__setitem__("a", a.map(batch)),
+                      lambda: results.__setitem__("b", b.map(batch)), pairs)
+    if not np.array_equal(results["a"], results["b"]):
+        raise RuntimeError(f"{type(b).__name__}'s results differ from {type(a).__name__}'s")
+    return t_a, t_b
+
+
+def parallel(kind: str = "evolved", jobs: int = 40, trials: int = 2, pairs: int = 10,
+             seed: int = 0) -> dict:
+    """One generation of ``jobs`` evaluations (``trials`` trials of 20 s) on one core and on
+    every core, in pairs: ``parallel_efficiency`` = speed-up / cores (median of the pairs);
+    ``generation_core_s``: core-seconds of one replication-generation of the paper (40
+    evaluations of 18 trials) from the serial time; peak memory of the workers and of this
+    process (MB). Results must be identical on both sides."""
+    from ..evolution.backends import PoolEvaluator, SerialEvaluator
+
+    batch = _generation(kind, jobs, trials, seed)
+    cores = os.cpu_count() or 1
+    serial, pool = SerialEvaluator(), PoolEvaluator(cores)
+    try:
+        t_serial, t_pool = _time_evaluators(serial, pool, batch, pairs, warm=cores)
+        worker_mb = max(pool.imap(_peak_rss_mb, range(4 * cores)))
+    finally:
+        pool.close()
+    suffix = "" if kind == "evolved" else f"_{kind}"
+    return {**ratio(f"parallel_efficiency{suffix}", t_serial / t_pool / cores),
+            f"generation_core_s{suffix}": float(np.median(t_serial)) * (18 / trials)
+            * (40 / jobs),
+            "worker_peak_rss_mb": worker_mb,
+            "parent_peak_rss_mb": resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024}
+
+
+# -------------------------------------------------------------------------------- recording
+def recording_overhead(robots: int = 2, seed: int = 0) -> dict:
+    """``recording_overhead``: wall time of a post-evaluation trial (the trial and its
+    measures) plus building and writing its .rrd file, over the time of the trial alone; the
+    median over the 45 systematic positions of ``robots`` random gross-reaching robots. Each
+    trial is timed and then immediately recorded, so that both see the same machine load.
+    ``rrd_mb_per_sim_min``: size of the recordings per simulated minute."""
+    import tempfile
+    from pathlib import Path
+
+    from ..evolution.conditions import load_condition
+    from ..evolution.backends import worker_trial
+    from ..evolution.run import Settings, trial_config
+    from ..evolution.genome import as_groups, decode, random_genome
+    from ..measures.metrics import trial_metrics
+    from ..recording.rrd import RobotModel, TrialInfo, trial_rrd, write_rrd
+    from ..model.task import network_for
+
+    settings = Settings()
+    phase = load_condition("standard").phases[1]
+    trial = trial_config(phase, settings)
+    runner = worker_trial(settings.world, trial)
+    model = RobotModel(runner.world)
+    ratios, size, steps = [], 0, 0
+    with tempfile.TemporaryDirectory() as tmp:
+        for i, genome in enumerate(random_genome(np.random.default_rng(seed), robots)):
+            network = network_for(decode(genome, as_groups(phase.free_groups)), trial)
+            for k, position in enumerate(runner.world.systematic_points()):
+                t0 = time.perf_counter()
+                data = runner.run(network, k // 5, position)
+                measures = trial_metrics(data)
+                t1 = time.perf_counter()
+                info = TrialInfo("bench", phase.name, 0, i, k // 5, k, "systematic")
+                path = write_rrd(Path(tmp) / f"{i}-{k}.rrd", trial_rrd(
+                    data, info, model, blueprint=False, measures=measures))
+                t2 = time.perf_counter()
+                ratios.append((t2 - t0) / (t1 - t0))
+                size += path.stat().st_size
+                steps += data.steps_run
+    minutes = steps * settings.world.control_dt / 60
+    return {**ratio("recording_overhead", ratios),
+            "rrd_mb_per_sim_min": size / 1e6 / minutes}
+
+
+#: name -> (target, comparison) checked by ``check``; ratios are the headline figures.
+TARGETS = {
+    "physics_speedup": (1.5, ">="),
+    "controlled_rtf": (300.0, ">="),
+    "controlled_over_limit": (0.9, ">="),
+    "closed_loop_over_limit": (0.9, ">="),
+    "closed_loop_over_limit_evolved": (0.9, ">="),
+    "parallel_efficiency": (0.95, ">="),
+    "ray_efficiency": (0.8, ">="),
+    "recording_overhead": (1.15, "<="),
+    "worker_peak_rss_mb": (300.0, "<="),
+}
+
+
+def _meets(value: float, target: float, comparison: str) -> bool:
+    return value >= target if comparison == ">=" else value <= target
+
+
+def check(results: dict) -> dict[str, bool]:
+    """Which targets of ``TARGETS`` the results meet."""
+    return {name: _meets(results[name], *TARGETS[name]) for name in TARGETS if name in results}
+
+
+def run(seconds: float = 2.0, pairs: int = 30) -> dict:
+    """Every figure, in one run: ``pairs`` pairs of ``seconds`` simulated seconds for the
+    physics ratio; the closed loop over 45 trials of each kind; 10 pairs of generations on the
+    pool, 5 on a local Ray cluster (when the ``cluster`` extra is installed)."""
+    results = {"machine": machine()}
+    results.update(world_rtf(seconds=seconds, pairs=pairs))
+    results.update(physics_speedup())
+    for kind in ("random", "evolved"):
+        results.update(closed_loop(kind))
+    results.update(parallel())
+    try:
+        import ray  # noqa: F401
+    except ImportError:
+        results["ray_efficiency_skipped"] = "Ray is not installed (the 'cluster' extra)"
+    else:
+        results.update(ray_efficiency())
+    results.update(recording_overhead())
+    results["targets_met"] = check(results)
+    return results
+
+
+def format_table(results: dict) -> str:
+    lines = [f"{'figure':<34}{'value':>10}  {'quartiles':<17}  target", "-" * 78]
+    for name, value in results.items():
+        if isinstance(value, float):
+            iqr = results.get(f"{name}_iqr")
+            spread = f"{iqr[0]:.3f}-{iqr[1]:.3f}" if iqr else ""
+            target = TARGETS.get(name)
+            mark = ""
+            if target:
+                mark = f"{target[1]} {target[0]:g}  " + ("met" if _meets(value, *target)
+                                                         else "MISSED")
+            lines.append(f"{name:<34}{value:>10.3f}  {spread:<17}  {mark}")
+    m = results["machine"]
+    lines.append(f"machine: {m['processor']}, {m['cores']} cores, {m['platform']}, "
+                 f"Python {m['python']}, dartpy {m['dartpy']}, physics step {m['physics_dt']} s")
+    return "\n".join(lines)

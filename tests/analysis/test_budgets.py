@@ -1,0 +1,194 @@
+"""Runs at several budgets (``dart_reach.analysis.budgets``): the budget key of a run directory, the
+scale on which the paper's direction is up, and the movement of a claim as the budget grows,
+on hand-made findings rows where each movement must come out (toward, away, no change, not
+run; on intervals or on points)."""
+
+from __future__ import annotations
+
+import math
+from dataclasses import replace
+
+import polars as pl
+import pytest
+
+from dart_reach.analysis import budgets as bd
+from dart_reach.analysis import findings as fd
+from dart_reach.evolution.conditions import load_condition, scaled
+from dart_reach.evolution.run import Run, Settings
+from dart_reach.model.scenes import load_scene
+
+NAN = math.nan
+
+
+# ------------------------------------------------------------------------------ the key
+def _run(out, generations: int, sectors=None, conditions=("standard", "gross-hat")):
+    """A run directory with its manifest only (nothing trained)."""
+    settings = Settings(replications=2)
+    if sectors is not None:
+        settings = replace(settings, world=replace(settings.world, sectors=sectors))
+    Run(out, [scaled(load_condition(c), generations) for c in conditions], settings)
+    return out
+
+
+def test_the_budget_is_the_scene_and_the_generations_per_phase(tmp_path):
+    shoulder = load_scene("arm-length-shoulder").sectors
+    a = _run(tmp_path / "a", 50, shoulder)
+    b = _run(tmp_path / "b", 50, shoulder, conditions=("pre-h",))
+    c = _run(tmp_path / "c", 10, shoulder)
+    d = _run(tmp_path / "d", 50, load_scene("near").sectors)
+    # gross^ trains 100 generations: 2 phases' worth of 50
+    assert bd.budget_of(a) == bd.Budget("arm-length-shoulder", 50)
+    assert bd.budget_of(b) == bd.budget_of(a)
+    assert bd.budget_of(c) == bd.Budget("arm-length-shoulder", 10)
+    assert bd.budget_of(d) == bd.Budget("near", 50)
+    assert bd.budget_of(a).label == "arm-length-shoulder, 50 generations per phase"
+    # two user scenes are two scenes, each named by its numbers
+    e = _run(tmp_path / "e", 50, replace(shoulder, radius=0.40))
+    f = _run(tmp_path / "f", 50, replace(shoulder, radius=0.41))
+    assert bd.budget_of(e).scene.startswith("custom") and "0.4 m" in bd.budget_of(e).scene
+    assert bd.budget_of(e) != bd.budget_of(f)
+    groups = bd.budget_groups([c, a, d, b, a])
+    assert list(groups) == [bd.Budget("arm-length-shoulder", 10),
+                            bd.Budget("arm-length-shoulder", 50), bd.Budget("near", 50)]
+    assert groups[bd.Budget("arm-length-shoulder", 50)] == [a, b]  # given twice: once
+
+
+# ------------------------------------------------------------------------------ movement
+def _rows(budget: int, specs: dict, scene: str = "near") -> list[dict]:
+    """Findings rows of one budget: {claim: (kind, sign, effect, low, high)}."""
+    return [{"scene": scene, "generations_per_phase": budget, "runs": f"r{budget}",
+             "sign": sign, "claim": claim, "section": "S", "kind": kind.value,
+             "effect": e, "effect_low": lo, "effect_high": hi,
+             "verdict": (fd.NOT_RUN if math.isnan(e) else fd.REPRODUCED if claim == "overlap"
+                         else fd.INCONCLUSIVE),
+             "replications_agree": False if claim in ("overlap", "unbounded") else None}
+            for claim, (kind, sign, e, lo, hi) in specs.items()]
+
+
+K = fd.Kind
+#: claim: (its row at 10 generations per phase, at 50, the movement, its basis)
+CASES = {
+    "up, intervals apart": ((K.DIRECTIONAL, +1, 0.1, 0.0, 0.2),
+                            (K.DIRECTIONAL, +1, 0.5, 0.3, 0.7), bd.TOWARD, bd.INTERVALS),
+    "lower wanted, rises": ((K.DIRECTIONAL, -1, -0.5, -0.7, -0.3),
+                            (K.DIRECTIONAL, -1, 0.4, 0.3, 0.5), bd.AWAY, bd.INTERVALS),
+    "overlap": ((K.DIRECTIONAL, +1, 0.1, -0.1, 0.3),
+                (K.DIRECTIONAL, +1, 0.2, 0.0, 0.4), bd.NO_CHANGE, bd.INTERVALS),
+    "sign flips, overlap": ((K.DIRECTIONAL, +1, -0.05, -0.2, 0.1),
+                            (K.DIRECTIONAL, +1, 0.05, -0.1, 0.2), bd.NO_CHANGE, bd.INTERVALS),
+    "unbounded": ((K.DIRECTIONAL, +1, 0.1, -math.inf, math.inf),
+                  (K.DIRECTIONAL, +1, 5.0, 4.0, 6.0), bd.NO_CHANGE, bd.INTERVALS),
+    "not run at 50": ((K.DIRECTIONAL, +1, 0.1, 0.0, 0.2),
+                      (K.DIRECTIONAL, +1, NAN, NAN, NAN), bd.NOT_RUN, ""),
+    "theta to 0.5": ((K.NO_DIFFERENCE, 0, 0.9, 0.8, 1.0),
+                     (K.NO_DIFFERENCE, 0, 0.52, 0.45, 0.6), bd.TOWARD, bd.INTERVALS),
+    "theta from 0.5": ((K.NO_DIFFERENCE, 0, 0.52, 0.45, 0.6),
+                       (K.NO_DIFFERENCE, 0, 0.1, 0.02, 0.2), bd.AWAY, bd.INTERVALS),
+    "never: share falls": ((K.NEVER, 0, 0.5, 0.4, 0.6),
+                           (K.NEVER, 0, 0.2, 0.1, 0.3), bd.TOWARD, bd.INTERVALS),
+    "band: into it": ((K.BAND, 0, 0.1, 0.05, 0.15),
+                      (K.BAND, 0, 0.5, 0.4, 0.6), bd.TOWARD, bd.INTERVALS),
+    "band: through it": ((K.BAND, 0, 0.1, 0.05, 0.15),
+                         (K.BAND, 0, 0.95, 0.9, 1.0), bd.NO_CHANGE, bd.INTERVALS),
+    "sectors: floor": ((K.EVERY_SECTOR, 0, 0.3, 0.2, 0.4),
+                       (K.EVERY_SECTOR, 0, 0.0, 0.0, 0.05), bd.AWAY, bd.INTERVALS),
+    "same: change shrinks": ((K.SAME_PAIRED, 0, -0.4, -0.5, -0.3),
+                             (K.SAME_PAIRED, 0, 0.01, -0.05, 0.07), bd.TOWARD, bd.INTERVALS),
+    "W falls": ((K.PAIRED, 0, 0.8, NAN, NAN), (K.PAIRED, 0, 0.3, NAN, NAN), bd.AWAY, bd.POINTS),
+    "paired change equal": ((K.CHANGE_PAIRED, -1, -0.1, NAN, NAN),
+                            (K.CHANGE_PAIRED, -1, -0.1, NAN, NAN), bd.NO_CHANGE, bd.POINTS),
+    "one interval missing": ((K.DIRECTIONAL, +1, 0.1, NAN, NAN),
+                             (K.DIRECTIONAL, +1, 0.2, 0.15, 0.25), bd.TOWARD, bd.POINTS),
+}
+
+
+def _frame(cases=CASES, middle: bool = True) -> pl.DataFrame:
+    rows = _rows(10, {c: v[0] for c, v in cases.items()})
+    rows += _rows(50, {c: v[1] for c, v in cases.items()})
+    if middle:  # a budget between them, every claim the opposite way: it must not count
+        rows += _rows(20, {c: (k, s, e, e - 1, e + 1)
+                           for c, ((k, s, *_), _, _, _) in cases.items()
+                           for e in [-10.0 * s if s else 10.0]})
+    rows += _rows(50, {"only at 50": (K.DIRECTIONAL, +1, 0.3, 0.2, 0.4)})
+    return pl.DataFrame(rows)
+
+
+def test_movement_follows_the_rule_on_constructed_rows():
+    moves = bd.movement(_frame())
+    got = {r["claim"]: (r["movement"], r["basis"]) for r in moves.iter_rows(named=True)}
+    assert got == {**{c: (m, b) for c, (_, _, m, b) in CASES.items()},
+                   "only at 50": (bd.NOT_RUN, "")}
+    assert set(moves["from_generations"]) == {10} and set(moves["to_generations"]) == {50}
+    assert set(moves["movement"]) == set(bd.MOVEMENTS)
+
+
+def test_the_scale_puts_the_papers_direction_up():
+    scored = bd.toward_paper(_frame(middle=False)).filter(pl.col("generations_per_phase") == 50)
+    row = {r["claim"]: (r["toward"], r["toward_low"], r["toward_high"])
+           for r in scored.iter_rows(named=True)}
+    assert row["lower wanted, rises"] == pytest.approx((-0.4, -0.5, -0.3))
+    # theta 0.52 in [0.45, 0.6]: 0.15 - |theta - 0.5|, the interval's image [0.05, 0.15]
+    assert row["theta to 0.5"] == pytest.approx((0.13, 0.05, 0.15))
+    assert row["never: share falls"] == pytest.approx((-0.15, -0.25, -0.05))
+    assert row["band: into it"] == pytest.approx((1 / 6, 1 / 15, 1 / 6))
+    assert row["sectors: floor"] == pytest.approx((-0.1, -0.1, -0.05))
+    assert row["same: change shrinks"] == pytest.approx((-0.01, -0.07, 0.0))
+    assert row["W falls"][0] == 0.3 and math.isnan(row["W falls"][1])
+
+
+def test_side_by_side_has_one_row_per_claim_and_the_movement():
+    frame = _frame()
+    table = bd.side_by_side(frame)
+    claims = frame["claim"].unique(maintain_order=True).to_list()
+    assert table["claim"].to_list() == claims
+    assert table.columns == ["claim", "section", "kind",
+                             "10 gen/phase: effect [CI]", "10 gen/phase: verdict",
+                             "20 gen/phase: effect [CI]", "20 gen/phase: verdict",
+                             "50 gen/phase: effect [CI]", "50 gen/phase: verdict",
+                             "as the budget grows"]
+    row = {r["claim"]: r for r in table.iter_rows(named=True)}
+    assert row["up, intervals apart"]["50 gen/phase: effect [CI]"] == "0.5 [0.3, 0.7]"
+    assert row["W falls"]["10 gen/phase: effect [CI]"] == "0.8"
+    assert row["W falls"]["as the budget grows"] == "away (points)"
+    assert row["only at 50"]["10 gen/phase: verdict"] == fd.NOT_RUN
+    assert row["only at 50"]["10 gen/phase: effect [CI]"] == "–"
+    assert row["overlap"]["as the budget grows"] == "no change"
+    # the replication means disagree: a decided verdict says it holds with robots as units
+    # only; an undecided one stays as it is
+    assert row["overlap"]["50 gen/phase: verdict"] == fd.REPRODUCED + bd.ROBOTS_ONLY
+    assert row["overlap"]["10 gen/phase: verdict"] == fd.REPRODUCED + bd.ROBOTS_ONLY
+    assert row["unbounded"]["50 gen/phase: verdict"] == fd.INCONCLUSIVE
+    assert row["up, intervals apart"]["50 gen/phase: verdict"] == fd.INCONCLUSIVE
+
+
+def test_scenes_are_never_compared_with_each_other():
+    """Two scenes: the movement is within each; a scene with one budget has none."""
+    one = {"c": (K.DIRECTIONAL, +1, 0.1, 0.0, 0.2)}
+    up = {"c": (K.DIRECTIONAL, +1, 0.9, 0.8, 1.0)}
+    frame = pl.DataFrame(_rows(10, one, "near") + _rows(50, up, "near")
+                         + _rows(10, up, "far") + _rows(50, one, "far")
+                         + _rows(30, up, "lone"))
+    moves = {r["scene"]: r["movement"] for r in bd.movement(frame).iter_rows(named=True)}
+    assert moves == {"near": bd.TOWARD, "far": bd.AWAY}
+    table = bd.side_by_side(frame)
+    assert "as the budget grows (near)" in table.columns
+    assert "as the budget grows (far)" in table.columns
+    assert "far, 10 gen/phase: verdict" in table.columns
+    assert not any("lone)" in c for c in table.columns)
+
+
+def test_the_figure_draws_the_claims_with_an_effect_at_two_budgets():
+    from dart_reach.analysis import figures
+
+    frame = _frame()
+    fig = figures.budget_figure(frame)
+    drawn = [ax for ax in fig.axes if ax.get_visible()]
+    scored = bd.toward_paper(frame).filter(pl.col("toward").is_not_nan())
+    twice = scored.group_by("claim").len().filter(pl.col("len") >= 2).height
+    assert len(drawn) == twice == len(CASES)  # "not run at 50" has 10 and 20; "only at 50" one
+    titles = [ax.get_title(loc="left").replace("\n", " ") for ax in drawn]
+    assert titles[0] == "up, intervals apart"
+    assert drawn[0].get_xlabel() == bd.TOWARD
+    assert [t.get_text() for t in drawn[0].get_xticklabels()] == ["10", "20", "50"]
+    lone = figures.budget_figure(frame.filter(pl.col("claim") == "only at 50"))
+    assert "no claim has an effect at two budgets" in [t.get_text() for t in lone.axes[0].texts]

@@ -1,0 +1,195 @@
+"""``dart-reach report``: one self-contained HTML file built from a tiny real run (the
+standard condition and gross^, post-evaluated under every sensory condition with a random
+baseline): every section, every figure embedded, a findings row per claim; beside it a run of
+the standard condition at another budget (2 generations per phase): the two budgets are judged
+apart and set side by side."""
+
+from __future__ import annotations
+
+import base64
+import html
+import re
+import shutil
+import subprocess
+import sys
+
+import polars as pl
+from polars.testing import assert_frame_equal
+import pytest
+
+from dart_reach.analysis import budgets, figures, findings, report
+from dart_reach.evolution.conditions import load_condition, scaled
+from dart_reach.postevaluation.systematic import SENSES, evaluate_run
+from dart_reach.evolution.run import Settings, train
+from dart_reach.model.scenes import DEFAULT_SCENE
+
+
+@pytest.fixture(scope="module")
+def tiny_run(tmp_path_factory):
+    out = tmp_path_factory.mktemp("report") / "tiny"
+    train([scaled(load_condition(c), 1) for c in ("standard", "gross-hat")],
+          Settings(replications=2, trials=1, steps=6, seed=2), out, workers=1)
+    evaluate_run(out, senses=SENSES, robots=2, workers=1, baseline=2)
+    return out
+
+
+@pytest.fixture(scope="module")
+def other_budget(tmp_path_factory):
+    """The standard condition at 2 generations per phase (``tiny_run``: 1), same scene."""
+    out = tmp_path_factory.mktemp("report") / "tiny-2"
+    train([scaled(load_condition("standard"), 2)],
+          Settings(replications=2, trials=1, steps=6, seed=3), out, workers=1)
+    evaluate_run(out, senses=SENSES, robots=2, workers=1, baseline=2)
+    return out
+
+
+def test_the_report_holds_every_section_figure_and_claim(tiny_run, tmp_path):
+    path = report.build([tiny_run], tmp_path / "r.html")
+    text = path.read_text()
+    for anchor in ("findings", "provenance", "training", "baseline", "figures", "fig10",
+                   "statistics"):
+        assert f'<section id="{anchor}">' in text, anchor
+    images = re.findall(r'src="data:image/png;base64,([A-Za-z0-9+/=]+)"', text)
+    # training, Figs. 5, 6, 7, 8 (paths and babbling), 9, Table I behaviours, 10 (the tiny
+    # run keeps neither snapshots nor best-of-generation recordings: no development figures)
+    assert len(images) == 9
+    assert "Table I: the behaviours of each phase" in text
+    assert "Development over generations" not in text
+    assert all(base64.b64decode(i)[:8] == b"\x89PNG\r\n\x1a\n" for i in images)
+    assert "not drawn" not in text
+    assert "src=\"http" not in text and "<script" not in text  # nothing fetched: offline
+    rows = re.findall(r'<tr class="[^"]+"><td>(F\d[^<]*)</td>(?:(?!</tr>).)*?'
+                      r'<td class="verdict">([^<]+)', text)
+    claims = [c for c, _ in rows]
+    assert len(claims) == len(set(claims)) >= 30
+    assert {v for _, v in rows} <= set(findings.VERDICTS)
+    # the tiny run has what F5 needs (gross and gross^) but not F6's pre-h
+    verdicts = dict(rows)
+    assert verdicts["F5 gross &gt; gross^"] != findings.NOT_RUN
+    assert verdicts["F6 pre vs pre-h"] == findings.NOT_RUN
+    assert "random pre" in text and "git revision" in text
+    # one budget: its findings as ever, no comparison of budgets
+    assert "findings budgets" not in text and "as the budget grows" not in text
+    assert html.escape(report.BUDGET_FIGURE_NOTE) not in text
+
+
+def test_cli_writes_the_report_and_never_overwrites_a_foreign_file(tiny_run, tmp_path):
+    def cli(*args):
+        return subprocess.run([sys.executable, "-m", "dart_reach.cli", "report", *args],
+                              capture_output=True, text=True, timeout=300)
+
+    r = cli(str(tiny_run))
+    assert r.returncode == 0, r.stderr
+    assert (tiny_run / "report.html").is_file() and str(tiny_run / "report.html") in r.stdout
+    assert cli(str(tiny_run)).returncode == 0  # its own report is rebuilt
+    foreign = tmp_path / "notes.html"
+    foreign.write_text("<p>my notes</p>")
+    r = cli(str(tiny_run), "--out", str(foreign))
+    assert r.returncode == 2 and "not a dart_reach report" in r.stderr
+    assert foreign.read_text() == "<p>my notes</p>"
+    r = cli(str(tmp_path / "none"))
+    assert r.returncode == 2 and "no such run directory" in r.stderr
+    r = cli(str(tiny_run), "--out", str(tmp_path / "r.pdf"))
+    assert r.returncode == 2 and ".html" in r.stderr
+    r = cli(str(tiny_run), "--findings", str(foreign))
+    assert r.returncode == 2 and "give a name ending in .parquet" in r.stderr
+    mine = tmp_path / "mine.parquet"
+    mine.write_bytes(b"my table")
+    r = cli(str(tiny_run), "--findings", str(mine))
+    assert r.returncode == 2 and r.stderr.count("\n") == 1 and "mine.parquet exists" in r.stderr
+    assert foreign.read_text() == "<p>my notes</p>" and mine.read_bytes() == b"my table"
+
+
+def test_report_reads_at_100_percent_and_states_its_corrections(tiny_run, tmp_path):
+    from dart_reach.postevaluation.systematic import run_phases
+
+    text = report.build([tiny_run], tmp_path / "r.html").read_text()
+    assert html.escape(report.TRAINING_NOTE) in text
+    assert text.count(html.escape(report.HOLM_NOTE)) == 2  # Figs. 9 and 10
+    assert "p_holm" in text
+    stats = pl.read_parquet(tiny_run / "generations.parquet")
+    summary = report.training_summary(stats, run_phases(tiny_run))
+    phases = summary.select("condition", "phase").unique(maintain_order=True).rows()
+    assert phases == [("standard", "pre"), ("standard", "gross"), ("standard", "fine"),
+                      ("gross-hat", "gross-hat")]
+    assert report.DPI >= 100
+
+
+def _alone(run_dirs) -> pl.DataFrame:
+    """The findings of runs pooled, as ``report.build`` judged every run given before budgets
+    were told apart."""
+    from dart_reach.postevaluation.snapshots import load_development
+    from dart_reach.postevaluation.systematic import load_evaluation
+
+    baseline = pl.concat([load_evaluation(d, baseline=True).with_columns(
+        pl.lit(d.name).alias("run")) for d in run_dirs], how="diagonal_relaxed")
+    developments = [dev for d in run_dirs if (dev := load_development(d)) is not None]
+    return findings.findings(figures.load_runs(run_dirs), baseline,
+                             development=pl.concat(developments) if developments else None)
+
+
+def _same(a: pl.DataFrame, b: pl.DataFrame) -> bool:
+    """Equal to the last bit, except the sign of a zero (a median of differences can be -0.0
+    in one computation and 0.0 in another)."""
+    def canonical(df: pl.DataFrame) -> pl.DataFrame:
+        return df.select(sorted(b.columns)).with_columns(pl.col(pl.Float64) + 0.0)
+    try:  # NaN equals NaN here (a claim not run has a NaN effect in both)
+        assert_frame_equal(canonical(a), canonical(b), check_exact=True)
+    except AssertionError:
+        return False
+    return True
+
+
+def test_budgets_are_never_pooled_and_runs_of_one_budget_are(tiny_run, other_budget, tmp_path):
+    by_budget = budgets.findings_by_budget([other_budget, tiny_run])
+    assert by_budget.select("generations_per_phase", "runs").unique(maintain_order=True).rows() \
+        == [(1, "tiny"), (2, "tiny-2")]
+    assert set(by_budget["scene"]) == {DEFAULT_SCENE}
+    for gens, run in ((1, tiny_run), (2, other_budget)):
+        block = by_budget.filter(pl.col("generations_per_phase") == gens)
+        assert block.height == len(findings.CLAIMS)
+        assert _same(block.drop(budgets.KEY_COLUMNS), _alone([run]))
+    # the same data, the same findings to the last bit, every time (group orders, bootstrap
+    # draws): this caught sums over polars groups taken in a random order
+    for _ in range(4):
+        assert _same(budgets.findings_by_budget([other_budget, tiny_run]), by_budget)
+    # pooling both would have judged other samples (the test can fail)
+    both = _alone([tiny_run, other_budget])
+    assert both["n"].to_list() != by_budget.filter(
+        pl.col("generations_per_phase") == 1)["n"].to_list()
+    # a copy of a run is a second run of the same budget: pooled with it
+    twin = tmp_path / "tiny-twin"
+    shutil.copytree(tiny_run, twin, ignore=shutil.ignore_patterns("*.rrd", "report.html"))
+    pooled = budgets.findings_by_budget([tiny_run, twin])
+    assert pooled["runs"].unique().to_list() == ["tiny, tiny-twin"]
+    assert _same(pooled.drop(budgets.KEY_COLUMNS), _alone([tiny_run, twin]))
+
+
+def test_a_report_of_two_budgets_sets_them_side_by_side(tiny_run, other_budget, tmp_path):
+    text = report.build([tiny_run, other_budget], tmp_path / "r.html",
+                        findings_out=tmp_path / "found.parquet").read_text()
+    # the findings as data: the frame the table is drawn from, every claim at both budgets
+    found_data = pl.read_parquet(tmp_path / "found.parquet")
+    assert _same(found_data, budgets.findings_by_budget([tiny_run, other_budget]))
+    assert found_data.group_by("generations_per_phase").len().sort(
+        "generations_per_phase").rows() == [(1, len(findings.CLAIMS)), (2, len(findings.CLAIMS))]
+    with pytest.raises(ValueError, match="found.parquet' exists"):
+        report.build([tiny_run], tmp_path / "r2.html", findings_out=tmp_path / "found.parquet")
+    assert not (tmp_path / "r2.html").exists()
+    start, end = text.index('<section id="findings">'), text.index('<section id="provenance">')
+    found = text[start:end]
+    table = re.search(r'<table class="findings budgets">.*?</table>', found).group(0)
+    head = re.findall(r"<th>([^<]*)</th>", table.split("</thead>")[0])
+    assert head == ["claim", "kind", "1 gen/phase: effect [CI]", "1 gen/phase: verdict",
+                    "2 gen/phase: effect [CI]", "2 gen/phase: verdict", "as the budget grows"]
+    rows = re.findall(r"<tr><td>([^<]*)</td>", table)
+    assert len(rows) == len(findings.CLAIMS) == len(set(rows))
+    moves = re.findall(r"<td(?: class=\"\w+\")?>([^<]*)</td></tr>", table)
+    assert {m.split(" (")[0] for m in moves} <= set(budgets.MOVEMENTS)
+    # the figure of the effects against the budget, then each budget's own table
+    assert re.search(r'<img alt="figure" src="data:image/png;base64,[A-Za-z0-9+/=]+">'
+                     + re.escape(f"<p>{html.escape(report.BUDGET_FIGURE_NOTE)}</p>"), found)
+    assert found.count('<table class="findings">') == 2
+    assert f"<h3>{DEFAULT_SCENE}, 1 generation per phase: tiny</h3>" in found
+    assert f"<h3>{DEFAULT_SCENE}, 2 generations per phase: tiny-2</h3>" in found
+    assert "scenes" not in found.split("<table")[0]  # one scene: no notice

@@ -1,0 +1,402 @@
+"""The run directory survives anything: a fault injected at every file rename of a tiny run
+(SIGKILL, SIGTERM, a full disk), a file-size limit, a second process, a deleted or damaged
+file, a killed parent's workers, a Ray address where nothing listens."""
+
+from __future__ import annotations
+
+import json
+import os
+import re
+import shutil
+import signal
+import subprocess
+import sys
+import time
+from concurrent.futures import ThreadPoolExecutor
+from pathlib import Path
+
+import numpy as np
+import polars as pl
+import pytest
+
+from dart_reach.recording.rrd import read_rrd
+
+STRACE = shutil.which("strace")
+RENAMES = "rename,renameat,renameat2"
+CONDITION = """\
+name = "two"
+notation = "two"
+description = "pre- then gross-reaching, for the run-directory tests"
+generations_per_phase = 1
+
+[[phases]]
+name = "pre"
+acuity = 3.0
+offset_sensors = false
+free_groups = ["direct"]
+reflexes = true
+
+[[phases]]
+name = "gross"
+acuity = 1.0
+offset_sensors = false
+free_groups = ["direct", "hidden"]
+reflexes = true
+"""
+
+
+@pytest.fixture(scope="module")
+def condition(tmp_path_factory) -> Path:
+    path = tmp_path_factory.mktemp("condition") / "two.toml"
+    path.write_text(CONDITION)
+    return path
+
+
+def _train_args(condition: Path, out: Path, *extra) -> list[str]:
+    return ["train", str(condition), "--replications", "1", "--trials", "1", "--steps", "3",
+            "--seed", "2", "--workers", "1", "--record-every", "1", "--snapshot-every", "1",
+            "--out", str(out), *extra]
+
+
+def _cli(*args, timeout=300, prefix=()):
+    return subprocess.run([*prefix, sys.executable, "-m", "dart_reach.cli", *map(str, args)],
+                          capture_output=True, text=True, timeout=timeout)
+
+
+def _strace(inject: str) -> list[str]:
+    return [STRACE, "-f", "-qq", "-o", "/dev/null", "-e", f"trace={RENAMES}", "-e",
+            f"inject={RENAMES}:{inject}"]
+
+
+def _npz(path: Path) -> dict:
+    with np.load(path) as d:
+        return {k: d[k].copy() for k in d.files if k != "stats/wall_s"}
+
+
+def snapshot(out: Path) -> dict:
+    """Everything a run directory holds, comparable across runs: tables without wall times,
+    arrays, recordings' contents; the manifest without its creation time, command line (which
+    names the run's own directory) and the state of the source tree it was made from (a run
+    started again after an edit records the edit)."""
+    files = sorted(p.relative_to(out) for p in out.rglob("*") if p.is_file() and p.name != ".lock")
+    assert not [f for f in files if f.name.endswith(".tmp")], files
+    snap: dict = {"files": [str(f) for f in files]}
+    for f in files:
+        p = out / f
+        if f.suffix == ".npz":
+            snap[str(f)] = _npz(p)
+        elif f.suffix == ".parquet":
+            table = pl.read_parquet(p)
+            snap[str(f)] = table.drop("wall_s") if "wall_s" in table.columns else table
+        elif f.suffix == ".rrd":
+            snap[str(f)] = read_rrd(p)
+        elif f.name == "manifest.json":
+            snap[str(f)] = {k: v for k, v in json.loads(p.read_text()).items()
+                            if k not in ("created", "command", "git_revision", "git_dirty",
+                                         "git_diff_sha256", "sessions")}
+    return snap
+
+
+def same(a: dict, b: dict) -> bool:
+    if a["files"] != b["files"]:
+        return False
+    for k, v in a.items():
+        w = b[k]
+        if isinstance(v, dict) and k != "files" and not k.endswith("manifest.json"):
+            if v.keys() != w.keys() or not all(np.array_equal(v[x], w[x]) for x in v):
+                return False
+        elif isinstance(v, pl.DataFrame):
+            if not v.equals(w):
+                return False
+        elif v != w:
+            return False
+    return True
+
+
+@pytest.fixture(scope="module")
+def reference(condition, tmp_path_factory):
+    """An uninterrupted run, and how many renames it makes."""
+    out = tmp_path_factory.mktemp("reference") / "run"
+    if STRACE:
+        trace = out.parent / "renames.txt"
+        result = _cli(*_train_args(condition, out), prefix=[STRACE, "-f", "-qq", "-o",
+                                                            str(trace), "-e", f"trace={RENAMES}"])
+        renames = sum(1 for line in trace.read_text().splitlines() if "rename" in line)
+    else:
+        result, renames = _cli(*_train_args(condition, out)), 0
+    assert result.returncode == 0, result.stderr
+    return out, snapshot(out), renames
+
+
+def _fault_then_resume(condition, root: Path, inject: str, n: int) -> tuple[int, str, dict]:
+    out = root / f"{inject.split('=')[1].split(':')[0]}-{n}"
+    cut = _cli(*_train_args(condition, out), prefix=_strace(f"{inject}:when={n}"))
+    # stopped before its manifest was written, the run is started again, not resumed
+    resume = ("--resume",) if (out / "manifest.json").exists() else ()
+    again = _cli(*_train_args(condition, out, *resume))
+    assert again.returncode == 0, (n, cut.stderr, again.stderr)
+    return cut.returncode, cut.stderr, snapshot(out)
+
+
+@pytest.mark.skipif(not STRACE, reason="needs strace to inject faults at exact renames")
+def test_sigkill_at_every_rename_resumes_to_the_same_directory(condition, reference, tmp_path):
+    _, expected, renames = reference
+    assert renames >= 10  # manifest, recordings, checkpoints, tables, finals
+    with ThreadPoolExecutor(2) as pool:
+        results = list(pool.map(lambda n: _fault_then_resume(
+            condition, tmp_path, "signal=SIGKILL", n), range(1, renames + 1)))
+    for n, (code, err, snap) in enumerate(results, start=1):
+        assert code == -signal.SIGKILL, (n, err)
+        assert same(snap, expected), f"killed at rename {n}: resumed run differs"
+
+
+@pytest.mark.skipif(not STRACE, reason="needs strace to inject faults at exact renames")
+def test_sigterm_and_full_disk_at_renames(condition, reference, tmp_path):
+    _, expected, renames = reference
+    cases = [("signal=SIGTERM", n) for n in (2, renames // 2, renames - 1)]
+    cases += [("error=ENOSPC", n) for n in (1, 3, renames // 2 + 1, renames)]
+    with ThreadPoolExecutor(2) as pool:
+        results = list(pool.map(lambda c: _fault_then_resume(condition, tmp_path, *c), cases))
+    for (inject, n), (code, err, snap) in zip(cases, results):
+        if inject == "signal=SIGTERM":
+            assert code == 143 and "--resume" in err and "Traceback" not in err, (n, err)
+        else:
+            lines = err.strip().splitlines()
+            assert code == 2 and "No space left on device" in lines[-1], (n, err)
+            assert "Traceback" not in err
+        assert same(snap, expected), f"{inject} at rename {n}: resumed run differs"
+
+
+def test_file_size_limit_is_one_line_and_resumable(condition, reference, tmp_path):
+    _, expected, _ = reference
+    out = tmp_path / "run"
+    cut = _cli(*_train_args(condition, out), prefix=["prlimit", "--fsize=12000"])
+    assert cut.returncode == 2, cut.stderr
+    line = cut.stderr.strip().splitlines()[-1]
+    assert "File too large" in line and str(out) in line, cut.stderr
+    again = _cli(*_train_args(condition, out, "--resume"))
+    assert again.returncode == 0, again.stderr
+    assert same(snapshot(out), expected)
+
+
+def test_lock_refuses_a_second_process_and_a_killed_holder_never_blocks(condition, tmp_path):
+    from dart_reach.files import DirectoryLock
+
+    out = tmp_path / "run"
+    slow = _train_args(condition, out)[:-2] + ["--trials", "18", "--steps", "200", "--out", out]
+    first = subprocess.Popen([sys.executable, "-m", "dart_reach.cli", *map(str, slow)],
+                             stderr=subprocess.DEVNULL)
+    deadline = time.monotonic() + 120
+    while not (out / "manifest.json").exists() and time.monotonic() < deadline:
+        time.sleep(0.05)
+    for args in (slow + ["--resume"], slow, ["evaluate", out]):
+        second = _cli(*args)
+        assert second.returncode == 2, second.stderr
+        assert f"PID {first.pid}" in second.stderr or "unfinished" in second.stderr, \
+            second.stderr
+        assert second.stderr.count("\n") == 1
+    assert first.poll() is None, "the first run must still be running"
+    first.send_signal(signal.SIGKILL)
+    first.wait()
+    with DirectoryLock(out):  # the dead holder's lock is free at once
+        pass
+
+
+def test_deleted_or_stale_files_are_rebuilt_or_refused(condition, reference, tmp_path):
+    src, expected, _ = reference
+    out = tmp_path / "run"
+    # a deleted table, training.rrd and best table, and a left-over temporary: rebuilt exactly
+    shutil.copytree(src, out)
+    pre = next(out.glob("phases/pre-*"))
+    for name in ("generations.parquet", "training.rrd"):
+        (out / name).unlink()
+    (pre / "best.parquet").unlink()
+    (pre / ".checkpoint.npz.abc.tmp").write_bytes(b"half")
+    result = _cli(*_train_args(condition, out, "--resume"))
+    assert result.returncode == 0, result.stderr
+    assert same(snapshot(out), expected)
+    # a deleted checkpoint of a finished phase, or one older than the table: refused, untouched
+    for damage in ("delete", "older"):
+        out = tmp_path / damage
+        shutil.copytree(src, out)
+        gross = next(out.glob("phases/gross-*"))
+        if damage == "delete":
+            (gross / "checkpoint.npz").unlink()
+        else:
+            (gross / "final.npz").unlink()
+            shutil.copy(pre / "checkpoint.npz", gross / "checkpoint.npz")
+        before = {p: p.read_bytes() for p in out.rglob("*") if p.is_file() and p.name != ".lock"}
+        result = _cli(*_train_args(condition, out, "--resume"))
+        assert result.returncode == 2 and "checkpoint.npz" in result.stderr, result.stderr
+        assert result.stderr.count("\n") == 1
+        after = {p: p.read_bytes() for p in out.rglob("*") if p.is_file() and p.name != ".lock"}
+        assert after == before
+
+
+@pytest.mark.parametrize("content", ["[]", "null", '"x"'])
+def test_malformed_manifest_is_one_line(condition, reference, tmp_path, content):
+    out = tmp_path / "run"
+    shutil.copytree(reference[0], out)
+    (out / "manifest.json").write_text(content)
+    for args in (_train_args(condition, out, "--resume"), ["evaluate", out]):
+        result = _cli(*args)
+        assert result.returncode == 2 and "manifest.json" in result.stderr, result.stderr
+        assert result.stderr.count("\n") == 1
+
+
+def test_manifest_with_a_null_ball_and_a_binary_manifest(reference, tmp_path):
+    out = tmp_path / "run"
+    shutil.copytree(reference[0], out)
+    m = json.loads((out / "manifest.json").read_text())
+    m["settings"]["world"]["ball"] = None
+    (out / "manifest.json").write_text(json.dumps(m))
+    result = _cli("evaluate", out)
+    assert result.returncode == 2 and "manifest.json" in result.stderr, result.stderr
+    (out / "manifest.json").write_bytes(bytes(range(256)))
+    result = _cli("evaluate", out)
+    assert result.returncode == 2 and "manifest.json" in result.stderr, result.stderr
+
+
+def test_snapshots_are_kept_and_a_damaged_one_is_named(reference, tmp_path):
+    src, expected, _ = reference
+    shots = [f for f in expected["files"] if "/snapshots/" in f]
+    assert len(shots) == 2, expected["files"]  # generation 1 of each phase
+    out = tmp_path / "run"
+    shutil.copytree(src, out)
+    result = _cli("evaluate", out, "--robots", "1", "--record", "none", "--development", "1",
+                  "--workers", "1")
+    assert result.returncode == 0, result.stderr
+    assert pl.read_parquet(out / "development.parquet").height == 2 * 45
+    (out / shots[0]).write_bytes(b"not a snapshot")
+    (out / "development.parquet").unlink()
+    result = _cli("evaluate", out, "--robots", "1", "--record", "none", "--development", "1",
+                  "--workers", "1")
+    last = result.stderr.strip().splitlines()[-1]  # after the post-evaluation's own lines
+    assert result.returncode == 2 and shots[0] in last and "unreadable snapshot" in last, \
+        result.stderr
+    assert "Traceback" not in result.stderr
+
+
+def test_same_named_conditions_and_unfit_names_are_refused(condition, tmp_path):
+    copy = tmp_path / "copy.toml"
+    copy.write_text(CONDITION.replace("generations_per_phase = 1", "generations_per_phase = 2"))
+    result = _cli("train", condition, copy, "--out", tmp_path / "r")
+    assert result.returncode == 2 and "named two" in result.stderr, result.stderr
+    assert not (tmp_path / "r").exists()
+    long = tmp_path / "long.toml"
+    long.write_text(CONDITION.replace('name = "pre"', f'name = "{"p" * 260}"'))
+    result = _cli("train", long, "--out", tmp_path / "r")
+    assert result.returncode == 2 and "at most 64 characters" in result.stderr, result.stderr
+
+
+def test_os_errors_are_one_line(condition, tmp_path):
+    too_long = tmp_path / ("x" * 300)
+    result = _cli(*_train_args(condition, too_long))
+    assert result.returncode == 2 and "File name too long" in result.stderr, result.stderr
+    assert result.stderr.count("\n") == 1
+    if os.geteuid() != 0:  # root writes through permissions
+        locked = tmp_path / "locked"
+        locked.mkdir(mode=0o500)
+        result = _cli(*_train_args(condition, locked / "run"))
+        assert result.returncode == 2 and "Permission denied" in result.stderr, result.stderr
+
+
+def test_pool_workers_die_with_their_parent(condition, tmp_path):
+    out = tmp_path / "run"
+    args = _train_args(condition, out)
+    args[args.index("--workers") + 1] = "2"
+    args[args.index("--steps") + 1] = "200"
+    parent = subprocess.Popen([sys.executable, "-m", "dart_reach.cli", *args],
+                              stderr=subprocess.DEVNULL)
+    children: set[int] = set()
+    deadline = time.monotonic() + 120
+    while len(children) < 2 and time.monotonic() < deadline:
+        children = _descendants(parent.pid) - {parent.pid}
+        time.sleep(0.2)
+    assert len(children) >= 2, "the pool never started"
+    parent.send_signal(signal.SIGKILL)
+    parent.wait()
+    deadline = time.monotonic() + 10
+    while time.monotonic() < deadline and any(_alive(p) for p in children):
+        time.sleep(0.2)
+    assert not [p for p in children if _alive(p)], "a worker outlived its parent"
+
+
+def _descendants(pid: int) -> set[int]:
+    out = subprocess.run(["ps", "-e", "-o", "pid=,ppid="], capture_output=True, text=True)
+    parents = {}
+    for line in out.stdout.split("\n"):
+        if line.strip():
+            p, pp = map(int, line.split())
+            parents[p] = pp
+    found, frontier = {pid}, {pid}
+    while frontier:
+        frontier = {p for p, pp in parents.items() if pp in frontier} - found
+        found |= frontier
+    return found
+
+
+def _alive(pid: int) -> bool:
+    try:
+        state = Path(f"/proc/{pid}/stat").read_text().split(")")[-1].split()[0]
+    except FileNotFoundError:
+        return False
+    return state != "Z"
+
+
+def test_ray_address_with_nothing_there_fails_fast(condition, tmp_path):
+    pytest.importorskip("ray")
+    t0 = time.monotonic()
+    result = _cli(*_train_args(condition, tmp_path / "r"), "--ray", "127.0.0.1:1", timeout=60)
+    assert time.monotonic() - t0 < 30
+    assert result.returncode == 2 and "127.0.0.1:1" in result.stderr, result.stderr
+    assert result.stderr.count("\n") == 1
+
+
+def test_small_bad_inputs_name_the_option(tmp_path):
+    for args, fragment in ((["reach", "--seconds", "-1"], "--seconds"),
+                           (["reach", "--seconds", "0"], "--seconds"),
+                           (["reach", "--seconds", "inf"], "--seconds"),
+                           (["bench", "--seconds", "-1"], "--seconds"),
+                           (["bench", "--repeats", "0"], "--repeats"),
+                           (["read", tmp_path], "directory")):
+        result = _cli(*args)
+        assert result.returncode == 2 and fragment in result.stderr, (args, result.stderr)
+        assert result.stderr.count("\n") == 1, result.stderr
+
+
+def test_files_honour_the_umask_and_commands_are_quoted(condition, tmp_path):
+    out = tmp_path / "with space"
+    result = subprocess.run(
+        ["sh", "-c", 'umask 022 && exec "$0" -m dart_reach.cli "$@"', sys.executable,
+         *_train_args(condition, out)], capture_output=True, text=True, timeout=300)
+    assert result.returncode == 0, result.stderr
+    assert f"dart-reach evaluate '{out}'" in result.stderr
+    for p in out.rglob("*"):
+        if p.is_file():
+            assert p.stat().st_mode & 0o777 == 0o644, p
+
+
+def test_evaluate_is_locked_and_sigterm_keeps_every_robot_it_reported(reference, tmp_path):
+    out = tmp_path / "run"
+    shutil.copytree(reference[0], out)
+    first = subprocess.Popen([sys.executable, "-m", "dart_reach.cli", "evaluate", str(out),
+                              "--sensors", "all", "--record", "none", "--workers", "1"],
+                             stderr=subprocess.PIPE, text=True)
+    reported, done = 0, re.compile(r"(\d+)/\d+ robots")
+    for line in first.stderr:
+        if done.search(line):
+            reported = int(done.search(line).group(1))
+            break
+    second = _cli("evaluate", out, "--workers", "1")
+    assert second.returncode == 2 and f"PID {first.pid}" in second.stderr, second.stderr
+    first.send_signal(signal.SIGTERM)
+    rest = first.stderr.read()
+    first.wait(timeout=60)
+    assert first.returncode == 143, rest
+    assert "interrupted" in rest and "Traceback" not in rest
+    for line in rest.splitlines():
+        if done.search(line):
+            reported = int(done.search(line).group(1))
+    table = pl.read_parquet(out / "evaluation.parquet")
+    assert reported >= 1 and table.height == reported * 45

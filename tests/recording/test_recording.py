@@ -1,0 +1,163 @@
+"""Recordings: a real trial in the real world, written to .rrd, verified by rerun's own
+verifier, and read back equal to what was logged."""
+
+from __future__ import annotations
+
+import subprocess
+import sys
+
+import numpy as np
+import polars as pl
+import pytest
+from scipy.spatial.transform import Rotation
+
+from dart_reach.measures import metrics
+from dart_reach.recording import rrd as rec
+from dart_reach.model.ctrnn import Network, random_params
+from dart_reach.model.task import Trial, TrialConfig
+from dart_reach.model.world import World
+
+
+@pytest.fixture(scope="module")
+def world():
+    return World()
+
+
+@pytest.fixture(scope="module")
+def trial(world):
+    runner = Trial(world, TrialConfig(steps=40, acuity=3.0))
+    network = Network(random_params(np.random.default_rng(5)))
+    return runner.run(network, 4, world.sector_point(4, 0.3, 0.6))
+
+
+INFO = rec.TrialInfo("standard", "pre", 1, 2, 4, 7, "SeedSequence(3, (1, 2))", "no-touch")
+
+
+def _write(tmp_path, world, data, name="t.rrd"):
+    return rec.write_rrd(tmp_path / name, rec.trial_rrd(data, INFO, rec.RobotModel(world)))
+
+
+def test_what_is_read_equals_what_was_logged(tmp_path, world, trial):
+    path = _write(tmp_path, world, trial)
+    rec.verify(path)
+    table = rec.read_rrd(path)
+    assert table.height == trial.steps_run == 40
+    assert table["step"].to_list() == list(range(40))
+    assert np.allclose(table["sim_time"].to_numpy(), np.arange(40) * 0.1)
+    n_series = 0
+    for entity, names, get in rec.SIGNALS:
+        logged = np.asarray(get(trial), float)
+        columns = [f"{entity}/{n}" for n in names]
+        read = table.select(columns).to_numpy()
+        assert np.array_equal(read, logged), columns[0]  # bit for bit
+        n_series += len(names)
+    assert table.width == 2 + n_series
+    props = rec.read_properties(path)
+    info = {"layout": rec.LAYOUT, "condition": "standard", "phase": "pre", "replication": 1,
+            "individual": 2, "sector": 4, "trial": 7, "trial_seed": "SeedSequence(3, (1, 2))",
+            "senses": "no-touch", "generation": -1}
+    measures = metrics.trial_metrics(trial)
+    assert props.keys() == info.keys() | set(rec.MEASURES)
+    assert {k: props[k] for k in info} == info
+    for m in rec.MEASURES:
+        assert props[m] == measures[m] or (np.isnan(props[m]) and np.isnan(measures[m])), m
+
+
+def test_movement_variability_per_step_ends_at_the_trials_measures(tmp_path, world, trial):
+    """Fig. 6's variability and the hand distances, per step in the recording: the cumulative
+    values at the last step and the distances' statistics are the trial's measures, as
+    post-evaluation computes them for evaluation.parquet."""
+    table = rec.read_rrd(_write(tmp_path, world, trial))
+    measures = metrics.trial_metrics(trial)
+    for group in ("elbow", "shoulder", "trunk"):
+        cumulative = table[f"variability/joints/cumulative/{group}"].to_numpy()
+        assert cumulative[-1] == pytest.approx(measures[f"var_{group}"], rel=1e-9, abs=1e-12)
+        assert cumulative[0] == 0.0 and (cumulative >= 0).all()
+        window = table[f"variability/joints/window/{group}"].to_numpy()
+        q = trial.joints[:40][:, list(metrics.JOINT_GROUPS[group])]
+        assert window[30] == pytest.approx(q[11:31].std(axis=0).mean(), rel=1e-9, abs=1e-12)
+    d = table["variability/distance/hand_shoulder"].to_numpy()
+    assert d.mean() == pytest.approx(measures["hand_shoulder_mean"], rel=1e-12)
+    assert d.std() == pytest.approx(measures["elbow_freezing"], rel=1e-9)
+    assert table["variability/distance/hand_ball"].min() == pytest.approx(
+        measures["hand_ball_min"], rel=1e-12)
+
+
+def test_a_diverged_trial_records_only_the_steps_it_ran(tmp_path, world, trial):
+    import dataclasses
+    short = dataclasses.replace(trial, steps_run=13, diverged=True)
+    table = rec.read_rrd(_write(tmp_path, world, short))
+    assert table.height == 13
+
+
+def test_scene_follows_the_skeleton(world, trial):
+    """The vectorised forward kinematics equals DART's body transforms."""
+    model = rec.RobotModel(world)
+    transforms = model.body_transforms(trial.dofs[[0, 20, 39]])
+    for k, t in enumerate((0, 20, 39)):
+        world.robot.setPositions(trial.dofs[t])
+        for i, body in enumerate(world.robot.getBodyNodes()):
+            assert np.allclose(transforms[k, i], body.getWorldTransform().matrix(), atol=1e-12)
+    world.reset(world.sector_point(4, 0.5, 0.5))
+
+
+def test_quaternions_match_scipy():
+    rotations = Rotation.random(2000, random_state=3)
+    axes = Rotation.random(200, random_state=4).as_rotvec()
+    axes /= np.linalg.norm(axes, axis=1)[:, None]
+    # half-turns (w = 0), where the signs must come from the largest component
+    special = Rotation.from_rotvec(np.concatenate([
+        np.eye(3) * np.pi, np.eye(3) * np.pi / 2, np.zeros((1, 3)), axes * np.pi,
+        axes * (np.pi - 1e-9), [[np.pi / np.sqrt(2), -np.pi / np.sqrt(2), 0]]]))
+    for r in (rotations, special):
+        q = rec.quaternions(r.as_matrix())
+        assert np.allclose(np.abs(np.sum(q * r.as_quat(), axis=-1)), 1.0, atol=1e-12)
+
+
+def test_training_recording_round_trip(tmp_path):
+    stats = pl.DataFrame({
+        "condition": ["c"] * 6, "phase": ["pre"] * 4 + ["gross"] * 2,
+        "replication": [0, 0, 1, 1, 0, 0], "generation": [1, 2, 1, 2, 1, 2],
+        "best": [.1, .2, .3, .4, .5, .6], "mean": [.01, .02, .03, .04, .05, .06],
+        "min": [0.0] * 6})
+    path = rec.write_rrd(tmp_path / "training.rrd", rec.training_rrd(stats, "run"))
+    rec.verify(path)
+    table = rec.read_rrd(path)
+    assert table["generation"].to_list() == [1, 2, 3, 4]  # gross follows pre
+    assert table["c/pre/best rep1"].to_list()[:2] == [.3, .4]
+    assert table["c/pre/mean rep0"].to_list()[:2] == [.01, .02]
+    assert table["c/gross/mean rep0"].to_list()[2:] == [.05, .06]
+
+
+def test_damaged_files_are_named_with_their_problem(tmp_path, world, trial):
+    path = _write(tmp_path, world, trial)
+    content = path.read_bytes()
+    for name, data in (("half.rrd", content[: len(content) // 2]),
+                       ("tail.rrd", content[:-10]), ("text.rrd", b"hello")):
+        bad = tmp_path / name
+        bad.write_bytes(data)
+        with pytest.raises(rec.RecordingError, match=name):
+            rec.read_rrd(bad)
+        if name != "tail.rrd":  # rerun's verifier lets a file missing its last bytes pass
+            with pytest.raises(rec.RecordingError, match="verify"):
+                rec.verify(bad)
+    with pytest.raises(rec.RecordingError, match="no such recording"):
+        rec.read_rrd(tmp_path / "missing.rrd")
+    cli = subprocess.run([sys.executable, "-m", "dart_reach.cli", "read",
+                          str(tmp_path / "half.rrd")], capture_output=True, text=True)
+    assert cli.returncode == 2
+    assert cli.stderr.count("\n") == 1 and "half.rrd: truncated" in cli.stderr
+
+
+def test_cli_read_saves_the_series_as_parquet_without_overwriting(tmp_path, world, trial):
+    path = _write(tmp_path, world, trial)
+    out = tmp_path / "t.parquet"
+    cli = [sys.executable, "-m", "dart_reach.cli", "read", str(path), "--parquet", str(out)]
+    result = subprocess.run(cli, capture_output=True, text=True)
+    assert result.returncode == 0, result.stderr
+    assert "senses: no-touch" in result.stdout and "40 rows" in result.stdout
+    assert pl.read_parquet(out).equals(rec.read_rrd(path))
+    saved = out.read_bytes()
+    again = subprocess.run(cli, capture_output=True, text=True)
+    assert again.returncode == 2 and "t.parquet exists" in again.stderr
+    assert out.read_bytes() == saved

@@ -1,0 +1,62 @@
+"""The benchmark's machinery: paired timing in alternating order, ratios with quartiles, and
+tiny real runs of its figures (their values are for `dart-reach bench`, not for tests)."""
+
+from __future__ import annotations
+
+from dart_reach.studies import bench
+
+
+def test_pairs_alternate_their_order_and_time_each_side():
+    calls = []
+    a, b = bench.paired(lambda: calls.append("a"), lambda: calls.append("b"), 4)
+    assert calls == ["a", "b", "b", "a", "a", "b", "b", "a"]
+    assert a.shape == b.shape == (4,) and (a > 0).all() and (b > 0).all()
+
+
+def test_ratio_is_the_median_with_quartiles():
+    r = bench.ratio("x", [1.0, 2.0, 3.0, 4.0, 100.0])
+    assert r == {"x": 3.0, "x_iqr": [2.0, 4.0]}
+
+
+def test_check_against_targets():
+    met = bench.check({"controlled_over_limit": 0.95, "recording_overhead": 1.2})
+    assert met == {"controlled_over_limit": True, "recording_overhead": False}
+
+
+def test_tiny_real_figures():
+    w = bench.world_rtf(seconds=0.2, pairs=2)
+    assert w["ball_in_hand"] and w["limit_rtf"] > 0 and w["controlled_over_limit"] > 0
+    p = bench.parallel(jobs=4, trials=1, pairs=1)
+    assert p["parallel_efficiency"] > 0 and p["worker_peak_rss_mb"] > 50
+    assert bench.panel_genomes("evolved", 3).shape == (3, bench.panel_genomes("random", 1).shape[1])
+
+
+def test_the_tuned_physics_simulates_what_the_reference_does():
+    """Every record of evolved robots' trials (they touch and grasp the ball) is the same to
+    the last bit in the world as tuned for speed and in the reference configuration."""
+    import numpy as np
+
+    from dart_reach.evolution.run import standard_trial
+    from dart_reach.evolution.genome import ParamGroup, decode
+    from dart_reach.model.task import Trial, network_for
+    from dart_reach.model.world import World
+
+    cfg = standard_trial("pre")
+    tuned, reference = Trial(World(), cfg), Trial(bench.reference_world(), cfg)
+    assert reference.world.world.getDeactivationOptions().mEnabled
+    assert not tuned.world.world.getDeactivationOptions().mEnabled
+    touched = 0
+    for i, genome in enumerate(bench.panel_genomes("evolved", 3)):
+        network = network_for(decode(genome, {ParamGroup.DIRECT}), cfg)
+        for k in (1, 4, 7):
+            ball = tuned.world.sector_point(k, 0.3, 0.6)
+            a, b = tuned.run(network, k, ball), reference.run(network, k, ball)
+            for name in ("dofs", "ball", "hand", "contacts", "sensors", "targets"):
+                assert np.array_equal(getattr(a, name), getattr(b, name)), (i, k, name)
+            touched += a.contacts.any()
+    assert touched >= 3
+
+
+def test_physics_speedup_is_a_ratio_of_pairs():
+    r = bench.physics_speedup(trials=2)
+    assert r["physics_speedup"] > 0 and len(r["physics_speedup_iqr"]) == 2

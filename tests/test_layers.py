@@ -1,0 +1,122 @@
+"""The package's architecture, read from its imports with ``ast``: subpackages follow the data
+flow and import only those before them; no module imports a private name of another; no module
+grows past about 600 lines; imports sit at the top of a module except where deferring them is
+stated (an optional extra, or the CLI's start-up time)."""
+
+from __future__ import annotations
+
+import ast
+from pathlib import Path
+
+PACKAGE = Path(__file__).resolve().parents[1] / "dart_reach"
+
+#: Each layer may import itself and the layers before it. ``errors``, ``files`` and
+#: ``progress`` are shared utilities every layer may use.
+LAYERS = ("model", "measures", "recording", "evolution", "postevaluation", "analysis",
+          "robots", "viewing", "studies", "cli")
+SHARED = {"errors", "files", "progress", "skeletons", ""}
+
+MAX_LINES = 600
+
+#: Modules allowed to import inside functions, and why (checked to still need it).
+DEFERRED = {
+    "cli": "start-up: 'dart-reach --help' and every command load only what they run",
+    "__init__": "the public names are loaded on first use (PEP 562)",
+}
+#: Optional extras imported where they are used: ray (cluster), imageio (video), pinocchio.
+OPTIONAL = {"ray", "imageio", "imageio_ffmpeg", "imageio.v2", "pinocchio", "IPython",
+            "ipywidgets", "icub_models"}
+
+
+def _modules():
+    for path in sorted(PACKAGE.rglob("*.py")):
+        parts = path.relative_to(PACKAGE).with_suffix("").parts
+        yield path, parts, ast.parse(path.read_text(), str(path))
+
+
+def _target(parts: tuple[str, ...], node: ast.ImportFrom, is_init: bool) -> list[str]:
+    """The package-relative dotted names an import refers to ('' for the package itself)."""
+    if node.level == 0:
+        if not (node.module or "").startswith("dart_reach"):
+            return []
+        base = (node.module or "").split(".")[1:]
+    else:
+        here = list(parts if is_init else parts[:-1])
+        if is_init:
+            here = here[:-1]
+        base = here[: len(here) - (node.level - 1)] + (node.module.split(".") if node.module else [])
+    if node.module is None or node.level and not node.module:
+        return [".".join([*base, a.name]) for a in node.names]
+    return [".".join(base)]
+
+
+def _layer(dotted: str) -> str:
+    return dotted.split(".")[0] if dotted else ""
+
+
+def test_subpackages_import_only_those_before_them():
+    wrong = []
+    for path, parts, tree in _modules():
+        is_init = parts[-1] == "__init__"
+        mine = _layer(".".join(parts)) if len(parts) > 1 else ""
+        if mine in SHARED or mine == "__init__":
+            continue
+        for node in ast.walk(tree):
+            if isinstance(node, ast.ImportFrom):
+                for target in _target(parts, node, is_init):
+                    theirs = _layer(target)
+                    if theirs in SHARED or theirs not in LAYERS:
+                        continue
+                    if LAYERS.index(theirs) > LAYERS.index(mine):
+                        wrong.append(f"{path.relative_to(PACKAGE)}:{node.lineno} {mine} imports "
+                                     f"{theirs}")
+    assert not wrong, "\n".join(wrong)
+
+
+def test_every_module_is_in_a_layer():
+    for path in PACKAGE.iterdir():
+        if path.is_dir() and (path / "__init__.py").exists():
+            assert path.name in LAYERS or path.name in SHARED, path.name
+        elif path.suffix == ".py":
+            assert path.stem in SHARED or path.stem == "__init__", path.name
+
+
+def test_no_private_name_is_imported_from_another_module():
+    wrong = []
+    for path, parts, tree in _modules():
+        for node in ast.walk(tree):
+            if isinstance(node, ast.ImportFrom) and _target(parts, node, parts[-1] == "__init__"):
+                wrong += [f"{path.relative_to(PACKAGE)}:{node.lineno} {a.name}"
+                          for a in node.names if a.name.startswith("_") and a.name != "__version__"]
+    assert not wrong, "\n".join(wrong)
+
+
+def test_no_module_is_too_long():
+    long = [f"{p.relative_to(PACKAGE)}: {n} lines" for p, _, _ in _modules()
+            if (n := len(p.read_text().splitlines())) > MAX_LINES]
+    assert not long, "\n".join(long)
+
+
+def test_imports_are_at_the_top_unless_deferral_is_stated():
+    wrong = []
+    for path, parts, tree in _modules():
+        if parts[0] in DEFERRED or parts[-1] in DEFERRED and len(parts) == 1:
+            continue
+        top = {id(n) for n in tree.body}
+        for node in ast.walk(tree):
+            if isinstance(node, (ast.Import, ast.ImportFrom)) and id(node) not in top:
+                names = [a.name for a in node.names] if isinstance(node, ast.Import) \
+                    else [node.module or ""]
+                if any(n.split(".")[0] in OPTIONAL or n in OPTIONAL for n in names):
+                    continue
+                wrong.append(f"{path.relative_to(PACKAGE)}:{node.lineno} "
+                             f"{ast.unparse(node)}")
+    assert not wrong, f"{len(wrong)} imports inside functions:\n" + "\n".join(wrong)
+
+
+def test_the_layer_test_sees_a_wrong_import(tmp_path):
+    """The rule can fail: an import of the analysis from the model is caught."""
+    tree = ast.parse("from ..analysis import figures\n")
+    node = tree.body[0]
+    assert _layer(_target(("model", "world"), node, False)[0]) == "analysis"
+    assert LAYERS.index("analysis") > LAYERS.index("model")
