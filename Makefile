@@ -48,14 +48,14 @@ demo: $(VENV)/.installed
 	@echo "Redraw the paper's figures 5-10 in Jupyter:"
 	@echo "  make notebooks"
 
-# The README's pictures (docs/*.png) from the demo run, rendered by the real Rerun viewer
+# The README's pictures (docs/images/*.png) from the demo run, rendered by the real Rerun viewer
 # headless. Software Vulkan (Mesa's lavapipe) is the one system package it needs: installed
 # here with apt-get where that is possible (as root on Debian/Ubuntu).
 LAVAPIPE := /usr/share/vulkan/icd.d/lvp_icd.x86_64.json
 screenshots: demo
 	@test -f $(LAVAPIPE) || apt-get install -y -q --no-install-recommends mesa-vulkan-drivers \
 		|| echo "install Mesa's Vulkan drivers (Debian: mesa-vulkan-drivers) to render headless"
-	$(BIN)/python -m dart_reach.viewing.headless $(DEMO_OUT) docs
+	$(BIN)/python -m dart_reach.viewing.headless $(DEMO_OUT) docs/images
 
 # Jupyter Lab on the analysis notebooks (installs the 'notebooks' extra on first use).
 notebooks: $(VENV)/.installed-notebooks
@@ -65,9 +65,9 @@ $(VENV)/.installed-notebooks: pyproject.toml | $(BIN)/python
 	$(BIN)/python -m pip install -q -e ".[notebooks]"
 	touch $@
 
-# The scene study of docs/task.md: pre-reaching alone on each candidate scene, the same seeds,
+# The scene study of docs/results/scene-study.md: pre-reaching alone on each candidate scene, the same seeds,
 # then the post-evaluation of the best 5 robots of each replication beside 10 random genomes
-# (normal senses and the ball absent), and docs/scene-study.md and .png.
+# (normal senses and the ball absent), and docs/results/scene-study/scene-study.md and .png.
 # Resumable: run it again after an interruption. About 1 h per scene on 2 idle cores.
 SCENES := near near-shoulder arm-length-shoulder
 STUDY := recordings/scene-study
@@ -81,19 +81,19 @@ scene-study: $(VENV)/.installed
 		$(BIN)/dart-reach evaluate $(STUDY)/$$s --robots 5 --baseline 10 --sensors $$senses \
 			--record none || exit $$?; \
 	done; done
-	$(BIN)/python -m dart_reach.studies.scene_study $(STUDY) docs
+	$(BIN)/python -m dart_reach.studies.scene_study $(STUDY) docs/results/scene-study
 
-# The longer replication of docs/replication.md (issue 23): the standard condition and gross^,
+# The longer replication of docs/results/replication.md: the standard condition and gross^,
 # 50 generations per phase (gross^ 100), 4 replications, on the scene the scene study's rule fixed.
 # Many hours of 2 cores: run it again after any interruption (it resumes), and commit the
-# compact state under recordings/replication-50/ (docs/replication.md, "Resuming").
+# compact state under recordings/replication-50/ (docs/results/replication.md, "Resuming").
 REPLICATION := recordings/replication-50
 replication-50: $(VENV)/.installed
 	$(BIN)/dart-reach train standard gross-hat --generations 50 --replications 4 --seed 2013 \
 		--scene arm-length-shoulder --record-every 5 --snapshot-every 5 --out $(REPLICATION) \
 		$$(test -f $(REPLICATION)/manifest.json && echo --resume)
 
-# Its stage 2 (issue 23), after stage 1 has trained: every condition of Fig. 10 at the scaled
+# Its stage 2, after stage 1 has trained: every condition of Fig. 10 at the scaled
 # budget (10 generations per phase, 4 replications) on the same scene, so that F6 and F7 are
 # run and every claim has a 10-generation point beside its 50-generation one. ~4 h of 2 cores;
 # resumes like stage 1, its compact state tracked the same way.
@@ -107,10 +107,11 @@ replication-10: $(VENV)/.installed
 # Ten replications, as the paper: the standard condition at 50 generations per phase and gross^
 # at 100, on the default scene, so that the replication can be the unit of every verdict and
 # each transition merges the best 2 of each of the 10 replications (III-D). About 30 core-hours;
-# resumes like the others, its compact state tracked under recordings/replication-50x10/.
+# resumes like the others, its compact state tracked under recordings/replication-50x10/. It was
+# started at a revision that does not pin numpy's BLAS kernels itself: the variable does.
 REPLICATION10 := recordings/replication-50x10
 replication-50x10: $(VENV)/.installed
-	$(BIN)/dart-reach train standard gross-hat --generations 50 --replications 10 --seed 2015 \
+	OPENBLAS_CORETYPE=Haswell $(BIN)/dart-reach train standard gross-hat --generations 50 --replications 10 --seed 2015 \
 		--record-every 5 --snapshot-every 5 --out $(REPLICATION10) \
 		$$(test -f $(REPLICATION10)/manifest.json && echo --resume)
 

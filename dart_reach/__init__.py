@@ -23,8 +23,31 @@ that ``import dart_reach`` (and ``dart-reach --help``) does not load DART, Rerun
 from __future__ import annotations
 
 import importlib
+import os
+import platform
 
 __version__ = "0.1.0"
+
+
+def _pin_blas_kernels() -> None:
+    """Same seed, same result on every x86_64 machine: OpenBLAS (numpy's) picks its kernels
+    by the CPU, SkylakeX's on AVX-512 machines and Haswell's on AVX2 ones, and the controller's
+    matrix products round differently under each (measured: the trial digests of
+    tests/model/test_task.py differ). Before numpy loads, pin Haswell's, which every x86_64 CPU
+    with AVX2 and FMA runs, unless the user has chosen (``OPENBLAS_CORETYPE``). Worker
+    processes inherit it. Where numpy was imported before dart_reach it cannot take effect."""
+    if "OPENBLAS_CORETYPE" in os.environ or platform.machine() != "x86_64":
+        return
+    try:
+        with open("/proc/cpuinfo") as f:
+            flags = next((line for line in f if line.startswith("flags")), "").split()
+    except OSError:
+        return
+    if "avx2" in flags and "fma" in flags:
+        os.environ["OPENBLAS_CORETYPE"] = "Haswell"
+
+
+_pin_blas_kernels()
 
 #: public name -> module that defines it
 _PUBLIC = {

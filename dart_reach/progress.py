@@ -2,8 +2,8 @@
 in Jupyter (``tqdm.auto`` draws a widget there), one plain line per update anywhere else (a
 log file, a pipe), so that logs stay readable.
 
-``training_bar()`` and ``evaluation_bar()`` make callbacks for ``experiment.train`` and
-``evaluation.evaluate_run`` (which use them by default) and ``development.evaluate_snapshots``;
+``training_bar()`` and ``evaluation_bar()`` make callbacks for ``trainer.train`` and
+``systematic.evaluate_run`` (which use them by default) and ``snapshots.measure_snapshots``;
 a callback is also a context manager that closes its bar.
 """
 
@@ -72,7 +72,7 @@ class ProgressBar:
 
 
 def training_bar(stream=None, bar: bool | None = None) -> ProgressBar:
-    """Progress of ``experiment.train``: generations done of all phases and replications'."""
+    """Progress of ``trainer.train``: generations done of all phases and replications'."""
     return ProgressBar(lambda p: (
         p.done_generations, p.total_generations, "generation",
         f"{p.condition} | {p.phase} {p.generation}/{p.generations} | best {p.best:.4f} "
@@ -80,7 +80,7 @@ def training_bar(stream=None, bar: bool | None = None) -> ProgressBar:
 
 
 def evaluation_bar(stream=None, bar: bool | None = None) -> ProgressBar:
-    """Progress of ``evaluation.evaluate_run`` and ``development.evaluate_snapshots``: robots
+    """Progress of ``systematic.evaluate_run`` and ``snapshots.measure_snapshots``: robots
     post-evaluated."""
     return ProgressBar(lambda p: (p.robots_done, p.robots_total, "robot",
                                   f"evaluate | {p.phase} | {p.senses}"), stream, bar)

@@ -1,4 +1,4 @@
-"""docs/ablations.md: building conditions in Python (``conditions.variant``) and its worked
+"""docs/guides/ablations.md: building conditions in Python (``conditions.variant``) and its worked
 example, run as written at a tiny budget."""
 
 from __future__ import annotations
@@ -11,7 +11,7 @@ import pytest
 
 from dart_reach.evolution.conditions import ConditionError, load_condition, variant
 
-DOC = Path(__file__).resolve().parents[1] / "docs" / "ablations.md"
+DOC = Path(__file__).resolve().parents[1] / "docs" / "guides" / "ablations.md"
 
 
 def test_variant_changes_what_it_is_told_and_keeps_the_rest():

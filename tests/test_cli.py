@@ -1,5 +1,5 @@
 """The command line as a user meets it: --version, a bare ``dart-reach``, help text and
-defaults of every command and option, the README's synopsis, and bad input as one line and
+defaults of every command and option, the README's command list, and bad input as one line and
 exit code 2 (a physics step, too many workers, a report without post-evaluation or into a
 missing directory, a resume with another budget); the size of a long run before it starts."""
 
@@ -14,7 +14,8 @@ from pathlib import Path
 import pytest
 
 from dart_reach import __version__
-from dart_reach.cli import build_parser, cores
+from dart_reach.cli import build_parser
+from dart_reach.cli.arguments import cores
 
 README = Path(__file__).resolve().parents[1] / "README.md"
 TINY = ["--replications", "1", "--trials", "1", "--steps", "2", "--workers", "1",
@@ -62,21 +63,16 @@ def test_every_command_and_option_is_explained_with_its_default():
                 assert "default" in shown, (name, action.option_strings)
 
 
-def test_the_readme_synopsis_lists_every_command_and_option():
+def test_the_readme_lists_every_command_once_and_points_to_help():
     text = README.read_text()
-    block = text[text.index("## Command line"):]
-    block = block[block.index("```sh"):block.index("```", block.index("```sh") + 5)]
-    for name, parser in _commands().items():
-        lines = [line for line in block.splitlines()
-                 if re.match(rf"dart-reach {name}\b", line.strip())]
-        assert lines, f"README's synopsis lacks 'dart-reach {name}'"
-        # an entry runs to the next "dart-reach"; a command may have several (bench --physics)
-        entry = "\n".join(block[block.index(line):].split("\ndart-reach ")[0]
-                          for line in lines)
-        for action in parser._actions:
-            for option in action.option_strings:
-                if option.startswith("--") and option not in ("--help",):
-                    assert option in entry, f"README's synopsis of {name} lacks {option}"
+    section = text[text.index("## Command line"):]
+    section = section[:section.index("\n## ", 1)]
+    block = section[section.index("```sh"):section.index("```", section.index("```sh") + 5)]
+    for name in _commands():
+        lines = [line for line in block.splitlines() if re.match(rf"dart-reach {name}\b", line)]
+        assert len(lines) == 1, f"README's command list: 'dart-reach {name}' on {len(lines)} lines"
+        assert "#" in lines[0], f"README's command list: 'dart-reach {name}' says what it does"
+    assert "dart-reach COMMAND --help" in section
 
 
 @pytest.mark.parametrize("dt, fragment", [("0", "positive"), ("nan", "positive"),
@@ -119,7 +115,9 @@ def test_report_needs_a_post_evaluation_and_an_existing_directory(tmp_path):
 
 def test_python_errors_name_python_arguments(tmp_path):
     from dart_reach.evolution.conditions import load_condition, scaled
-    from dart_reach.evolution.run import RunError, Settings, train
+    from dart_reach.evolution.rundir import RunError
+    from dart_reach.evolution.settings import Settings
+    from dart_reach.evolution.trainer import train
 
     cond = [scaled(load_condition("standard"), 1)]
     settings = Settings(replications=1, trials=1, steps=2)
@@ -133,7 +131,7 @@ def test_python_errors_name_python_arguments(tmp_path):
 def test_a_long_run_says_its_size_and_cost_before_starting(tmp_path):
     # the default budget: 15,000 replication-generations at the measured core-seconds each;
     # the run then stops at once on a directory that holds something else
-    from dart_reach.evolution.run import GENERATION_CORE_S
+    from dart_reach.evolution.cost import GENERATION_CORE_S
 
     low, high = (15_000 * s / 3600 for s in GENERATION_CORE_S)
     out = tmp_path / "busy"

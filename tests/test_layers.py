@@ -22,6 +22,8 @@ MAX_LINES = 600
 DEFERRED = {
     "cli": "start-up: 'dart-reach --help' and every command load only what they run",
     "__init__": "the public names are loaded on first use (PEP 562)",
+    "progress": "start-up: tqdm.auto takes 60 ms to import and is needed only to draw a bar; "
+                "the CLI imports progress for every command",
 }
 #: Optional extras imported where they are used: ray (cluster), imageio (video), pinocchio.
 OPTIONAL = {"ray", "imageio", "imageio_ffmpeg", "imageio.v2", "pinocchio", "IPython",

@@ -19,10 +19,12 @@ import polars as pl
 import pytest
 from matplotlib.figure import Figure
 
-from dart_reach.analysis import figures, summaries
+from dart_reach.analysis import figures, stats, summaries, tables
 from dart_reach.evolution.conditions import load_condition, scaled
 from dart_reach.postevaluation.systematic import SENSES, evaluate_run, load_evaluation, run_phases
-from dart_reach.evolution.run import Run, Settings, train
+from dart_reach.evolution.rundir import RunDirectory
+from dart_reach.evolution.settings import Settings
+from dart_reach.evolution.trainer import train
 
 NOTEBOOKS_DIR = Path(__file__).resolve().parents[1] / "notebooks"
 NOTEBOOKS = ("fig5_performance.ipynb", "fig6_distances_variability.ipynb",
@@ -60,14 +62,14 @@ def _render(fig: Figure) -> Figure:
 # ------------------------------------------------------------------------------ figures
 
 def test_phase_order_and_run_settings(tiny_run):
-    assert figures.phase_order(tiny_run) == PHASES
-    assert figures.phase_order(tiny_run, condition="not-there") == PHASES
-    assert figures.sector_config(tiny_run).azimuth_edges[0] == 0.0
-    assert figures.ball_radius(tiny_run) > 0
+    assert tables.phase_order(tiny_run) == PHASES
+    assert tables.phase_order(tiny_run, condition="not-there") == PHASES
+    assert tables.sector_config(tiny_run).azimuth_edges[0] == 0.0
+    assert tables.ball_radius(tiny_run) > 0
 
 
 def test_every_figure_has_its_panels(tiny_run, table):
-    stats_table = Run.open(tiny_run).stats
+    stats_table = RunDirectory.open(tiny_run).stats
     counts = {
         "training": (figures.training_curves(stats_table, run_phases(tiny_run)), 1),
         "fig5": (figures.fig5_performance(table, PHASES), 4),
@@ -84,7 +86,7 @@ def test_every_figure_has_its_panels(tiny_run, table):
         # bars, significance matrix, bars grouped by senses
         "fig9": (figures.fig9_sensory_deprivation(table, PHASES), 3),
         "fig10": (figures.fig10_conditions(summaries.replication_performance(
-            figures.load_runs([tiny_run]), by=("group",))), 2),
+            tables.load_runs([tiny_run]), by=("group",))), 2),
     }
     for name, (fig, n_axes) in counts.items():
         assert isinstance(fig, Figure), name
@@ -95,17 +97,17 @@ def test_every_figure_has_its_panels(tiny_run, table):
 
 
 def test_figure_tables(tiny_run, table):
-    summary = figures.performance_summary(table, ["reached", "speed"], PHASES)
+    summary = stats.performance_summary(table, ["reached", "speed"], PHASES)
     assert summary["phase"].to_list() == ["pre", "pre", "gross", "gross", "fine", "fine"]
     assert summary.filter(pl.col("measure") == "reached")["n"].to_list() == [4, 4, 4]
-    pairs = figures.phase_statistics(table, ["reached", "speed"], PHASES)
+    pairs = stats.phase_statistics(table, ["reached", "speed"], PHASES)
     assert pairs.columns == ["measure", "a", "b", "n_a", "n_b", "U", "p", "significant"]
     assert pairs.height == 2 * 3
-    st = figures.fig9_statistics(table, PHASES)
+    st = stats.fig9_statistics(table, PHASES)
     assert st["robots"].height == 3 * 4 * 2 * 2  # phases x senses x replications x robots
     assert st["kruskal"]["phase"].to_list() == PHASES
     assert st["matrix"].width == 1 + 12 and st["pairs"].height == 12 * 11 // 2
-    robot = figures.recorded_robot(table, "pre")
+    robot = tables.recorded_robot(table, "pre")
     assert robot.height == 45 and robot["rank"].unique().to_list() == [0]
     assert robot["trial"].to_list() == list(range(45))
     # the recorded robot is the best robot of the best replication (evaluate_run's choice)
@@ -115,30 +117,30 @@ def test_figure_tables(tiny_run, table):
 
 
 def test_load_runs_labels_groups(tiny_run, tmp_path):
-    one = figures.load_runs([tiny_run])
+    one = tables.load_runs([tiny_run])
     assert one.schema["group"] == pl.Enum(PHASES)
     assert set(one["run"].unique()) == {"tiny"}
     reps = summaries.replication_performance(one, by=("group",))
     assert reps["group"].cast(pl.Utf8).to_list() == ["pre", "pre", "gross", "gross", "fine",
                                                      "fine"]
-    st = figures.fig10_statistics(reps)
+    st = stats.fig10_statistics(reps)
     assert st["summary"]["group"].to_list() == PHASES
     assert st["summary"]["replications"].to_list() == [2, 2, 2]
     # a run given twice is read once
-    assert figures.load_runs([tiny_run, tiny_run]).height == one.height
+    assert tables.load_runs([tiny_run, tiny_run]).height == one.height
     # two runs of the same name: every notation comes from both, so groups name the run
     other = tmp_path / "copy" / "tiny"
     other.mkdir(parents=True)
     for f in ("manifest.json", "generations.parquet", "evaluation.parquet"):
         shutil.copy(tiny_run / f, other / f)
-    two = figures.load_runs([tiny_run, other])
+    two = tables.load_runs([tiny_run, other])
     groups = two.schema["group"].categories.to_list()
     assert groups[:3] == [f"{p} [{tiny_run}]" for p in PHASES]
     assert groups[3:] == [f"{p} [{other}]" for p in PHASES]
     reps = summaries.replication_performance(two, by=("group",))
     assert reps.height == 2 * 3 * 2
     with pytest.raises(ValueError):
-        figures.load_runs([])
+        tables.load_runs([])
 
 
 def test_figures_survive_missing_and_degenerate_data(tiny_run, table):
@@ -150,22 +152,22 @@ def test_figures_survive_missing_and_degenerate_data(tiny_run, table):
                          pl.lit(0.0).alias("fitness"), pl.lit(False).alias("reached"),
                          pl.lit(None, pl.Utf8).alias("recording")))
     _render(figures.fig5_performance(pre, PHASES))
-    summary = figures.performance_summary(pre, ["speed", "reached"], PHASES)
+    summary = stats.performance_summary(pre, ["speed", "reached"], PHASES)
     speed = summary.filter(pl.col("measure") == "speed")
     assert speed["n"].to_list() == [0] and math.isnan(speed["mean"][0])
-    assert figures.phase_statistics(pre, ["speed"], PHASES).height == 0
+    assert stats.phase_statistics(pre, ["speed"], PHASES).height == 0
     assert len(_render(figures.fig6_distances_variability(pre, tiny_run, PHASES)).axes) == 5
     assert len(_render(figures.fig7_sector_maps(pre, PHASES)).axes) == 7
     assert len(_render(figures.fig7_reach_regression(pre)).axes) == 2  # no "gross": a message
     assert len(_render(figures.fig8_trajectories(pre, tiny_run, PHASES)).axes) == 16
     _render(figures.fig8_babbling(pre, PHASES))
-    st = figures.fig9_statistics(pre, PHASES)
+    st = stats.fig9_statistics(pre, PHASES)
     assert math.isnan(st["kruskal"]["p"][0]) and st["pairs"].height == 0
     _render(figures.fig9_sensory_deprivation(pre, PHASES))
     _render(figures.fig9_sensory_deprivation(table.head(0), PHASES))
     reps = summaries.replication_performance(
-        figures.load_runs([tiny_run]).with_columns(pl.lit(0.0).alias("fitness")), by=("group",))
-    st = figures.fig10_statistics(reps)
+        tables.load_runs([tiny_run]).with_columns(pl.lit(0.0).alias("fitness")), by=("group",))
+    st = stats.fig10_statistics(reps)
     assert st["pairs"]["p"].to_list() == [1.0, 1.0, 1.0]  # all zero: no difference
     _render(figures.fig10_conditions(reps))
     _render(figures.fig10_conditions(reps.filter(pl.col("group") == "pre")))
@@ -226,15 +228,15 @@ def test_parameters_in_the_parameters_cell_and_no_unused_import(name):
 def test_run_paths_resolve_from_the_repository_root(tmp_path, monkeypatch):
     root = NOTEBOOKS_DIR.parent
     monkeypatch.chdir(NOTEBOOKS_DIR)
-    assert figures.repository_path("recordings/x") == root / "recordings/x"
+    assert tables.repository_path("recordings/x") == root / "recordings/x"
     monkeypatch.chdir(tmp_path)  # outside the repository: the checkout of the package
-    assert figures.repository_path("recordings/x") == root / "recordings/x"
-    assert figures.repository_path(tmp_path / "r") == tmp_path / "r"
+    assert tables.repository_path("recordings/x") == root / "recordings/x"
+    assert tables.repository_path(tmp_path / "r") == tmp_path / "r"
     (tmp_path / "pyproject.toml").write_text("")
     (tmp_path / "dart_reach").mkdir()
     (tmp_path / "notebooks").mkdir()
     monkeypatch.chdir(tmp_path / "notebooks")  # in another clone: that clone's root
-    assert figures.repository_path("recordings/x") == tmp_path / "recordings/x"
+    assert tables.repository_path("recordings/x") == tmp_path / "recordings/x"
 
 
 @pytest.mark.parametrize("name", NOTEBOOKS)
@@ -285,7 +287,7 @@ def test_the_ablation_notebook_builds_trains_evaluates_and_compares(tmp_path, mo
     assert sorted(map(sorted, last["pairs"])) == [["fine", "fine (no reflexes)"],
                                                   ["gross", "gross (no reflexes)"]]
     # one shared pre-reaching phase, two conditions, each replication's best robot evaluated
-    run = Run.open(out)
+    run = RunDirectory.open(out)
     assert sorted(c.name for c in run.conditions) == ["reflexes-withdrawn", "standard"]
     assert run_phases(out)["phase_key"].n_unique() == 5
     table = load_evaluation(out)
@@ -307,7 +309,7 @@ def test_condition_trials_keeps_same_named_phases_of_other_conditions_apart(tmp_
     everything = load_evaluation(run)
     assert everything.filter(pl.col("phase") == "pre")["phase_key"].n_unique() == 2
     for name in ("standard", "sharp"):
-        table, phases = figures.condition_trials(run, name)
+        table, phases = tables.condition_trials(run, name)
         assert phases == ["pre", "gross", "fine"]
         keys = run_phases(run).filter(pl.col("condition") == name)["phase_key"]
         assert set(table["phase_key"]) == set(keys)

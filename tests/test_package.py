@@ -46,3 +46,28 @@ def test_licence_and_citation_files():
     for needle in ("cff-version: 1.2.0", "preferred-citation:", "Savastano", "Nolfi",
                    "A robotic model of reaching and grasping development", "doi:"):
         assert needle in citation, needle
+
+
+def test_numpy_blas_kernels_are_pinned_for_bit_identical_results():
+    """OpenBLAS picks its kernels by the CPU and they round differently (the trial digests of
+    tests/model/test_task.py differ between SkylakeX's and Haswell's): importing dart_reach
+    pins Haswell's on every x86_64 CPU that runs them, unless the user chose."""
+    import os
+    import platform
+
+    flags = ""
+    if Path("/proc/cpuinfo").exists():
+        flags = next((line for line in Path("/proc/cpuinfo").read_text().splitlines()
+                      if line.startswith("flags")), "")
+    if platform.machine() != "x86_64" or not {"avx2", "fma"} <= set(flags.split()):
+        import pytest
+        pytest.skip("the pin is for x86_64 CPUs with AVX2 and FMA")
+    env = {k: v for k, v in os.environ.items() if k != "OPENBLAS_CORETYPE"}
+    code = "import dart_reach, numpy; numpy.ones((3, 3)) @ numpy.ones(3)"
+    out = subprocess.run([sys.executable, "-c", code], env={**env, "OPENBLAS_VERBOSE": "2"},
+                         capture_output=True, text=True, timeout=120)
+    assert "Core: Haswell" in out.stdout + out.stderr
+    chosen = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
+                            env={**env, "OPENBLAS_VERBOSE": "2", "OPENBLAS_CORETYPE": "Sandybridge"},
+                            timeout=120)
+    assert "Core: Sandybridge" in chosen.stdout + chosen.stderr

@@ -19,7 +19,7 @@ import time
 import nbclient
 import nbformat
 
-from dart_reach.evolution.run import Progress
+from dart_reach.evolution.trainer import Progress
 from dart_reach.progress import evaluation_bar, training_bar
 
 TINY = ["standard", "--generations", "1", "--replications", "1", "--trials", "1", "--steps", "4",
@@ -69,7 +69,8 @@ def test_a_widget_in_jupyter(tmp_path):
     """Training called from Python in a real Jupyter kernel shows a progress widget."""
     code = textwrap.dedent(f"""
         from dart_reach.evolution.conditions import load_condition, scaled
-        from dart_reach.evolution.run import Settings, train
+        from dart_reach.evolution.settings import Settings
+        from dart_reach.evolution.trainer import train
         train([scaled(load_condition("standard"), 1)], Settings(replications=1, trials=1,
               steps=4), {str(tmp_path / "nb")!r}, workers=1)
         """)
@@ -93,7 +94,8 @@ def test_a_resumed_run_counts_only_what_it_trains(tmp_path):
     """After a resume part-way through a phase, the generations trained by the earlier process
     are neither done nor left to do: the rate and the ETA are this process's."""
     from dart_reach.evolution.conditions import load_condition, scaled
-    from dart_reach.evolution.run import Settings, train
+    from dart_reach.evolution.settings import Settings
+    from dart_reach.evolution.trainer import train
 
     class Stop(Exception):
         pass

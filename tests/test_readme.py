@@ -1,9 +1,11 @@
 """Every Python block of the README runs as written, saved as a script, in README order in
-one working directory (so the "In Python" block reads the run the ablation block made).
+one working directory (so the tables block reads the run the ablation block made); so does
+the Python of the model reference (``DOC_SNIPPETS``); and every relative link of the README,
+docs/ and notebooks/README.md resolves, anchors included.
 
 Budgets are made tiny by exact substitutions (``TINY``): each must be found in the README as
 written, so a changed snippet fails here until this table follows it. The substituted run is
-the ablation block's (the "In Python" block's default run is ``make demo``'s, which this test
+the ablation block's (the tables block's default run is ``make demo``'s, which this test
 does not make). No display: ``watch`` writes its files instead of starting a viewer."""
 
 from __future__ import annotations
@@ -14,7 +16,11 @@ import subprocess
 import sys
 from pathlib import Path
 
-README = Path(__file__).resolve().parents[1] / "README.md"
+ROOT = Path(__file__).resolve().parents[1]
+README = ROOT / "README.md"
+#: documentation pages whose Python blocks run as scripts here (those of docs/guides/ablations.md
+#: run in tests/test_ablations.py)
+DOC_SNIPPETS = (ROOT / "docs" / "model" / "world.md",)
 
 #: (text in the README, what the test runs instead)
 TINY = (
@@ -40,7 +46,7 @@ def test_every_readme_snippet_runs_as_a_script(tmp_path):
         assert text.count(original) == 1, f"the README changed: update TINY for {original!r}"
         text = text.replace(original, tiny)
     blocks = python_blocks(text)
-    assert len(blocks) >= 4
+    assert len(blocks) >= 3
     env = {k: v for k, v in os.environ.items() if k not in ("DISPLAY", "WAYLAND_DISPLAY")}
     for i, block in enumerate(blocks):
         script = tmp_path / f"snippet{i}.py"
@@ -50,3 +56,42 @@ def test_every_readme_snippet_runs_as_a_script(tmp_path):
         assert result.returncode == 0, f"README block {i}:\n{block}\n{result.stderr[-3000:]}"
     assert (tmp_path / "recordings" / "ablation" / "report.html").is_file()
     assert (tmp_path / "recordings" / "watch" / "standard-pre-sector4.rrd").is_file()
+
+
+def test_the_model_reference_snippets_run_as_scripts(tmp_path):
+    for doc in DOC_SNIPPETS:
+        blocks = python_blocks(doc.read_text())
+        assert blocks, f"{doc}: no Python block"
+        for i, block in enumerate(blocks):
+            script = tmp_path / f"{doc.stem}{i}.py"
+            script.write_text(block)
+            result = subprocess.run([sys.executable, str(script)], cwd=tmp_path,
+                                    capture_output=True, text=True, timeout=300)
+            assert result.returncode == 0, f"{doc} block {i}:\n{block}\n{result.stderr[-3000:]}"
+
+
+def _pages() -> list[Path]:
+    return [README, ROOT / "notebooks" / "README.md", *sorted((ROOT / "docs").rglob("*.md"))]
+
+
+def _anchors(page: Path) -> set[str]:
+    """GitHub's heading anchors: lower case, punctuation dropped, spaces to hyphens."""
+    text = re.sub(r"^```.*?^```", "", page.read_text(), flags=re.M | re.S)
+    return {re.sub(r"[^\w\- ]", "", h.strip().lower()).replace(" ", "-")
+            for h in re.findall(r"^#+ (.*)$", text, re.M)}
+
+
+def test_every_relative_link_resolves():
+    broken = []
+    for page in _pages():
+        text = re.sub(r"^```.*?^```", "", page.read_text(), flags=re.M | re.S)
+        for target in re.findall(r"\]\(([^)\s]+)\)", text):
+            if re.match(r"[a-z]+:", target):  # https:, mailto:
+                continue
+            path, _, anchor = target.partition("#")
+            resolved = (page.parent / path).resolve() if path else page
+            if not resolved.exists():
+                broken.append(f"{page.relative_to(ROOT)}: {target}")
+            elif anchor and resolved.suffix == ".md" and anchor not in _anchors(resolved):
+                broken.append(f"{page.relative_to(ROOT)}: {target} (no such heading)")
+    assert not broken, "broken links:\n" + "\n".join(broken)

@@ -1,5 +1,5 @@
-"""Findings of runs trained at different budgets, side by side (issue 23; docs/analysis.md,
-"Several budgets").
+"""Findings of runs trained at different budgets, side by side (docs/model/claims.md, "Several
+budgets").
 
 The paper trains 500 generations per phase (III-D); the replications here train fewer, and the
 same claim is judged at several budgets to see where it is heading. A run's *budget* is its
@@ -17,7 +17,7 @@ budget's effect [CI] and verdict, and the movement.
 
 Every function but :func:`budget_of`, :func:`budget_groups`, :func:`pooled` and
 :func:`findings_by_budget` (which read run directories) is pure: it takes the
-findings-by-budget frame, so a notebook or a script (docs/replication.md) gets the same tables
+findings-by-budget frame, so a notebook or a script (docs/results/replication.md) gets the same tables
 as the report.
 """
 
@@ -31,26 +31,23 @@ from pathlib import Path
 import polars as pl
 
 from . import findings, verdicts
-from ..evolution.run import Run
-from .findings import Kind
+from ..evolution.rundir import RunDirectory
+from .claims import ABOUT_HALF, CLAIMS, Claim, Kind
 from ..model.scenes import scene_of
+from ..postevaluation.snapshots import load_development
+from ..postevaluation.systematic import load_evaluation
+from .tables import load_runs
 
 __all__ = ["Budget", "Pooled", "MOVEMENTS", "TOWARD", "AWAY", "NO_CHANGE", "NOT_RUN",
            "budget_of", "budget_groups", "pooled", "label_findings", "findings_by_budget",
-           "budgets", "toward_paper", "movement", "side_by_side", "number_text", "effect_text",
-           "ROBOTS_ONLY"]
+           "budgets", "toward_paper", "movement", "side_by_side", "number_text", "effect_text"]
 
-#: The movement of a claim's effect from the smallest to the largest budget of a scene.
-TOWARD, AWAY, NO_CHANGE, NOT_RUN = "toward", "away", "no change", "not run"
-MOVEMENTS = (TOWARD, AWAY, NO_CHANGE, NOT_RUN)
-#: What a movement was decided on: the two intervals, or the two points where an interval is
-#: missing (Friedman's W, the paired median change, fewer units than an interval needs).
-INTERVALS, POINTS = "intervals", "points"
-#: Appended in ``side_by_side`` to a reproduced or contradicted verdict the replication-level
-#: check does not give (``replications_agree`` false: it holds with the robot as the unit
-#: only; docs/analysis.md, "Replication-level check").
-ROBOTS_ONLY = " (robots only)"
-_DECIDED = (verdicts.REPRODUCED, verdicts.CONTRADICTED)
+#: The movement of a claim's effect from the smallest to the largest budget of a scene:
+#: decided only from the replication-level intervals at both ends; where either end has no
+#: interval (Friedman's W, an underpowered rule) the two points decide nothing (``NO_INTERVAL``).
+TOWARD, AWAY, NO_CHANGE, NO_INTERVAL, NOT_RUN = ("toward", "away", "no change", "no interval",
+                                                 "not run")
+MOVEMENTS = (TOWARD, AWAY, NO_CHANGE, NO_INTERVAL, NOT_RUN)
 #: Columns ``findings_by_budget`` puts before the findings' own.
 KEY_COLUMNS = ("scene", "generations_per_phase", "runs", "sign")
 
@@ -70,7 +67,7 @@ class Budget:
         return f"{self.scene}, {n} generation{'' if n == 1 else 's'} per phase"
 
 
-def generations_per_phase(run: Run) -> tuple[int, ...]:
+def generations_per_phase(run: RunDirectory) -> tuple[int, ...]:
     """The generations per standard phase of a run's phases (``generations // budget_phases``:
     gross^ trains 2 phases' worth, fine^ 3), sorted; one value for a run trained with one
     ``--generations``."""
@@ -78,7 +75,7 @@ def generations_per_phase(run: Run) -> tuple[int, ...]:
                          for p in c.phases}))
 
 
-def _scene_name(run: Run) -> str:
+def _scene_name(run: RunDirectory) -> str:
     """The shipped scene whose sectors the run was trained with (``scenes.scene_of``), else its
     sectors written out: two custom scenes are two scenes. The sectors of the settings decide,
     not the manifest's ``scene``, which older runs lack and which names every user scene
@@ -96,7 +93,7 @@ def _scene_name(run: Run) -> str:
 def budget_of(run_dir) -> Budget:
     """The budget of a run directory: its scene and its largest generations per phase (the
     budget ``report.budget_text`` states)."""
-    run = Run.open(run_dir)
+    run = RunDirectory.open(run_dir)
     return Budget(_scene_name(run), generations_per_phase(run)[-1])
 
 
@@ -112,7 +109,7 @@ def budget_groups(run_dirs: Sequence) -> dict[Budget, list[Path]]:
 @dataclass(frozen=True)
 class Pooled:
     """The post-evaluation tables of the evaluated runs among some runs, pooled: trials
-    (``figures.load_runs``), random baseline trials and development (snapshot) trials, each
+    (``tables.load_runs``), random baseline trials and development (snapshot) trials, each
     with a ``run`` column; None where no run has them."""
 
     table: pl.DataFrame | None
@@ -128,10 +125,6 @@ class Pooled:
 
 def pooled(run_dirs: Sequence) -> Pooled:
     """The pooled tables of ``run_dirs`` (those without ``evaluation.parquet`` are left out)."""
-    from . import figures
-    from ..postevaluation.snapshots import load_development
-    from ..postevaluation.systematic import load_evaluation
-
     evaluated = [Path(d) for d in run_dirs if (Path(d) / "evaluation.parquet").is_file()]
     if not evaluated:
         return Pooled(None, None, None)
@@ -139,7 +132,7 @@ def pooled(run_dirs: Sequence) -> Pooled:
                  for d in evaluated]
     developments = [dev.with_columns(pl.lit(d.name).alias("run")) for d in evaluated
                     if (dev := load_development(d)) is not None]
-    return Pooled(figures.load_runs(evaluated), pl.concat(baselines, how="diagonal_relaxed"),
+    return Pooled(load_runs(evaluated), pl.concat(baselines, how="diagonal_relaxed"),
                   pl.concat(developments, how="diagonal_relaxed") if developments else None)
 
 
@@ -153,7 +146,7 @@ def _empty_table() -> pl.DataFrame:
 
 
 def label_findings(found: pl.DataFrame, budget: Budget, run_dirs: Sequence,
-                   claims: tuple[findings.Claim, ...] = findings.CLAIMS) -> pl.DataFrame:
+                   claims: tuple[Claim, ...] = CLAIMS) -> pl.DataFrame:
     """``found`` (``findings.findings`` of the runs of one budget) with the columns of
     ``KEY_COLUMNS`` in front: the budget, the runs' names, and each claim's ``sign`` (+1 or -1
     for a directional or change claim, 0 otherwise)."""
@@ -191,7 +184,7 @@ def _fold(effect: float, centre: float, top: float):
 
 
 def _band_depth(x: float) -> float:
-    lo, hi = findings.ABOUT_HALF
+    lo, hi = ABOUT_HALF
     return min(x - lo, hi - x)
 
 
@@ -199,23 +192,24 @@ def _toward(kind: str, sign: int, effect: float, low: float, high: float
             ) -> tuple[float, float, float]:
     """One claim's effect and interval on the scale where the paper's direction is up (see
     ``toward_paper``); the interval NaN where the claim has none."""
-    if kind in (Kind.DIRECTIONAL.value, Kind.CHANGE_PAIRED.value):
+    if kind in (Kind.DIRECTIONAL.value, Kind.CHANGE_PAIRED.value, Kind.WITHIN.value,
+                Kind.NEVER.value):
         point, image = sign * effect, lambda lo, hi: sorted((sign * lo, sign * hi))
+    elif kind == Kind.NOT_BETTER.value:  # theta of "b better": the lower, the more so
+        top = 0.5 + verdicts.EQUIVALENCE_MARGIN
+        point, image = top - effect, lambda lo, hi: (top - hi, top - lo)
     elif kind == Kind.NO_DIFFERENCE.value:
         point, image = _fold(effect, 0.5, verdicts.EQUIVALENCE_MARGIN)
     elif kind == Kind.SAME_PAIRED.value:
         point, image = _fold(effect, 0.0, 0.0)
     elif kind == Kind.BAND.value:
-        centre = sum(findings.ABOUT_HALF) / 2
+        centre = sum(ABOUT_HALF) / 2
         point = _band_depth(effect)
         def image(lo, hi):
             return min(_band_depth(lo), _band_depth(hi)), _band_depth(min(max(centre, lo), hi))
     elif kind == Kind.EVERY_SECTOR.value:
         f = verdicts.SECTOR_FLOOR
         point, image = effect - f, lambda lo, hi: (lo - f, hi - f)
-    elif kind == Kind.NEVER.value:
-        e = verdicts.NEVER_EPSILON
-        point, image = e - effect, lambda lo, hi: (e - hi, e - lo)
     elif kind == Kind.PAIRED.value:  # Kendall's W: the senses matter more
         point, image = effect, lambda lo, hi: (lo, hi)
     else:
@@ -231,13 +225,13 @@ def toward_paper(by_budget: pl.DataFrame) -> pl.DataFrame:
     interval (NaN: none) on a scale where up is the paper's direction, in the units of the
     claim's effect:
 
-    - directional, change (paired): ``sign`` x effect (0: no difference);
+    - directional, never, change (paired), within: ``sign`` x effect (0: no difference);
+    - not better: 0.65 - theta(better) (0: the margin, above it: not better);
     - no difference: 0.15 - |theta - 0.5| (``verdicts.EQUIVALENCE_MARGIN``; 0: the margin,
       above it: inside);
     - no change (paired): -|mean change| (0: no change; the margin is relative to the data);
     - band: the distance inside the band [1/3, 2/3] (negative: outside);
     - every sector: the weakest sector's rate - 0.10 (``verdicts.SECTOR_FLOOR``);
-    - never: 0.05 - the share (``verdicts.NEVER_EPSILON``);
     - paired (Friedman): Kendall's W.
 
     An interval maps to its image (e.g. theta's interval [0.45, 0.6] to [0.05, 0.15])."""
@@ -252,13 +246,13 @@ def toward_paper(by_budget: pl.DataFrame) -> pl.DataFrame:
 
 
 def _move(small: tuple[float, float, float], large: tuple[float, float, float]
-          ) -> tuple[str, str]:
+          ) -> str:
     (s, s_lo, s_hi), (b, b_lo, b_hi) = small, large
     if math.isnan(s) or math.isnan(b):
-        return NOT_RUN, ""
+        return NOT_RUN
     if any(math.isnan(x) for x in (s_lo, s_hi, b_lo, b_hi)):
-        return (TOWARD if b > s else AWAY if b < s else NO_CHANGE), POINTS
-    return (TOWARD if b_lo > s_hi else AWAY if b_hi < s_lo else NO_CHANGE), INTERVALS
+        return NO_INTERVAL
+    return TOWARD if b_lo > s_hi else AWAY if b_hi < s_lo else NO_CHANGE
 
 
 def movement(by_budget: pl.DataFrame) -> pl.DataFrame:
@@ -267,16 +261,14 @@ def movement(by_budget: pl.DataFrame) -> pl.DataFrame:
 
     - ``not run``: no effect at either end (the claim not run, or decided underpowered before
       any effect was computed);
-    - with an interval at both ends: ``toward`` when the largest budget's interval lies wholly
-      above the smallest's, ``away`` when wholly below, ``no change`` when they overlap
-      (basis ``intervals``; an unbounded interval overlaps everything);
-    - where either end has no interval (Friedman's W, the paired median change, fewer
-      replications than an interval needs): the two points, ``toward`` if it rose, ``away`` if
-      it fell, ``no change`` if equal (basis ``points``: no evidence against noise).
+    - with a replication-level interval at both ends: ``toward`` when the largest budget's
+      interval lies wholly above the smallest's, ``away`` when wholly below, ``no change`` when
+      they overlap (an unbounded interval overlaps everything);
+    - ``no interval`` where either end has none (Friedman's W, an underpowered rule): two
+      points are no evidence against noise, so they are not counted as a move.
 
-    Columns: claim, scene, from_generations, to_generations, movement (one of ``MOVEMENTS``),
-    basis (``intervals``, ``points`` or "" for not run); one row per claim and scene, in the
-    frame's order."""
+    Columns: claim, scene, from_generations, to_generations, movement (one of ``MOVEMENTS``);
+    one row per claim and scene, in the frame's order."""
     scored = toward_paper(by_budget)
     claims = scored["claim"].unique(maintain_order=True).to_list()
     rows = []
@@ -291,11 +283,11 @@ def movement(by_budget: pl.DataFrame) -> pl.DataFrame:
             for g in (gens[0], gens[-1])]
         nan3 = (math.nan,) * 3
         for claim in claims:
-            word, basis = _move(ends[0].get(claim, nan3), ends[1].get(claim, nan3))
-            rows.append((claim, scene, gens[0], gens[-1], word, basis))
+            rows.append((claim, scene, gens[0], gens[-1],
+                         _move(ends[0].get(claim, nan3), ends[1].get(claim, nan3))))
     return pl.DataFrame(rows, orient="row", schema={
         "claim": pl.Utf8, "scene": pl.Utf8, "from_generations": pl.Int64,
-        "to_generations": pl.Int64, "movement": pl.Utf8, "basis": pl.Utf8})
+        "to_generations": pl.Int64, "movement": pl.Utf8})
 
 
 # ------------------------------------------------------------------------------ the table
@@ -324,11 +316,10 @@ def budget_column(budget: Budget, one_scene: bool) -> str:
 def side_by_side(by_budget: pl.DataFrame) -> pl.DataFrame:
     """One row per claim (in the frame's order): claim, section, kind; for each budget
     (``budgets``; named by ``budget_column``) its ``effect [CI]`` (the claim's own effect,
-    ``effect_text``) and ``verdict`` ("not run" where the budget's runs lack it;
-    ``ROBOTS_ONLY`` appended to a reproduced or contradicted verdict the replication means do
-    not give); and the movement (``movement``) as "as the budget grows" (one column per scene
-    with two budgets or more, named after the scene when there are several), "(points)"
-    appended where it rests on points, not intervals."""
+    ``effect_text``), ``verdict`` (the replication as the unit; "not run" where the budget's
+    runs lack it) and ``robots as units`` (the paper's analysis, never a headline); and the
+    movement (``movement``) as "as the budget grows" (one column per scene with two budgets or
+    more, named after the scene when there are several)."""
     order = by_budget.select("claim", "section", "kind").unique("claim", maintain_order=True)
     all_budgets = budgets(by_budget)
     scenes = list(dict.fromkeys(b.scene for b in all_budgets))
@@ -342,21 +333,17 @@ def side_by_side(by_budget: pl.DataFrame) -> pl.DataFrame:
              f"{name}: effect [CI]": [effect_text(*r) for r in block.select(
                  pl.col(c).fill_null(math.nan) for c in ("effect", "effect_low", "effect_high")
              ).iter_rows()],
-             f"{name}: verdict": block.select(pl.when(
-                 pl.col("verdict").is_in(_DECIDED)
-                 & pl.col("replications_agree").cast(pl.Boolean).not_())
-                 .then(pl.col("verdict") + ROBOTS_ONLY).otherwise("verdict")).to_series()})
+             f"{name}: verdict": block["verdict"],
+             f"{name}: robots as units": block["verdict_robots"]})
         out = out.join(cells, on="claim", how="left", maintain_order="left").with_columns(
             pl.col(f"{name}: effect [CI]").fill_null("–"),
-            pl.col(f"{name}: verdict").fill_null(findings.NOT_RUN))
+            pl.col(f"{name}: verdict").fill_null(verdicts.NOT_RUN),
+            pl.col(f"{name}: robots as units").fill_null("–"))
     moves = movement(by_budget)
     moved = moves["scene"].unique(maintain_order=True).to_list()
     for scene in moved:
         name = ("as the budget grows" if len(scenes) == 1
                 else f"as the budget grows ({scene})")
-        m = (moves.filter(pl.col("scene") == scene)
-             .select("claim", pl.when(pl.col("basis") == POINTS)
-                     .then(pl.format("{} (points)", "movement"))
-                     .otherwise(pl.col("movement")).alias(name)))
+        m = moves.filter(pl.col("scene") == scene).select("claim", pl.col("movement").alias(name))
         out = out.join(m, on="claim", how="left", maintain_order="left")
     return out

@@ -29,13 +29,16 @@ from string import Template
 
 import polars as pl
 
-from . import budgets, figures, findings
+from . import budgets, figures, findings, summaries
 from ..errors import UsageError
+from ..postevaluation import snapshots as development
 from ..postevaluation.systematic import run_phases
-from ..evolution.run import Run, RunError
+from .stats import fig9_statistics, fig10_statistics, phase_statistics
+from .tables import condition_trials, sector_config
+from ..evolution.rundir import RunDirectory, RunError
 from ..files import atomic_write
 
-#: Pixels per inch of the figures: figures.py's 9-point labels are 12.5 px at 100 % zoom.
+#: Pixels per inch of the figures: their 9-point labels are 12.5 px at 100 % zoom.
 DPI = 100
 #: Under the training curves: why the best fitness of a generation can fall.
 TRAINING_NOTE = (
@@ -107,7 +110,8 @@ def _findings_html(found: pl.DataFrame) -> str:
     """The findings, grouped by the paper's section and figure, in the table's order."""
     head = ("<tr><th>claim</th><th>the paper</th><th>measured here</th><th>test</th><th>n</th>"
             "<th>effect [CI]</th><th>p</th><th>Holm p</th><th>paper's level met</th>"
-            "<th>replication means p</th><th>verdict</th></tr>")
+            "<th>verdict (replications)</th><th>the paper's analysis: robots as units</th>"
+            "</tr>")
     rows, section = [], None
     for r in found.iter_rows(named=True):
         if r["section"] != section:
@@ -120,8 +124,8 @@ def _findings_html(found: pl.DataFrame) -> str:
             f'<td>{html.escape(r["paper"])}</td><td>{html.escape(r["measured"])}</td>'
             f'<td>{html.escape(r["test"])}</td><td>{html.escape(r["n"])}</td>'
             f'<td>{_effect(r)}</td><td>{_cell(r["p"])}</td><td>{_cell(r["p_holm"])}</td>'
-            f'<td>{met}</td><td>{_cell(r["p_replications"])}</td>'
-            f'<td class="verdict">{html.escape(r["verdict"])}{note}</td></tr>')
+            f'<td>{met}</td><td class="verdict">{html.escape(r["verdict"])}{note}</td>'
+            f'<td>{html.escape(r["verdict_robots"] or "–")}</td></tr>')
     return (f'<table class="findings"><thead>{head}</thead><tbody>{"".join(rows)}</tbody>'
             "</table>")
 
@@ -131,7 +135,7 @@ def budget_text(run_dirs: Sequence[Path], table: pl.DataFrame | None) -> str:
     replication post-evaluated."""
     parts = []
     for d in run_dirs:
-        run = Run.open(d)
+        run = RunDirectory.open(d)
         gens = budgets.generations_per_phase(run)
         parts.append(f"{d.name}: {'/'.join(map(str, gens))} generations per phase "
                      f"({gens[-1] / 500:.0%} of the paper's 500), "
@@ -173,7 +177,7 @@ def baseline_table(table: pl.DataFrame, baseline: pl.DataFrame | None) -> pl.Dat
     if both.height == 0:
         return pl.DataFrame({"phase": []})
     names = [m for m, _ in MEASURES]
-    robots = figures.summaries.robot_means(both, names, by=("notation", "replication", "rank"))
+    robots = summaries.robot_means(both, names, by=("notation", "replication", "rank"))
     order = {n: i for i, n in enumerate(dict.fromkeys(both["notation"].to_list()))}
     out = (robots.group_by("notation", maintain_order=True)
            .agg(pl.len().alias("robots"), *[pl.col(m).mean() for m in names])
@@ -185,7 +189,7 @@ def baseline_table(table: pl.DataFrame, baseline: pl.DataFrame | None) -> pl.Dat
 
 def _provenance(run_dir: Path) -> pl.DataFrame:
     manifest = json.loads((run_dir / "manifest.json").read_text())
-    run = Run.open(run_dir)
+    run = RunDirectory.open(run_dir)
     s = manifest.get("settings", {})
     phases = run_phases(run_dir)
     wall = 0.0
@@ -249,7 +253,7 @@ BUDGET_FIGURE_NOTE = (
     "Each claim's effect at each budget, on a scale where up is the paper's direction (the "
     "claim's own units: a shift for a directional claim, 0.15 - |theta - 0.5| for a claim of "
     "no difference, the depth inside the band, the weakest sector's rate above the floor, ...; "
-    "docs/analysis.md, \"Several budgets\"), with its interval; hollow: no interval or an "
+    "docs/model/claims.md, \"Several budgets\"), with its interval; hollow: no interval or an "
     "unbounded one. The dashed line is 0: no effect, or the claim's boundary. Only the claims "
     "with an effect at two budgets or more are drawn; the word in each panel is the movement "
     "of the table above.")
@@ -262,8 +266,12 @@ def _baseline_html(budget, pooled_, heading: bool) -> str:
 
 
 def _counts(found: pl.DataFrame) -> str:
-    return ('<p class="counts">' + " · ".join(
-        f"{v}: <b>{n}</b>" for v, n in findings.summary(found).items()) + "</p>")
+    """The headline: the paper's claims by verdict, the replication as the unit (raw and
+    Holm-surviving), and the project's own claims apart."""
+    def line(own: bool) -> str:
+        return " · ".join(f"{v}: <b>{n}</b>" for v, n in findings.summary(found, own).items())
+    return (f'<p class="counts">The paper\'s claims, replications as units: {line(False)}</p>'
+            f'<p class="counts">The project\'s own claims: {line(True)}</p>')
 
 
 def _verdict_class(column: str, value) -> str:
@@ -304,11 +312,10 @@ def _findings_body(blocks: list, by_budget: pl.DataFrame) -> str:
           "smallest to the largest budget of a scene, <i>toward</i> the paper when the effect's "
           "interval at the largest lies wholly above its interval at the smallest on a scale "
           "where the paper's direction is up, <i>away</i> when wholly below, <i>no change</i> "
-          "when they overlap; <i>(points)</i>: decided on the two effects where an interval is "
-          "missing, no evidence against noise; <i>not run</i>: no effect at either end "
-          "(docs/analysis.md, \"Several budgets\"). A verdict marked <i>(robots only)</i> "
-          "holds with the robot as the unit, not on the replications' means (docs/analysis.md, "
-          "\"Replication-level check\").</p>")
+          "when they overlap; <i>no interval</i>: an end without a replication-level interval, "
+          "not counted as a move; <i>not run</i>: no effect at either end "
+          "(docs/model/claims.md, \"Several budgets\"). Verdicts take the replication as the "
+          "unit; the paper's own analysis, robots as units, is the column beside them.</p>")
     parts.append(table_html(budgets.side_by_side(by_budget), "findings budgets",
                             group="section", cell_class=_verdict_class))
     parts.append(_try(figures.budget_figure, by_budget)
@@ -328,7 +335,7 @@ def build(run_dirs: Sequence, out=None, findings_out=None) -> Path:
     if not run_dirs:
         raise ValueError("the report needs at least one run directory")
     for d in run_dirs:
-        Run.open(d)  # one clear error for a path that is not a run
+        RunDirectory.open(d)  # one clear error for a path that is not a run
     out = Path(out) if out is not None else run_dirs[0] / "report.html"
     if out.suffix.lower() not in (".html", ".htm"):
         raise ValueError(f"{out}: the report is an HTML file; give a name ending in .html")
@@ -344,7 +351,7 @@ def build(run_dirs: Sequence, out=None, findings_out=None) -> Path:
         _check_findings_out(findings_out)
     evaluated = [d for d in run_dirs if (d / "evaluation.parquet").is_file()]
     everything = budgets.pooled(evaluated)
-    table, baseline = everything.table, everything.baseline
+    table = everything.table
     groups = budgets.budget_groups(run_dirs)
     blocks = [(budget, dirs, everything if len(groups) == 1 else budgets.pooled(dirs))
               for budget, dirs in groups.items()]
@@ -360,7 +367,7 @@ def build(run_dirs: Sequence, out=None, findings_out=None) -> Path:
     sections = [_section("Findings of section IV", notice + _findings_body(blocks, by_budget)
                          + "<p>Verdicts are computed from the data when this report is built "
                            "(<code>dart_reach.findings</code>, <code>dart_reach.verdicts</code>; "
-                           "the rules and their reasons are in docs/analysis.md, "
+                           "the rules and their reasons are in docs/model/claims.md, "
                            "\"Verdicts\").</p>", "findings")]
 
     prov, train = [], []
@@ -408,6 +415,10 @@ def build(run_dirs: Sequence, out=None, findings_out=None) -> Path:
     return out
 
 
+#: The name the package exports (``dart_reach.build_report``).
+build_report = build
+
+
 def _check_findings_out(path: Path) -> None:
     """``build``'s ``findings_out``: a new parquet file in an existing directory."""
     if path.suffix.lower() != ".parquet":
@@ -424,14 +435,14 @@ def _check_findings_out(path: Path) -> None:
 
 
 def _run_figures(run_dir: Path) -> str:
-    table, phases = figures.condition_trials(run_dir)
+    table, phases = condition_trials(run_dir)
     parts = [f"<h3>{html.escape(run_dir.name)}</h3>",
              "<h4>Fig. 5: performance</h4>", _try(figures.fig5_performance, table, phases),
              "<h4>Fig. 6: distances and movement variability</h4>",
              _try(figures.fig6_distances_variability, table, run_dir, phases),
              "<h4>Fig. 7: success per sector</h4>",
              _try(figures.fig7_sector_maps, table, phases,
-                  sectors=figures.sector_config(run_dir)),
+                  sectors=sector_config(run_dir)),
              "<h4>Fig. 8: hand trajectories and babbling</h4>",
              _try(figures.fig8_trajectories, table, run_dir, phases),
              _try(figures.fig8_babbling, table, phases),
@@ -443,10 +454,8 @@ def _run_figures(run_dir: Path) -> str:
 
 
 def _development_figures(run_dir: Path) -> list[str]:
-    """The measures' course over generations (``development.py``): from the snapshots'
+    """The measures' course over generations (``snapshots``): from the snapshots'
     post-evaluation if the run has one, else from its best-of-generation recordings."""
-    from ..postevaluation import snapshots as development
-
     try:
         table = development.load_development(run_dir)
         source = "post-evaluation of the snapshots (evaluate --development)"
@@ -465,22 +474,22 @@ def _development_figures(run_dir: Path) -> list[str]:
 
 def _fig10(table: pl.DataFrame) -> str:
     try:
-        reps = figures.summaries.replication_performance(table, by=("group",))
+        reps = summaries.replication_performance(table, by=("group",))
     except ValueError as exc:
         return f"<p class='missing'>not drawn: {html.escape(str(exc))}</p>"
-    st = figures.fig10_statistics(reps)
+    st = fig10_statistics(reps)
     return (_try(figures.fig10_conditions, reps) + "<h4>Per condition (replications)</h4>"
             + table_html(st["summary"]) + "<h4>Mann-Whitney, two-tailed</h4>"
             + f"<p>{html.escape(HOLM_NOTE)}</p>" + table_html(st["pairs"]))
 
 
 def _run_statistics(run_dir: Path) -> str:
-    table, phases = figures.condition_trials(run_dir)
+    table, phases = condition_trials(run_dir)
     measures = [m for m, _, _ in figures.FIG5_MEASURES + figures.FIG6_MEASURES]
     parts = [f"<h3>{html.escape(run_dir.name)}</h3>",
              "<h4>Figs. 5-6: phases compared (Mann-Whitney, two-tailed, robots)</h4>",
-             table_html(figures.phase_statistics(table, measures, phases))]
-    f9 = figures.fig9_statistics(table, phases)
+             table_html(phase_statistics(table, measures, phases))]
+    f9 = fig9_statistics(table, phases)
     parts += ["<h4>Fig. 9: Kruskal-Wallis across senses within each phase</h4>",
               table_html(f9["kruskal"]),
               "<h4>Fig. 9: Mann-Whitney between phase / senses groups</h4>",

@@ -1,4 +1,6 @@
-"""Statistics of the paper's comparisons (section IV-B, IV-C; Figs. 9, 10).
+"""Statistics of the paper's comparisons (section IV-A, IV-B, IV-C; Figs. 5, 6, 9, 10).
+
+The tests:
 
 - ``kruskal_wallis``: does a value differ among several groups (section IV-B: "performance
   significantly varies within the four experimental conditions ... Kruskal-Wallis test");
@@ -7,7 +9,8 @@
 - ``significance_matrix``: the pairs as a square table of booleans, the black squares of the
   comparison tables of Figs. 9 and 10;
 - ``holm``: the pairs' p-values corrected for multiple comparisons (Holm 1979), which the
-  paper does not report: Figs. 9 and 10 compare up to 66 pairs.
+  paper does not report: Figs. 9 and 10 compare up to 66 pairs; ``holm_adjusted``: the same
+  correction of an array of p-values (the findings table's ``p_holm``).
 
 Inputs are long polars tables: one row per unit (a robot in Fig. 9, a replication in Fig. 10),
 a ``value`` column and a ``group`` column. Null and NaN values are dropped before testing (e.g.
@@ -16,6 +19,17 @@ a reaching speed is NaN for a robot that never reaches).
 Degenerate samples: when every value of the samples compared is the same number (e.g. all
 robots of two conditions score 0) there is no evidence of a difference: the tests return
 H = 0 (Kruskal-Wallis) or U = n_a n_b / 2 (Mann-Whitney) and p = 1.0 rather than NaN.
+
+The numbers behind the figures (what a notebook shows beside each figure, and the report's
+statistics), from the post-evaluation table (``tables.condition_trials``) or the
+per-replication table of Fig. 10:
+
+- ``performance_summary``: mean, s.d. and s.e.m. over robots of each measure per phase (the
+  bars of Figs. 5, 6 and of motor babbling);
+- ``phase_statistics``: Mann-Whitney between every pair of phases for each measure (the
+  p-values section IV-A quotes for Figs. 5 and 6);
+- ``fig9_statistics``, ``fig10_statistics``: the summaries, tests and significance matrices
+  of Figs. 9 and 10 (``group_order``: the groups of Fig. 10 in order).
 """
 
 from __future__ import annotations
@@ -27,6 +41,10 @@ from collections.abc import Sequence
 import numpy as np
 import polars as pl
 from scipy import stats as sps
+
+from . import summaries
+from ..postevaluation.systematic import SENSES
+from .tables import phase_list, select_trials
 
 
 def _require(df: pl.DataFrame, columns: Sequence[str]) -> None:
@@ -121,16 +139,29 @@ def mann_whitney(df: pl.DataFrame, value: str, group: str, order: Sequence | Non
     return pl.DataFrame(rows, schema_overrides={"U": pl.Float64, "p": pl.Float64})
 
 
-def holm(pairs: pl.DataFrame, alpha: float = 0.05) -> pl.DataFrame:
-    """``pairs`` (``mann_whitney``'s table) with ``p_holm`` and ``significant_holm``: the
-    p-values adjusted by Holm's step-down method over the family of every tested pair (rows
-    with a NaN p are left out of the family and stay NaN), which controls the family-wise
-    error rate at ``alpha`` without assuming independence. Adjusted p = max over the first i
-    sorted p of (m - j + 1) p_(j), capped at 1."""
-    if not 0.0 < alpha < 1.0:
-        raise ValueError(f"alpha must be in (0, 1), got {alpha!r}")
-    _require(pairs, ["p"])
-    p = pairs["p"].cast(pl.Float64).to_numpy().copy()
+#: Resamples of ``bootstrap_mean_interval``.
+RESAMPLES = 10_000
+
+
+def bootstrap_mean_interval(units, rng: np.random.Generator, confidence: float = 0.95
+                            ) -> tuple[float, float, float]:
+    """Mean of ``units`` and its percentile bootstrap interval (``RESAMPLES`` resamples): a
+    description for the studies (many units), not a verdict rule (``verdicts`` uses Student's
+    t, calibrated at the runs' few replications)."""
+    x = np.asarray(units, float)
+    x = x[np.isfinite(x)]
+    means = x[rng.integers(0, len(x), (RESAMPLES, len(x)))].mean(axis=1)
+    tail = (1 - confidence) / 2
+    return float(x.mean()), float(np.quantile(means, tail)), float(np.quantile(means, 1 - tail))
+
+
+def holm_adjusted(p: Sequence[float]) -> np.ndarray:
+    """Holm's step-down adjusted p-values of ``p`` (Holm 1979), in the order given: the j-th
+    smallest of the m tested, p_(j), becomes the maximum over k <= j of min(1, (m - k + 1)
+    p_(k)), as ``statsmodels.stats.multitest.multipletests(p, method="holm")``. A NaN p is left
+    out of the family (not counted in m) and stays NaN. This controls the family-wise error
+    rate without assuming independence."""
+    p = np.array(p, dtype=float)
     tested = np.flatnonzero(~np.isnan(p))
     adjusted = np.full(len(p), np.nan)
     order = tested[np.argsort(p[tested], kind="stable")]
@@ -139,6 +170,19 @@ def holm(pairs: pl.DataFrame, alpha: float = 0.05) -> pl.DataFrame:
     for j, k in enumerate(order):
         running = max(running, min(1.0, (m - j) * p[k]))
         adjusted[k] = running
+    return adjusted
+
+
+def holm(pairs: pl.DataFrame, alpha: float = 0.05) -> pl.DataFrame:
+    """``pairs`` (``mann_whitney``'s table) with ``p_holm`` and ``significant_holm``: the
+    p-values adjusted by Holm's step-down method over the family of every tested pair
+    (``holm_adjusted``: rows with a NaN p are left out of the family and stay NaN), which
+    controls the family-wise error rate at ``alpha``. An empty table gets the two columns,
+    empty."""
+    if not 0.0 < alpha < 1.0:
+        raise ValueError(f"alpha must be in (0, 1), got {alpha!r}")
+    _require(pairs, ["p"])
+    adjusted = holm_adjusted(pairs["p"].cast(pl.Float64).to_numpy())
     return pairs.with_columns(pl.Series("p_holm", adjusted, dtype=pl.Float64),
                               pl.Series("significant_holm", np.nan_to_num(adjusted, nan=1.0)
                                         < alpha))
@@ -173,3 +217,136 @@ def significance_matrix(pairs: pl.DataFrame, order: Sequence | None = None,
         sig[i, j] = sig[j, i] = True
     return pl.DataFrame({"group": names, **{g: sig[:, k] for k, g in enumerate(names)}},
                         schema={"group": pl.Utf8, **{g: pl.Boolean for g in names}})
+
+
+# ---------------------------------------------------------------------------------------------
+# The numbers behind the figures
+# ---------------------------------------------------------------------------------------------
+
+#: The columns that name one robot in the post-evaluation table.
+_ROBOT = ("phase", "replication", "rank")
+
+
+def performance_summary(table: pl.DataFrame, measures: Sequence[str],
+                        phases: Sequence[str] | None = None,
+                        senses: str = "normal") -> pl.DataFrame:
+    """Mean, s.d. and s.e.m. over robots of each measure per phase (the bars of Figs. 5, 6 and
+    ``fig8_babbling``): ``summaries.group_summary`` of ``summaries.robot_means`` of the trials of
+    ``senses``, phases in the order given."""
+    phases = phase_list(table, phases)
+    robots = summaries.robot_means(select_trials(table, phases, senses), measures, by=_ROBOT)
+    summary = summaries.group_summary(robots, measures, by=("phase",))
+    rank = {p: i for i, p in enumerate(phases)}
+    return (summary.with_columns(pl.col("phase").replace_strict(rank, return_dtype=pl.Int64)
+                                 .alias("_p"))
+            .sort("_p", maintain_order=True).drop("_p"))
+
+
+_PAIRS_SCHEMA = {"a": pl.Utf8, "b": pl.Utf8, "n_a": pl.Int64, "n_b": pl.Int64, "U": pl.Float64,
+                 "p": pl.Float64, "significant": pl.Boolean}
+
+
+def _pairs(units: pl.DataFrame, value: str, group: str, order: list,
+           alpha: float) -> pl.DataFrame:
+    """``mann_whitney`` of the groups of ``order`` that have rows (an empty table of pairs when
+    fewer than two have)."""
+    present = set(units[group].cast(pl.Utf8).to_list())
+    order = [g for g in order if g in present]
+    if len(order) < 2:
+        return pl.DataFrame(schema=_PAIRS_SCHEMA)
+    units = units.with_columns(pl.col(group).cast(pl.Utf8))
+    return mann_whitney(units, value, group, order=order, alpha=alpha)
+
+
+def phase_statistics(table: pl.DataFrame, measures: Sequence[str],
+                     phases: Sequence[str] | None = None, senses: str = "normal",
+                     alpha: float = 0.05) -> pl.DataFrame:
+    """Two-tailed Mann-Whitney U tests between every pair of phases for each measure, the robot
+    being the unit (its mean over its trials): the p-values section IV-A quotes for Figs. 5 and
+    6. Columns: measure, then those of ``mann_whitney``."""
+    phases = phase_list(table, phases)
+    robots = summaries.robot_means(select_trials(table, phases, senses), measures, by=_ROBOT)
+    parts = [_pairs(robots, m, "phase", phases, alpha)
+             .with_columns(pl.lit(m).alias("measure")) for m in measures]
+    out = pl.concat(parts, how="diagonal_relaxed") if parts else pl.DataFrame(schema=_PAIRS_SCHEMA)
+    if "measure" not in out.columns:
+        out = out.with_columns(pl.lit(None, pl.Utf8).alias("measure"))
+    return out.select("measure", *_PAIRS_SCHEMA)
+
+
+def fig9_statistics(table: pl.DataFrame, phases: Sequence[str] | None = None,
+                    senses: Sequence[str] = SENSES, alpha: float = 0.05) -> dict[str, pl.DataFrame]:
+    """The numbers of Fig. 9: ``robots`` (one row per robot: ``summaries.robot_performance`` of
+    each phase x senses, with its group label "phase / senses"), ``summary`` (mean, s.d., s.e.m.
+    of the robots' fitness per phase and senses), ``kruskal`` (Kruskal-Wallis across senses
+    within each phase, section IV-B; NaN when fewer than two sensory conditions have robots),
+    ``pairs`` (two-tailed Mann-Whitney between every pair of groups, with ``p_holm``: Holm's
+    correction over the pairs, ``holm``), ``matrix`` (the pairs as the square table of
+    ``significance_matrix``, uncorrected as in the paper) and ``matrix_holm`` (the same
+    after Holm's correction)."""
+    phases = phase_list(table, phases)
+    senses = list(senses)
+    robots = summaries.robot_performance(select_trials(table, phases, senses),
+                                         by=("phase", "senses", "replication", "rank"))
+    robots = robots.with_columns(pl.format("{} / {}", "phase", "senses").alias("group"))
+    summary = summaries.group_summary(robots, ["fitness"], by=("phase", "senses"))
+    order = [f"{p} / {s}" for p in phases for s in senses]
+    key = {g: i for i, g in enumerate(order)}
+    summary = (summary.with_columns(pl.format("{} / {}", "phase", "senses")
+                                    .replace_strict(key, return_dtype=pl.Int64).alias("_k"))
+               .sort("_k").drop("_k"))
+    kw_rows = []
+    for p in phases:
+        try:
+            kw = kruskal_wallis(robots.filter(pl.col("phase") == p), "fitness", "senses")
+            kw_rows.append({"phase": p, **kw.row(0, named=True)})
+        except ValueError:
+            kw_rows.append({"phase": p, "groups": 0, "n": 0, "H": math.nan, "p": math.nan})
+    kruskal = pl.DataFrame(kw_rows, schema={"phase": pl.Utf8, "groups": pl.Int64, "n": pl.Int64,
+                                            "H": pl.Float64, "p": pl.Float64})
+    present = set(robots["group"].to_list())
+    order = [g for g in order if g in present]
+    pairs = holm(_pairs(robots, "fitness", "group", order, alpha), alpha)
+    return {"robots": robots, "summary": summary, "kruskal": kruskal, "pairs": pairs,
+            "matrix": significance_matrix(pairs, order),
+            "matrix_holm": significance_matrix(pairs, order, "significant_holm")}
+
+
+def group_order(replications: pl.DataFrame, order: Sequence[str] | None = None) -> list[str]:
+    """The groups of Fig. 10 in order: ``order`` if given, else the categories of the
+    ``group`` Enum (``tables.load_runs``) that have rows, else order of first appearance."""
+    if order is not None:
+        return [str(g) for g in order]
+    dtype = replications.schema["group"]
+    if isinstance(dtype, pl.Enum):
+        present = set(replications["group"].cast(pl.Utf8).to_list())
+        return [g for g in dtype.categories.to_list() if g in present]
+    return [str(g) for g in dict.fromkeys(replications["group"].to_list())]
+
+
+def fig10_statistics(replications: pl.DataFrame, order: Sequence[str] | None = None,
+                     value: str = "fitness", alpha: float = 0.05) -> dict[str, pl.DataFrame]:
+    """The numbers of Fig. 10 from a per-replication table with a ``group`` column (e.g.
+    ``summaries.replication_performance(tables.load_runs(dirs), by=("group",))``):
+    ``summary`` (per group: replications, median, mean, min, max of ``value``; the median is
+    the thickness of the boxes of the paper's top diagram), ``pairs`` (two-tailed Mann-Whitney
+    between every pair of groups, with Holm's ``p_holm``), ``matrix``
+    (``significance_matrix``, uncorrected as in the paper) and ``matrix_holm`` (after Holm's
+    correction)."""
+    groups = group_order(replications, order)
+    units = replications.with_columns(pl.col("group").cast(pl.Utf8))
+    key = {g: i for i, g in enumerate(groups)}
+    summary = (units.filter(pl.col("group").is_in(groups))
+               .with_columns(pl.col(value).cast(pl.Float64).fill_nan(None))
+               .group_by("group")
+               .agg(pl.col(value).count().alias("replications"),
+                    pl.col(value).median().alias("median"), pl.col(value).mean().alias("mean"),
+                    pl.col(value).min().alias("min"), pl.col(value).max().alias("max"))
+               .with_columns(pl.col("group").replace_strict(key, return_dtype=pl.Int64)
+                             .alias("_k"))
+               .sort("_k").drop("_k"))
+    pairs = holm(_pairs(units, value, "group", groups, alpha), alpha)
+    present = [g for g in groups if g in set(units["group"].to_list())]
+    return {"summary": summary, "pairs": pairs,
+            "matrix": significance_matrix(pairs, present),
+            "matrix_holm": significance_matrix(pairs, present, "significant_holm")}

@@ -1,62 +1,78 @@
 """Decision rules that keep evidence apart from its absence (section IV's claims; DESIGN.md,
-"Findings as data"; docs/analysis.md, "Verdicts").
+"Findings as data"; docs/guides/analysis.md, "Verdicts").
 
-One rule per kind of claim, each a pure function of the samples that returns the verdict and
-the numbers behind it:
+One rule per kind of claim, each a pure function of its units that returns the verdict and the
+numbers behind it. The unit of every headline verdict is the *replication* (the mean over its
+robots): the robots of a phase are the best few of one population, not independent draws, and
+the paper's own Fig. 10 compares replications. Every rule is calibrated by simulation of nested
+data like the runs' (``calibration``; the table in docs/results/calibration.md).
 
-- ``directional``: "b is higher (lower) than a" by a two-tailed Mann-Whitney U test; the
-  direction is the rank statistic's (U - n_a n_b / 2), the effect size the Hodges-Lehmann shift
-  (median of the pairwise differences b - a) with its distribution-free 95 % interval.
-- ``equivalent``: "a and b do not differ" by two one-sided tests (Lakens 2017) on the
-  probabilistic index theta = P(B > A) + P(B = A) / 2, margin 0.5 +- ``EQUIVALENCE_MARGIN``,
-  with the Brunner-Munzel estimate of its standard error (Brunner & Munzel 2000; the rank
-  analogue of Wellek's Mann-Whitney equivalence test).
-- ``in_band``: "about half": a percentile bootstrap interval over replications inside the band.
-- ``at_least``: "in every sector": every sector's lower bound above a floor.
-- ``at_most``: "never": the upper bound of a share below a small epsilon.
-- ``paired``: "the senses matter": Friedman's test with the robot as block.
+- ``directional``: "b is higher (lower) than a": two-tailed Mann-Whitney U (exact without
+  ties); direction from U - n_a n_b / 2; effect: the Hodges-Lehmann shift with its exact
+  distribution-free 95 % interval (the order statistics of the pairwise differences that the
+  exact null distribution of U gives; Hollander & Wolfe 1999, ch. 4).
+- ``not_better``: "b is not significantly better than a", as the paper words it (one-sided):
+  non-superiority on the probabilistic index theta = P(B > A) + P(B = A) / 2 (Brunner-Munzel
+  standard error): reproduced when the upper one-sided 95 % bound of theta (in the direction
+  "better") is below 0.5 + ``EQUIVALENCE_MARGIN``; contradicted when b is better (one-sided
+  Mann-Whitney p < ALPHA).
+- ``equivalent``: "a and b do not differ" (two-sided): two one-sided tests on theta within
+  0.5 +- ``EQUIVALENCE_MARGIN`` (Lakens 2017); contradicted by a two-tailed Mann-Whitney
+  difference.
+- ``in_band``: "about half": Student's t 95 % interval of the mean over units inside the band.
+- ``at_least``: "in every sector": every cell's one-sided 95 % lower bound above a floor (an
+  intersection-union test); contradicted when some cell's upper bound, Bonferroni-adjusted
+  over the cells, is below it.
+- ``paired_directional`` / ``paired_equivalent``: the same units under two conditions or at
+  two moments: Wilcoxon signed-rank (exact without ties) / two one-sided paired t-tests.
+- ``senses_differ``: "performance varies across the sensory conditions": Friedman's test with
+  the replication as block; contradicted when every pair of conditions is equivalent (paired
+  TOST within ``PAIRED_MARGIN``, an intersection-union test).
 
 Verdicts (``VERDICTS``): *reproduced* (the data show what the paper says), *contradicted* (they
 show the opposite, or a difference where the paper says none), *inconclusive* (the data cannot
-decide at this n), *underpowered* (even the most favourable data could not reach the level at
-this n: decided from the sample sizes before any test), *not run*. One level ``ALPHA`` for both
-directions; whether the paper's own level is met is a separate column.
+decide at this n), *underpowered* (even the most favourable data could not decide at this n:
+known from the sample sizes before any test), *not run*. One level ``ALPHA`` in both
+directions; whether the paper's own level is met is a separate column. Zero spread is never
+evidence: where every unit has the same value a rule that needs a spread is inconclusive.
 """
 
 from __future__ import annotations
 
+import functools
 import math
-from collections.abc import Sequence
-from dataclasses import dataclass, replace
+from dataclasses import dataclass
 
 import numpy as np
-from scipy import stats as sps
+from scipy import special
+from scipy.stats import rankdata
 
 REPRODUCED, CONTRADICTED, INCONCLUSIVE, UNDERPOWERED, NOT_RUN = (
     "reproduced", "contradicted", "inconclusive", "underpowered", "not run")
 VERDICTS = (REPRODUCED, CONTRADICTED, INCONCLUSIVE, UNDERPOWERED, NOT_RUN)
+DECIDED = (REPRODUCED, CONTRADICTED)
 
 #: Significance level of every verdict, whatever the direction.
 ALPHA = 0.05
-#: Equivalence margin on theta = P(B > A) + P(B = A) / 2: "no difference" means theta within
-#: 0.5 +- 0.15, i.e. a random robot of one group beats one of the other at most 65 % of the
-#: time (a "small" effect; Vargha & Delaney 2000 put small at 0.56, medium at 0.64).
+#: Margin on theta = P(B > A) + P(B = A) / 2 of "no (significant) difference" and "not
+#: significantly better": a unit of one group beats one of the other at most 65 % of the time
+#: (Vargha & Delaney 2000 put small at 0.56, medium at 0.64). Fixed before any data was judged.
 EQUIVALENCE_MARGIN = 0.15
-#: Bootstrap resamples of the interval rules, and the fewest units they accept: a percentile
-#: interval of fewer than 4 units is about their range, which holds the mean less than 9 times
-#: in 10 (1 - 2^(1 - n)), not 19 in 20.
-RESAMPLES = 10_000
-MIN_BOOTSTRAP_UNITS = 4
+#: Margin of a paired claim of no change ("the behavior remains substantially the same",
+#: IV-A-1): the mean change within +-20 % of the median of the reference condition.
+PAIRED_MARGIN = 0.20
 #: "Succeed in all 9 sectors": each sector's reach and grasp rate at least this (lower bound).
 SECTOR_FLOOR = 0.10
-#: "Never": a share of trials at most this (upper bound).
-NEVER_EPSILON = 0.05
+#: The fewest units of an interval rule: Student's t with at least 2 degrees of freedom.
+MIN_UNITS = 3
 
 
 @dataclass(frozen=True)
 class Outcome:
-    """A verdict and what it rests on. ``effect`` and its interval are in the units the rule
-    names (a shift, a probability, a rate); ``p`` is NaN where the rule has none;
+    """A verdict and what it rests on. ``effect`` and its interval [``low``, ``high``] are in
+    the units the rule names (a shift, a probability, a rate); ``confidence`` is the interval's
+    level; ``p`` is the p of the rule's test of the claim as stated (NaN where the rule has
+    none), ``p_against`` the p of its test of the opposite (a contradiction);
     ``paper_level_met`` is None where the paper gives no level."""
 
     verdict: str
@@ -64,72 +80,212 @@ class Outcome:
     effect: float = math.nan
     low: float = math.nan
     high: float = math.nan
+    confidence: float = math.nan
+    p_against: float = math.nan
     paper_level_met: bool | None = None
     note: str = ""
 
 
-def _finite(x) -> np.ndarray:
+def finite(x) -> np.ndarray:
+    """The finite values of ``x`` as a float array."""
     x = np.asarray(x, float)
     return x[np.isfinite(x)]
 
 
-# --------------------------------------------------------------------------------- two groups
+def _no_spread(*groups) -> bool:
+    values = np.concatenate([np.ravel(g) for g in groups])
+    return len(values) == 0 or bool(np.ptp(values) == 0)
+
+
+def t_cdf(x: float, df: float) -> float:
+    """Student's t distribution function (``scipy.special.stdtr``: the scipy.stats object is
+    a hundred times slower, which matters for calibration)."""
+    return float(special.stdtr(df, x))
+
+
+def t_sf(x: float, df: float) -> float:
+    return float(special.stdtr(df, -x))
+
+
+def t_quantile(q: float, df: float) -> float:
+    return float(special.stdtrit(df, q))
+
+
+def friedman(x: np.ndarray) -> tuple[float, float]:
+    """Friedman's chi-square of ``x`` (rows: blocks, columns: treatments) with the tie
+    correction, and its p (chi-square, k - 1 degrees of freedom). Equal to
+    ``scipy.stats.friedmanchisquare`` (tested)."""
+    n, k = x.shape
+    ranks = rankdata(x, axis=1)
+    sums = ranks.sum(axis=0)
+    ties = sum(_ties(row) for row in x)
+    chi2 = (12 / (n * k * (k + 1)) * float((sums ** 2).sum()) - 3 * n * (k + 1)) \
+        / (1 - ties / (n * k * (k * k - 1)))
+    return float(chi2), float(special.chdtrc(k - 1, chi2))
+
+
+# ------------------------------------------------------------------------ exact rank machinery
+@functools.cache
+def u_distribution(n: int, m: int) -> np.ndarray:
+    """Exact null distribution of the Mann-Whitney U of sizes n, m without ties: P(U = u),
+    u = 0 .. n m (the number of ways to place n ranks among n + m, by the usual recursion)."""
+    # counts[i][j] over u for i of n, j of m: f(i, j, u) = f(i-1, j, u-j) + f(i, j-1, u)
+    f = [[None] * (m + 1) for _ in range(n + 1)]
+    for i in range(n + 1):
+        for j in range(m + 1):
+            if i == 0 or j == 0:
+                c = np.zeros(i * j + 1)
+                c[0] = 1.0
+            else:
+                c = np.zeros(i * j + 1)
+                prev = f[i - 1][j]
+                c[j:j + len(prev)] += prev
+                c[:len(f[i][j - 1])] += f[i][j - 1]
+            f[i][j] = c
+    counts = f[n][m]
+    return counts / counts.sum()
+
+
+@functools.cache
+def signed_rank_distribution(n: int) -> np.ndarray:
+    """Exact null distribution of the Wilcoxon signed-rank statistic T+ of n non-zero
+    differences without ties: P(T+ = t), t = 0 .. n (n + 1) / 2."""
+    c = np.zeros(n * (n + 1) // 2 + 1)
+    c[0] = 1.0
+    for k in range(1, n + 1):
+        c[k:] = c[k:] + c[:-k].copy()
+    return c / c.sum()
+
+
+def _order_index(distribution: np.ndarray, confidence: float) -> int:
+    """The largest k >= 1 with P(S <= k - 1) <= (1 - confidence) / 2 under ``distribution``
+    (0 when even the extremes are too likely: the interval is unbounded)."""
+    cdf = np.cumsum(distribution)
+    return int(np.searchsorted(cdf, (1 - confidence) / 2 + 1e-12, side="right"))
+
+
 def smallest_mann_whitney_p(n_a: int, n_b: int) -> float:
     """The smallest two-tailed p a Mann-Whitney U test can give for sizes n_a, n_b: complete
     separation, exact distribution, 2 / C(n_a + n_b, n_a)."""
-    return min(1.0, 2.0 / math.comb(n_a + n_b, n_a))
+    return min(1.0, 2.0 / math.comb(n_a + n_b, n_a)) if n_a and n_b else 1.0
+
+
+def smallest_signed_rank_p(n: int) -> float:
+    """The smallest two-tailed p of the Wilcoxon signed-rank test of n non-zero differences
+    (all of one sign, exact distribution): 2 / 2^n."""
+    return min(1.0, 2.0 / 2 ** n)
+
+
+def smallest_friedman_p(blocks: int, treatments: int) -> float:
+    """The smallest p of Friedman's chi-square with every block ranking the treatments alike
+    (chi2 = blocks (treatments - 1))."""
+    return float(special.chdtrc(treatments - 1, blocks * (treatments - 1)))
 
 
 def hodges_lehmann(a, b, confidence: float = 0.95) -> tuple[float, float, float]:
     """Hodges-Lehmann shift of b over a (median of the n_a n_b differences b_j - a_i) and its
-    distribution-free interval: the K-th smallest and K-th largest difference, K from the
-    normal approximation of U's distribution (Hollander & Wolfe, ch. 4); infinite when the
-    samples are too small for that confidence."""
-    a, b = _finite(a), _finite(b)
+    exact distribution-free interval: the k-th smallest and k-th largest difference, k from
+    the exact null distribution of U (``u_distribution``); infinite where the samples are too
+    small for that confidence."""
+    a, b = finite(a), finite(b)
     d = np.sort((b[None, :] - a[:, None]).ravel())
-    n, m = len(a), len(b)
-    z = sps.norm.ppf(0.5 + confidence / 2)
-    k = int(math.floor(n * m / 2 - z * math.sqrt(n * m * (n + m + 1) / 12)))
+    k = _order_index(u_distribution(len(a), len(b)), confidence)
     if k < 1:
         return float(np.median(d)), -math.inf, math.inf
     return float(np.median(d)), float(d[k - 1]), float(d[len(d) - k])
 
 
-def directional(a, b, sign: int, level: float) -> Outcome:
-    """Claim: b is higher (``sign`` +1) or lower (-1) than a; the paper's level ``level``.
-    Underpowered when even complete separation cannot reach ``ALPHA``."""
-    a, b = _finite(a), _finite(b)
-    if smallest_mann_whitney_p(len(a), len(b)) >= ALPHA:
-        return Outcome(UNDERPOWERED, note=f"smallest possible p at {len(b)} vs {len(a)} is "
-                                          f"{smallest_mann_whitney_p(len(a), len(b)):.2g}")
-    shift, low, high = hodges_lehmann(a, b)
-    if np.ptp(np.concatenate([a, b])) == 0:
-        return Outcome(INCONCLUSIVE, 1.0, shift, low, high, False, "every value equal")
-    res = sps.mannwhitneyu(b, a, alternative="two-sided")
-    p = float(res.pvalue)
-    observed = int(np.sign(res.statistic - len(a) * len(b) / 2))
-    if p < ALPHA and observed == sign:
-        verdict = REPRODUCED
-    elif p < ALPHA and observed == -sign:
-        verdict = CONTRADICTED
+def walsh_median(d, confidence: float = 0.95) -> tuple[float, float, float]:
+    """Hodges-Lehmann estimate of a paired change (the median of the Walsh averages of the
+    changes ``d``) and its exact interval from the signed-rank distribution."""
+    d = finite(d)
+    walsh = np.sort((d[:, None] + d[None, :])[np.triu_indices(len(d))] / 2)
+    k = _order_index(signed_rank_distribution(len(d)), confidence)
+    if k < 1:
+        return float(np.median(walsh)), -math.inf, math.inf
+    return float(np.median(walsh)), float(walsh[k - 1]), float(walsh[len(walsh) - k])
+
+
+def _ties(values: np.ndarray) -> float:
+    """Sum of t^3 - t over the groups of tied values (the tie correction's numerator)."""
+    _, counts = np.unique(values, return_counts=True)
+    return float((counts ** 3 - counts).sum())
+
+
+def _normal_sf(z: float) -> float:
+    return float(special.ndtr(-z))
+
+
+def mann_whitney(a, b, alternative: str = "two-sided") -> tuple[float, int]:
+    """p of the Mann-Whitney U test of b against a and the observed direction (+1: b higher):
+    exact without ties (``u_distribution``), else the normal approximation with the tie and
+    continuity corrections. Equal to ``scipy.stats.mannwhitneyu(b, a, method="exact" /
+    "asymptotic")`` (tested), and fast enough to be calibrated over thousands of data sets."""
+    a, b = finite(a), finite(b)
+    n, m = len(a), len(b)
+    pooled = np.concatenate([a, b])
+    u = float(rankdata(pooled)[n:].sum() - m * (m + 1) / 2)  # U of b: pairs b > a, ties 1/2
+    mu = n * m / 2
+    direction = int(np.sign(u - mu))
+    ties = _ties(pooled)
+    if ties == 0:
+        cdf = np.cumsum(u_distribution(n, m))
+        k = int(round(u))
+        below, above = cdf[k], 1.0 - (cdf[k - 1] if k else 0.0)
+        p = {"two-sided": min(1.0, 2 * min(below, above)), "greater": above,
+             "less": below}[alternative]
+        return float(min(max(p, 0.0), 1.0)), direction
+    big = n + m
+    sd = math.sqrt(n * m / 12 * ((big + 1) - ties / (big * (big - 1))))
+    if sd == 0:
+        return 1.0, direction
+    if alternative == "two-sided":
+        p = min(1.0, 2 * _normal_sf((max(u, n * m - u) - mu - 0.5) / sd))
+    elif alternative == "greater":
+        p = _normal_sf((u - mu - 0.5) / sd)
     else:
-        verdict = INCONCLUSIVE
-    return Outcome(verdict, p, shift, low, high, bool(p < level and observed == sign))
+        p = _normal_sf((n * m - u - mu - 0.5) / sd)
+    return float(p), direction
+
+
+# --------------------------------------------------------------------------------- two groups
+def directional(a, b, sign: int, level: float = ALPHA) -> Outcome:
+    """Claim: b is higher (``sign`` +1) or lower (-1) than a; ``level`` the paper's. Two-tailed
+    Mann-Whitney U; underpowered when even complete separation cannot reach ``ALPHA``."""
+    a, b = finite(a), finite(b)
+    if min(len(a), len(b)) == 0:
+        return Outcome(UNDERPOWERED, note=f"{len(b)} vs {len(a)} units")
+    shift, low, high = hodges_lehmann(a, b)
+    if smallest_mann_whitney_p(len(a), len(b)) >= ALPHA:
+        return Outcome(UNDERPOWERED, effect=shift, low=low, high=high, confidence=0.95,
+                       note=f"{len(b)} vs {len(a)}: the smallest possible p is "
+                            f"{smallest_mann_whitney_p(len(a), len(b)):.2g}")
+    if _no_spread(a, b):
+        return Outcome(INCONCLUSIVE, 1.0, shift, low, high, 0.95, 1.0, False,
+                       "every value equal: no evidence")
+    p, observed = mann_whitney(a, b)
+    verdict = (REPRODUCED if p < ALPHA and observed == sign else
+               CONTRADICTED if p < ALPHA and observed == -sign else INCONCLUSIVE)
+    toward = p if observed == sign else 1.0
+    against = p if observed == -sign else 1.0
+    return Outcome(verdict, toward, shift, low, high, 0.95, against,
+                   bool(p < level and observed == sign))
 
 
 def probabilistic_index(a, b) -> tuple[float, float, float]:
     """theta = P(B > A) + P(B = A) / 2 from mid-ranks, its Brunner-Munzel standard error and
-    degrees of freedom (Brunner & Munzel 2000). Needs at least 2 values per group."""
-    a, b = _finite(a), _finite(b)
+    degrees of freedom (Brunner & Munzel 2000; ``scipy.stats.brunnermunzel``'s). Needs at
+    least 2 values per group; the standard error is 0 under complete separation."""
+    a, b = finite(a), finite(b)
     n, m = len(a), len(b)
-    ranks = sps.rankdata(np.concatenate([a, b]))
+    ranks = rankdata(np.concatenate([a, b]))
     ra, rb = ranks[:n], ranks[n:]
     theta = (rb.mean() - ra.mean()) / (n + m) + 0.5
-    sa = ((ra - sps.rankdata(a) - ra.mean() + (n + 1) / 2) ** 2).sum() / (n - 1)
-    sb = ((rb - sps.rankdata(b) - rb.mean() + (m + 1) / 2) ** 2).sum() / (m - 1)
-    se = math.sqrt(n * sa + m * sb) / (n * m)
+    sa = ((ra - rankdata(a) - ra.mean() + (n + 1) / 2) ** 2).sum() / (n - 1)
+    sb = ((rb - rankdata(b) - rb.mean() + (m + 1) / 2) ** 2).sum() / (m - 1)
     if n * sa + m * sb == 0:
         return float(theta), 0.0, math.inf
+    se = math.sqrt(n * sa + m * sb) / (n * m)
     df = (n * sa + m * sb) ** 2 / ((n * sa) ** 2 / (n - 1) + (m * sb) ** 2 / (m - 1))
     return float(theta), se, float(df)
 
@@ -140,219 +296,245 @@ def equivalence_reachable(n_a: int, n_b: int, margin: float = EQUIVALENCE_MARGIN
     if min(n_a, n_b) < 2:
         return False
     se = math.sqrt((n_a + n_b + 1) / (12 * n_a * n_b))
-    return margin / se > sps.norm.ppf(1 - ALPHA)
+    return margin / se > special.ndtri(1 - ALPHA)
 
 
 def equivalent(a, b, margin: float = EQUIVALENCE_MARGIN) -> Outcome:
     """Claim: a and b do not differ. Reproduced when both one-sided tests reject theta outside
     0.5 +- ``margin`` (p = the larger of the two); contradicted when the two-tailed
     Mann-Whitney test shows a difference; otherwise inconclusive, or underpowered where the
-    sizes could not show equivalence (``equivalence_reachable``). Equal values everywhere are
-    no evidence of equivalence (no variance to estimate: inconclusive)."""
-    a, b = _finite(a), _finite(b)
+    sizes could never show equivalence (``equivalence_reachable``) and no difference shows."""
+    a, b = finite(a), finite(b)
     if min(len(a), len(b)) < 2:
-        return Outcome(UNDERPOWERED, note=f"{len(b)} vs {len(a)}: no variance to estimate")
+        return Outcome(UNDERPOWERED, note=f"{len(b)} vs {len(a)}: no spread to estimate")
     theta, se, df = probabilistic_index(a, b)
-    if np.ptp(np.concatenate([a, b])) == 0:
+    if _no_spread(a, b):
         return Outcome(INCONCLUSIVE, math.nan, theta, note="every value equal: no evidence")
-    p_diff = float(sps.mannwhitneyu(b, a, alternative="two-sided").pvalue)
-    if not equivalence_reachable(len(a), len(b), margin):  # a difference can still be shown
-        return Outcome(CONTRADICTED if p_diff < ALPHA else UNDERPOWERED,
-                       p_diff if p_diff < ALPHA else math.nan, theta,
-                       note=f"{len(b)} vs {len(a)} cannot show theta within 0.5 +- {margin:g} "
-                            f"at p < {ALPHA:g}; difference p = {p_diff:.2g}")
-    if se == 0:  # complete separation without spread: a difference, never equivalence
-        p_eq = 1.0
-        low = high = theta
+    p_diff, _ = mann_whitney(a, b)
+    if se == 0:  # complete separation: a difference, never equivalence
+        p_eq, low, high = 1.0, theta, theta
     else:
-        t = sps.t(df)
-        p_eq = max(float(t.sf((theta - 0.5 + margin) / se)),
-                   float(t.cdf((theta - 0.5 - margin) / se)))
-        low, high = theta - t.ppf(1 - ALPHA) * se, theta + t.ppf(1 - ALPHA) * se
+        p_eq = max(t_sf((theta - 0.5 + margin) / se, df), t_cdf((theta - 0.5 - margin) / se, df))
+        half = t_quantile(1 - ALPHA, df) * se
+        low, high = theta - half, theta + half
     if p_eq < ALPHA:
-        verdict, p = REPRODUCED, p_eq
+        verdict = REPRODUCED
     elif p_diff < ALPHA:
-        verdict, p = CONTRADICTED, p_diff
+        verdict = CONTRADICTED
+    elif not equivalence_reachable(len(a), len(b), margin):
+        verdict = UNDERPOWERED
     else:
-        verdict, p = INCONCLUSIVE, p_eq
-    return Outcome(verdict, p, theta, low, high,
-                   note=f"theta {theta:.2f}, 90% CI {low:.2f}-{high:.2f}; "
-                        f"difference p = {p_diff:.2g}")
+        verdict = INCONCLUSIVE
+    return Outcome(verdict, p_eq, theta, low, high, 1 - 2 * ALPHA, p_diff,
+                   note=f"theta within 0.5 +- {margin:g}; difference p = {p_diff:.2g}")
+
+
+def not_better(a, b, better: int, margin: float = EQUIVALENCE_MARGIN) -> Outcome:
+    """Claim: b is not significantly better than a, where "better" is higher (``better`` +1)
+    or lower (-1): the paper's one-sided "no significant improvement". Non-superiority on
+    theta_better (theta, or 1 - theta when lower is better): reproduced when its upper
+    one-sided 95 % bound is below 0.5 + ``margin``; contradicted when b is better (one-sided
+    Mann-Whitney p < ``ALPHA``); otherwise inconclusive."""
+    a, b = finite(a), finite(b)
+    if min(len(a), len(b)) < 2:
+        return Outcome(UNDERPOWERED, note=f"{len(b)} vs {len(a)}: no spread to estimate")
+    theta, se, df = probabilistic_index(a, b)
+    theta = theta if better > 0 else 1 - theta
+    if _no_spread(a, b):
+        return Outcome(INCONCLUSIVE, math.nan, theta, note="every value equal: no evidence")
+    p_better, _ = mann_whitney(a, b, "greater" if better > 0 else "less")
+    if se == 0:  # complete separation: b worse everywhere (or better everywhere)
+        p_ns = mann_whitney(a, b, "less" if better > 0 else "greater")[0]
+        high = theta
+    else:
+        p_ns = t_cdf((theta - 0.5 - margin) / se, df)
+        high = theta + t_quantile(1 - ALPHA, df) * se
+    verdict = (REPRODUCED if p_ns < ALPHA else CONTRADICTED if p_better < ALPHA
+               else UNDERPOWERED if smallest_mann_whitney_p(len(a), len(b)) / 2 >= ALPHA
+               else INCONCLUSIVE)
+    return Outcome(verdict, p_ns, theta, 0.0, float(min(high, 1.0)), 1 - ALPHA, p_better,
+                   note=f"theta(better) below 0.5 + {margin:g}; better p = {p_better:.2g}")
 
 
 # ----------------------------------------------------------------------- intervals over units
-def bootstrap_mean_interval(units, rng: np.random.Generator, confidence: float = 0.95
-                            ) -> tuple[float, float, float]:
-    """Mean of ``units`` and its percentile bootstrap interval (``RESAMPLES`` resamples)."""
-    x = _finite(units)
-    means = x[rng.integers(0, len(x), (RESAMPLES, len(x)))].mean(axis=1)
-    tail = (1 - confidence) / 2
-    return float(x.mean()), float(np.quantile(means, tail)), float(np.quantile(means, 1 - tail))
+def mean_interval(units, confidence: float = 0.95) -> tuple[float, float, float]:
+    """Mean of ``units`` and its two-sided Student's t interval (a one-sided bound at level c
+    is the two-sided interval at 2c - 1)."""
+    x = finite(units)
+    mean = float(x.mean())
+    half = t_quantile(0.5 + confidence / 2, len(x) - 1) * float(x.std(ddof=1)) / math.sqrt(len(x))
+    return mean, mean - half, mean + half
 
 
 def _too_few(units) -> Outcome | None:
-    x = _finite(units)
-    if len(x) < MIN_BOOTSTRAP_UNITS:
+    x = finite(units)
+    if len(x) < MIN_UNITS:
         return Outcome(UNDERPOWERED, effect=float(x.mean()) if len(x) else math.nan,
-                       note=f"{len(x)} replications; an interval needs at least "
-                            f"{MIN_BOOTSTRAP_UNITS}")
+                       note=f"{len(x)} units; an interval needs at least {MIN_UNITS}")
+    if _no_spread(x):
+        return Outcome(INCONCLUSIVE, effect=float(x[0]), note="every unit equal: no evidence")
     return None
 
 
-def in_band(units, band: tuple[float, float], rng: np.random.Generator) -> Outcome:
+def in_band(units, band: tuple[float, float]) -> Outcome:
     """Claim: the mean of ``units`` (one value per replication, a rate) lies in ``band``.
-    Reproduced when the 95 % interval, kept in [0, 1], lies inside; contradicted when it lies
-    wholly outside; otherwise inconclusive."""
+    Reproduced when the 95 % t interval lies inside; contradicted when it lies wholly
+    outside; otherwise inconclusive."""
     if (few := _too_few(units)) is not None:
         return few
-    mean, low, high = bootstrap_mean_interval(units, rng)
-    low, high = max(low, 0.0), min(high, 1.0)
-    if band[0] <= low and high <= band[1]:
-        verdict = REPRODUCED
-    elif high < band[0] or low > band[1]:
-        verdict = CONTRADICTED
-    else:
-        verdict = INCONCLUSIVE
-    return Outcome(verdict, effect=mean, low=low, high=high)
+    mean, low, high = mean_interval(units)
+    verdict = (REPRODUCED if band[0] <= low and high <= band[1] else
+               CONTRADICTED if high < band[0] or low > band[1] else INCONCLUSIVE)
+    return Outcome(verdict, effect=mean, low=low, high=high, confidence=0.95)
 
 
-def at_least(units_by_cell: dict, floor: float, rng: np.random.Generator) -> Outcome:
-    """Claim: in every cell (a sector's reach or grasp), the mean over replications is at least
-    ``floor``. Reproduced when every cell's lower 95 % bound is above it; contradicted when some
-    cell's upper bound is below it; otherwise inconclusive. ``effect``: the lowest cell mean."""
-    cells = list(units_by_cell.values())
-    if (few := _too_few(cells[0] if cells else [])) is not None:
-        means = [float(np.mean(_finite(c))) for c in cells if len(_finite(c))]
-        return replace(few, effect=min(means) if means else math.nan)
-    bounds = {k: bootstrap_mean_interval(v, rng) for k, v in units_by_cell.items()}
-    worst = min(bounds, key=lambda k: bounds[k][1])
-    below = [k for k, (_, _, high) in bounds.items() if high < floor]
+def at_least(units_by_cell: dict, floor: float) -> Outcome:
+    """Claim: in every cell (a sector's reach or grasp), the mean over units is at least
+    ``floor``. Reproduced when every cell's one-sided 95 % lower bound is above it (an
+    intersection-union test: its error is at most ``ALPHA`` whatever the number of cells);
+    contradicted when some cell's upper bound at 1 - ``ALPHA`` / cells is below it; otherwise
+    inconclusive. ``effect``: the weakest cell's mean, with its interval."""
+    cells = {k: finite(v) for k, v in units_by_cell.items()}
+    for v in cells.values():
+        if len(v) < MIN_UNITS:
+            return Outcome(UNDERPOWERED, note=f"{len(v)} units; an interval needs at least "
+                                              f"{MIN_UNITS}")
+    flat = [k for k, v in cells.items() if _no_spread(v)]
+    k = len(cells)
+    lower = {c: mean_interval(v, 1 - 2 * ALPHA) for c, v in cells.items() if c not in flat}
+    upper = {c: mean_interval(v, 1 - 2 * ALPHA / k) for c, v in cells.items() if c not in flat}
+    worst = min(cells, key=lambda c: cells[c].mean())
+    below = [c for c, (_, _, high) in upper.items() if high < floor]
     if below:
         verdict = CONTRADICTED
-    elif all(low > floor for _, low, _ in bounds.values()):
+    elif not flat and all(low > floor for _, low, _ in lower.values()):
         verdict = REPRODUCED
     else:
         verdict = INCONCLUSIVE
-    mean, low, high = bounds[worst]
-    note = f"weakest: {worst}" + (f"; below the floor: {', '.join(map(str, below))}"
-                                  if below else "")
-    return Outcome(verdict, effect=mean, low=low, high=high, note=note)
+    mean, low, high = lower.get(worst, (float(cells[worst].mean()), math.nan, math.nan))
+    note = "; ".join(filter(None, [
+        f"weakest: {worst}", f"below the floor: {', '.join(map(str, below))}" if below else "",
+        f"no spread (no evidence): {', '.join(map(str, flat))}" if flat else ""]))
+    return Outcome(verdict, effect=mean, low=low, high=high, confidence=1 - 2 * ALPHA,
+                   note=note)
 
 
-def at_most(units, epsilon: float, rng: np.random.Generator) -> Outcome:
-    """Claim: a share (one value per replication) is at most ``epsilon`` ("never"). Reproduced
-    when the upper 95 % bound is at most epsilon; contradicted when the lower bound is above it;
-    otherwise inconclusive."""
-    if (few := _too_few(units)) is not None:
-        return few
-    mean, low, high = bootstrap_mean_interval(units, rng, confidence=0.90)  # one-sided 95 %
-    verdict = (REPRODUCED if high <= epsilon else CONTRADICTED if low > epsilon
-               else INCONCLUSIVE)
-    return Outcome(verdict, effect=mean, low=low, high=high)
+# ------------------------------------------------------------------------------ paired units
+def wilcoxon(d, alternative: str = "two-sided") -> tuple[float, int]:
+    """p of the Wilcoxon signed-rank test of the changes ``d`` (zeros dropped) and their
+    observed direction: exact without ties (``signed_rank_distribution``), else the normal
+    approximation with the tie correction. Equal to ``scipy.stats.wilcoxon(d, method="exact" /
+    "approx")`` (tested)."""
+    d = finite(d)
+    d = d[d != 0]
+    n = len(d)
+    if n == 0:
+        return 1.0, 0
+    ranks = rankdata(np.abs(d))
+    t_plus = float(ranks[d > 0].sum())
+    mu = n * (n + 1) / 4
+    direction = int(np.sign(t_plus - mu))
+    ties = _ties(np.abs(d))
+    if ties == 0:
+        cdf = np.cumsum(signed_rank_distribution(n))
+        k = int(round(t_plus))
+        below, above = cdf[k], 1.0 - (cdf[k - 1] if k else 0.0)
+        p = {"two-sided": min(1.0, 2 * min(below, above)), "greater": above,
+             "less": below}[alternative]
+        return float(min(max(p, 0.0), 1.0)), direction
+    sd = math.sqrt(n * (n + 1) * (2 * n + 1) / 24 - ties / 48)
+    z = (t_plus - mu) / sd
+    p = {"two-sided": min(1.0, 2 * _normal_sf(abs(z))), "greater": _normal_sf(z),
+         "less": _normal_sf(-z)}[alternative]
+    return float(p), direction
 
 
-# ------------------------------------------------------------------------------ paired samples
-#: Equivalence margin of a paired claim of no change ("the behavior remains substantially the
-#: same", IV-A-1): the mean change within +-20 % of the median of the reference condition.
-PAIRED_MARGIN = 0.20
-
-
-def smallest_signed_rank_p(n: int) -> float:
-    """The smallest two-tailed p of the Wilcoxon signed-rank test of n non-zero differences
-    (all of one sign, exact distribution): 2 / 2^n."""
-    return min(1.0, 2.0 / 2 ** n)
-
-
-def paired_directional(reference, changed, sign: int, level: float) -> Outcome:
+def paired_directional(reference, changed, sign: int, level: float = ALPHA) -> Outcome:
     """Claim: ``changed`` is higher (``sign`` +1) or lower (-1) than ``reference`` in the same
-    units (a robot under two conditions, a replication at two moments). Two-tailed Wilcoxon
-    signed-rank test of the changes; direction from the sum of signed ranks; effect: the
-    median change (Hodges-Lehmann: the median of the Walsh averages) with the bootstrap-free
-    interval left out. Underpowered when the changes, all of one sign, cannot reach ``ALPHA``."""
+    units (a replication under two conditions or in two generation windows). Two-tailed
+    Wilcoxon signed-rank test of the changes; direction from the signed ranks; effect: the
+    Hodges-Lehmann change with its exact 95 % interval. Underpowered when changes all of one
+    sign cannot reach ``ALPHA``."""
     ref, new = np.asarray(reference, float), np.asarray(changed, float)
     keep = np.isfinite(ref) & np.isfinite(new)
     d = new[keep] - ref[keep]
-    if smallest_signed_rank_p(int(np.count_nonzero(d))) >= ALPHA:
-        return Outcome(UNDERPOWERED, note=f"{np.count_nonzero(d)} non-zero changes: smallest "
-                                          f"possible p {smallest_signed_rank_p(int(np.count_nonzero(d))):.2g}")
-    walsh = (d[:, None] + d[None, :])[np.triu_indices(len(d))]
-    res = sps.wilcoxon(d, alternative="two-sided")
-    p = float(res.pvalue)
-    ranks = sps.rankdata(np.abs(d[d != 0]))
-    observed = int(np.sign((ranks * np.sign(d[d != 0])).sum()))
+    nonzero = int(np.count_nonzero(d))
+    if len(d) == 0:
+        return Outcome(UNDERPOWERED, note="no pairs")
+    effect, low, high = walsh_median(d)
+    if smallest_signed_rank_p(len(d)) >= ALPHA:
+        return Outcome(UNDERPOWERED, effect=effect, low=low, high=high, confidence=0.95,
+                       note=f"{len(d)} pairs: the smallest possible p is "
+                            f"{smallest_signed_rank_p(len(d)):.2g}")
+    if nonzero == 0:
+        return Outcome(INCONCLUSIVE, 1.0, effect, low, high, 0.95, 1.0, False,
+                       "no unit changed: no evidence")
+    p, observed = wilcoxon(d)
     verdict = (REPRODUCED if p < ALPHA and observed == sign else
                CONTRADICTED if p < ALPHA and observed == -sign else INCONCLUSIVE)
-    return Outcome(verdict, p, float(np.median(walsh)), paper_level_met=bool(
-        p < level and observed == sign), note=f"{len(d)} pairs")
+    return Outcome(verdict, p if observed == sign else 1.0, effect, low, high, 0.95,
+                   p if observed == -sign else 1.0, bool(p < level and observed == sign),
+                   f"{len(d)} pairs")
+
+
+def paired_tost(reference, changed, bound: float) -> tuple[float, float, float, float, float]:
+    """Two one-sided paired t-tests of the mean change against +-``bound``: (p of
+    equivalence, p of a difference (two-tailed), mean change, its 90 % interval)."""
+    d = np.asarray(changed, float) - np.asarray(reference, float)
+    d = d[np.isfinite(d)]
+    n, mean, sd = len(d), float(d.mean()), float(d.std(ddof=1))
+    if sd == 0:
+        return (0.0 if abs(mean) < bound else 1.0), (0.0 if mean else 1.0), mean, mean, mean
+    se = sd / math.sqrt(n)
+    p_eq = max(t_sf((mean + bound) / se, n - 1), t_cdf((mean - bound) / se, n - 1))
+    p_diff = 2 * t_sf(abs(mean) / se, n - 1)
+    half = t_quantile(1 - ALPHA, n - 1) * se
+    return p_eq, p_diff, mean, mean - half, mean + half
 
 
 def paired_equivalent(reference, changed, margin: float = PAIRED_MARGIN) -> Outcome:
     """Claim: ``changed`` is substantially the same as ``reference`` (paired). Two one-sided
     paired t-tests (Lakens 2017) of the mean change against +-``margin`` x |median of the
-    reference|. Reproduced when both reject; contradicted when the change differs from 0 (paired
-    t, two-tailed); otherwise inconclusive. Every unit unchanged is evidence of sameness unless
-    every value is the same (a floor: inconclusive). Underpowered below 3 pairs."""
+    reference|: reproduced when both reject; contradicted when the change differs from 0
+    (paired t, two-tailed); otherwise inconclusive. Changes without spread are no evidence
+    (inconclusive); underpowered below ``MIN_UNITS`` pairs."""
     ref, new = np.asarray(reference, float), np.asarray(changed, float)
     keep = np.isfinite(ref) & np.isfinite(new)
     ref, new = ref[keep], new[keep]
-    n = len(ref)
-    if n < 3:
-        return Outcome(UNDERPOWERED, note=f"{n} pairs")
+    if len(ref) < MIN_UNITS:
+        return Outcome(UNDERPOWERED, note=f"{len(ref)} pairs")
     d = new - ref
+    if _no_spread(d):
+        return Outcome(INCONCLUSIVE, effect=float(d.mean()),
+                       note="every unit changed alike: no evidence")
     bound = margin * abs(float(np.median(ref)))
-    mean, sd = float(d.mean()), float(d.std(ddof=1))
-    if np.ptp(np.concatenate([ref, new])) == 0:
-        return Outcome(INCONCLUSIVE, effect=mean, note="every value equal: no evidence")
-    if sd == 0:
-        same = abs(mean) < bound or mean == 0
-        return Outcome(REPRODUCED if same else CONTRADICTED, 0.0, mean, mean, mean,
-                       note=f"every unit changed by {mean:.3g} (margin +-{bound:.3g})")
-    se, t = sd / math.sqrt(n), sps.t(n - 1)
-    p_eq = max(float(t.sf((mean + bound) / se)), float(t.cdf((mean - bound) / se)))
-    p_diff = float(2 * t.sf(abs(mean) / se))
-    low, high = mean - t.ppf(1 - ALPHA) * se, mean + t.ppf(1 - ALPHA) * se
+    p_eq, p_diff, mean, low, high = paired_tost(ref, new, bound)
     verdict = (REPRODUCED if p_eq < ALPHA else CONTRADICTED if p_diff < ALPHA
                else INCONCLUSIVE)
-    return Outcome(verdict, p_eq if verdict != CONTRADICTED else p_diff, mean, low, high,
-                   note=f"mean change {mean:.3g}, 90% CI {low:.3g} to {high:.3g}, margin "
-                        f"+-{bound:.3g}; difference p = {p_diff:.2g}")
+    return Outcome(verdict, p_eq, mean, low, high, 1 - 2 * ALPHA, p_diff,
+                   note=f"margin +-{bound:.3g}; difference p = {p_diff:.2g}")
 
 
 # ------------------------------------------------------------------------------ paired blocks
-def smallest_friedman_p(blocks: int, treatments: int) -> float:
-    """The smallest p of Friedman's chi-square for ``blocks`` with every block ranking the
-    treatments the same way (chi2 = blocks (treatments - 1))."""
-    return float(sps.chi2.sf(blocks * (treatments - 1), treatments - 1))
-
-
-def paired(matrix, level: float) -> Outcome:
-    """Claim: the treatments (columns) differ, each row a block (a robot under every sensory
-    condition). Friedman's test; effect: Kendall's W (0 = no agreement, 1 = every block ranks
-    the treatments alike). A difference is what the paper claims, so there is no
-    "contradicted": no difference is inconclusive."""
+def senses_differ(matrix, level: float = ALPHA, margin: float = PAIRED_MARGIN) -> Outcome:
+    """Claim: the treatments (columns, e.g. the four sensory conditions) differ, each row a
+    block (a replication under every condition). Friedman's test; effect: Kendall's W (0: no
+    agreement, 1: every block ranks the treatments alike). Contradicted when every pair of
+    treatments is equivalent (paired TOST within ``margin`` x |median of the pair's first|;
+    the largest p of the pairs, an intersection-union test); otherwise inconclusive."""
     x = np.asarray(matrix, float)
     x = x[np.isfinite(x).all(axis=1)]
     n, k = x.shape
-    if smallest_friedman_p(n, k) >= ALPHA:
-        return Outcome(UNDERPOWERED, note=f"{n} blocks: smallest possible p "
-                                          f"{smallest_friedman_p(n, k):.2g}")
-    if np.ptp(x) == 0:
-        return Outcome(INCONCLUSIVE, 1.0, 0.0, paper_level_met=False, note="every value equal")
-    chi2, p = sps.friedmanchisquare(*x.T)
-    w = float(chi2) / (n * (k - 1))
-    return Outcome(REPRODUCED if p < ALPHA else INCONCLUSIVE, float(p), w,
-                   paper_level_met=bool(p < level))
-
-
-# --------------------------------------------------------------------------------- the table
-def holm(p: Sequence[float]) -> np.ndarray:
-    """Holm's step-down adjusted p-values (NaN stays NaN, not counted)."""
-    p = np.asarray(p, float)
-    out = np.full(len(p), math.nan)
-    idx = np.flatnonzero(np.isfinite(p))
-    order = idx[np.argsort(p[idx])]
-    m, running = len(order), 0.0
-    for i, j in enumerate(order):
-        running = max(running, min(1.0, (m - i) * p[j]))
-        out[j] = running
-    return out
+    if n < 2 or smallest_friedman_p(n, k) >= ALPHA:
+        return Outcome(UNDERPOWERED, note=f"{n} blocks: the smallest possible p is "
+                                          f"{smallest_friedman_p(max(n, 1), k):.2g}")
+    if _no_spread(x):
+        return Outcome(INCONCLUSIVE, 1.0, 0.0, paper_level_met=False,
+                       note="every value equal: no evidence")
+    chi2, p = friedman(x)
+    w = chi2 / (n * (k - 1))
+    p_same = max(paired_tost(x[:, i], x[:, j], margin * abs(float(np.median(x[:, i]))))[0]
+                 for i in range(k) for j in range(i + 1, k)) if n >= MIN_UNITS else 1.0
+    verdict = (REPRODUCED if p < ALPHA else CONTRADICTED if p_same < ALPHA else INCONCLUSIVE)
+    return Outcome(verdict, float(p), w, p_against=p_same, paper_level_met=bool(p < level),
+                   note=f"{n} blocks x {k} conditions; all pairs equivalent p = {p_same:.2g}")

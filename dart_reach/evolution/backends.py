@@ -1,7 +1,8 @@
-"""Evaluation of many genomes, behind one interface with three implementations.
+"""The parallel back-ends: the lifetimes of many genomes (and any other work unit, such as the
+post-evaluation's robots), behind one interface with three implementations.
 
-``SerialEvaluator`` (one process), ``PoolEvaluator`` (a local process pool, the default: all
-cores) and ``RayEvaluator`` (a Ray cluster, the ``cluster`` extra). A job carries everything
+``SerialBackend`` (one process), ``PoolBackend`` (a local process pool, the default: all
+cores) and ``RayBackend`` (a Ray cluster, the ``cluster`` extra). A job carries everything
 that defines its result — the genome, the phase's free groups, the trial configuration, the world
 configuration and its own seed — so the fitness of a job does not depend on which worker runs it,
 in which order, or how many workers there are: results are identical to the last bit.
@@ -14,7 +15,12 @@ from __future__ import annotations
 
 import multiprocessing
 import os
+import shutil
+import signal
 import socket
+import subprocess
+import sys
+import tempfile
 import threading
 import time
 from concurrent.futures import ProcessPoolExecutor
@@ -32,7 +38,7 @@ from ..model.world import World, WorldConfig
 
 @dataclass(frozen=True)
 class Job:
-    """One evaluation: a genome's fitness over ``trial.trials`` trials."""
+    """One lifetime: a genome's fitness over ``trial.trials`` trials."""
 
     genome: np.ndarray  # uint8 genes
     free_groups: frozenset
@@ -63,8 +69,8 @@ _NETWORK: list = [None, None]  # (genome bytes, groups, trial config), Network: 
 
 
 def run_trial(unit: tuple[Job, int]) -> float:
-    """The fitness of trial k of a job (the work unit ``Evaluator.map`` schedules): the same
-    trial, at the same position, as trial k of ``task.evaluate`` with the job's generator."""
+    """The fitness of trial k of a job (the work unit ``Backend.map`` schedules): the same
+    trial, at the same position, as trial k of ``task.lifetime`` with the job's generator."""
     job, k = unit
     trial = worker_trial(job.world, job.trial)
     sector, position = trial_positions(trial.world, _rng(job), job.trial.trials)[k]
@@ -75,7 +81,7 @@ def run_trial(unit: tuple[Job, int]) -> float:
 
 
 def fitness_of_trials(trials: Sequence[float]) -> float:
-    """An evaluation's fitness from its trials' fitness, exactly as ``task.evaluate`` computes
+    """A lifetime's fitness from its trials' fitness, exactly as ``task.lifetime`` computes
     it; a non-finite result scores 0 (the worst)."""
     fitness = float(np.mean(trials))
     return fitness if np.isfinite(fitness) else 0.0
@@ -85,7 +91,7 @@ T = TypeVar("T")
 R = TypeVar("R")
 
 
-class Evaluator:
+class Backend:
     """Runs a module-level function over items on the workers; results in item order."""
 
     workers: int = 1
@@ -95,8 +101,8 @@ class Evaluator:
 
     def map(self, jobs: Sequence[Job]) -> np.ndarray:
         """The fitness of every job. The work is scheduled trial by trial, so that no worker
-        idles at the end of a generation while another finishes a whole evaluation; the
-        result is the same to the last bit as evaluating job by job (``task.evaluate``)."""
+        idles at the end of a generation while another finishes a whole lifetime; the
+        result is the same to the last bit as running job by job (``task.lifetime``)."""
         units = [(job, k) for job in jobs for k in range(job.trial.trials)]
         trials = iter(self.imap(run_trial, units))
         return np.array([fitness_of_trials([next(trials) for _ in range(job.trial.trials)])
@@ -106,12 +112,12 @@ class Evaluator:
         pass
 
 
-class SerialEvaluator(Evaluator):
+class SerialBackend(Backend):
     def imap(self, fn, items):
         return map(fn, items)
 
 
-class PoolEvaluator(Evaluator):
+class PoolBackend(Backend):
     """A pool of ``workers`` local processes (default: every core)."""
 
     def __init__(self, workers: int | None = None):
@@ -176,7 +182,7 @@ def _driver_ip(address: str) -> dict:
     return {"_node_ip_address": host} if host in ("127.0.0.1", "localhost") else {}
 
 
-class RayEvaluator(Evaluator):
+class RayBackend(Backend):
     """The same jobs as Ray tasks (``--ray auto`` or a cluster address)."""
 
     def __init__(self, address: str = "auto", workers: int | None = None):
@@ -208,13 +214,13 @@ class RayEvaluator(Evaluator):
         return (self._ray.get(ref) for ref in refs)
 
 
-def make_evaluator(workers: int | None = None, ray_address: str | None = None) -> Evaluator:
+def make_backend(workers: int | None = None, ray_address: str | None = None) -> Backend:
     """Ray if an address is given, else serial for one worker, else a local process pool."""
     if ray_address:
-        return RayEvaluator(ray_address, workers)
+        return RayBackend(ray_address, workers)
     if workers == 1:
-        return SerialEvaluator()
-    return PoolEvaluator(workers)
+        return SerialBackend()
+    return PoolBackend(workers)
 
 
 class LocalRayCluster:
@@ -227,9 +233,6 @@ class LocalRayCluster:
     """
 
     def __init__(self, nodes: int = 2, cpus: int = 1, timeout_s: float = 90.0):
-        import shutil
-        import sys
-
         ray = shutil.which("ray", path=os.path.dirname(sys.executable)) or shutil.which("ray")
         if ray is None:
             raise ValueError("a Ray cluster needs the 'cluster' extra: "
@@ -253,8 +256,6 @@ class LocalRayCluster:
             raise
 
     def _start(self, *args) -> None:
-        import subprocess
-
         self.nodes.append(subprocess.Popen(
             [self._ray, "start", "--block", "--num-cpus", str(self._cpus_per_node),
              "--node-ip-address", "127.0.0.1", "--disable-usage-stats", *args],
@@ -263,8 +264,6 @@ class LocalRayCluster:
 
     def cpus(self) -> float:
         """The CPUs the cluster's head counts among its live nodes (0 if it does not answer)."""
-        import subprocess
-
         out = subprocess.run([self._ray, "status", "--address", self.address], env=self._env,
                              text=True, capture_output=True, timeout=60).stdout
         for line in out.splitlines():  # e.g. " 0.0/2.0 CPU"
@@ -282,8 +281,6 @@ class LocalRayCluster:
 
     def kill_node(self, index: int) -> None:
         """SIGKILL every process of node ``index`` (0 is the head)."""
-        import signal
-
         try:
             os.killpg(self.nodes[index].pid, signal.SIGKILL)
         except ProcessLookupError:
@@ -291,8 +288,6 @@ class LocalRayCluster:
         self.nodes[index].wait()
 
     def close(self) -> None:
-        import tempfile
-
         for i in reversed(range(len(self.nodes))):
             self.kill_node(i)
         # Killed nodes cannot tidy up: forget this cluster, or Ray's next ray.init() (and

@@ -4,8 +4,7 @@ Pure functions of per-step arrays (row t = the state at t * dt, dt = 0.1 s): ``c
 (T, 16) bool per hand segment (``icub.HAND_SEGMENTS``: the palm, column 0, then the 15
 phalanges), either the inner-face touches (``TrialData.contacts``: the touch sensors, p_touch,
 grasp) or the any-face touches (``TrialData.contacts_any``: the paper's reach). Thresholds are
-module constants fixed before any data was looked at (docs/analysis.md, "Measures of
-issue 22").
+module constants fixed before any data was looked at (docs/model/measures.md).
 
 - reach and grasp (section IV-A): ``first_touch``, ``reached``, ``first_grasp``, ``grasped``;
 - ``touch_onsets``: the steps at which a touch begins (a swipe's hit, a new attempt);

@@ -4,8 +4,7 @@ Pure functions of per-step arrays (row t = the state at t * dt, dt = 0.1 s, sect
 ``hand`` and ``ball`` are (T, 3) positions in metres (the palm point and the ball's centre),
 ``end`` is the row of the first touch (``contacts.first_touch``; -1 when the ball is never
 touched). Speeds are in m/s, times in s, lengths in m. Every threshold is a module constant,
-fixed before any data was looked at and documented with its reason in docs/analysis.md
-("Measures of issue 22").
+fixed before any data was looked at and documented with its reason in docs/model/measures.md.
 
 - the reach's path: ``path_length``, ``step_speeds``, ``movement_onset``, ``reaching_speed``,
   ``peak_speed``, ``final_approach``, ``final_speed``, ``straightness``,
@@ -20,6 +19,7 @@ from __future__ import annotations
 import math
 
 import numpy as np
+from scipy.signal import find_peaks
 
 #: Control step (s) of section III-B.
 DT = 0.1
@@ -136,7 +136,7 @@ def straightness(hand, ball, end: int, radius: float = 0.0) -> float:
     actions"): (|hand[0] - ball[0]| - ``radius``) over the hand's path over rows 0..end.
 
     ``radius`` = the ball's radius (m) measures the initial distance to the ball's surface,
-    where the reach ends; 0 measures it to the centre (the definition before issue 22, biased
+    where the reach ends; 0 measures it to the centre (the earlier definition, biased
     up by radius / path). NaN without a touch or with a path of zero length."""
     if end < 0:
         return math.nan
@@ -168,8 +168,6 @@ def movement_units(hand, end: int, dt: float = DT, prominence: float = UNIT_PROM
     ``prominence`` m/s, from movement onset to the first touch (row ``end``). The speed is
     taken as 0 before the onset and at the touch, so a single smooth reach has 1 unit and a
     reach made of corrective sub-movements more. NaN without a touch or a movement."""
-    from scipy.signal import find_peaks
-
     if end <= 0:
         return math.nan
     h = points(hand, "hand")[:end + 1]
@@ -263,7 +261,7 @@ def hand_periodicity(hand, dt: float = DT) -> tuple[float, float]:
 
 def is_babbling(frequency: float, share: float, amplitude: float) -> bool:
     """Motor babbling in a trial (IV-A-1, Table I: "large quasi-periodic circular movements";
-    issue 21 item 7): a dominant rhythm (``share`` >= ``BABBLING_SHARE`` at ``frequency`` >=
+    docs/model/measures.md): a dominant rhythm (``share`` >= ``BABBLING_SHARE`` at ``frequency`` >=
     ``BABBLING_MIN_HZ``) AND a large movement (``amplitude`` >= ``BABBLING_AMPLITUDE``). A
     hand at rest (NaN share) is not babbling."""
     return bool(share >= BABBLING_SHARE and frequency >= BABBLING_MIN_HZ

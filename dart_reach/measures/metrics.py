@@ -163,7 +163,7 @@ def trial_metrics(data, dt: float = DT, ball_radius: float = BALL_RADIUS,
     in m/s, joint variability in rad, frequency in Hz. ``ball_radius`` (m): the run's ball;
     ``joint_ranges``: (14,) rad, the run's joint ranges (``World.motor_limit_upper -
     motor_limit_lower``), for the normalised variabilities (NaN without them). Definitions,
-    thresholds and the paper's words each measure stands for: docs/analysis.md. Keys:
+    thresholds and the paper's words each measure stands for: docs/model/measures.md. Keys:
 
     - who and how well: sector, fitness (``data.fitness``: mean p_multimodal, 0 when
       diverged), diverged, steps_run;
@@ -174,7 +174,7 @@ def trial_metrics(data, dt: float = DT, ball_radius: float = BALL_RADIUS,
     - the reach (Fig. 5; up to the first touch on any face): movement_onset_s, speed (mean
       from t = 0), speed_peak, speed_final (the final approach), straightness (initial
       distance to the ball's surface over the path), straightness_centre (to its centre, the
-      definition before issue 22), straightness_onset (displacement over path from movement
+      earlier definition), straightness_onset (displacement over path from movement
       onset), movement_units (speed peaks: smoothness);
     - joints (Fig. 6): var_elbow, var_shoulder, var_trunk (whole trial, rad), var_*_before
       (before the first touch; the whole trial without one), var_*_norm (whole trial, each

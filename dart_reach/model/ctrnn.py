@@ -155,7 +155,7 @@ def zero_params() -> NetworkParams:
 # target by ~ k c: the slope of tanh((W c - theta) / 2) at c = 0 is W (1 - t_home^2) / 2 = k, so
 # W = 2 k / (1 - t_home^2). On this robot a target change of 1 turns the camera by 50 deg (yaw) or
 # 31 deg (pitch), i.e. c by ~0.6 or ~0.5 near the centre: a loop gain of 0.6 k per step. k = 1
-# (ORIENT_GAIN) was chosen by measurement (docs/controller.md, ``dart-reach validate``): stable
+# (ORIENT_GAIN) was chosen by measurement (docs/model/controller.md, ``dart-reach validate``): stable
 # (no oscillation at 10 Hz with the joints' speed bound), and it halves the image offset of a
 # reflex-only head. With low acuity (a = 3) the drive is c^3: the reflex is weaker near the
 # centre, as a blurrier orienting response would be. ORIENT_HOME_TARGETS are the neck's home
@@ -167,7 +167,7 @@ def zero_params() -> NetworkParams:
 # Grasp reflex: hand motor <- palm touch with GRASP_WEIGHT = 5 and threshold 0: palm touched (+1)
 # -> sigma(5) = 0.993, target 0.987 (fingers closed); untouched (-1) -> target -0.987 (open).
 #
-# What else the three reflex motor neurons receive (docs/controller.md): while the reflexes are
+# What else the three reflex motor neurons receive (docs/model/controller.md): while the reflexes are
 # on, none of the evolved sensory connections (the reflex arcs are the full arrows of Fig. 3:
 # all of their direct input is hand-set; with evolved direct inputs as well, the 24 other
 # sensors of a random network drive them with a net input of 9-31 against the reflexes' 2-5, and

@@ -53,7 +53,7 @@ def segment_kind(body: str) -> str:
     return "thumb" if body.startswith("r_hand_thumb") else "finger"
 
 
-#: Rest posture at the start of every trial (rad; docs/world.md, III): the arm hangs at the
+#: Rest posture at the start of every trial (rad; docs/model/world.md, III): the arm hangs at the
 #: side, slightly abducted, the forearm a little forward (shoulder pitch 0, roll 20 deg, elbow
 #: 34 deg), away from the ball (palm at least 10 cm from it in every sector); the trunk
 #: straight; the head bent 32 deg down and turned 17 deg right, toward the sectors, so that the

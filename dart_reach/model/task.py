@@ -1,12 +1,14 @@
-"""One trial and one evaluation of the reach-and-grasp task (paper sections III-B, III-C).
+"""One trial and one lifetime of the reach-and-grasp task (paper sections III-B, III-C).
 
 A trial: the robot is reset to its home posture, the ball placed at rest in a sector, and the
 network drives the robot for 200 steps of 0.1 s (20 s). At each step the sensors are read, the
 fitness terms computed (p_sight, p_touch, p_multimodal = min of the two, Eq. 5), the network
 updated and its 14 motor outputs sent to the world as targets.
 
-An evaluation is 18 trials, 2 per sector at random points, and its fitness the mean of
-p_multimodal over all their steps (a diverged trial counts 0).
+A lifetime, what evolution scores an individual by (section III-C), is 18 trials, 2 per sector
+at random points, and its fitness the mean of p_multimodal over all their steps (a diverged trial
+counts 0). Under the steady-state GA a parent lives again in every generation it survives, at
+new positions, and its lifetime fitness is the mean over its lifetimes (``evolution.ga``).
 
 Everything the later analysis needs is kept per step in numpy arrays (``TrialData``).
 A trial whose network or physics becomes NaN or infinite stops there with fitness 0 and
@@ -64,7 +66,7 @@ class TrialConfig:
     reflexes: bool = True  # orienting and grasp reflexes (section III-D, 1)
     senses: Senses = Senses.NORMAL
     steps: int = 200  # 20 s of 0.1 s steps (section III-C)
-    trials: int = 18  # trials per evaluation: 2 per sector (section III-C)
+    trials: int = 18  # trials per lifetime: 2 per sector (section III-C)
 
     def __post_init__(self):
         if not (self.acuity > 0 and math.isfinite(self.acuity)):
@@ -119,7 +121,9 @@ class TrialData:
 
 
 @dataclass
-class Evaluation:
+class Lifetime:
+    """One lifetime of an individual (section III-C): its fitness and its trials."""
+
     fitness: float
     trials: list[TrialData] = field(default_factory=list)
 
@@ -219,7 +223,7 @@ class Trial:
 
 def trial_positions(world: World, rng: np.random.Generator, trials: int = 18
                     ) -> list[tuple[int, np.ndarray]]:
-    """(sector, ball position) of each trial of an evaluation: the sectors in turn (18 trials =
+    """(sector, ball position) of each trial of a lifetime: the sectors in turn (18 trials =
     2 per sector, section III-C), each at a random point of the sector. When ``trials`` is not a
     multiple of 9 the turn starts at a random sector, so no sector is favoured on average."""
     start = int(rng.integers(N_SECTORS)) if trials % N_SECTORS else 0
@@ -233,11 +237,12 @@ def network_for(params: NetworkParams, config: TrialConfig) -> Network:
     return Network(params, reflexes=config.reflexes, hidden_frozen=config.hidden_frozen)
 
 
-def evaluate(params: NetworkParams, world: World, config: TrialConfig,
-             rng: np.random.Generator, trial: Trial | None = None) -> Evaluation:
-    """Fitness of one network (section III-C): the mean p_multimodal over 18 trials."""
+def lifetime(params: NetworkParams, world: World, config: TrialConfig,
+             rng: np.random.Generator, trial: Trial | None = None) -> Lifetime:
+    """One lifetime of a network (section III-C): its ``config.trials`` trials (18) at the
+    positions ``rng`` draws, and its fitness, the mean p_multimodal over them."""
     trial = trial if trial is not None and trial.config == config else Trial(world, config)
     network = network_for(params, config)
     trials = [trial.run(network, k, p)
               for k, p in trial_positions(world, rng, config.trials)]
-    return Evaluation(float(np.mean([t.fitness for t in trials])), trials)
+    return Lifetime(float(np.mean([t.fitness for t in trials])), trials)

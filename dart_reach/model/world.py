@@ -69,12 +69,12 @@ class SectorConfig:
     positive to the robot's right) and elevation (0 = neck height, positive up), in degrees.
     Sector k has elevation row k // 3 (0 = lowest) and azimuth column k % 3 (0 = leftmost).
     The paper does not give the bounds (it copies the infant experiments, II-B, III); the
-    defaults are the scene study's ``arm-length-shoulder`` scene (docs/task.md, "The scene"):
+    defaults are the scene study's ``arm-length-shoulder`` scene (docs/model/scene.md):
     the ball at shoulder height, 0-45 deg to the right of the midline, the farthest point at the
     extended arm's length. Every point, corners included, is in front of the right shoulder,
     inside the head camera's field of view at the home posture, 25-34 cm from the eyes (inside
     the 50 cm of the distance sensor, Eq. 3), clear of the resting arm and within the reach of
-    the right arm (``dart-reach validate``; docs/world.md). Other scenes:
+    the right arm (``dart-reach validate``; docs/model/world.md). Other scenes:
     ``dart_reach.scenes``."""
 
     radius: float = 0.344
@@ -102,11 +102,11 @@ class WorldConfig:
     """Everything that defines the physics of a trial."""
 
     skeleton: Path | None = None  # None: the skeleton shipped with the package
-    physics_dt: float = 0.02  # s per physics substep (5 per control step; see docs/world.md)
+    physics_dt: float = 0.02  # s per physics substep (5 per control step; see docs/model/world.md)
     control_dt: float = 0.1  # s per control step (section III-B)
     natural_frequency: float = 20.0  # rad/s of each joint's spring at the home posture
     damping_ratio: float = 1.0  # of each joint's spring-damper
-    #: rad/s, the fastest a motor's commanded position may move (docs/world.md, III-B): the
+    #: rad/s, the fastest a motor's commanded position may move (docs/model/world.md, III-B): the
     #: springs' rest positions step toward the network's targets by at most this times
     #: ``control_dt`` per control step.
     max_joint_speed: float = 2.0
@@ -245,7 +245,7 @@ class World:
         direction of its inner (palmar) face in the shape's frame (``icub.INNER_FACES``)."""
         # Keyed by the shape node itself: dartpy hands back the same Python object for a shape
         # node it has wrapped before, so a contact's shape frame is found without asking DART
-        # for its name (a contact read per substep must cost little: docs/world.md).
+        # for its name (a contact read per substep must cost little: docs/model/world.md).
         self._touch_faces = {}
         for i, body in enumerate(self._segments):
             direction, half_angle = icub.INNER_FACES[icub.segment_kind(body.getName())]
@@ -405,7 +405,7 @@ class World:
 
     # ------------------------------------------------------------------ observations
     # Read once per control step: ``Frame.getTransform()`` and ``getCOM()`` cost dartpy 2 and
-    # 1 µs, ``getWorldTransform()`` 7 (docs/world.md, throughput).
+    # 1 µs, ``getWorldTransform()`` 7 (docs/results/benchmarks.md).
     def joint_positions(self) -> np.ndarray:
         """All joint angles (rad), skeleton order."""
         return self.robot.getPositions()

@@ -6,9 +6,9 @@ gross-reaching, Table I; the freezing then un-freezing of distal joints and babb
 then fading, V; fine* and fine^ "never display such behavior during the course of their
 developmental process", IV-C) cannot be judged from final populations. Two sources:
 
-- **snapshots** (``experiment.Run.snapshots``, ``train --snapshot-every``): the best robots of
+- **snapshots** (``RunDirectory.snapshots``, ``train --snapshot-every``): the best robots of
   every replication after generations 1, 2, 5, 10, every K and the last of each phase.
-  ``evaluate_snapshots`` post-evaluates the best ``robots`` of each on the 45 systematic
+  ``measure_snapshots`` post-evaluates the best ``robots`` of each on the 45 systematic
   positions (normal senses), every measure of ``metrics.trial_metrics``, into
   ``development.parquet`` (one row per trial; resumable: what is there is kept).
 - **recordings** (``train --record-every``): one trial of each replication's best individual
@@ -33,14 +33,16 @@ from typing import Callable, Sequence
 import numpy as np
 import polars as pl
 
-from ..model.ctrnn import MOTOR_NAMES
-from .systematic import EvaluationProgress, RobotJob, _save, open_finished, run_robot
-from ..evolution.backends import make_evaluator
-from ..evolution.run import Run, RunError, trial_config
+from .systematic import EvaluationProgress, RobotJob, open_finished, run_robot, save_table
+from ..evolution.backends import make_backend
+from ..evolution.rundir import RunDirectory, RunError
+from ..evolution.settings import trial_config
 from ..files import DirectoryLock, remove_temporaries
-from ..model.icub import HAND_SEGMENTS
 from ..measures.metrics import trial_metrics
+from ..model.ctrnn import MOTOR_NAMES
+from ..model.icub import HAND_SEGMENTS
 from ..model.task import Senses, TrialData
+from ..recording.rrd import read_properties, read_rrd
 
 TABLE = "development.parquet"
 _KEY = ("phase_key", "generation", "replication", "rank")
@@ -57,9 +59,9 @@ MEASURES = (("fitness", "fitness (mean p_multimodal)"), ("reached", "reach rate"
             ("straightness", "straightness"))
 
 
-def _offsets(run: Run) -> dict[str, tuple[str, int, str]]:
+def _offsets(run: RunDirectory) -> dict[str, tuple[str, int, str]]:
     """phase key -> (condition, generations before the phase in that condition, notation),
-    for each phase as ``Run.unique_phases`` trains it (with its first condition)."""
+    for each phase as ``RunDirectory.unique_phases`` trains it (with its first condition)."""
     first = {p.key: c for c, p in run.unique_phases()}
     out = {}
     for c in run.conditions:
@@ -82,17 +84,17 @@ def load_development(run_dir) -> pl.DataFrame | None:
         raise RunError(f"{path}: unreadable ({exc})") from None
 
 
-def evaluate_snapshots(run_dir, robots: int = 1, workers: int | None = None,
-                       ray_address: str | None = None,
-                       progress: Callable[[EvaluationProgress], None] | None = None,
-                       save_every_s: float = 10.0) -> pl.DataFrame:
+def measure_snapshots(run_dir, robots: int = 1, workers: int | None = None,
+                      ray_address: str | None = None,
+                      progress: Callable[[EvaluationProgress], None] | None = None,
+                      save_every_s: float = 10.0) -> pl.DataFrame:
     """Post-evaluate the best ``robots`` (<= the snapshots' 5) of every replication of every
     snapshot of a finished run on the 45 systematic positions, normal senses, and return
     ``development.parquet`` (written in the run). Columns: condition (the first that trains
     the phase), phase, phase_key, notation, replication, rank, generation, offset
     (generations of the condition's earlier phases), lifetime_fitness, trial, sector,
     ball_x/y/z, every measure of ``metrics.trial_metrics`` and measures_version. Snapshots
-    already evaluated are kept. ``progress`` is told an ``evaluation.EvaluationProgress``
+    already evaluated are kept. ``progress`` is told a ``systematic.EvaluationProgress``
     (robots done of those left, with an ETA) after each robot."""
     run = open_finished(run_dir)
     if robots < 1:
@@ -118,24 +120,24 @@ def evaluate_snapshots(run_dir, robots: int = 1, workers: int | None = None,
                                       "offset": offsets[phase.key][1]})
         if not jobs:
             return table if table is not None else pl.DataFrame()
-        evaluator = make_evaluator(workers, ray_address)
+        backend = make_backend(workers, ray_address)
         rows: list[dict] = []
         t0 = last_save = time.monotonic()
         try:
             for n, (job, more, (job_rows, _)) in enumerate(
-                    zip(jobs, extra, evaluator.imap(run_robot, jobs)), start=1):
+                    zip(jobs, extra, backend.imap(run_robot, jobs)), start=1):
                 rows.extend(dict(row, **more) for row in job_rows)
                 if time.monotonic() - last_save > save_every_s:
-                    table, rows = _save(path, table, rows, _KEY), []
+                    table, rows = save_table(path, table, rows, _KEY), []
                     last_save = time.monotonic()
                 if progress:
                     progress(EvaluationProgress(n, len(jobs), time.monotonic() - t0,
                                                 f"{job.phase.name} @{more['generation']}",
                                                 "development"))
         finally:
-            evaluator.close()
+            backend.close()
             if rows:
-                table = _save(path, table, rows, _KEY)
+                table = save_table(path, table, rows, _KEY)
         return table
 
 
@@ -167,9 +169,7 @@ def recorded_development(run_dir) -> pl.DataFrame:
     phase, phase_key, notation, replication, rank (0), generation, offset, sector and every
     measure of ``metrics.trial_metrics`` (reach on inner faces; no swipes). Empty when the run
     recorded none."""
-    from ..recording.rrd import read_properties, read_rrd
-
-    run = Run.open(run_dir)
+    run = RunDirectory.open(run_dir)
     offsets = _offsets(run)
     rows = []
     for _, phase in run.unique_phases():

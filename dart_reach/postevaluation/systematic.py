@@ -21,14 +21,15 @@ Output, in the run directory::
 Random genomes of each phase can be post-evaluated beside the trained robots as the chance
 level of every measure (``baseline``: ``evaluate --baseline N``): they are rows with
 ``baseline`` true, replication = the random genome's index, rank 0, lifetime_fitness NaN, drawn
-from the run's seed tree (``experiment.baseline_genomes``) and decoded with the phase's free
+from the run's seed tree (``settings.baseline_genomes``) and decoded with the phase's free
 groups and maturational state. ``load_evaluation`` leaves them out unless asked.
 
 Evaluating again adds only what is missing (another sensory condition, more robots); rows and
 recordings already saved are kept, except rows measured by an older version of the measures
-(``measures_version`` below ``MEASURES_VERSION``, or absent: tables written before issue 22),
-which are evaluated and measured again when their robot and condition are asked for. The table
-is saved every few seconds, so an interrupted evaluation keeps the robots it finished.
+(``measures_version`` below ``MEASURES_VERSION``, or absent: tables written before version 2 of
+the measures), which are evaluated and measured again when their robot and condition are asked
+for. The table is saved every few seconds, so an interrupted evaluation keeps the robots it
+finished.
 """
 
 from __future__ import annotations
@@ -42,11 +43,12 @@ from typing import Callable, Iterable, Sequence
 import numpy as np
 import polars as pl
 
+from ..evolution.backends import make_backend, worker_trial
 from ..evolution.conditions import Phase
-from ..evolution.backends import make_evaluator, worker_trial
-from ..evolution.run import Run, RunError, baseline_genomes, trial_config
-from ..files import DirectoryLock, atomic_write, remove_temporaries
 from ..evolution.genome import as_groups, decode
+from ..evolution.rundir import RunDirectory, RunError
+from ..evolution.settings import baseline_genomes, trial_config
+from ..files import DirectoryLock, atomic_write, remove_temporaries
 from ..measures.metrics import trial_metrics
 from ..progress import evaluation_bar
 from ..recording.rrd import RobotModel, TrialInfo, trial_rrd, write_blueprint, write_rrd
@@ -63,9 +65,9 @@ SENSES = tuple(s.value for s in Senses if s is not Senses.NO_BALL)
 BALL_ABSENT = Senses.NO_BALL.value
 #: Every post-evaluation condition (``--sensors all``).
 TESTS = (*SENSES, BALL_ABSENT)
-#: Version of the per-trial measures in evaluation.parquet: 1 (absent column) before issue 22
-#: (reach = an inner-face touch, straightness to the ball's centre); 2: the measures of
-#: ``metrics.trial_metrics`` as documented in docs/analysis.md.
+#: Version of the per-trial measures in evaluation.parquet: 1 (absent column), the first
+#: measures (reach = an inner-face touch, straightness to the ball's centre); 2: the measures of
+#: ``metrics.trial_metrics`` as documented in docs/model/measures.md.
 MEASURES_VERSION = 2
 _KEY = ("phase_key", "senses", "baseline", "replication", "rank")
 
@@ -167,11 +169,11 @@ def parse_senses(text: str) -> tuple[str, ...]:
     return (text,)
 
 
-def open_finished(run_dir, finished_only: bool | None = None) -> Run:
+def open_finished(run_dir, finished_only: bool | None = None) -> RunDirectory:
     """The run in ``run_dir``, refusing one whose training has not finished (with
     ``finished_only`` True: one in which no phase has; False: the message names the option,
     None: it does not offer it)."""
-    run = Run.open(run_dir)
+    run = RunDirectory.open(run_dir)
     missing = run.unfinished()
     if finished_only and len(missing) < sum(len(c.phases) for c in run.conditions):
         return run
@@ -180,7 +182,7 @@ def open_finished(run_dir, finished_only: bool | None = None) -> Run:
                      f"(no final.npz)" + {True: "; no phase has finished yet",
                                           False: " (--finished-only: the finished phases alone)",
                                           None: ""}[finished_only] + "; finish it with "
-        raise RunError(unfinished + f"experiment.train(..., out={str(run.out)!r}, resume=True)",
+        raise RunError(unfinished + f"dart_reach.train(..., out={str(run.out)!r}, resume=True)",
                        cli=unfinished + f"'dart-reach train ... --resume --out {run.out}'")
     return run
 
@@ -197,7 +199,7 @@ def load_evaluation(run_dir, baseline: bool | None = False) -> pl.DataFrame:
         raise RunError(f"{path}: unreadable ({exc})") from None
     if "baseline" not in table.columns:  # written before the baseline existed
         table = table.with_columns(pl.lit(False).alias("baseline"))
-    if "measures_version" not in table.columns:  # written before issue 22's measures
+    if "measures_version" not in table.columns:  # written before measures of version 2
         table = table.with_columns(pl.lit(1).alias("measures_version"))
     return table if baseline is None else table.filter(pl.col("baseline") == baseline)
 
@@ -205,7 +207,7 @@ def load_evaluation(run_dir, baseline: bool | None = False) -> pl.DataFrame:
 def run_phases(run_dir) -> pl.DataFrame:
     """Every (condition, phase) of a run in training order, with the phase's notation and key
     (to join with the evaluation table, in which a phase shared by conditions appears once)."""
-    run = Run.open(run_dir)
+    run = RunDirectory.open(run_dir)
     return pl.DataFrame([
         {"condition": c.name, "order": i, "phase": p.name, "notation": p.notation,
          "phase_key": p.key, "generations": p.generations}
@@ -238,8 +240,8 @@ def evaluate_run(run_dir, senses: Iterable[str] = ("normal",), robots: int = 5,
             bar.close()
 
 
-def _evaluate(run: Run, senses, robots, record, workers, ray_address, progress, save_every_s,
-              baseline) -> pl.DataFrame:
+def _evaluate(run: RunDirectory, senses, robots, record, workers, ray_address, progress,
+              save_every_s, baseline) -> pl.DataFrame:
     senses = tuple(Senses(s) for s in senses)
     population = run.settings.ga.population
     if not 1 <= robots <= population:
@@ -277,31 +279,31 @@ def _evaluate(run: Run, senses, robots, record, workers, ray_address, progress, 
         return table if table is not None else pl.DataFrame()
     if any(job.record for job in jobs) and not (run.out / BLUEPRINT).exists():
         write_blueprint(run.out / BLUEPRINT)
-    evaluator = make_evaluator(workers, ray_address)
+    backend = make_backend(workers, ray_address)
     rows: list[dict] = []
     t0 = last_save = time.monotonic()
     try:
         for n, (job, (job_rows, recordings)) in enumerate(
-                zip(jobs, evaluator.imap(run_robot, jobs)), start=1):
+                zip(jobs, backend.imap(run_robot, jobs)), start=1):
             for row, content in zip(job_rows, recordings):
                 if content is not None:
                     write_rrd(run.out / row["recording"], content)
             rows.extend(job_rows)
             if time.monotonic() - last_save > save_every_s:
-                table, rows = _save(path, table, rows), []
+                table, rows = save_table(path, table, rows), []
                 last_save = time.monotonic()
             if progress:
                 progress(EvaluationProgress(n, len(jobs), time.monotonic() - t0, job.phase.name,
                                             job.trial.senses.value))
     finally:
-        evaluator.close()
+        backend.close()
         if rows:
-            table = _save(path, table, rows)
+            table = save_table(path, table, rows)
     return table
 
 
-def _save(path: Path, table: pl.DataFrame | None, rows: list[dict],
-          key: Sequence[str] = _KEY) -> pl.DataFrame:
+def save_table(path: Path, table: pl.DataFrame | None, rows: list[dict],
+               key: Sequence[str] = _KEY) -> pl.DataFrame:
     """``rows`` added to ``table`` (replacing its rows of the same ``key``: robots measured
     by an older version), written atomically."""
     new = pl.DataFrame(rows, schema_overrides={"recording": pl.Utf8}, infer_schema_length=None)

@@ -23,11 +23,11 @@ provenance (``ROBOTS_FORMAT``)::
 file from one phase of a trained run, ``export_run()`` one per phase of every condition of a
 run: a file dropped into this folder is shipped from then on. ``replication-50-*.json``: the
 best 2 robots of each of the 4 replications of every phase of the longer replication's stage
-1 (docs/replication.md; 50 generations per phase, gross^ 100); ``replication-10-*.json``: the
+1 (docs/results/replication.md; 50 generations per phase, gross^ 100); ``replication-10-*.json``: the
 same of stage 2, all eight conditions of Fig. 10 at 10 generations per phase (gross^ and
 gross^* 20, fine^ and fine* 30; pre-h, shared by pre-h and gross-h, under each).
 ``evolved_pre.json``, which tests and benchmarks use, holds the best 10 robots of each of the
-2 replications of the scene study's ``arm-length-shoulder`` run (docs/task.md, "The scene"):
+2 replications of the scene study's ``arm-length-shoulder`` run (docs/results/scene-study.md):
 the standard condition's pre-reaching phase alone, 60 generations, on the default scene.
 """
 
@@ -41,6 +41,10 @@ from importlib import resources
 from pathlib import Path
 
 import numpy as np
+
+from ..evolution.conditions import load_condition
+from ..evolution.rundir import RunDirectory, RunError
+from ..model.scenes import scene_of
 
 ROBOTS_FORMAT = 1
 
@@ -146,17 +150,13 @@ def export_robots(run_dir, phase: str, path, condition: str | None = None,
                   ) -> Path:
     """Write the best ``per_replication`` robots of each replication of a trained run's
     ``phase`` (of ``condition``; default the run's first condition that has it) as a robots
-    file at ``path`` (a new file): put it in ``dart_reach/data/`` to ship them. The
+    file at ``path`` (a new file): put it in ``dart_reach/robots/`` to ship them. The
     condition must be a shipped one (``conditions.load_condition(name)``), so that a user's
     installation can rebuild the phase's maturational state; ``ship_as``: the shipped
     condition to file them under when the run's is not shipped (the learning check's
     ``pre-only``): its phase of that name must be its first and train the same maturational
     state (acuity, offset sensors, free groups, reflexes), else ValueError."""
-    from ..evolution.conditions import load_condition
-    from ..evolution.run import Run
-    from ..model.scenes import scene_of
-
-    run = Run.open(run_dir)
+    run = RunDirectory.open(run_dir)
     found = [(c, p) for c in run.conditions for p in c.phases
              if p.name == phase and (condition is None or c.name == condition)]
     if not found:
@@ -208,9 +208,7 @@ def export_run(run_dir, directory, per_replication: int = 2) -> list[Path]:
     phase shared by two conditions under each. Every phase must have finished training and
     no file may exist yet: the run is checked first, so that nothing is written when one
     fails (RunError, FileExistsError; FileNotFoundError when ``directory`` does not exist)."""
-    from ..evolution.run import Run, RunError
-
-    run = Run.open(run_dir)
+    run = RunDirectory.open(run_dir)
     if not Path(directory).is_dir():
         raise FileNotFoundError(f"{directory}: no such directory; nothing exported")
     jobs = [(c.name, p, Path(directory) / f"{run.out.name}-{c.name}-{p.name}.json")

@@ -12,14 +12,25 @@ from __future__ import annotations
 import os
 import platform
 import resource
+import tempfile
 import time
 from importlib import metadata
+from pathlib import Path
 from typing import Callable
 
 import numpy as np
 
+from ..evolution.backends import (Job, LocalRayCluster, PoolBackend, RayBackend, SerialBackend,
+                                  worker_trial)
+from ..evolution.conditions import load_condition
+from ..evolution.genome import ParamGroup, as_groups, decode, random_genome
+from ..evolution.settings import Settings, standard_trial, trial_config
+from ..measures.metrics import trial_metrics
 from ..model.scripted import ScriptedReach
+from ..model.task import Trial, network_for
 from ..model.world import World, WorldConfig
+from ..recording.rrd import RobotModel, TrialInfo, trial_rrd, write_rrd
+from ..robots import evolved_pre
 
 #: Robots of the closed-loop figures: random pre-reaching networks and evolved ones.
 PANEL = 5
@@ -99,10 +110,7 @@ def world_rtf(config: WorldConfig | None = None, seconds: float = 2.0, pairs: in
 # ------------------------------------------------------------------------------ closed loop
 def panel_genomes(kind: str, n: int = PANEL, seed: int = 0) -> np.ndarray:
     """``n`` pre-reaching genomes: ``random`` ones, or the best ``evolved`` ones shipped with
-    the package (``data.evolved_pre``: they touch the ball in most trials)."""
-    from ..robots import evolved_pre
-    from ..evolution.genome import random_genome
-
+    the package (``robots.evolved_pre``: they touch the ball in most trials)."""
     if kind == "random":
         return random_genome(np.random.default_rng(seed), n)
     return evolved_pre()[0][:n]
@@ -115,10 +123,6 @@ def closed_loop(kind: str, config: WorldConfig | None = None, trials: int = 9) -
     ``_evolved`` for evolved robots): ``closed_loop_rtf``, ``closed_loop_over_limit``
     (physics time over the whole loop's) and ``python_us_per_control_step`` (what the loop
     adds to the physics per 0.1 s step, µs)."""
-    from ..evolution.run import standard_trial
-    from ..evolution.genome import ParamGroup, decode
-    from ..model.task import Trial, network_for
-
     world = World(config or WorldConfig())
     cfg = standard_trial("pre")
     runner = Trial(world, cfg)
@@ -175,10 +179,6 @@ def physics_speedup(config: WorldConfig | None = None, trials: int = 45) -> dict
     """``physics_speedup``: the physics of evolved robots' trials (their motor targets
     replayed) in the reference configuration over the same in this world's, in pairs, one
     trial each side."""
-    from ..evolution.run import standard_trial
-    from ..evolution.genome import ParamGroup, decode
-    from ..model.task import Trial, network_for
-
     config = config or WorldConfig()
     world, reference = World(config), reference_world(config)
     cfg = standard_trial("pre")
@@ -205,12 +205,7 @@ def _peak_rss_mb(_=None) -> float:
 
 
 def _generation(kind: str, jobs: int, trials: int, seed: int) -> list:
-    """The jobs of one pre-reaching generation of ``jobs`` evaluations of ``trials`` trials."""
-    from ..evolution.conditions import load_condition
-    from ..evolution.backends import Job
-    from ..evolution.run import Settings, trial_config
-    from ..evolution.genome import as_groups
-
+    """The jobs of one pre-reaching generation of ``jobs`` lifetimes of ``trials`` trials."""
     phase = load_condition("standard").phases[0]
     trial = trial_config(phase, Settings(trials=trials))
     genomes = panel_genomes(kind, PANEL, seed)
@@ -224,15 +219,13 @@ def ray_efficiency(jobs: int = 40, trials: int = 2, pairs: int = 5, seed: int = 
     processes, in pairs (pool time over Ray time). Results must be identical."""
     import ray
 
-    from ..evolution.backends import LocalRayCluster, PoolEvaluator, RayEvaluator
-
     batch = _generation("evolved", jobs, trials, seed)
-    pool = PoolEvaluator(2)
+    pool = PoolBackend(2)
     try:
         with LocalRayCluster(nodes=2) as cluster:
             try:
-                t_pool, t_ray = _time_evaluators(pool, RayEvaluator(cluster.address), batch,
-                                                 pairs, warm=2)
+                t_pool, t_ray = _time_backends(pool, RayBackend(cluster.address), batch,
+                                               pairs, warm=2)
             finally:
                 ray.shutdown()
     finally:
@@ -240,8 +233,8 @@ def ray_efficiency(jobs: int = 40, trials: int = 2, pairs: int = 5, seed: int = 
     return ratio("ray_efficiency", t_pool / t_ray)
 
 
-def _time_evaluators(a, b, batch: list, pairs: int, warm: int) -> tuple:
-    """Wall times of evaluator ``a`` and ``b`` on ``batch`` in ``pairs`` alternating pairs,
+def _time_backends(a, b, batch: list, pairs: int, warm: int) -> tuple:
+    """Wall times of back-ends ``a`` and ``b`` on ``batch`` in ``pairs`` alternating pairs,
     after ``warm`` jobs on each (worlds built in every worker); their results must agree."""
     a.map(batch[:warm])
     b.map(batch[:warm])
@@ -255,18 +248,16 @@ def _time_evaluators(a, b, batch: list, pairs: int, warm: int) -> tuple:
 
 def parallel(kind: str = "evolved", jobs: int = 40, trials: int = 2, pairs: int = 10,
              seed: int = 0) -> dict:
-    """One generation of ``jobs`` evaluations (``trials`` trials of 20 s) on one core and on
+    """One generation of ``jobs`` lifetimes (``trials`` trials of 20 s) on one core and on
     every core, in pairs: ``parallel_efficiency`` = speed-up / cores (median of the pairs);
     ``generation_core_s``: core-seconds of one replication-generation of the paper (40
-    evaluations of 18 trials) from the serial time; peak memory of the workers and of this
+    lifetimes of 18 trials) from the serial time; peak memory of the workers and of this
     process (MB). Results must be identical on both sides."""
-    from ..evolution.backends import PoolEvaluator, SerialEvaluator
-
     batch = _generation(kind, jobs, trials, seed)
     cores = os.cpu_count() or 1
-    serial, pool = SerialEvaluator(), PoolEvaluator(cores)
+    serial, pool = SerialBackend(), PoolBackend(cores)
     try:
-        t_serial, t_pool = _time_evaluators(serial, pool, batch, pairs, warm=cores)
+        t_serial, t_pool = _time_backends(serial, pool, batch, pairs, warm=cores)
         worker_mb = max(pool.imap(_peak_rss_mb, range(4 * cores)))
     finally:
         pool.close()
@@ -285,17 +276,6 @@ def recording_overhead(robots: int = 2, seed: int = 0) -> dict:
     median over the 45 systematic positions of ``robots`` random gross-reaching robots. Each
     trial is timed and then immediately recorded, so that both see the same machine load.
     ``rrd_mb_per_sim_min``: size of the recordings per simulated minute."""
-    import tempfile
-    from pathlib import Path
-
-    from ..evolution.conditions import load_condition
-    from ..evolution.backends import worker_trial
-    from ..evolution.run import Settings, trial_config
-    from ..evolution.genome import as_groups, decode, random_genome
-    from ..measures.metrics import trial_metrics
-    from ..recording.rrd import RobotModel, TrialInfo, trial_rrd, write_rrd
-    from ..model.task import network_for
-
     settings = Settings()
     phase = load_condition("standard").phases[1]
     trial = trial_config(phase, settings)

@@ -14,7 +14,7 @@ given, the best 5 evolved robots of each replication of each of their phases.
 
 The chosen step is the largest candidate whose statistics agree with its quarter step, over
 the whole panel and within each kind of controller.
-docs/world.md reports the study's figures and the command that reproduces them.
+docs/results/physics-step.md reports the study's figures and the command that reproduces them.
 """
 
 from __future__ import annotations
@@ -25,8 +25,15 @@ from dataclasses import dataclass, replace
 
 import numpy as np
 
+from ..evolution.backends import make_backend
+from ..evolution.conditions import load_condition
+from ..evolution.genome import as_groups, decode, random_genome
+from ..evolution.settings import Settings, trial_config
+from ..measures.metrics import trial_metrics
+from ..model.scripted import ScriptedController
 from ..model.task import Trial, TrialConfig, network_for
 from ..model.world import POINTS_PER_SECTOR, World, WorldConfig
+from ..postevaluation.systematic import open_finished
 
 #: The statistics compared, each ``(key, kind)``: "rate" compared in absolute terms, "rel"
 #: relative to the finer step's value.
@@ -69,11 +76,6 @@ def panel(random: int = 20, seed: int = 0, runs=(), steps: int = 200,
     the scripted reach-and-grasp (unless ``scripted`` is False), and the best ``evolved``
     robots of each replication of each phase of the finished run directories ``runs``.
     Trials last ``steps`` control steps."""
-    from ..evolution.conditions import load_condition
-    from ..postevaluation.systematic import open_finished
-    from ..evolution.run import Settings, trial_config
-    from ..evolution.genome import as_groups, random_genome
-
     settings = Settings(steps=steps)
     standard = load_condition("standard").phases[:2]
     genomes = random_genome(np.random.default_rng(seed), random)
@@ -104,10 +106,6 @@ _WORLDS: dict[float, World] = {}
 def run_member(job: tuple[Member, float]) -> dict:
     """One member's 45 post-evaluation trials at one physics step: the per-trial measures
     needed by the study and the core time they took (s)."""
-    from ..evolution.genome import decode
-    from ..measures.metrics import trial_metrics
-    from ..model.scripted import ScriptedController
-
     member, physics_dt = job
     world = _WORLDS.get(physics_dt)
     if world is None:
@@ -190,24 +188,22 @@ def study(candidates=(0.02, 0.01), random: int = 20, runs=(), steps: int = 200,
     candidate with its quarter, the tracking errors, each step's cost (simulated s per core
     s) and ``chosen``: the largest candidate that agrees in every statistic, over the whole
     panel and within each kind of controller (random, scripted, evolved), or None."""
-    from ..evolution.backends import make_evaluator
-
     candidates = sorted(set(float(c) for c in candidates), reverse=True)
     for c in candidates:
         WorldConfig(physics_dt=c / 4)  # a step that does not divide 0.1 s fails here, early
     members = panel(random, seed, runs, steps, scripted)
     jobs = list(dict.fromkeys((i, dt) for c in candidates for dt in (c, c / 4)
                               for i, m in enumerate(members) if m.judges(c)))
-    evaluator = make_evaluator(workers)
+    backend = make_backend(workers)
     results = {}
     try:
-        for n, result in enumerate(evaluator.imap(run_member, [(members[i], dt)
-                                                                for i, dt in jobs]), start=1):
+        for n, result in enumerate(backend.imap(run_member, [(members[i], dt)
+                                                              for i, dt in jobs]), start=1):
             results[jobs[n - 1]] = result
             if progress:
                 progress(n, len(jobs))
     finally:
-        evaluator.close()
+        backend.close()
     comparisons = {}
     for c in candidates:
         judged = [i for i, m in enumerate(members) if m.judges(c)]

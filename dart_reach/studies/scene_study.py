@@ -1,4 +1,4 @@
-"""The scene study (docs/task.md, "The scene"): how F1's measures of pre-reaching move with
+"""The scene study (docs/results/scene-study.md): how F1's measures of pre-reaching move with
 where the ball hangs (sections II-B, III, IV-A-1; Figs. 2, 5-8).
 
 Each candidate scene was trained alone (``make scene-study``: the standard condition's
@@ -20,13 +20,13 @@ from pathlib import Path
 
 import numpy as np
 import polars as pl
-
+from matplotlib.figure import Figure
 from scipy import stats as sps
 
-from ..analysis import summaries, verdicts
-from ..postevaluation.systematic import load_evaluation
-from ..evolution.run import Run
+from ..analysis import stats, summaries, verdicts
+from ..evolution.rundir import RunDirectory
 from ..model.scenes import scene_of
+from ..postevaluation.systematic import load_evaluation
 
 #: F1's measures (column, label): the reach and grasp rates, when the first touch comes, the
 #: arm's extension and lever, the joints' use (normalised by each joint's range), babbling.
@@ -38,7 +38,7 @@ MEASURES = (("reached", "reach"), ("grasped", "grasp"), ("first_touch_s", "first
 _ROBOT = ("replication", "rank")
 BOOTSTRAP_SEED = 2013
 #: The scene study's contrasts (lever, scene before, scene after): each changes one lever of
-#: the scene, the last both (docs/task.md, "The scene").
+#: the scene, the last both (docs/results/scene-study.md).
 LEVERS = (("height: neck level to shoulder level", "near", "near-shoulder"),
           ("distance: 0.30 m to arm's length", "near-shoulder", "arm-length-shoulder"),
           ("both", "near", "arm-length-shoulder"))
@@ -59,7 +59,7 @@ def summary(run_dirs: Sequence[Path]) -> pl.DataFrame:
     rows = []
     rng = np.random.default_rng(BOOTSTRAP_SEED)
     for d in map(Path, run_dirs):
-        run = Run.open(d)
+        run = RunDirectory.open(d)
         scene = scene_of(run.settings.world.sectors) or d.name
         for group, trials in _groups(d):
             normal = trials.filter(pl.col("senses") == "normal")
@@ -71,7 +71,7 @@ def summary(run_dirs: Sequence[Path]) -> pl.DataFrame:
                    "radius_m": run.settings.world.sectors.radius}
             row.update({m: float(robots[m].mean()) for m in names})
             row["first_touch_s"] = float(normal["first_touch_s"].median() or np.nan)
-            _, row["reach_low"], row["reach_high"] = verdicts.bootstrap_mean_interval(
+            _, row["reach_low"], row["reach_high"] = stats.bootstrap_mean_interval(
                 robots["reached"].to_numpy(), rng)
             absent = trials.filter(pl.col("senses") == "no-ball")
             for m in ("babbling", "hand_amplitude"):
@@ -88,7 +88,7 @@ def robots(run_dirs: Sequence[Path]) -> pl.DataFrame:
     names = [m for m, _ in MEASURES]
     tables = []
     for d in map(Path, run_dirs):
-        scene = scene_of(Run.open(d).settings.world.sectors) or d.name
+        scene = scene_of(RunDirectory.open(d).settings.world.sectors) or d.name
         normal = _groups(d)[0][1].filter(pl.col("senses") == "normal")
         tables.append(summaries.robot_means(normal, names, by=_ROBOT)
                       .with_columns(pl.lit(scene).alias("scene")))
@@ -146,7 +146,7 @@ def sector_rates(run_dirs: Sequence[Path]) -> pl.DataFrame:
     """The evolved robots' reach and grasp rate per sector, one row per scene and sector."""
     tables = []
     for d in map(Path, run_dirs):
-        scene = scene_of(Run.open(d).settings.world.sectors) or d.name
+        scene = scene_of(RunDirectory.open(d).settings.world.sectors) or d.name
         normal = _groups(d)[0][1].filter(pl.col("senses") == "normal")
         tables.append(summaries.sector_success(normal.with_columns(pl.lit(scene).alias("scene")),
                                              by=("scene",)))
@@ -173,18 +173,14 @@ def markdown(table: pl.DataFrame) -> str:
 
 def figure(table: pl.DataFrame, sectors: pl.DataFrame):
     """F1's measures per scene (evolved robots beside random genomes) and the per-sector reach
-    rates (3 x 3 grids, row 0 the lowest), one figure."""
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
+    rates (3 x 3 grids, row 0 the lowest), one figure (made without pyplot, so it holds no
+    global state)."""
     scenes = list(dict.fromkeys(table["scene"].to_list()))
     shown = [("reached", "reach rate"), ("hand_shoulder_cv", "hand-shoulder CV"),
              ("var_elbow_norm", "elbow var. / range"), ("var_shoulder_norm",
                                                         "shoulder var. / range"),
              ("hand_amplitude", "hand amplitude (m)"), ("babbling", "babbling rate")]
-    fig = plt.figure(figsize=(13, 7), layout="constrained")
+    fig = Figure(figsize=(13, 7), layout="constrained")
     top = fig.subfigures(2, 1, height_ratios=[1.2, 1])
     axes = top[0].subplots(1, len(shown))
     x = np.arange(len(scenes))

@@ -23,9 +23,13 @@ from dataclasses import dataclass
 import dartpy as dart
 import numpy as np
 
+from ..analysis.stats import bootstrap_mean_interval
+from ..evolution.genome import ParamGroup, decode, random_genome
+from ..evolution.settings import standard_trial
+from ..measures.metrics import grasped, trial_metrics
 from ..model import sensors
 from ..model.ctrnn import MOTOR_INDEX, SENSOR_INDEX, motor_targets
-from ..evolution.run import standard_trial
+from ..model.scripted import ScriptedReach, grasp_posture
 from ..model.task import Trial, network_for, trial_positions
 from ..model.world import N_SECTORS, World
 
@@ -75,7 +79,7 @@ def arm_length(world: World) -> float:
 
 def scene_geometry(world: World, grid: int = 7) -> dict:
     """Where the ball's start positions lie relative to the robot's right arm at home (the
-    quantities the infant experiments set: docs/task.md, "The scene"), over a ``grid`` x
+    quantities the infant experiments set: docs/model/scene.md), over a ``grid`` x
     ``grid`` lattice of every sector: the ball centre's distance from the shoulder as a fraction
     of the arm's length, its elevation seen from the shoulder (deg, + up) and its lateral offset
     from the body's midline (m, + toward the right arm); min, median and max of each."""
@@ -100,8 +104,6 @@ def scene_geometry(world: World, grid: int = 7) -> dict:
 def scene(world: World, grid: int = 7) -> dict:
     """Start positions on a ``grid`` x ``grid`` lattice of every sector (its corners included)
     checked at the home posture. Returns fractions and extremes over all of them."""
-    from ..model.scripted import grasp_posture
-
     robot = world.robot
     robot.setPositions(world.home)
     cam = world.camera_pose()
@@ -137,9 +139,6 @@ def scene(world: World, grid: int = 7) -> dict:
 def scripted_grasps(world: World, seconds: float = 10.0) -> dict:
     """The scripted reach-and-grasp at the 45 post-evaluation points: how many grasps (the
     paper's definition, ``metrics.grasped``) and the hand's peak speed (m/s)."""
-    from ..measures.metrics import grasped
-    from ..model.scripted import ScriptedReach
-
     steps = round(seconds / world.config.control_dt)
     grasps, peak = 0, []
     for point in world.systematic_points():
@@ -181,8 +180,6 @@ def reflex_rates(world: World, reflexes: bool, networks: int = REFLEX_NETWORKS, 
     whose hand target is then past half-closed (> 0). A reflex acts when the touched rate is a
     clear majority and well above the untouched rate.
     """
-    from ..evolution.genome import ParamGroup, decode, random_genome
-
     config = standard_trial("pre", reflexes=reflexes, trials=1,
                             steps=round(ORIENT_SECONDS / world.config.control_dt) + 1)
     trial = Trial(world, config)
@@ -243,10 +240,6 @@ def chance(world: World, networks: int = CHANCE_NETWORKS, seed: int = 1) -> dict
     each network's reach rate, the reach rate's 95 % bootstrap interval over networks (the
     unit: one network may reach in nearly every trial and the next in none) and the median
     of their trials' peak hand speeds (m/s)."""
-    from ..evolution.genome import ParamGroup, decode, random_genome
-    from ..measures.metrics import trial_metrics
-    from ..analysis.verdicts import bootstrap_mean_interval
-
     config = standard_trial("pre")
     trial = Trial(world, config)
     rng = np.random.default_rng(seed)

@@ -9,6 +9,7 @@ rendering cannot work here, or None.
 
 from __future__ import annotations
 
+import importlib.util
 import os
 import shutil
 import socket
@@ -17,16 +18,20 @@ import sys
 import time
 from pathlib import Path
 
+import polars as pl
+import rerun.experimental as rx
+from PIL import Image
+
+from ..postevaluation.systematic import BLUEPRINT, load_evaluation
+
 #: Mesa's software Vulkan driver (lavapipe), where Debian installs it.
 LAVAPIPE = Path("/usr/share/vulkan/icd.d/lvp_icd.x86_64.json")
 
 
-def _rerun() -> str | None:
+def rerun_binary() -> str | None:
     """The viewer's executable: the binary the rerun-sdk wheel ships (``rerun_cli/rerun``),
     not the ``rerun`` console script, a Python wrapper whose termination leaves the viewer
     running; else whatever ``rerun`` is on the PATH."""
-    import importlib.util
-
     spec = importlib.util.find_spec("rerun_cli")
     for folder in (spec.submodule_search_locations or []) if spec else []:
         binary = Path(folder) / ("rerun.exe" if sys.platform == "win32" else "rerun")
@@ -37,9 +42,10 @@ def _rerun() -> str | None:
 
 def renderer_missing() -> str | None:
     """Why the viewer cannot render headless here (None: it can)."""
-    if _rerun() is None:
+    if rerun_binary() is None:
         return "the rerun viewer is not installed (pip install rerun-sdk)"
-    if "VK_ICD_FILENAMES" not in os.environ and not LAVAPIPE.is_file():
+    named = [Path(f) for f in os.environ.get("VK_ICD_FILENAMES", "").split(os.pathsep) if f]
+    if not (any(f.is_file() for f in named) if named else LAVAPIPE.is_file()):
         return (f"no Vulkan driver: install Mesa's software one (Debian: apt-get install "
                 f"mesa-vulkan-drivers, which provides {LAVAPIPE})")
     return None
@@ -50,8 +56,6 @@ class HeadlessViewer:
     ``rerun.experimental.ViewerClient``. Use as a context manager."""
 
     def __init__(self, size: str = "1600x1000", timeout_s: float = 60.0):
-        import rerun.experimental as rx
-
         reason = renderer_missing()
         if reason:
             raise RuntimeError(reason)
@@ -62,7 +66,7 @@ class HeadlessViewer:
         if "VK_ICD_FILENAMES" not in env:
             env["VK_ICD_FILENAMES"] = str(LAVAPIPE)
         self._process = subprocess.Popen(
-            [_rerun(), "--bind", "127.0.0.1", "--port", str(port), "--headless",
+            [rerun_binary(), "--bind", "127.0.0.1", "--port", str(port), "--headless",
              "--hide-welcome-screen", "--window-size", size],
             env=env, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
         deadline = time.monotonic() + timeout_s
@@ -122,8 +126,6 @@ class HeadlessViewer:
 
 def _shrink(path: Path, width: int) -> None:
     """Downscale a PNG to ``width`` pixels (the README's pictures stay small)."""
-    from PIL import Image
-
     with Image.open(path) as image:
         height = round(image.height * width / image.width)
         small = image.convert("RGB").resize((width, height), Image.LANCZOS)
@@ -134,10 +136,6 @@ def readme_pictures(run_dir, out_dir, width: int = 1000) -> list[Path]:
     """The README's pictures of a post-evaluated run (``make screenshots``): a fine-reaching
     trial of the best robot in the centre sector with its layout, 9 s in, and the training
     curves. Returns the files written."""
-    import polars as pl
-
-    from ..postevaluation.systematic import BLUEPRINT, load_evaluation
-
     run_dir, out_dir = Path(run_dir), Path(out_dir)
     table = load_evaluation(run_dir).filter(pl.col("recording").is_not_null()
                                             & (pl.col("senses") == "normal"))

@@ -3,7 +3,7 @@
 and the frames are encoded with imageio's ffmpeg plugin (the ``video`` extra:
 ``imageio-ffmpeg`` ships its own ffmpeg binary, so no system ffmpeg is needed).
 
-What it costs (docs/analysis.md, "Videos"): the viewer renders in software (Mesa's lavapipe)
+What it costs (docs/results/benchmarks.md, "Watch and video"): the viewer renders in software (Mesa's lavapipe)
 on a machine without a GPU, so a frame takes a sizeable fraction of a second.
 """
 
@@ -15,6 +15,9 @@ from dataclasses import dataclass
 from pathlib import Path
 
 from ..errors import UsageError
+from ..progress import ProgressBar
+from ..recording.rrd import read_rrd, write_blueprint
+from .headless import HeadlessViewer, renderer_missing
 
 
 #: The viewer's commands that hide its side panels (sources and layout, selection).
@@ -45,11 +48,15 @@ class FrameProgress:
         return self.elapsed_s / self.done * (self.total - self.done)
 
 
+class CannotRender(RuntimeError):
+    """This machine cannot make a video (the headless viewer's renderer or the encoder is
+    missing; ``str(exc)`` says which). ``render_video`` raises it only once its arguments and
+    the recording have passed their checks: a mistake in them is told first, on any machine."""
+
+
 def video_missing() -> str | None:
     """Why a video cannot be made here (None: it can): the headless viewer's renderer or the
     encoder is missing."""
-    from .headless import renderer_missing
-
     reason = renderer_missing()
     if reason:
         return reason
@@ -75,12 +82,10 @@ def render_video(recording, out, layout=None, fps: int = 10, size: str = "1280x7
     one per control step, so the video plays at real time) into ``out`` (a new .mp4 file) at
     ``size`` pixels ("WIDTHxHEIGHT"). ``max_frames``: only the first frames (a preview).
     ``progress`` shows a progress bar (plain lines where the output is not a terminal).
+    Every argument and the recording are checked before the machine: ``CannotRender`` (a
+    RuntimeError) comes only after them.
     Cost: 0.27-0.36 s of wall time per frame on a 2-core machine without a GPU
-    (docs/analysis.md, "Videos")."""
-    from ..progress import ProgressBar
-    from ..recording.rrd import read_rrd, write_blueprint
-    from .headless import HeadlessViewer
-
+    (docs/results/benchmarks.md, "Watch and video")."""
     recording, out = Path(recording), Path(out)
     if out.suffix.lower() != ".mp4":
         raise UsageError(f"out must be an .mp4 file, got {out}",
@@ -99,15 +104,17 @@ def render_video(recording, out, layout=None, fps: int = 10, size: str = "1280x7
     if width < 64 or height < 64:
         raise UsageError(f"size must be WIDTHxHEIGHT in pixels (each >= 64), got {size!r}",
                          cli=f"--size must be WIDTHxHEIGHT in pixels (each >= 64), got {size!r}")
-    reason = video_missing()
-    if reason:
-        raise RuntimeError(reason)
-    import imageio.v2 as imageio
-    import imageio.v3 as iio
-
+    if layout is not None and not Path(layout).is_file():
+        raise FileNotFoundError(f"{layout}: no such layout file")
     table = read_rrd(recording)  # also a clear error for a missing or damaged file
     if "sim_time" not in table.columns or table.height == 0:
         raise ValueError(f"{recording}: not a trial recording (no sim_time timeline)")
+    reason = video_missing()  # the machine, once the arguments are known to be right
+    if reason:
+        raise CannotRender(reason)
+    import imageio.v2 as imageio
+    import imageio.v3 as iio
+
     sim_seconds = float(table["sim_time"].max())
     times = frame_times(sim_seconds, fps)[:max_frames]
     t0 = time.monotonic()

@@ -14,8 +14,20 @@ import sys
 from dataclasses import dataclass, field, replace
 from pathlib import Path
 
+import numpy as np
+
 from ..errors import UsageError
-from ..model.world import N_SECTORS, POINTS_PER_SECTOR
+from ..evolution.backends import worker_trial
+from ..evolution.conditions import load_condition
+from ..evolution.genome import as_groups, decode
+from ..evolution.rundir import RunDirectory
+from ..evolution.settings import Settings, trial_config
+from ..measures import metrics
+from ..model.task import Senses, network_for
+from ..model.world import N_SECTORS, POINTS_PER_SECTOR, SectorConfig, WorldConfig
+from ..recording.rrd import RobotModel, TrialInfo, trial_rrd, write_blueprint, write_rrd
+from ..robots import index, robots
+from .headless import rerun_binary
 
 #: Phases of the standard condition in developmental order.
 PHASES = ("pre", "gross", "fine")
@@ -76,10 +88,6 @@ def _longest_trained(robots: list) -> list:
 def _shipped(phase, condition, replication, rank, shipped=None) -> _Choice:
     """The best shipped robot asked for (of the run named ``shipped``, default the
     longest-trained run that ships the phase)."""
-    from ..evolution.conditions import load_condition
-    from ..robots import index, robots
-    from ..evolution.run import Settings
-    from ..model.world import SectorConfig, WorldConfig
 
     wanted = robots(phase, condition, run=shipped)
     if phase is None:  # the most developed phase that ships
@@ -129,7 +137,7 @@ def _shipped(phase, condition, replication, rank, shipped=None) -> _Choice:
                          f"{robot.condition}'s {robot.phase} (made by another version)")
     budget = robot.provenance.get("budget") or {}
     world = WorldConfig(physics_dt=float(budget.get("physics_dt", 0.02)))
-    if "sectors" in budget:  # the scene the robots evolved in (docs/task.md, "The scene")
+    if "sectors" in budget:  # the scene the robots evolved in (docs/model/scene.md)
         world = replace(world, sectors=SectorConfig(**budget["sectors"]))
     settings = Settings(replications=1, steps=int(budget.get("steps", 200)), world=world)
     return _Choice(robot.genome, robot.condition, ph, settings, robot.replication,
@@ -138,11 +146,8 @@ def _shipped(phase, condition, replication, rank, shipped=None) -> _Choice:
 
 def _trained(run_dir, phase, condition, replication, rank) -> _Choice:
     """A trained run's robot."""
-    import numpy as np
 
-    from ..evolution.run import Run
-
-    run = Run.open(run_dir)
+    run = RunDirectory.open(run_dir)
     names = [c.name for c in run.conditions]
     if condition is None or (condition == "standard" and condition not in names):
         cond = run.conditions[0]
@@ -196,13 +201,6 @@ def watch(phase: str | None = None, condition: str | None = "standard",
     with its folder) and its layout beside it (``.rbl``). ``viewer``: True starts the Rerun
     viewer on them, False does not, None (default) starts it where a display is available.
     """
-    from ..measures import metrics
-    from ..evolution.backends import worker_trial
-    from ..evolution.run import trial_config
-    from ..evolution.genome import as_groups, decode
-    from ..recording.rrd import RobotModel, TrialInfo, trial_rrd, write_blueprint, write_rrd
-    from .headless import _rerun
-    from ..model.task import Senses, network_for
 
     if phase is not None and not isinstance(phase, str):
         raise UsageError(f"phase must be a phase name such as 'pre', got {phase!r}")
@@ -241,7 +239,7 @@ def watch(phase: str | None = None, condition: str | None = "standard",
     layout = write_blueprint(out.with_suffix(".rbl"))
     pid = None
     if viewer or (viewer is None and display_available()):
-        binary = _rerun()
+        binary = rerun_binary()
         if binary is None:
             raise RuntimeError("the rerun viewer is not installed (pip install rerun-sdk)")
         pid = subprocess.Popen([binary, str(out), str(layout)], start_new_session=True,

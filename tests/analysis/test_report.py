@@ -17,10 +17,12 @@ import polars as pl
 from polars.testing import assert_frame_equal
 import pytest
 
-from dart_reach.analysis import budgets, figures, findings, report
+from dart_reach.analysis import budgets, findings, report, tables, verdicts
+from dart_reach.analysis.claims import CLAIMS
 from dart_reach.evolution.conditions import load_condition, scaled
 from dart_reach.postevaluation.systematic import SENSES, evaluate_run
-from dart_reach.evolution.run import Settings, train
+from dart_reach.evolution.settings import Settings
+from dart_reach.evolution.trainer import train
 from dart_reach.model.scenes import DEFAULT_SCENE
 
 
@@ -62,11 +64,11 @@ def test_the_report_holds_every_section_figure_and_claim(tiny_run, tmp_path):
                       r'<td class="verdict">([^<]+)', text)
     claims = [c for c, _ in rows]
     assert len(claims) == len(set(claims)) >= 30
-    assert {v for _, v in rows} <= set(findings.VERDICTS)
+    assert {v for _, v in rows} <= set(verdicts.VERDICTS)
     # the tiny run has what F5 needs (gross and gross^) but not F6's pre-h
-    verdicts = dict(rows)
-    assert verdicts["F5 gross &gt; gross^"] != findings.NOT_RUN
-    assert verdicts["F6 pre vs pre-h"] == findings.NOT_RUN
+    by_claim = dict(rows)
+    assert by_claim["F5 gross &gt; gross^"] != verdicts.NOT_RUN
+    assert by_claim["F6 pre not better than pre-h"] == verdicts.NOT_RUN
     assert "random pre" in text and "git revision" in text
     # one budget: its findings as ever, no comparison of budgets
     assert "findings budgets" not in text and "as the budget grows" not in text
@@ -124,7 +126,7 @@ def _alone(run_dirs) -> pl.DataFrame:
     baseline = pl.concat([load_evaluation(d, baseline=True).with_columns(
         pl.lit(d.name).alias("run")) for d in run_dirs], how="diagonal_relaxed")
     developments = [dev for d in run_dirs if (dev := load_development(d)) is not None]
-    return findings.findings(figures.load_runs(run_dirs), baseline,
+    return findings.findings(tables.load_runs(run_dirs), baseline,
                              development=pl.concat(developments) if developments else None)
 
 
@@ -147,7 +149,7 @@ def test_budgets_are_never_pooled_and_runs_of_one_budget_are(tiny_run, other_bud
     assert set(by_budget["scene"]) == {DEFAULT_SCENE}
     for gens, run in ((1, tiny_run), (2, other_budget)):
         block = by_budget.filter(pl.col("generations_per_phase") == gens)
-        assert block.height == len(findings.CLAIMS)
+        assert block.height == len(CLAIMS)
         assert _same(block.drop(budgets.KEY_COLUMNS), _alone([run]))
     # the same data, the same findings to the last bit, every time (group orders, bootstrap
     # draws): this caught sums over polars groups taken in a random order
@@ -172,7 +174,7 @@ def test_a_report_of_two_budgets_sets_them_side_by_side(tiny_run, other_budget, 
     found_data = pl.read_parquet(tmp_path / "found.parquet")
     assert _same(found_data, budgets.findings_by_budget([tiny_run, other_budget]))
     assert found_data.group_by("generations_per_phase").len().sort(
-        "generations_per_phase").rows() == [(1, len(findings.CLAIMS)), (2, len(findings.CLAIMS))]
+        "generations_per_phase").rows() == [(1, len(CLAIMS)), (2, len(CLAIMS))]
     with pytest.raises(ValueError, match="found.parquet' exists"):
         report.build([tiny_run], tmp_path / "r2.html", findings_out=tmp_path / "found.parquet")
     assert not (tmp_path / "r2.html").exists()
@@ -180,12 +182,13 @@ def test_a_report_of_two_budgets_sets_them_side_by_side(tiny_run, other_budget, 
     found = text[start:end]
     table = re.search(r'<table class="findings budgets">.*?</table>', found).group(0)
     head = re.findall(r"<th>([^<]*)</th>", table.split("</thead>")[0])
-    assert head == ["claim", "kind", "1 gen/phase: effect [CI]", "1 gen/phase: verdict",
-                    "2 gen/phase: effect [CI]", "2 gen/phase: verdict", "as the budget grows"]
+    assert head == ["claim", "kind", *[f"{g} gen/phase: {c}" for g in (1, 2)
+                                       for c in ("effect [CI]", "verdict", "robots as units")],
+                    "as the budget grows"]
     rows = re.findall(r"<tr><td>([^<]*)</td>", table)
-    assert len(rows) == len(findings.CLAIMS) == len(set(rows))
+    assert len(rows) == len(CLAIMS) == len(set(rows))
     moves = re.findall(r"<td(?: class=\"\w+\")?>([^<]*)</td></tr>", table)
-    assert {m.split(" (")[0] for m in moves} <= set(budgets.MOVEMENTS)
+    assert set(moves) <= set(budgets.MOVEMENTS)
     # the figure of the effects against the budget, then each budget's own table
     assert re.search(r'<img alt="figure" src="data:image/png;base64,[A-Za-z0-9+/=]+">'
                      + re.escape(f"<p>{html.escape(report.BUDGET_FIGURE_NOTE)}</p>"), found)

@@ -9,7 +9,8 @@ import numpy as np
 import polars as pl
 import pytest
 
-from dart_reach.analysis.stats import kruskal_wallis, mann_whitney, significance_matrix
+from dart_reach.analysis.stats import (holm, holm_adjusted, kruskal_wallis, mann_whitney,
+                                       significance_matrix)
 
 
 def long(**groups) -> pl.DataFrame:
@@ -145,8 +146,6 @@ def test_significance_matrix_from_samples_is_symmetric():
 
 
 def test_holm_adjusts_every_tested_pair_step_down():
-    from dart_reach.analysis.stats import holm
-
     pairs = pl.DataFrame({"a": list("wxyzv"), "b": list("WXYZV"),
                           "p": [0.01, 0.04, 0.03, float("nan"), 0.005]})
     out = holm(pairs, alpha=0.05)
@@ -157,3 +156,18 @@ def test_holm_adjusts_every_tested_pair_step_down():
     matrix = significance_matrix(out, column="significant_holm")
     assert matrix.filter(pl.col("group") == "v")["V"].item() is True
     assert matrix.filter(pl.col("group") == "y")["Y"].item() is False
+
+
+def test_holm_is_one_correction_for_tables_and_arrays():
+    """``holm`` is ``holm_adjusted`` on the table's p column; as statsmodels'
+    ``multipletests(method="holm")``: ties keep one value, an infinite p counts in the family
+    and is capped at 1 (only a NaN p is left out); an empty table gets the columns."""
+    p = [0.02, 0.01, 0.02, math.nan, math.inf, 0.0]
+    adjusted = holm_adjusted(p)
+    # 5 tested: sorted 0, 0.01, 0.02, 0.02, inf -> 0, 0.04, 0.06, 0.06 (running max), 1
+    np.testing.assert_allclose(adjusted, [0.06, 0.04, 0.06, math.nan, 1.0, 0.0])
+    table = holm(pl.DataFrame({"p": p}))
+    np.testing.assert_array_equal(table["p_holm"].to_numpy(), adjusted)
+    empty = holm(pl.DataFrame(schema={"a": pl.Utf8, "b": pl.Utf8, "p": pl.Float64}))
+    assert empty.height == 0
+    assert empty.schema["p_holm"] == pl.Float64 and empty.schema["significant_holm"] == pl.Boolean

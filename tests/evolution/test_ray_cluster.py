@@ -1,5 +1,5 @@
 """A real multi-node Ray cluster on this machine (two ``ray start`` nodes, all traffic on the
-loopback address): training through it is bit-identical to the serial evaluator, and stays so
+loopback address): training through it is bit-identical to the serial back-end, and stays so
 when a worker node dies in the middle of a generation (its tasks run again elsewhere)."""
 
 from __future__ import annotations
@@ -14,7 +14,7 @@ from pathlib import Path
 import pytest
 
 from dart_reach.evolution.backends import LocalRayCluster
-from test_run import _result, _same
+from test_trainer import _result, _same
 
 pytest.importorskip("ray")
 ENV = dict(os.environ, RAY_AUTH_MODE="disabled", RAY_USAGE_STATS_ENABLED="0")

@@ -1,4 +1,4 @@
-"""Scenes as data (``dart_reach/scenes``, docs/task.md "The scene"): the shipped files follow
+"""Scenes as data (``dart_reach/scenes``, docs/model/scene.md): the shipped files follow
 the rule that defines them, bad files are refused naming the problem, and a run keeps its scene
 (sections II-B, III, Fig. 2)."""
 
@@ -15,7 +15,7 @@ import pytest
 
 from dart_reach.studies import validate
 from dart_reach.postevaluation.systematic import evaluate_run
-from dart_reach.evolution.run import Run
+from dart_reach.evolution.rundir import RunDirectory
 from dart_reach.model.scenes import (DEFAULT_SCENE, SceneError, load_scene, scene_from_dict,
                                scene_names, scene_of)
 from dart_reach.model.world import World, WorldConfig, sector_angles, sphere_point
@@ -112,7 +112,7 @@ def test_a_run_keeps_its_scene_and_resume_refuses_another(tmp_path):
     assert load_scene(other).sectors != WorldConfig().sectors
     done = _cli(*tiny, "--scene", other, cwd=root)
     assert done.returncode == 0, done.stderr
-    assert Run.open(out).settings.world.sectors == load_scene(other).sectors
+    assert RunDirectory.open(out).settings.world.sectors == load_scene(other).sectors
     assert json.loads((out / "manifest.json").read_text())["scene"] == other
     # the post-evaluation puts the ball where the run's own scene does, not the default
     table = evaluate_run(out, robots=1, record="none", workers=1, progress=False)

@@ -9,7 +9,7 @@ import pytest
 from dart_reach.model import ctrnn, sensors
 from dart_reach.model.ctrnn import SIGHT, TOUCH, OFFSET, Network, random_params, zero_params
 from dart_reach.model.scripted import ScriptedController
-from dart_reach.model.task import Senses, Trial, TrialConfig, evaluate
+from dart_reach.model.task import Senses, Trial, TrialConfig, lifetime
 from dart_reach.model.world import World
 
 
@@ -21,9 +21,9 @@ def world():
 def test_same_seed_same_fitness_to_the_last_bit(world):
     params = random_params(np.random.default_rng(5))
     cfg = TrialConfig(trials=3, steps=40)
-    a = evaluate(params, world, cfg, np.random.default_rng(9))
-    b = evaluate(params, world, cfg, np.random.default_rng(9))
-    c = evaluate(params, World(), cfg, np.random.default_rng(9))
+    a = lifetime(params, world, cfg, np.random.default_rng(9))
+    b = lifetime(params, world, cfg, np.random.default_rng(9))
+    c = lifetime(params, World(), cfg, np.random.default_rng(9))
     assert a.fitness == b.fitness == c.fitness
     for ta, tc in zip(a.trials, c.trials):
         assert np.array_equal(ta.joints, tc.joints) and np.array_equal(ta.sensors, tc.sensors)
@@ -36,8 +36,8 @@ def test_fitness_tells_a_reaching_grasping_controller_from_zero_and_random(world
         p = world.sector_point(k, 0.5, 0.5)
         scripted.append(trial.run(ScriptedController(world, p), k, p).fitness)
     cfg = TrialConfig(trials=9, steps=100)
-    zero = evaluate(zero_params(), world, cfg, np.random.default_rng(0)).fitness
-    rand = max(evaluate(random_params(np.random.default_rng(s)), world, cfg,
+    zero = lifetime(zero_params(), world, cfg, np.random.default_rng(0)).fitness
+    rand = max(lifetime(random_params(np.random.default_rng(s)), world, cfg,
                         np.random.default_rng(s)).fitness for s in range(3))
     assert min(scripted) > 0.03
     assert np.mean(scripted) > 5 * max(zero, rand, 1e-3)
@@ -46,7 +46,7 @@ def test_fitness_tells_a_reaching_grasping_controller_from_zero_and_random(world
 def test_trial_data_shapes_and_sensors_finite_and_in_range(world):
     cfg = TrialConfig(trials=4, steps=60, offset_sensors=True, acuity=3.0)
     for seed in range(3):
-        ev = evaluate(random_params(np.random.default_rng(seed)), world, cfg,
+        ev = lifetime(random_params(np.random.default_rng(seed)), world, cfg,
                       np.random.default_rng(seed))
         for t in ev.trials:
             assert not t.diverged and t.steps_run == 60
@@ -141,10 +141,10 @@ def test_an_exploding_simulation_scores_zero_with_a_flag(world):
     assert np.isfinite(data.fitness)
 
 
-# ------------------------------------------------------------------ issue 22: nothing changed
+# ---------------------------------------- version 2 of the measures: the trials are unchanged
 #: Digests of every record (dofs, joints, hand, shoulder, ball, contacts, sensors, hidden,
 #: motor, targets, p_sight, p_touch, p_multimodal) of 6 trials per phase and senses, computed
-#: with the code before issue 22's measures (commit 7804bb0) on x86_64, dartpy 6.20.0, numpy
+#: with the code before version 2 of the measures (commit 7804bb0) on x86_64, dartpy 6.20.0, numpy
 #: 2.4.6: recording any-face touches and the palm's normal, and the ball-absent condition,
 #: must leave the trials of every other condition the same to the last bit. They were computed
 #: on the scene of the time (``near``) with the evolved robots then shipped
@@ -189,7 +189,7 @@ def _panel_trials(world, phase: str, senses: str, runner=None, pre=None):
     """The 6 trials of a phase's panel (2 genomes x sectors 1, 4, 7; 120 steps): the shipped
     evolved pre-reachers (or the genomes ``pre``), random genomes for fine-reaching."""
     from dart_reach.studies import bench
-    from dart_reach.evolution.run import standard_trial
+    from dart_reach.evolution.settings import standard_trial
     from dart_reach.evolution.genome import ParamGroup, decode
     from dart_reach.model.task import network_for
 

@@ -1,6 +1,7 @@
-"""Development over generations (``development.py``, the snapshots of ``experiment.Run``): the
-measures' course per replication through a condition's phases (sections IV-A, IV-C, V; Table
-I). That snapshots change nothing trained and survive a resume: tests/test_experiment.py."""
+"""Development over generations (``postevaluation/snapshots.py``, the snapshots of
+``RunDirectory``): the measures' course per replication through a condition's phases (sections
+IV-A, IV-C, V; Table I). That snapshots change nothing trained and survive a resume:
+tests/evolution/test_trainer.py."""
 
 from __future__ import annotations
 
@@ -12,7 +13,8 @@ import pytest
 from dart_reach.postevaluation import snapshots as dev
 from dart_reach.evolution.conditions import load_condition, scaled
 from dart_reach.postevaluation.systematic import evaluate_run
-from dart_reach.evolution.run import Settings, snapshot_due, train
+from dart_reach.evolution.settings import Settings, snapshot_due
+from dart_reach.evolution.trainer import train
 from dart_reach.measures.metrics import trial_metrics
 from dart_reach.recording.rrd import read_rrd
 
@@ -29,7 +31,7 @@ def test_snapshot_generations():
 @pytest.fixture(scope="module")
 def runs(tmp_path_factory):
     """The standard condition, 2 generations per phase, with snapshots and recordings after
-    every generation (that they change nothing trained: tests/test_experiment.py)."""
+    every generation (that they change nothing trained: tests/evolution/test_trainer.py)."""
     cond = [scaled(load_condition("standard"), 2)]
     snap = train(cond, TINY, tmp_path_factory.mktemp("dev") / "snap", workers=1,
                  progress=False, snapshot_every=1, record_every=1)
@@ -39,15 +41,15 @@ def runs(tmp_path_factory):
 def test_development_course_from_snapshots(runs):
     _, _, snap = runs
     told = []
-    table = dev.evaluate_snapshots(snap.out, robots=1, workers=1, progress=told.append)
+    table = dev.measure_snapshots(snap.out, robots=1, workers=1, progress=told.append)
     assert table.height == 3 * 2 * 2 * 45  # phases x snapshots x replications x positions
     assert [p.robots_done for p in told] == list(range(1, 13))
     assert {p.robots_total for p in told} == {12} and told[-1].eta_s == 0.0
     assert all(p.eta_s > 0 for p in told[:-1]) and told[0].phase.startswith("pre @")
     assert (snap.out / dev.TABLE).is_file()
-    again = dev.evaluate_snapshots(snap.out, robots=1, workers=1)
+    again = dev.measure_snapshots(snap.out, robots=1, workers=1)
     assert again.equals(table)  # nothing evaluated twice
-    more = dev.evaluate_snapshots(snap.out, robots=2, workers=1)
+    more = dev.measure_snapshots(snap.out, robots=2, workers=1)
     assert more.height == 2 * table.height
     c = dev.course(more)
     assert c.height == 3 * 2 * 2 and set(c["robots"].to_list()) == {2}
@@ -88,7 +90,7 @@ def test_figures_of_the_course_and_of_the_behaviours(runs):
     from dart_reach.analysis import figures
 
     _, _, snap = runs
-    c = dev.course(dev.evaluate_snapshots(snap.out, robots=1, workers=1))
+    c = dev.course(dev.measure_snapshots(snap.out, robots=1, workers=1))
     fig = figures.development_figure(c, "hand_path", "hand path (m)")
     ax = fig.axes[0]
     assert len(ax.lines) == 2 + 1 + 3  # a line per replication, the median, 3 phase starts
@@ -107,7 +109,7 @@ def test_the_report_draws_the_course_of_every_measure(runs, tmp_path):
     from dart_reach.analysis import report
 
     _, _, snap = runs
-    dev.evaluate_snapshots(snap.out, robots=1, workers=1)
+    dev.measure_snapshots(snap.out, robots=1, workers=1)
     evaluate_run(snap.out, robots=1, record="none", workers=1, progress=False)
     text = report.build([snap.out], tmp_path / "r.html").read_text()
     assert "Development over generations: post-evaluation of the snapshots" in text

@@ -15,7 +15,8 @@ import pytest
 from dart_reach.measures import metrics
 from dart_reach.evolution.conditions import load_condition, scaled
 from dart_reach.postevaluation.systematic import SENSES, evaluate_run, load_evaluation
-from dart_reach.evolution.run import Settings, train
+from dart_reach.evolution.settings import Settings
+from dart_reach.evolution.trainer import train
 from dart_reach.recording.rrd import MEASURES, read_properties, read_rrd, verify
 
 TRIALS = 45  # systematic positions, 5 per sector
@@ -222,8 +223,9 @@ def test_the_finished_phases_of_an_unfinished_run_and_later_the_rest(trained, tm
 
 
 def test_rows_of_an_older_version_of_the_measures_are_measured_again(evaluated, tmp_path):
-    """A table written before issue 22 (no measures_version; reach on inner faces) still
-    opens, and evaluating its robots again replaces their rows instead of mixing versions."""
+    """A table written before version 2 of the measures (no measures_version; reach on inner
+    faces) still opens, and evaluating its robots again replaces their rows instead of mixing
+    versions."""
     src, _ = evaluated
     out = tmp_path / "run"
     shutil.copytree(src, out)

@@ -36,7 +36,7 @@ def test_the_tuned_physics_simulates_what_the_reference_does():
     the last bit in the world as tuned for speed and in the reference configuration."""
     import numpy as np
 
-    from dart_reach.evolution.run import standard_trial
+    from dart_reach.evolution.settings import standard_trial
     from dart_reach.evolution.genome import ParamGroup, decode
     from dart_reach.model.task import Trial, network_for
     from dart_reach.model.world import World

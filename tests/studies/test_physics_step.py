@@ -100,7 +100,8 @@ def test_cli_bad_input(tmp_path):
 
 def test_panel_takes_the_best_robots_of_a_run_with_their_step(tmp_path):
     from dart_reach.evolution.conditions import load_condition, scaled
-    from dart_reach.evolution.run import Settings, train
+    from dart_reach.evolution.settings import Settings
+    from dart_reach.evolution.trainer import train
     from dart_reach.model.world import WorldConfig
 
     settings = Settings(replications=2, trials=1, steps=3, world=WorldConfig(physics_dt=0.01))

@@ -1,4 +1,4 @@
-"""The scene study's tables (``dart_reach.studies.scene_study``, docs/task.md "The scene"): the levers
+"""The scene study's tables (``dart_reach.studies.scene_study``, docs/results/scene-study.md): the levers
 table against its definition on hand-made robots, and the whole study's command on real tiny
 runs trained and post-evaluated on two scenes."""
 
@@ -6,7 +6,6 @@ from __future__ import annotations
 
 from pathlib import Path
 
-import numpy as np
 import polars as pl
 import pytest
 from scipy import stats as sps
@@ -14,7 +13,8 @@ from scipy import stats as sps
 from dart_reach.studies import scene_study
 from dart_reach.evolution.conditions import load_condition, scaled
 from dart_reach.postevaluation.systematic import evaluate_run
-from dart_reach.evolution.run import Settings, train
+from dart_reach.evolution.settings import Settings
+from dart_reach.evolution.trainer import train
 from dart_reach.model.scenes import load_scene
 from dart_reach.analysis.verdicts import hodges_lehmann
 

@@ -9,7 +9,7 @@ import pytest
 
 from dart_reach.recording import rrd as rec
 from dart_reach.robots import evolved_pre
-from dart_reach.evolution.run import standard_trial
+from dart_reach.evolution.settings import standard_trial
 from dart_reach.evolution.genome import ParamGroup, decode
 from dart_reach.viewing.headless import HeadlessViewer, renderer_missing
 from dart_reach.model.task import Trial, network_for

@@ -16,7 +16,9 @@ import pytest
 
 from dart_reach import robots as data
 from dart_reach.evolution.conditions import load_condition, scaled
-from dart_reach.evolution.run import RunError, Settings, train
+from dart_reach.evolution.rundir import RunError
+from dart_reach.evolution.settings import Settings
+from dart_reach.evolution.trainer import train
 from dart_reach.recording.rrd import read_properties, read_rrd
 from dart_reach.model.scenes import DEFAULT_SCENE, load_scene
 from dart_reach.viewing.watch import display_available, watch
@@ -41,7 +43,7 @@ def test_shipped_robots_keep_their_provenance():
     assert [(r.replication, r.rank) for r in shipped if r.rank == 0] == [(1, 0), (0, 0)]
     assert sorted(r.rank for r in shipped) == sorted(list(range(10)) * 2)
     assert info["budget"]["generations"] == 60 and "learning-check" in info["command"]
-    # the scene they evolved in, which watch puts the ball in: the default (docs/task.md)
+    # the scene they evolved in, which watch puts the ball in: the default (docs/model/scene.md)
     assert info["budget"]["scene"] == DEFAULT_SCENE == "arm-length-shoulder"
     assert SectorConfig(**info["budget"]["sectors"]) == SectorConfig()
     assert data.robots("pre", "gross-hat") == []  # gross-hat has no phase pre

@@ -3,8 +3,9 @@
 A :class:`Condition` is an ordered list of :class:`Phase` s. Each phase sets the maturational
 state of the robot (visual acuity, sight-offset sensors, reflexes, which parameter groups learn)
 and its training budget. The conditions of the paper ship as TOML files inside this package
-(``dart_reach/conditions/*.toml``); a user writes another one (another acuity, another budget,
-another order) and passes its path wherever a condition name is accepted, without touching code.
+(``dart_reach/evolution/conditions/*.toml``); a user writes another one (another acuity, another
+budget, another order) and passes its path wherever a condition name is accepted, without touching
+code.
 
 File format (every key is checked; unknown, missing or mistyped keys raise
 :class:`ConditionError` naming the file and the problem)::
@@ -378,10 +379,11 @@ def load_condition(name_or_path: str | os.PathLike) -> Condition:
     """
     if isinstance(name_or_path, str) and name_or_path in condition_names():
         res = _shipped() / f"{name_or_path}.toml"
-        cond = _parse_toml(res.read_bytes(), f"dart_reach/conditions/{name_or_path}.toml")
+        shipped = f"dart_reach/evolution/conditions/{name_or_path}.toml"
+        cond = _parse_toml(res.read_bytes(), shipped)
         if cond.name != name_or_path:
-            raise ConditionError(f"dart_reach/conditions/{name_or_path}.toml: the file's name "
-                                 f"{cond.name!r} does not match its file name")
+            raise ConditionError(f"{shipped}: the file's name {cond.name!r} does not match its "
+                                 f"file name")
         return cond
     if isinstance(name_or_path, os.PathLike) or (
             isinstance(name_or_path, str)

@@ -2,7 +2,7 @@
 
 The paper places the ball "in a randomly selected point located within one of 9 sectors of the
 spherical surface centered on the iCub's neck" and gives no numbers: the sphere's radius and the
-sectors' bounds are open levers, grounded in the infant experiments it copies (docs/task.md,
+sectors' bounds are open levers, grounded in the infant experiments it copies (docs/model/scene.md,
 "The scene"). A scene fixes them. The scenes of the scene study ship as TOML files inside this
 package (``dart_reach/scenes/*.toml``); a user writes another one and passes its path wherever a
 scene name is accepted (``dart-reach train --scene FILE``, :func:`load_scene`).
@@ -35,7 +35,7 @@ from pathlib import Path
 from ..world import SectorConfig, WorldConfig
 
 #: The scene of ``WorldConfig()`` (its ``SectorConfig`` defaults), chosen by the scene study's
-#: rule (docs/task.md).
+#: rule (docs/model/scene.md).
 DEFAULT_SCENE = "arm-length-shoulder"
 
 _NAME_RE = re.compile(r"^[A-Za-z0-9][A-Za-z0-9._-]{0,63}$")

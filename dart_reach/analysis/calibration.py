@@ -1,0 +1,345 @@
+"""Calibration of the verdict rules by simulation of nested data like the runs'.
+
+A run's units are nested: ``replications`` independent populations per group, the best
+``robots`` robots of each, a robot's value the mean over its post-evaluation trials. Data sets
+are drawn with a between-replication and a within-replication spread (``Nesting``), under each
+rule's null (where a decided verdict is an error) and under effects (where it is power), and
+each rule of ``verdicts`` is applied to them exactly as ``findings`` applies it. For every rule
+and nesting, ``calibrate`` measures:
+
+- the rate of a decided verdict (reproduced or contradicted) where the truth is the rule's
+  null, which must be at most ``ALPHA`` within Monte-Carlo error, also when one replication is
+  an outlier (``OUTLIER`` between-replication s.d.);
+- the coverage of the rule's interval (it must hold the true effect at least as often as its
+  level says, within Monte-Carlo error);
+- the power: how often it reproduces a true effect of 1 and 2 s.d. of a replication mean.
+
+Beside the headline rules, ``robot_level_null`` measures what treating the robots as
+independent units would decide under the null (the pseudo-replication the headline avoids).
+Every number is a pure function of the seed.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable
+from dataclasses import dataclass
+
+import numpy as np
+import polars as pl
+from scipy import stats as sps
+
+from . import verdicts as v
+
+#: Data sets per rule, nesting and scenario; the Monte-Carlo standard error of a rate near
+#: ALPHA is then sqrt(0.05 x 0.95 / 2000) = 0.0049.
+DATASETS = 2000
+#: The outlying replication of the robustness null, in between-replication s.d.
+OUTLIER = 4.0
+#: One-sided z of the Monte-Carlo tolerance (99 %): a rule fails when its rate exceeds
+#: ALPHA + Z_MC x its standard error, or its coverage falls below the level - Z_MC x s.e.
+Z_MC = 2.33
+
+
+@dataclass(frozen=True)
+class Nesting:
+    """Replications per group, robots per replication, and the s.d. of replication effects
+    and of robots within a replication, in the measure's units."""
+
+    replications: int
+    robots: int = 5
+    between_sd: float = 1.0
+    within_sd: float = 0.2
+
+    @property
+    def label(self) -> str:
+        return (f"{self.replications} x {self.robots} (s.d. {self.between_sd:g} between, "
+                f"{self.within_sd:g} within)")
+
+    @property
+    def mean_sd(self) -> float:
+        """s.d. of a replication's mean over its robots."""
+        return math.sqrt(self.between_sd ** 2 + self.within_sd ** 2 / self.robots)
+
+
+#: The nestings of the runs: 4 replications (the 10- and 50-generation runs), 10 (the
+#: paper's), each with robots close to their replication's (s.d. ratio 5) and as spread.
+NESTINGS = tuple(Nesting(r, 5, 1.0, w) for r in (4, 10) for w in (0.2, 1.0))
+
+
+def robots(rng: np.random.Generator, nest: Nesting, shift: float = 0.0,
+           outlier: bool = False) -> np.ndarray:
+    """One group's robot values, shape (replications, robots): replication effects
+    N(shift, between_sd), robots N(replication, within_sd); with ``outlier`` one replication
+    moved by ``OUTLIER`` between-replication s.d."""
+    rep = rng.normal(shift, nest.between_sd, nest.replications)
+    if outlier:
+        rep[rng.integers(nest.replications)] += OUTLIER * nest.between_sd
+    return rep[:, None] + rng.normal(0.0, nest.within_sd, (nest.replications, nest.robots))
+
+
+def _pair(rng, nest, shift_b=0.0, outlier=False):
+    a, b = robots(rng, nest), robots(rng, nest, shift_b)
+    if outlier:  # one replication of the pooled 2r moved: the groups stay exchangeable
+        k = rng.integers(2 * nest.replications)
+        (a if k < nest.replications else b)[k % nest.replications] += OUTLIER * nest.between_sd
+    return a, b
+
+
+def _theta_shift(theta: float, sd: float) -> float:
+    """The shift of b over a (both normal with s.d. ``sd``) that gives P(B > A) = theta."""
+    return math.sqrt(2) * sd * sps.norm.ppf(theta)
+
+
+def _rate(flags) -> float:
+    return float(np.mean(flags))
+
+
+def _row(rule: str, nest: Nesting, scenario: str, measure: str, value: float, bound: float,
+         kind: str) -> dict:
+    """``kind``: "at most" (an error rate against ``bound``), "at least" (a coverage) or
+    "power" (reported, no bound)."""
+    se = math.sqrt(max(bound * (1 - bound), 1e-12) / DATASETS) if kind != "power" else math.nan
+    ok = (value <= bound + Z_MC * se if kind == "at most" else
+          value >= bound - Z_MC * se if kind == "at least" else None)
+    return {"rule": rule, "replications": nest.replications, "robots": nest.robots,
+            "between_sd": nest.between_sd, "within_sd": nest.within_sd, "scenario": scenario,
+            "measure": measure, "value": value, "bound": bound if kind != "power" else math.nan,
+            "kind": kind, "ok": ok}
+
+
+def _repeat(rng, n, draw: Callable):
+    return [draw(rng) for _ in range(n)]
+
+
+# ----------------------------------------------------------------------------------- the rules
+def _directional(nest, rng, n):
+    means = lambda x: x.mean(axis=1)  # noqa: E731
+    rows = []
+    for outlier in (False, True):
+        out = _repeat(rng, n, lambda r: v.directional(*map(means, _pair(r, nest, 0.0, outlier)),
+                                                      +1))
+        rows.append(_row("directional", nest, "null" + (", one outlying replication" if outlier
+                                                         else ""),
+                         "decided", _rate([o.verdict in v.DECIDED for o in out]), v.ALPHA,
+                         "at most"))
+    shift = nest.mean_sd
+    out = _repeat(rng, n, lambda r: v.directional(*map(means, _pair(r, nest, shift)), +1))
+    rows.append(_row("directional", nest, "shift 1 s.d.", "coverage of the 95 % interval",
+                     _rate([o.low <= shift <= o.high for o in out]), 0.95, "at least"))
+    for d in (1, 2):
+        out = _repeat(rng, n, lambda r: v.directional(
+            *map(means, _pair(r, nest, d * nest.mean_sd)), +1))
+        rows.append(_row("directional", nest, f"shift {d} s.d.", "reproduced",
+                         _rate([o.verdict == v.REPRODUCED for o in out]), math.nan, "power"))
+    return rows
+
+
+def _against_random(nest, rng, n):
+    """A phase's replication means against random genomes, which are independent robots."""
+    sd = math.sqrt(nest.between_sd ** 2 + nest.within_sd ** 2)
+    rows = []
+    for d, scenario, kind in ((0.0, "null", "at most"), (1.0, "shift 1 s.d.", "power")):
+        def one(r):
+            random_ = r.normal(0.0, sd, 10)
+            return v.directional(random_, robots(r, nest, d * sd).mean(axis=1), +1)
+        out = _repeat(rng, n, one)
+        measure = "decided" if kind == "at most" else "reproduced"
+        flags = [o.verdict in (v.DECIDED if kind == "at most" else (v.REPRODUCED,)) for o in out]
+        rows.append(_row("directional vs 10 random genomes", nest, scenario, measure,
+                         _rate(flags), v.ALPHA if kind == "at most" else math.nan, kind))
+    return rows
+
+
+def _equivalence(nest, rng, n):
+    means = lambda x: x.mean(axis=1)  # noqa: E731
+    edge = _theta_shift(0.5 + v.EQUIVALENCE_MARGIN, nest.mean_sd)
+    rows = []
+    for rule, judge in (("no difference", lambda a, b: v.equivalent(a, b)),
+                        ("not better", lambda a, b: v.not_better(a, b, +1))):
+        out = _repeat(rng, n, lambda r: judge(*map(means, _pair(r, nest, edge))))
+        rows.append(_row(rule, nest, "theta at 0.5 + margin", "reproduced",
+                         _rate([o.verdict == v.REPRODUCED for o in out]), v.ALPHA, "at most"))
+        for outlier in (False, True):
+            out = _repeat(rng, n, lambda r: judge(*map(means, _pair(r, nest, 0.0, outlier))))
+            rows.append(_row(rule, nest, "no difference" + (", one outlying replication"
+                                                            if outlier else ""),
+                             "contradicted", _rate([o.verdict == v.CONTRADICTED for o in out]),
+                             v.ALPHA, "at most"))
+            if not outlier:
+                rows.append(_row(rule, nest, "no difference", "reproduced",
+                                 _rate([o.verdict == v.REPRODUCED for o in out]), math.nan,
+                                 "power"))
+    return rows
+
+
+def _band(nest, rng, n):
+    """Replication rates: replication mean N(centre, between), robots N(rep, within), both on
+    the rate scale (s.d. 0.1 and 0.1 x within/between)."""
+    scale = 0.1
+    rates = lambda r, centre: (robots(r, nest) * scale + centre).mean(axis=1)  # noqa: E731
+    band = (1 / 3, 2 / 3)
+    rows = []
+    for centre, scenario in ((band[0], "mean at the band's edge"),):
+        out = _repeat(rng, n, lambda r: v.in_band(rates(r, centre), band))
+        rows.append(_row("band", nest, scenario, "decided",
+                         _rate([o.verdict in v.DECIDED for o in out]), v.ALPHA, "at most"))
+    out = _repeat(rng, n, lambda r: v.in_band(rates(r, 0.5), band))
+    rows.append(_row("band", nest, "mean 0.5", "coverage of the 95 % interval",
+                     _rate([o.low <= 0.5 <= o.high for o in out]), 0.95, "at least"))
+    rows.append(_row("band", nest, "mean 0.5", "reproduced",
+                     _rate([o.verdict == v.REPRODUCED for o in out]), math.nan, "power"))
+    return rows
+
+
+def _sectors(nest, rng, n):
+    scale, floor, cells = 0.1, v.SECTOR_FLOOR, 18
+
+    def table(r, weakest):
+        return {k: (robots(r, nest) * scale + (weakest if k == 0 else 0.6)).mean(axis=1)
+                for k in range(cells)}
+    out = _repeat(rng, n, lambda r: v.at_least(table(r, floor), floor))
+    rows = [_row("every sector", nest, "one cell at the floor", "reproduced",
+                 _rate([o.verdict == v.REPRODUCED for o in out]), v.ALPHA, "at most")]
+    out = _repeat(rng, n, lambda r: v.at_least(
+        {k: (robots(r, nest) * scale + floor).mean(axis=1) for k in range(cells)}, floor))
+    rows.append(_row("every sector", nest, "every cell at the floor", "contradicted",
+                     _rate([o.verdict == v.CONTRADICTED for o in out]), v.ALPHA, "at most"))
+    out = _repeat(rng, n, lambda r: v.at_least(table(r, floor + 2 * scale), floor))
+    rows.append(_row("every sector", nest, "weakest cell 2 s.d. above the floor", "reproduced",
+                     _rate([o.verdict == v.REPRODUCED for o in out]), math.nan, "power"))
+    return rows
+
+
+def _paired(nest, rng, n):
+    """One group's replications under two conditions (or in two generation windows): each
+    replication changes by N(shift, between_sd) on the replication-mean scale."""
+    rows = []
+
+    def pairs(r, shift, outlier=False):
+        ref = robots(r, nest).mean(axis=1)
+        change = r.normal(shift, nest.mean_sd, nest.replications)
+        if outlier:
+            change[r.integers(nest.replications)] += OUTLIER * nest.mean_sd * r.choice((-1, 1))
+        return ref, ref + change
+    for outlier in (False, True):
+        out = _repeat(rng, n, lambda r: v.paired_directional(*pairs(r, 0.0, outlier), +1))
+        rows.append(_row("paired change", nest, "null" + (", one outlying replication"
+                                                          if outlier else ""),
+                         "decided", _rate([o.verdict in v.DECIDED for o in out]), v.ALPHA,
+                         "at most"))
+    shift = nest.mean_sd
+    out = _repeat(rng, n, lambda r: v.paired_directional(*pairs(r, shift), +1))
+    rows.append(_row("paired change", nest, "change 1 s.d.", "coverage of the 95 % interval",
+                     _rate([o.low <= shift <= o.high for o in out]), 0.95, "at least"))
+    rows.append(_row("paired change", nest, "change 1 s.d.", "reproduced",
+                     _rate([o.verdict == v.REPRODUCED for o in out]), math.nan, "power"))
+
+    def same(r, change_by):
+        ref = robots(r, nest).mean(axis=1) + 10.0  # a positive reference (the margin is
+        bound = v.PAIRED_MARGIN * abs(float(np.median(ref)))  # relative to its median)
+        return ref, ref + r.normal(change_by * bound, nest.mean_sd / 5, nest.replications)
+    out = _repeat(rng, n, lambda r: v.paired_equivalent(*same(r, 1.0)))
+    rows.append(_row("paired no change", nest, "change at the margin", "reproduced",
+                     _rate([o.verdict == v.REPRODUCED for o in out]), v.ALPHA, "at most"))
+    out = _repeat(rng, n, lambda r: v.paired_equivalent(*same(r, 0.0)))
+    rows.append(_row("paired no change", nest, "no change", "contradicted",
+                     _rate([o.verdict == v.CONTRADICTED for o in out]), v.ALPHA, "at most"))
+    rows.append(_row("paired no change", nest, "no change", "reproduced",
+                     _rate([o.verdict == v.REPRODUCED for o in out]), math.nan, "power"))
+    return rows
+
+
+def _senses(nest, rng, n):
+    """Four conditions, each replication a block. Under the null of the claim each replication
+    orders the conditions its own way (condition effects N(0, between_sd) drawn per
+    replication); under the null of a contradiction one pair of conditions differs by the
+    margin."""
+    k, level = 4, 10.0
+
+    def matrix(r, spread=1.0, apart=0.0):
+        per_rep = r.normal(0.0, spread * nest.between_sd, (nest.replications, 1, k)) \
+            + apart * np.arange(k) * nest.between_sd
+        return (per_rep + r.normal(level, nest.between_sd, (nest.replications, 1, 1))
+                + r.normal(0.0, nest.within_sd, (nest.replications, nest.robots, k))).mean(axis=1)
+    out = _repeat(rng, n, lambda r: v.senses_differ(matrix(r)))
+    rows = [_row("senses differ", nest, "null: each replication its own order", "reproduced",
+                 _rate([o.verdict == v.REPRODUCED for o in out]), v.ALPHA, "at most")]
+
+    def at_margin(r):
+        x = matrix(r, spread=0.1)
+        x[:, 1] = x[:, 0] + v.PAIRED_MARGIN * level  # one pair apart by the margin
+        x[:, 1] += r.normal(0.0, nest.mean_sd / 5, nest.replications)
+        return x
+    out = _repeat(rng, n, lambda r: v.senses_differ(at_margin(r)))
+    rows.append(_row("senses differ", nest, "one pair apart by the margin", "contradicted",
+                     _rate([o.verdict == v.CONTRADICTED for o in out]), v.ALPHA, "at most"))
+    out = _repeat(rng, n, lambda r: v.senses_differ(matrix(r, apart=1.0)))
+    rows.append(_row("senses differ", nest, "conditions 1 s.d. apart", "reproduced",
+                     _rate([o.verdict == v.REPRODUCED for o in out]), math.nan, "power"))
+    out = _repeat(rng, n, lambda r: v.senses_differ(matrix(r, spread=0.05)))
+    rows.append(_row("senses differ", nest, "no difference", "contradicted",
+                     _rate([o.verdict == v.CONTRADICTED for o in out]), math.nan, "power"))
+    return rows
+
+
+RULES = (_directional, _against_random, _equivalence, _band, _sectors, _paired, _senses)
+
+
+def calibrate(nestings=NESTINGS, datasets: int = DATASETS, seed: int = 2013) -> pl.DataFrame:
+    """Every rule under every nesting: one row per (rule, nesting, scenario, measure) with the
+    measured ``value``, its ``bound`` and whether it is met (``ok``; None for power)."""
+    rows = []
+    for i, nest in enumerate(nestings):
+        for j, rule in enumerate(RULES):
+            rng = np.random.default_rng(np.random.SeedSequence(seed, spawn_key=(i, j)))
+            rows += rule(nest, rng, datasets)
+    return pl.DataFrame(rows)
+
+
+def robot_level_null(nest: Nesting, datasets: int = DATASETS, seed: int = 2013) -> dict:
+    """What the headline avoids: under the null, how often the directional rule decides when
+    every robot counts as a unit, and Friedman's test with the robot as block when each
+    replication orders the conditions its own way."""
+    rng = np.random.default_rng(np.random.SeedSequence(seed, spawn_key=(99,)))
+    decided = _rate([v.directional(*(g.ravel() for g in _pair(rng, nest)), +1).verdict
+                     in v.DECIDED for _ in range(datasets)])
+    k = 4
+    friedman = []
+    for _ in range(datasets):
+        per_rep = rng.normal(0.0, nest.between_sd, (nest.replications, 1, k))
+        rob = per_rep + rng.normal(0.0, nest.within_sd, (nest.replications, nest.robots, k))
+        friedman.append(v.senses_differ(rob.reshape(-1, k) + 10.0).verdict == v.REPRODUCED)
+    return {"directional, robots as units": decided,
+            "senses differ, robots as blocks": _rate(friedman)}
+
+
+def markdown(table: pl.DataFrame) -> str:
+    """The calibration table as Markdown: one row per rule, scenario and measure, one column
+    per nesting (rates in [0, 1]); the bound a rate must meet, and whether every nesting met
+    it."""
+    nests = table.select("replications", "robots", "between_sd", "within_sd").unique(
+        maintain_order=True).rows()
+    heads = [f"{r} x {k}, within s.d. {w:g}" for r, k, b, w in nests]
+    lines = ["| rule | scenario | measure | " + " | ".join(heads) + " | bound | met |",
+             "|---|---|---|" + "---:|" * len(heads) + "---:|---|"]
+    keys = table.select("rule", "scenario", "measure", "kind").unique(maintain_order=True)
+    for rule, scenario, measure, kind in keys.rows():
+        rows = table.filter((pl.col("rule") == rule) & (pl.col("scenario") == scenario)
+                            & (pl.col("measure") == measure))
+        values = []
+        for r, k, b, w in nests:
+            cell = rows.filter((pl.col("replications") == r) & (pl.col("within_sd") == w))
+            values.append(f"{cell['value'][0]:.3f}" if cell.height else "")
+        bound = ("power" if kind == "power" else
+                 f"≤ {rows['bound'][0]:g}" if kind == "at most" else f"≥ {rows['bound'][0]:g}")
+        met = "" if kind == "power" else ("yes" if rows["ok"].all() else "**no**")
+        lines.append(f"| {rule} | {scenario} | {measure} | " + " | ".join(values)
+                     + f" | {bound} | {met} |")
+    return "\n".join(lines) + "\n"
+
+
+if __name__ == "__main__":  # the table of docs/results/calibration.md
+    print(markdown(calibrate()))
+    for nest in NESTINGS:
+        print(nest.label, robot_level_null(nest))

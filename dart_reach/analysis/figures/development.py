@@ -1,0 +1,45 @@
+"""The development of a measure over the generations of a condition's phases (not a paper
+figure; ``snapshots.course``)."""
+
+from __future__ import annotations
+
+import polars as pl
+from matplotlib import colormaps
+from matplotlib.figure import Figure
+
+
+def development_figure(course_table: pl.DataFrame, measure: str, label: str | None = None,
+                       condition: str | None = None) -> Figure:
+    """The course of one measure over the generations of a condition's phases
+    (``snapshots.course``): a thin line per replication, the median over replications in
+    black, a dashed line where each phase starts (its name above). ``condition``: default
+    "standard" if present, else the first."""
+    conditions = course_table["condition"].unique(maintain_order=True).to_list()
+    if condition is None:
+        condition = "standard" if "standard" in conditions or not conditions else conditions[0]
+    sub = course_table.filter(pl.col("condition") == condition).sort("x")
+    fig = Figure(figsize=(8, 3.4), layout="constrained")
+    ax = fig.subplots()
+    if sub.height == 0 or measure not in sub.columns:
+        ax.text(0.5, 0.5, f"no development data for {measure!r}", transform=ax.transAxes,
+                ha="center", va="center", color="0.4")
+        return fig
+    reps = sorted(sub["replication"].unique().to_list())
+    cmap = colormaps["tab10"]
+    for i, r in enumerate(reps):
+        line = sub.filter(pl.col("replication") == r)
+        ax.plot(line["x"], line[measure], color=cmap(i % 10), linewidth=0.8, alpha=0.6,
+                marker=".", markersize=3, label=f"rep {r}")
+    median = (sub.group_by("x").agg(pl.col(measure).fill_nan(None).median()).sort("x"))
+    ax.plot(median["x"], median[measure], color="black", linewidth=1.8, label="median")
+    starts = (sub.group_by("notation", "offset").agg(pl.col("x").min()).sort("offset"))
+    for row in starts.iter_rows(named=True):
+        ax.axvline(row["offset"], color="0.5", linestyle="--", linewidth=0.8)
+        ax.text(row["offset"], 1.01, f" {row['notation']}", transform=ax.get_xaxis_transform(),
+                fontsize=8, va="bottom")
+    ax.set_xlabel(f"generation ({condition}: counted through its phases)")
+    ax.set_ylabel(label or measure)
+    ax.grid(alpha=0.3)
+    if len(reps) <= 10:
+        ax.legend(fontsize=7, ncol=min(len(reps) + 1, 6), loc="best")
+    return fig

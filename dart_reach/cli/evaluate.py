@@ -1,0 +1,76 @@
+"""``evaluate``: post-evaluate a trained run on the 45 systematic positions (section IV), and
+optionally its snapshots (the development over generations)."""
+
+from __future__ import annotations
+
+import shlex
+import sys
+from pathlib import Path
+
+from ..progress import evaluation_bar
+from .arguments import add_workers, command, non_negative, positive
+from .stopping import checked, interrupted
+
+
+def register_evaluate(subparsers) -> None:
+    p = command(subparsers, "evaluate", "post-evaluate a trained run on the 45 systematic "
+                                        "positions (section IV)")
+    p.add_argument("run_dir", type=Path, metavar="RUN_DIR", help="a run directory of 'train'")
+    p.add_argument("--sensors", default="normal",
+                   choices=("normal", "no-touch", "no-sight", "nothing", "no-ball", "all"),
+                   help="sensory condition(s) of Fig. 9, or no-ball: the ball-absent test of "
+                        "section IV-A-1 (default normal; all = the five)")
+    p.add_argument("--robots", type=positive, default=5,
+                   help="best robots of each replication to test (default 5)")
+    p.add_argument("--record", default="best",
+                   choices=("best", "replications", "all", "none"),
+                   help="which robots' trials to record as .rrd: the best robot of the best "
+                        "replication (default), the best of each replication, all, none")
+    p.add_argument("--baseline", type=non_negative, default=0, metavar="N",
+                   help="also post-evaluate N random genomes per phase, the chance level of "
+                        "every measure (rows flagged 'baseline'; default 0)")
+    p.add_argument("--development", type=non_negative, default=0, metavar="N",
+                   help="also post-evaluate the best N robots of each replication of every "
+                        "snapshot (train --snapshot-every): the measures' course over "
+                        "generations, in development.parquet (default 0: not)")
+    p.add_argument("--finished-only", action="store_true",
+                   help="evaluate the phases that have finished training in a run that has "
+                        "not (on a copy of a run still training: it holds the lock); "
+                        "not with --development")
+    add_workers(p)
+    p.set_defaults(func=cmd_evaluate)
+
+
+def cmd_evaluate(args) -> int:
+    from ..postevaluation.systematic import BLUEPRINT, RECORDINGS, TABLE, evaluate_run, parse_senses
+
+    senses = parse_senses(args.sensors)
+    if args.finished_only and args.development:
+        raise ValueError("--development needs the whole run trained: not with --finished-only")
+    try:
+        with evaluation_bar() as bar:
+            table = evaluate_run(args.run_dir, senses=senses, robots=args.robots,
+                                 record=args.record, workers=args.workers, ray_address=args.ray,
+                                 progress=checked(bar), baseline=args.baseline,
+                                 finished_only=args.finished_only)
+    except KeyboardInterrupt as exc:
+        print(f"\ninterrupted: the robots finished so far are saved in {args.run_dir}/{TABLE}; "
+              f"run the same command again to evaluate the rest", file=sys.stderr)
+        return interrupted(exc)
+    out = Path(args.run_dir)
+    print(f"\n{table.height} trials in {out / TABLE}", file=sys.stderr)
+    if args.development:
+        from ..postevaluation.snapshots import TABLE as DEVELOPMENT, measure_snapshots
+
+        with evaluation_bar() as bar:
+            dev = measure_snapshots(args.run_dir, robots=args.development,
+                                    workers=args.workers, ray_address=args.ray,
+                                    progress=checked(bar))
+        print(f"{dev.height} trials of the snapshots' best robots in {out / DEVELOPMENT}",
+              file=sys.stderr)
+    recorded = table.filter(table["recording"].is_not_null())["recording"] if table.height else []
+    if len(recorded):
+        print(f"{len(recorded)} recordings under {out / RECORDINGS}; open one with its layout:"
+              f"\n  {shlex.join(['rerun', str(out / recorded[0]), str(out / BLUEPRINT)])}",
+              file=sys.stderr)
+    return 0

@@ -1,0 +1,43 @@
+"""``report``: one self-contained HTML file of post-evaluated runs (the paper's findings tested,
+provenance, training, Figs. 5-10)."""
+
+from __future__ import annotations
+
+import shlex
+from pathlib import Path
+
+from .arguments import command
+
+
+def register_report(subparsers) -> None:
+    p = command(subparsers, "report", "one self-contained HTML file: the paper's findings "
+                                      "tested against runs, provenance, training, Figs. 5-10")
+    p.add_argument("run_dirs", type=Path, nargs="+", metavar="RUN_DIR",
+                   help="post-evaluated run directories (dart-reach evaluate)")
+    p.add_argument("--out", type=Path, default=None, metavar="FILE.html",
+                   help="where to write it, in an existing directory (default "
+                        "RUN_DIR/report.html of the first run)")
+    p.add_argument("--findings", type=Path, default=None, metavar="FILE.parquet",
+                   help="also write the findings, every claim at every budget, to this new "
+                        "parquet file (default: none)")
+    p.set_defaults(func=cmd_report)
+
+
+def cmd_report(args) -> int:
+    from ..analysis import report
+    from ..postevaluation.systematic import TABLE
+    from ..evolution.rundir import RunDirectory
+
+    for run_dir in args.run_dirs:
+        RunDirectory.open(run_dir)  # one clear line for a path that is not a run
+        if not (run_dir / TABLE).is_file():
+            raise ValueError(
+                f"{run_dir}: not post-evaluated yet (no {TABLE}), and the report's findings and "
+                f"figures come from the post-evaluation; run first: "
+                + shlex.join(["dart-reach", "evaluate", str(run_dir), "--sensors", "all",
+                              "--baseline", "20"]))
+    path = report.build(args.run_dirs, args.out, findings_out=args.findings)
+    print(f"report: {path}\nopen it in a browser (it is self-contained, works offline)")
+    if args.findings:
+        print(f"findings: {args.findings} (every claim at every budget, as in the report)")
+    return 0

@@ -1,0 +1,98 @@
+"""The studies of the model itself: ``validate`` (the model checks; exit 0 when every one
+passes) and ``bench`` (simulation speed, or with ``--physics`` the physics-step study)."""
+
+from __future__ import annotations
+
+import json
+import math
+from pathlib import Path
+
+from ..progress import ProgressBar
+from .arguments import add_scene, command, int_at_least, positive, workers, world_config
+from .stopping import checked
+
+
+def write_json(path: Path, results: dict) -> None:
+    """Write ``results`` to a new file (never over an existing one)."""
+    with open(path, "x") as f:
+        f.write(json.dumps(results, indent=2) + "\n")
+    print(f"wrote {path}")
+
+
+def register_validate(subparsers) -> None:
+    p = command(subparsers, "validate", "check the model: scene, scripted grasps, reflexes, "
+                                        "chance level (exit 0 when every check passes)")
+    p.add_argument("--json", type=Path, default=None,
+                   help="also write the figures to FILE, a new file (default: none)")
+    p.add_argument("--grid", type=int_at_least(2), default=7,
+                   help="start positions per sector side checked (default 7: 49 per sector)")
+    # validate.REFLEX_NETWORKS and CHANCE_NETWORKS (not imported here: it loads dartpy)
+    p.add_argument("--networks", type=positive, default=200,
+                   help="random networks of the reflex checks (default 200)")
+    p.add_argument("--chance-networks", type=positive, default=30,
+                   help="random networks post-evaluated for the chance level (default 30)")
+    p.add_argument("--scene-only", action="store_true",
+                   help="only the scene checks and the scripted grasps (seconds, not minutes)")
+    add_scene(p)
+    p.set_defaults(func=cmd_validate)
+
+
+def cmd_validate(args) -> int:
+    """The model checks of ``validate.py`` on the shipped world; exit 0 when all pass."""
+    from ..studies import validate
+    from ..model.world import World
+
+    if args.json is not None and args.json.exists():
+        raise FileExistsError(f"--json {args.json} exists; choose another file")
+    results = validate.run(World(world_config(args)), grid=args.grid, networks=args.networks,
+                           chance_networks=args.chance_networks, scene_only=args.scene_only)
+    print(validate.format_report(results))
+    if args.json:
+        write_json(args.json, results)
+    return 0 if results["passed"] else 1
+
+
+def register_bench(subparsers) -> None:
+    p = command(subparsers, "bench", "measure simulation speed (docs/results/benchmarks.md)")
+    p.add_argument("--json", type=Path, default=None,
+                   help="also write the figures to FILE, a new file (default: none)")
+    p.add_argument("--seconds", type=float, default=2.0,
+                   help="simulated s per block of the physics pairs (default 2)")
+    p.add_argument("--repeats", type=positive, default=30,
+                   help="pairs of blocks for the physics ratio (default 30)")
+    p.add_argument("--physics", action="store_true",
+                   help="instead: the physics-step study (docs/results/physics-step.md): a panel of networks "
+                        "post-evaluated at each candidate step and at a quarter of it")
+    p.add_argument("--physics-steps", type=float, nargs="+", default=[0.02, 0.01],
+                   metavar="DT", help="candidate physics steps in s (default 0.02 0.01)")
+    p.add_argument("--networks", type=positive, default=20,
+                   help="random networks in the study's panel (default 20)")
+    p.add_argument("--run", type=Path, nargs="*", default=[], metavar="RUN_DIR",
+                   help="finished runs whose best robots join the panel (default: none)")
+    p.add_argument("--workers", type=workers, default=None,
+                   help="local processes for the study (default: every core)")
+    p.set_defaults(func=cmd_bench)
+
+
+def cmd_bench(args) -> int:
+    from ..studies import bench
+
+    if args.json is not None and args.json.exists():
+        raise FileExistsError(f"--json {args.json} exists; choose another file")
+    if args.physics:
+        from ..studies import physics_step as physics_study
+
+        with ProgressBar(lambda p: (*p, "controller-step", "physics study")) as bar:
+            show = checked(bar)
+            results = physics_study.study(
+                candidates=args.physics_steps, random=args.networks, runs=args.run,
+                workers=args.workers, progress=lambda n, total: show((n, total)))
+        print("\n" + physics_study.format_study(results))
+    else:
+        if not (math.isfinite(args.seconds) and args.seconds > 0):
+            raise ValueError(f"--seconds must be a positive number, got {args.seconds:g}")
+        results = bench.run(seconds=args.seconds, pairs=args.repeats)
+        print(bench.format_table(results))
+    if args.json:
+        write_json(args.json, results)
+    return 0

@@ -1,0 +1,147 @@
+"""``train`` (evolve the conditions' phases into a run directory, announcing a long run's cost
+first) and ``status`` (where a run's training stands)."""
+
+from __future__ import annotations
+
+import json
+import shlex
+import sys
+from pathlib import Path
+
+from ..progress import training_bar
+from .arguments import (add_scene, add_workers, command, cores, non_negative, physics_dt,
+                        positive, world_config)
+from .stopping import checked, interrupted
+
+
+def register_train(subparsers) -> None:
+    p = command(subparsers, "train", "train conditions (shipped names or condition files)")
+    p.add_argument("conditions", nargs="+", metavar="CONDITION",
+                   help="a shipped condition name (see 'conditions') or a condition file")
+    p.add_argument("--out", type=Path, default=None,
+                   help="run directory (default recordings/<conditions>-s<seed>)")
+    p.add_argument("--generations", type=positive, default=None,
+                   help="generations per standard phase (default: the condition's, 500)")
+    p.add_argument("--replications", type=positive, default=10,
+                   help="independent runs of the GA per phase")
+    p.add_argument("--trials", type=positive, default=18, help="trials per evaluation")
+    p.add_argument("--steps", type=positive, default=200, help="0.1 s steps per trial")
+    p.add_argument("--seed", type=non_negative, default=0,
+                   help="root of the run's seed tree (same seed, same result)")
+    p.add_argument("--physics-dt", type=physics_dt, default=None, metavar="DT",
+                   help="physics step in s, a divisor of 0.1 (default 0.02, the step chosen "
+                        "in docs/model/world.md)")
+    add_scene(p)
+    add_workers(p)
+    p.add_argument("--resume", action="store_true", help="continue the run in --out")
+    p.add_argument("--record-every", type=non_negative, default=100, metavar="K",
+                   help="record one trial of each replication's best individual every K "
+                        "generations and at the end of each phase (default 100; 0 = never)")
+    p.add_argument("--snapshot-every", type=non_negative, default=50, metavar="K",
+                   help="keep the best 5 genomes of each replication after generations 1, 2, "
+                        "5, 10, every K and the last of each phase, for the development over "
+                        "generations (default 50; 0 = never)")
+    p.set_defaults(func=cmd_train)
+
+
+def cmd_train(args) -> int:
+    from ..evolution.conditions import load_condition, scaled
+    from ..evolution.settings import Settings
+    from ..evolution.trainer import train
+    from ..model.world import WorldConfig
+
+    conditions = [load_condition(c) for c in args.conditions]
+    if args.generations is not None:
+        conditions = [scaled(c, args.generations) for c in conditions]
+    world = world_config(args, None if args.physics_dt is None
+                         else WorldConfig(physics_dt=args.physics_dt))
+    settings = Settings(replications=args.replications, trials=args.trials, steps=args.steps,
+                        seed=args.seed, world=world)
+    out = args.out or Path("recordings") / f"{'+'.join(c.name for c in conditions)}-s{args.seed}"
+    if not args.resume:
+        announce_cost(conditions, settings, None if args.ray else args.workers or cores())
+    try:
+        with training_bar() as bar:
+            run = train(conditions, settings, out, workers=args.workers, ray_address=args.ray,
+                        resume=args.resume, progress=checked(bar),
+                        record_every=args.record_every,
+                        command=shlex.join(["dart-reach", *sys.argv[1:]]),
+                        snapshot_every=args.snapshot_every)
+    except KeyboardInterrupt as exc:
+        again = ["dart-reach", *sys.argv[1:]]
+        if "--resume" not in again:
+            again.append("--resume")
+        if args.out is None:
+            again += ["--out", str(out)]
+        print(f"\ninterrupted: every finished generation is saved in {out}; continue with:\n"
+              f"  {shlex.join(again)}", file=sys.stderr)
+        return interrupted(exc)
+    print(f"\ndone: results in {run.out} (manifest.json, generations.parquet, training.rrd, "
+          f"phases/*/); post-evaluate with: {shlex.join(['dart-reach', 'evaluate', str(run.out)])}",
+          file=sys.stderr)
+    return 0
+
+
+#: Core-hours from which ``train`` announces the size of a run before starting it.
+LONG_RUN_CORE_HOURS = 1.0
+
+
+def announce_cost(conditions, settings, workers: int | None) -> None:
+    """Before a long run: its size, the core-hours it will take and how to make it smaller
+    (stderr); the progress bar's ETA takes over once generations finish."""
+    from ..evolution.cost import GENERATION_CORE_S, cost_estimate
+
+    est = cost_estimate(conditions, settings)
+    low, high = est.core_hours
+    if high < LONG_RUN_CORE_HOURS:
+        return
+    wall = (f", {low / workers:,.0f}-{high / workers:,.0f} h on {workers} worker"
+            f"{'s' if workers > 1 else ''}") if workers else ""
+    lo_s, hi_s = GENERATION_CORE_S
+    print(f"dart-reach: this run is {est.replication_generations:,} replication-generations, "
+          f"about {low:,.0f}-{high:,.0f} core-hours{wall} (from {lo_s:g}-{hi_s:g} core-s per "
+          f"replication-generation of 20 genotypes (40 evaluations) x 18 trials x 200 "
+          f"steps measured by "
+          f"'dart-reach bench', scaled to {settings.trials} trials x {settings.steps} steps).\n"
+          f"  The cost is proportional to --generations (per phase) x --replications x --trials "
+          f"x --steps: make them smaller for a quicker run (make demo: --generations 3 "
+          f"--replications 2 --trials 6, a few minutes on 2 cores). The progress bar's ETA "
+          f"follows.",
+          file=sys.stderr)
+
+
+def register_status(subparsers) -> None:
+    p = command(subparsers, "status", "where a run's training stands: generations, fitness and "
+                                      "wall time per phase and replication")
+    p.add_argument("run_dir", type=Path, metavar="RUN_DIR", help="a run directory of 'train'")
+    p.add_argument("--markdown", action="store_true",
+                   help="print the table as markdown, e.g. for docs/results/replication.md "
+                        "(default: a plain table)")
+    p.set_defaults(func=cmd_status)
+
+
+def cmd_status(args) -> int:
+    """Where a run's training stands: generations, fitness and wall time per phase and
+    replication, and the sessions that trained it."""
+    from ..evolution.rundir import RunDirectory
+
+    run = RunDirectory.open(args.run_dir)
+    table = run.status()
+    head = ("condition", "phase", "replication", "generations", "best", "mean", "wall (h)")
+    rows = [(r["condition"], r["phase"], str(r["replication"]),
+             f"{r['generations']} / {r['of']}", f"{r['best']:.4f}", f"{r['mean']:.4f}",
+             f"{r['wall_h']:.2f}") for r in table.iter_rows(named=True)]
+    if args.markdown:
+        print("| " + " | ".join(head) + " |\n|" + "---|" * len(head))
+        print("\n".join("| " + " | ".join(r) + " |" for r in rows))
+    else:
+        widths = [max(len(x) for x in col) for col in zip(head, *rows)]
+        for r in (head, *rows):
+            print("  ".join(x.ljust(w) for x, w in zip(r, widths)))
+    done, total = int(table["generations"].sum()), int(table["of"].sum())
+    wall = table.unique(["condition", "phase"])["wall_h"].sum()
+    sessions = json.loads((run.out / "manifest.json").read_text()).get("sessions", [])
+    print(f"{done} of {total} replication-generations ({done / total:.0%}), {wall:.1f} h of "
+          f"wall time, {len(sessions)} session(s) recorded; unfinished: "
+          f"{', '.join(run.unfinished()) or 'none'}")
+    return 0

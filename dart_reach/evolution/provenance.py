@@ -1,0 +1,68 @@
+"""Where a run comes from, for its manifest: the state of the source tree (``git_state``), the
+machine (``machine``) and the versions of the package and its main dependencies
+(``versions``)."""
+
+from __future__ import annotations
+
+import hashlib
+import os
+import platform
+import subprocess
+from importlib import metadata
+from pathlib import Path
+
+from .. import __version__
+
+
+def _git(directory: Path, *args: str) -> bytes | None:
+    try:
+        out = subprocess.run(["git", *args], capture_output=True, cwd=directory, timeout=30)
+    except (OSError, subprocess.SubprocessError):
+        return None
+    return out.stdout if out.returncode == 0 else None
+
+
+def git_state(directory=None) -> dict:
+    """The state of the git working tree holding ``directory`` (default: this package's
+    source), for a run's manifest: ``git_revision`` (the commit), ``git_dirty`` (True when
+    tracked files differ from it or files git does not ignore are untracked) and
+    ``git_diff_sha256`` (SHA-256 of ``git diff HEAD --binary`` followed by each untracked
+    file's path and content: two runs with the same revision and the same hash ran the same
+    code). Run directories under ``recordings/`` are not source: left out of both. All None
+    outside a git working tree."""
+    directory = Path(directory) if directory is not None else Path(__file__).parent
+    head = _git(directory, "rev-parse", "HEAD")
+    if not head:
+        return {"git_revision": None, "git_dirty": None, "git_diff_sha256": None}
+    root = Path((_git(directory, "rev-parse", "--show-toplevel") or b".").decode().strip())
+    outside = ("--", ".", ":(exclude)recordings")
+    diff = _git(root, "diff", "HEAD", "--binary", *outside) or b""
+    untracked = (_git(root, "ls-files", "--others", "--exclude-standard", "-z", *outside)
+                 or b"")
+    digest = hashlib.sha256(diff)
+    for name in sorted(n for n in untracked.split(b"\0") if n):
+        digest.update(b"\0untracked\0" + name + b"\0")
+        try:
+            digest.update((root / name.decode()).read_bytes())
+        except OSError:
+            pass
+    return {"git_revision": head.decode().strip(), "git_dirty": bool(diff or untracked),
+            "git_diff_sha256": digest.hexdigest()}
+
+
+def machine() -> dict:
+    """Where a run was created (its speed figures depend on it)."""
+    return {"platform": platform.platform(), "processor": platform.machine(),
+            "cores": os.cpu_count()}
+
+
+def versions() -> dict:
+    """The versions of dart_reach, Python and the packages a run's result depends on (None for
+    one not installed)."""
+    found = {"dart_reach": __version__, "python": platform.python_version()}
+    for pkg in ("dartpy", "numpy", "scipy", "polars", "rerun-sdk"):
+        try:
+            found[pkg] = metadata.version(pkg)
+        except metadata.PackageNotFoundError:
+            found[pkg] = None
+    return found

@@ -1,0 +1,119 @@
+"""What defines a run besides its conditions (paper sections III-C, III-D): the budgets and the
+root seed (``Settings``), the trial each phase trains with (``trial_config``), the run's seed
+tree, and when a phase keeps a snapshot of its best robots.
+
+Randomness: one ``SeedSequence`` tree per run, addressed by (phase key, replication, purpose,
+generation, individual) (``seed_sequence``): nothing depends on the order of evaluation or
+the number of workers.
+"""
+
+from __future__ import annotations
+
+from dataclasses import asdict, dataclass, field, replace
+from pathlib import Path
+
+import numpy as np
+
+from .conditions import Phase, load_condition
+from .ga import GAConfig, Scheme
+from .genome import ParamGroup, as_groups, random_genome
+from ..model.task import TrialConfig
+from ..model.world import BallConfig, SectorConfig, WorldConfig
+
+
+@dataclass(frozen=True)
+class Settings:
+    """Budgets and seeds of a run: everything besides the conditions that defines its result."""
+
+    replications: int = 10
+    trials: int = 18  # trials per lifetime: 2 per sector (section III-C)
+    steps: int = 200  # control steps per trial (20 s)
+    seed: int = 0
+    ga: GAConfig = field(default_factory=GAConfig)
+    world: WorldConfig = field(default_factory=WorldConfig)
+
+    def __post_init__(self):
+        for name in ("replications", "trials", "steps"):
+            if getattr(self, name) < 1:
+                raise ValueError(f"{name} must be a positive integer, got {getattr(self, name)}")
+        if self.seed < 0:
+            raise ValueError(f"seed must be a non-negative integer, got {self.seed}")
+        if self.ga.population % self.replications:
+            raise ValueError(
+                f"the population ({self.ga.population}) must be a multiple of the number of "
+                f"replications ({self.replications}): the next phase starts from the best "
+                f"population / replications genomes of each (section III-D)")
+
+    def to_json(self) -> dict:
+        d = asdict(self)
+        d["ga"]["scheme"] = self.ga.scheme.value
+        d["world"]["skeleton"] = str(self.world.skeleton) if self.world.skeleton else None
+        return d
+
+    @classmethod
+    def from_json(cls, d: dict) -> "Settings":
+        """The inverse of ``to_json`` (a manifest's ``settings``)."""
+        w = dict(d["world"])
+        w["skeleton"] = Path(w["skeleton"]) if w.get("skeleton") else None
+        w["ball"] = BallConfig(**{k: tuple(v) if isinstance(v, list) else v
+                                  for k, v in w["ball"].items()})
+        w["sectors"] = SectorConfig(**{k: tuple(v) if isinstance(v, list) else v
+                                       for k, v in w["sectors"].items()})
+        ga = dict(d["ga"], scheme=Scheme(d["ga"]["scheme"]))
+        return cls(**dict(d, ga=GAConfig(**ga), world=WorldConfig(**w)))
+
+
+def trial_config(phase: Phase, settings: Settings) -> TrialConfig:
+    """The maturational state of a phase as the task sees it."""
+    groups = as_groups(phase.free_groups)
+    return TrialConfig(acuity=phase.acuity, offset_sensors=phase.offset_sensors,
+                       hidden_frozen=ParamGroup.HIDDEN not in groups, reflexes=phase.reflexes,
+                       steps=settings.steps, trials=settings.trials)
+
+
+def standard_trial(phase: str = "pre", **changes) -> TrialConfig:
+    """The maturational state of a phase of the shipped ``standard`` condition (default
+    pre-reaching: low acuity, internal neurons frozen, reflexes), with ``changes``."""
+    phases = {p.name: p for p in load_condition("standard").phases}
+    return replace(trial_config(phases[phase], Settings()), **changes)
+
+
+# ---------------------------------------------------------------- the seed tree
+#: Purposes of the seed tree (the manifest's ``seeds.tree`` names the first three "init",
+#: "mutate" and "evaluate"): the initial population, the mutations, the trials of a
+#: lifetime, the recorded trial of a generation's best, the random genomes of the chance level.
+SEED_INIT, SEED_MUTATE, SEED_LIFETIME, SEED_RECORD, SEED_BASELINE = 0, 1, 2, 3, 4
+
+
+def phase_id(phase: Phase) -> int:
+    """A phase's first branch in the seed tree: its key's first 8 hex digits as an integer."""
+    return int(phase.key[:8], 16)
+
+
+def seed_sequence(settings: Settings, phase: Phase, *path: int) -> np.random.SeedSequence:
+    """The run's seed for ``phase`` at ``path`` (replication, purpose, generation, ...)."""
+    return np.random.SeedSequence(settings.seed, spawn_key=(phase_id(phase), *path))
+
+
+def baseline_genomes(settings: Settings, phase: Phase, n: int) -> np.ndarray:
+    """``n`` random genomes for the chance level of ``phase`` (``evaluate --baseline``): drawn
+    like an initial population, from the run's seed tree, so the first k are the same whatever
+    ``n`` >= k."""
+    return random_genome(np.random.default_rng(seed_sequence(settings, phase, SEED_BASELINE)),
+                         n)
+
+
+# ---------------------------------------------------------------- snapshots
+#: Genomes per replication a snapshot keeps: the best 5, the robots the paper post-evaluates.
+SNAPSHOT_ROBOTS = 5
+#: Generations after which a snapshot is always kept (when snapshots are on): the first ones,
+#: where the start of a phase (the motor suppression at the start of gross-reaching, Table I)
+#: shows.
+SNAPSHOT_EARLY = (1, 2, 5, 10)
+
+
+def snapshot_due(generation: int, generations: int, every: int) -> bool:
+    """Whether a phase of ``generations`` keeps a snapshot after ``generation`` (1-based)
+    when snapshots are taken every ``every`` generations (0 = never)."""
+    return every > 0 and (generation in SNAPSHOT_EARLY or generation % every == 0
+                          or generation == generations)
