@@ -71,3 +71,19 @@ def test_numpy_blas_kernels_are_pinned_for_bit_identical_results():
                             env={**env, "OPENBLAS_VERBOSE": "2", "OPENBLAS_CORETYPE": "Sandybridge"},
                             timeout=120)
     assert "Core: Sandybridge" in chosen.stdout + chosen.stderr
+
+
+def test_the_names_users_import_are_on_the_package():
+    """The README's and the notebooks' names come from ``dart_reach`` itself, whatever module
+    holds them, and resolve to the objects of those modules."""
+    import dart_reach
+    from dart_reach.analysis import figures, tables
+    from dart_reach.evolution import trainer
+
+    for name in dart_reach.__all__:
+        assert getattr(dart_reach, name) is not None, name
+    assert dart_reach.train is trainer.train and dart_reach.load_runs is tables.load_runs
+    assert dart_reach.figures is figures
+    import pytest
+    with pytest.raises(AttributeError, match="no attribute 'nothing'"):
+        dart_reach.nothing  # noqa: B018
