@@ -13,7 +13,7 @@ def register_robots(subparsers) -> None:
 
 
 def cmd_robots(args) -> int:
-    """The shipped robots files (``data.index()``)."""
+    """The shipped robots files (``robots.index()``)."""
     from ..robots import index
 
     rows = [("run", "condition/phase", "robots", "generations", "replications", "scene", "file")]

@@ -8,7 +8,7 @@ one row per scene and group (evolved robots, random genomes) with F1's measures:
 robots (a robot: its mean over its 45 trials) and a 95 % percentile bootstrap interval over
 robots for the reach rate; ``sector_rates`` the reach rate per sector (Fig. 7's top row);
 ``figure`` draws both; ``levers`` says how each measure moves when one lever of the scene
-changes (``LEVERS``). ``python -m dart_reach.scene_study STUDY_DIR OUT_DIR`` writes
+changes (``LEVERS``). ``python -m dart_reach.studies.scene_study STUDY_DIR OUT_DIR`` writes
 ``scene-study.md`` (both tables) and ``scene-study.png`` (the figure) into OUT_DIR.
 """
 
@@ -210,7 +210,7 @@ def figure(table: pl.DataFrame, sectors: pl.DataFrame):
 def main(argv=None) -> int:
     argv = sys.argv[1:] if argv is None else argv
     if len(argv) != 2:
-        print("usage: python -m dart_reach.scene_study STUDY_DIR OUT_DIR", file=sys.stderr)
+        print("usage: python -m dart_reach.studies.scene_study STUDY_DIR OUT_DIR", file=sys.stderr)
         return 2
     study, out = Path(argv[0]), Path(argv[1])
     runs = sorted(d for d in study.iterdir() if (d / "evaluation.parquet").is_file())

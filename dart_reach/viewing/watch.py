@@ -1,5 +1,5 @@
 """Watch an evolved robot in seconds (``dart-reach watch``): one trial of a shipped robot
-(``data.robots``) or of a trained run's best robot, recorded with the trial layout and opened
+(``robots.robots``) or of a trained run's best robot, recorded with the trial layout and opened
 in the Rerun viewer where there is a display, saved for later where there is none.
 
 One trial, in this process, no pool: about a second of simulation for 20 simulated seconds,
@@ -108,7 +108,7 @@ def _shipped(phase, condition, replication, rank, shipped=None) -> _Choice:
             f" in shipped run {shipped!r}" if shipped else "")
         raise UsageError(
             f"no shipped robot of {asked}: only {ships} ships; train one "
-            f"(experiment.train) and watch it with run=RUN_DIR",
+            f"(dart_reach.train) and watch it with run=RUN_DIR",
             cli=f"no shipped robot of {asked}: only {ships} ships; train one "
                 f"(dart-reach train {condition}) and watch it with --run RUN_DIR")
     wanted = _longest_trained(wanted)
@@ -193,8 +193,8 @@ def watch(phase: str | None = None, condition: str | None = "standard",
     The robot: with ``run`` (a run directory), the best robot (``rank`` 0) of the best
     replication (or of ``replication``) of ``phase`` of ``condition`` (default: the run's last
     trained phase; the run's first condition when it lacks ``condition``); without, the
-    best shipped robot of ``phase`` of ``condition`` (``data.robots``; default: the most
-    developed phase that ships) from the shipped run named ``shipped`` (``data.index()``'s
+    best shipped robot of ``phase`` of ``condition`` (``robots.robots``; default: the most
+    developed phase that ships) from the shipped run named ``shipped`` (``robots.index()``'s
     ``run``; default: the run that trained that phase longest). ``senses``: normal, no-touch, no-sight or nothing (Fig. 9).
 
     Writes ``out`` (default ``recordings/watch/<condition>-<phase>-sector<K>.rrd``, made
