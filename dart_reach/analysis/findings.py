@@ -138,6 +138,9 @@ class _Data:
         """(replication units, robot units or None) of a two-group claim's measure."""
         if claim.unit == "replications":
             return self.replications, None
+        if claim.measure not in self.table.columns and claim.measure not in _SPREAD:
+            empty = pl.DataFrame(schema={"notation": pl.Utf8, claim.measure: pl.Float64})
+            return empty, empty
         if claim.versus:
             rob = self.drops(claim)
         else:
@@ -210,8 +213,7 @@ def _two_groups(claim: Claim, data: _Data) -> dict:
     unit = "random genomes" if claim.a == "random pre" else "replications"
     return _row(claim, out, f"{claim.measure}: {claim.b} {np.mean(y):.3g} vs {claim.a} "
                             f"{np.mean(x):.3g} (means over replications)",
-                f"{len(y)} vs {len(x)} {unit if claim.a == 'random pre' else 'replications'}",
-                robots_out)
+                f"{len(y)} replications vs {len(x)} {unit}", robots_out)
 
 
 def _never(claim: Claim, data: _Data) -> dict:

@@ -73,7 +73,7 @@ def test_a_directional_claim_is_judged_on_replications():
     assert _verdict(fd.findings(holds), "F2 grasp up") == vd.REPRODUCED
     assert _verdict(fd.findings(fails), "F2 grasp up") == vd.CONTRADICTED
     assert _verdict(fd.findings(neither), "F2 grasp up") == vd.INCONCLUSIVE
-    assert _row(fd.findings(holds), "F2 grasp up")["n"] == "10 vs 10 replications"
+    assert _row(fd.findings(holds), "F2 grasp up")["n"] == "10 replications vs 10 replications"
 
 
 def test_robots_as_units_are_beside_the_headline_never_in_it():
@@ -97,7 +97,7 @@ def test_random_genomes_are_units_of_their_own():
     found = fd.findings(trials, baseline)
     assert _verdict(found, "F1 babbling") == vd.REPRODUCED
     assert _verdict(found, "F1 hand-shoulder constant vs random") == vd.REPRODUCED
-    assert _row(found, "F1 babbling")["n"] == "10 vs 10 random genomes"
+    assert _row(found, "F1 babbling")["n"] == "10 replications vs 10 random genomes"
     assert _verdict(fd.findings(trials), "F1 babbling") == vd.NOT_RUN
 
 
