@@ -29,7 +29,7 @@ from string import Template
 
 import polars as pl
 
-from . import budgets, figures, findings, summaries
+from . import budgets, figures, findings, summaries, verdicts
 from ..errors import UsageError
 from ..postevaluation import snapshots as development
 from ..postevaluation.systematic import run_phases
@@ -108,7 +108,8 @@ def _effect(r: dict) -> str:
 
 def _findings_html(found: pl.DataFrame) -> str:
     """The findings, grouped by the paper's section and figure, in the table's order."""
-    head = ("<tr><th>claim</th><th>the paper</th><th>measured here</th><th>test</th><th>n</th>"
+    head = ("<tr><th>claim</th><th>the paper</th><th>measured here</th><th>kind (test: see "
+            "the summary)</th><th>n</th>"
             "<th>effect [CI]</th><th>p</th><th>Holm p</th><th>paper's level met</th>"
             "<th>verdict (replications)</th><th>the paper's analysis: robots as units</th>"
             "</tr>")
@@ -122,7 +123,7 @@ def _findings_html(found: pl.DataFrame) -> str:
         rows.append(
             f'<tr class="{r["verdict"].split()[0]}"><td>{html.escape(r["claim"])}</td>'
             f'<td>{html.escape(r["paper"])}</td><td>{html.escape(r["measured"])}</td>'
-            f'<td>{html.escape(r["test"])}</td><td>{html.escape(r["n"])}</td>'
+            f'<td>{html.escape(r["kind"])}</td><td>{html.escape(r["n"])}</td>'
             f'<td>{_effect(r)}</td><td>{_cell(r["p"])}</td><td>{_cell(r["p_holm"])}</td>'
             f'<td>{met}</td><td class="verdict">{html.escape(r["verdict"])}{note}</td>'
             f'<td>{html.escape(r["verdict_robots"] or "–")}</td></tr>')
@@ -274,6 +275,39 @@ def _counts(found: pl.DataFrame) -> str:
             f'<p class="counts">The project\'s own claims: {line(True)}</p>')
 
 
+def section_counts(by_budget: pl.DataFrame) -> pl.DataFrame:
+    """The paper's claims by section of the paper (the section's first part, e.g. "IV-A-2")
+    and budget: how many got each verdict, the replication as the unit, and how many decided
+    ones survive Holm's adjustment within the budget."""
+    head = by_budget.filter(~pl.col("own")).with_columns(
+        pl.col("section").str.split(",").list.first().str.split(":").list.first()
+        .str.strip_chars().alias("part"),
+        pl.format("{} gen/phase", "generations_per_phase").alias("budget"))
+    holm = (((pl.col("verdict") == verdicts.REPRODUCED) & (pl.col("p_holm") < verdicts.ALPHA))
+            | ((pl.col("verdict") == verdicts.CONTRADICTED)
+               & (pl.col("p_holm_against") < verdicts.ALPHA)))
+    return (head.group_by("part", "budget", maintain_order=True)
+            .agg(pl.len().alias("claims"),
+                 *[(pl.col("verdict") == v).sum().alias(v) for v in verdicts.VERDICTS],
+                 holm.sum().alias("decided after Holm"))
+            .rename({"part": "section"}))
+
+
+def summary_html(by_budget: pl.DataFrame) -> str:
+    """The first screen: the counts per section at each budget, the forest of every claim's
+    effect, and what each kind of test is (said once, not in every row)."""
+    tests = pl.DataFrame({"kind": list(findings.TESTS), "test": list(findings.TESTS.values())})
+    return ("<p>The paper's claims, the replication as the unit of every verdict (the paper's "
+            "own analysis, robots as units, is a column of the tables below, never counted "
+            "here); the project's own claims are counted apart in each budget's table.</p>"
+            + table_html(section_counts(by_budget), "counts")
+            + _try(figures.forest_figure, by_budget)
+            + "<p>Every claim's effect with its replication-level interval, on a scale where "
+              "the paper's direction is right; each row is scaled to its own largest end, so "
+              "rows in different units share the axis.</p>"
+            + table_html(tests, "tests"))
+
+
 def _verdict_class(column: str, value) -> str:
     """The CSS class of a cell of ``budgets.side_by_side``: its verdict, or its movement."""
     if column.endswith(": verdict"):
@@ -364,7 +398,8 @@ def build(run_dirs: Sequence, out=None, findings_out=None) -> Path:
               + ", ".join(html.escape(str(d)) for d in missing) + ". The findings and figures "
               "need the post-evaluation: run <code>dart-reach evaluate RUN --sensors all "
               "--baseline 20</code> first.</p>")
-    sections = [_section("Findings of section IV", notice + _findings_body(blocks, by_budget)
+    sections = [_section("Summary", notice + summary_html(by_budget), "summary"),
+                _section("Findings of section IV", _findings_body(blocks, by_budget)
                          + "<p>Verdicts are computed from the data when this report is built "
                            "(<code>dart_reach.findings</code>, <code>dart_reach.verdicts</code>; "
                            "the rules and their reasons are in docs/model/claims.md, "

@@ -52,9 +52,11 @@ def test_the_report_holds_every_section_figure_and_claim(tiny_run, tmp_path):
                    "statistics"):
         assert f'<section id="{anchor}">' in text, anchor
     images = re.findall(r'src="data:image/png;base64,([A-Za-z0-9+/=]+)"', text)
-    # training, Figs. 5, 6, 7, 8 (paths and babbling), 9, Table I behaviours, 10 (the tiny
-    # run keeps neither snapshots nor best-of-generation recordings: no development figures)
-    assert len(images) == 9
+    # the summary's forest, training, Figs. 5, 6, 7, 8 (paths and babbling), 9, Table I
+    # behaviours, 10 (the tiny run keeps neither snapshots nor best-of-generation recordings:
+    # no development figures)
+    assert len(images) == 10
+    assert text.index('id="summary"') < text.index('id="findings"')
     assert "Table I: the behaviours of each phase" in text
     assert "Development over generations" not in text
     assert all(base64.b64decode(i)[:8] == b"\x89PNG\r\n\x1a\n" for i in images)
@@ -196,3 +198,27 @@ def test_a_report_of_two_budgets_sets_them_side_by_side(tiny_run, other_budget, 
     assert f"<h3>{DEFAULT_SCENE}, 1 generation per phase: tiny</h3>" in found
     assert f"<h3>{DEFAULT_SCENE}, 2 generations per phase: tiny-2</h3>" in found
     assert "scenes" not in found.split("<table")[0]  # one scene: no notice
+
+
+def test_the_summary_counts_the_papers_claims_per_section_and_draws_the_forest():
+    """The first screen: counts per section and budget of the paper's claims only, with the
+    Holm-surviving ones, and the forest of every claim's effect."""
+    rows = [{"scene": "s", "generations_per_phase": g, "runs": "r", "sign": 1, "claim": c,
+             "section": sec, "kind": "directional", "own": own, "effect": e,
+             "effect_low": e - 0.1, "effect_high": e + 0.1, "verdict": v,
+             "p_holm": ph, "p_holm_against": 1.0}
+            for g in (10, 50)
+            for c, sec, own, e, v, ph in (
+                ("a", "IV-A-2, Fig. 5", False, 0.3, verdicts.REPRODUCED, 0.01),
+                ("b", "IV-A-2, Fig. 6", False, 0.3, verdicts.REPRODUCED, 0.2),
+                ("c", "IV-C: controls", False, 0.0, verdicts.INCONCLUSIVE, 0.9),
+                ("d", "IV-A-2", True, 0.5, verdicts.REPRODUCED, float("nan")))]
+    frame = pl.DataFrame(rows)
+    counts = report.section_counts(frame)
+    row = counts.filter((pl.col("section") == "IV-A-2")
+                        & (pl.col("budget") == "10 gen/phase")).row(0, named=True)
+    assert row["claims"] == 2 and row[verdicts.REPRODUCED] == 2
+    assert row["decided after Holm"] == 1
+    assert counts["claims"].sum() == 6  # the project's own claim is not counted
+    text = report.summary_html(frame)
+    assert text.count("<img") == 1 and "directional" in text

@@ -29,7 +29,9 @@ in a notebook, or ``fig.savefig(path)``).
 - ``development_figure`` (``development``, not a paper figure): a measure over the
   generations of a condition's phases;
 - ``budget_figure`` (``budget``, not a paper figure): each claim's effect against the
-  generations per phase of runs trained at several budgets (``budgets.findings_by_budget``).
+  generations per phase of runs trained at several budgets (``budgets.findings_by_budget``);
+- ``forest_figure`` (``forest``, not a paper figure): every claim's effect with its
+  replication-level interval against the paper's direction, one marker per budget.
 
 The figures compute no measure and no test: the numbers they draw are the tables of
 ``stats`` (``performance_summary``, ``phase_statistics``, ``fig9_statistics``,
@@ -47,6 +49,7 @@ from __future__ import annotations
 from .budget import MOVEMENT_COLOURS, budget_figure
 from .conditions import BOX_MIN, fig10_conditions
 from .development import development_figure
+from .forest import VERDICT_COLOURS, forest_figure
 from .performance import (BEHAVIOUR_MEASURES, FIG5_MEASURES, fig5_performance,
                           fig9_sensory_deprivation, table1_behaviours)
 from .space import (BABBLING_MEASURES, FIG6_MEASURES, FIG8_TRIAL, SECTOR_CENTRE_TRIALS, VIEWS,
@@ -58,7 +61,7 @@ from .training import training_curves
 __all__ = ["training_curves", "fig5_performance", "fig6_distances_variability",
            "fig7_sector_maps", "fig7_reach_regression", "fig8_trajectories", "fig8_babbling",
            "fig9_sensory_deprivation", "table1_behaviours", "fig10_conditions",
-           "development_figure", "budget_figure",
+           "development_figure", "budget_figure", "forest_figure", "VERDICT_COLOURS",
            "SENSES_COLOURS", "FIG5_MEASURES", "FIG6_MEASURES", "BABBLING_MEASURES",
            "BEHAVIOUR_MEASURES", "SECTOR_CENTRE_TRIALS", "FIG8_TRIAL", "VIEWS", "BOX_MIN",
            "MOVEMENT_COLOURS"]
