@@ -29,7 +29,7 @@ def forest_figure(by_budget: pl.DataFrame, own: bool = False) -> Figure:
     claims = scored["claim"].unique(maintain_order=True).to_list()
     labels = sorted(scored.select("generations_per_phase", "scene").unique().rows())
     markers = dict(zip(labels, "osD^v<>"))
-    fig = Figure(figsize=(7.5, 0.5 + 0.16 * max(len(claims), 1)), layout="constrained")
+    fig = Figure(figsize=(7.5, max(3.0, 0.6 + 0.16 * len(claims))), layout="constrained")
     ax = fig.add_subplot()
     offsets = np.linspace(-0.25, 0.25, len(labels)) if len(labels) > 1 else [0.0]
     for (gens, scene), dy in zip(labels, offsets):
