@@ -23,8 +23,9 @@ def forest_figure(by_budget: pl.DataFrame, own: bool = False) -> Figure:
     right (``budgets.toward_paper``), each row divided by the largest magnitude of its
     effect and interval ends so that claims in different units share one axis: 0 is no
     effect (or the claim's boundary), a row whose interval lies wholly right of 0 points the
-    paper's way. The marker's colour is the verdict, its shape the budget; a hollow marker has
-    no interval."""
+    paper's way. The marker's colour is the verdict, its shape the budget; a claim without a
+    bounded interval at a budget (Friedman's W, an underpowered or unrun rule) has no marker
+    there."""
     scored = budgets.toward_paper(by_budget).filter(pl.col("own") == own)
     claims = scored["claim"].unique(maintain_order=True).to_list()
     labels = sorted(scored.select("generations_per_phase", "scene").unique().rows())
@@ -37,23 +38,19 @@ def forest_figure(by_budget: pl.DataFrame, own: bool = False) -> Figure:
                               & (pl.col("scene") == scene))
         for r in block.iter_rows(named=True):
             t, lo, hi = (r[k] for k in ("toward", "toward_low", "toward_high"))
-            if t is None or np.isnan(t):
-                continue
-            ends = [abs(x) for x in (t, lo, hi) if x is not None and np.isfinite(x)]
-            scale = max(ends) or 1.0
+            if not all(x is not None and np.isfinite(x) for x in (t, lo, hi)):
+                continue  # no bounded interval: nothing to scale by (the table has the row)
+            scale = max(abs(t), abs(lo), abs(hi)) or 1.0
             y = claims.index(r["claim"]) + dy
             colour = VERDICT_COLOURS.get(r["verdict"], "0.6")
-            bounded = lo is not None and np.isfinite(lo) and np.isfinite(hi)
-            if bounded:
-                ax.plot([lo / scale, hi / scale], [y, y], color=colour, linewidth=1.2)
-            ax.plot(t / scale, y, markers[(gens, scene)], color=colour, markersize=4,
-                    markerfacecolor=colour if bounded else "white")
+            ax.plot([lo / scale, hi / scale], [y, y], color=colour, linewidth=1.2)
+            ax.plot(t / scale, y, markers[(gens, scene)], color=colour, markersize=4)
     ax.axvline(0, color="0.4", linestyle="--", linewidth=0.7)
     ax.set_yticks(range(len(claims)), claims, fontsize=6)
     ax.set_ylim(len(claims) - 0.5, -0.5)
     ax.set_xlim(-1.1, 1.1)
-    ax.set_xlabel("effect in the paper's direction (right), each row scaled to its largest "
-                  "end; 0: no effect or the claim's boundary", fontsize=8)
+    ax.set_xlabel("effect, the paper's direction to the right (each row scaled to its "
+                  "largest end)", fontsize=8)
     handles = [Line2D([], [], color=c, marker="o", linestyle="", label=v)
                for v, c in VERDICT_COLOURS.items()]
     handles += [Line2D([], [], color="0.3", marker=markers[k], linestyle="",
