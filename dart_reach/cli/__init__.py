@@ -21,7 +21,7 @@ import sys
 
 from . import evaluate, read, report, shipped, studies, train, watch, world
 from .arguments import Help, Parser
-from .stopping import checked, interrupted, on_stop_signal, stops, unraisable
+from .stopping import interrupted, on_stop_signal, stops, unraisable
 
 #: Every command's registration, in the order ``dart-reach --help`` lists them.
 COMMANDS = (watch.register_watch, watch.register_video, world.register_reach,
@@ -29,10 +29,6 @@ COMMANDS = (watch.register_watch, watch.register_video, world.register_reach,
             train.register_train, evaluate.register_evaluate, report.register_report,
             train.register_status, read.register_read, studies.register_validate,
             studies.register_bench)
-
-#: The stop handling under its former names, which a test of the trainer drives it by
-#: (tests/evolution: a stop signal swallowed by a destructor is not lost).
-_on_stop_signal, _unraisable, _checked = on_stop_signal, unraisable, checked
 
 
 def build_parser() -> Parser:

@@ -142,9 +142,9 @@ def test_a_stop_signal_swallowed_by_a_destructor_is_not_lost():
     prints nothing about it."""
     code = """
 import os, signal, sys, time
-from dart_reach import cli
-signal.signal(signal.SIGINT, cli._on_stop_signal)
-sys.unraisablehook = cli._unraisable(sys.__unraisablehook__)
+from dart_reach.cli import stopping
+signal.signal(signal.SIGINT, stopping.on_stop_signal)
+sys.unraisablehook = stopping.unraisable(sys.__unraisablehook__)
 class Flush:
     def __del__(self):
         os.kill(os.getpid(), signal.SIGINT)
@@ -152,7 +152,7 @@ class Flush:
 Flush()
 print("the destructor's exception was swallowed", flush=True)
 try:
-    cli._checked(print)("next generation")
+    stopping.checked(print)("next generation")
 except KeyboardInterrupt:
     sys.exit(0)
 sys.exit(1)
