@@ -65,6 +65,7 @@ _PUBLIC = {
 #: public module names -> subpackage.module
 _MODULES = {"figures": "analysis.figures", "summaries": "analysis.summaries",
             "stats": "analysis.stats", "findings": "analysis.findings",
+            "tables": "analysis.tables", "report": "analysis.report",
             "metrics": "measures.metrics", "robots": "robots"}
 
 __all__ = sorted([*_PUBLIC, *_MODULES, "__version__"])
