@@ -6,7 +6,7 @@ VENV := .venv
 BIN := $(VENV)/bin
 
 .PHONY: demo test bench skeleton clean notebooks screenshots scene-study pythons replication-50 replication-50x10 \
-	replication-10 replication-report
+	replication-10 replication-report results
 
 $(BIN)/python:
 	$(PY) -m venv $(VENV)
@@ -123,6 +123,12 @@ replication-report: $(VENV)/.installed
 		$(BIN)/dart-reach evaluate $$run --sensors all --robots 5 --baseline 10 \
 			--development 5 || exit 1; done
 	$(BIN)/dart-reach report $(REPLICATION) $(FIG10) --out recordings/replication-report.html
+
+# The results docs (docs/results/templates/*.md rendered from the committed tables under
+# recordings/, and scene-study/scene-study.md and .png); a test fails when they differ.
+results: $(VENV)/.installed
+	$(BIN)/python -m dart_reach.studies.scene_study $(STUDY) docs/results/scene-study > /dev/null
+	$(BIN)/python -m dart_reach.studies.results_docs .
 
 test: $(VENV)/.installed-dev
 	$(BIN)/python -m pytest -q

@@ -117,13 +117,19 @@ def register_status(subparsers) -> None:
     p.add_argument("--markdown", action="store_true",
                    help="print the table as markdown, e.g. for docs/results/replication.md "
                         "(default: a plain table)")
+    p.add_argument("--reproduce", action="store_true",
+                   help="also run one stored robot per phase and results table again on 9 of "
+                        "the 45 positions and check that the rows are the stored ones to the "
+                        "last bit (a few seconds per phase)")
     p.set_defaults(func=cmd_status)
 
 
 def cmd_status(args) -> int:
     """Where a run's training stands: generations, fitness and wall time per phase and
-    replication, and the sessions that trained it."""
+    replication, and the sessions that trained it; then its post-evaluation results: complete
+    or not, written where, and (``--reproduce``) whether a slice of them runs again the same."""
     from ..evolution.rundir import RunDirectory
+    from ..postevaluation import checks
 
     run = RunDirectory.open(args.run_dir)
     table = run.status()
@@ -144,4 +150,14 @@ def cmd_status(args) -> int:
     print(f"{done} of {total} replication-generations ({done / total:.0%}), {wall:.1f} h of "
           f"wall time, {len(sessions)} session(s) recorded; unfinished: "
           f"{', '.join(run.unfinished()) or 'none'}")
-    return 0
+    print("\n".join(checks.describe(run.out)))
+    if not args.reproduce:
+        return 0
+    found = checks.reproduce(run.out)
+    for r in found.iter_rows(named=True):
+        at = f" @{r['generation']}" if r["generation"] is not None else ""
+        print(f"reproduce: {r['table']} {r['phase']}{at} {r['senses']} replication "
+              f"{r['replication']} rank {r['rank']}, {r['trials']} trials: "
+              + ("the same to the last bit" if r["equal"] else
+                 f"DIFFERENT in {', '.join(r['differ'])} (max |diff| {r['max_abs_diff']:.3g})"))
+    return 0 if found.height == 0 or found["equal"].all() else 1

@@ -33,9 +33,10 @@ from typing import Callable, Sequence
 import numpy as np
 import polars as pl
 
-from .systematic import EvaluationProgress, RobotJob, open_finished, run_robot, save_table
+from . import results
+from .systematic import EvaluationProgress, RobotJob, open_finished, run_robot
 from ..evolution.backends import make_backend
-from ..evolution.rundir import RunDirectory, RunError
+from ..evolution.rundir import RunDirectory
 from ..evolution.settings import trial_config
 from ..files import DirectoryLock, remove_temporaries
 from ..measures.metrics import trial_metrics
@@ -44,7 +45,7 @@ from ..model.icub import HAND_SEGMENTS
 from ..model.task import Senses, TrialData
 from ..recording.rrd import read_properties, read_rrd
 
-TABLE = "development.parquet"
+TABLE = results.DEVELOPMENT
 _KEY = ("phase_key", "generation", "replication", "rank")
 
 #: The measures whose course the report draws (column, label): performance, movement
@@ -75,13 +76,7 @@ def _offsets(run: RunDirectory) -> dict[str, tuple[str, int, str]]:
 
 def load_development(run_dir) -> pl.DataFrame | None:
     """``development.parquet`` of a run, or None when there is none."""
-    path = Path(run_dir) / TABLE
-    if not path.is_file():
-        return None
-    try:
-        return pl.read_parquet(path)
-    except Exception as exc:  # polars raises several kinds for a damaged file
-        raise RunError(f"{path}: unreadable ({exc})") from None
+    return results.read_table(Path(run_dir) / TABLE)
 
 
 def measure_snapshots(run_dir, robots: int = 1, workers: int | None = None,
@@ -120,6 +115,7 @@ def measure_snapshots(run_dir, robots: int = 1, workers: int | None = None,
                                       "offset": offsets[phase.key][1]})
         if not jobs:
             return table if table is not None else pl.DataFrame()
+        entry = results.session()
         backend = make_backend(workers, ray_address)
         rows: list[dict] = []
         t0 = last_save = time.monotonic()
@@ -128,7 +124,7 @@ def measure_snapshots(run_dir, robots: int = 1, workers: int | None = None,
                     zip(jobs, extra, backend.imap(run_robot, jobs)), start=1):
                 rows.extend(dict(row, **more) for row in job_rows)
                 if time.monotonic() - last_save > save_every_s:
-                    table, rows = save_table(path, table, rows, _KEY), []
+                    table, rows = results.save_table(path, table, rows, _KEY, entry), []
                     last_save = time.monotonic()
                 if progress:
                     progress(EvaluationProgress(n, len(jobs), time.monotonic() - t0,
@@ -137,7 +133,7 @@ def measure_snapshots(run_dir, robots: int = 1, workers: int | None = None,
         finally:
             backend.close()
             if rows:
-                table = save_table(path, table, rows, _KEY)
+                table = results.save_table(path, table, rows, _KEY, entry)
         return table
 
 

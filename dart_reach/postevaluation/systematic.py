@@ -43,12 +43,13 @@ from typing import Callable, Iterable, Sequence
 import numpy as np
 import polars as pl
 
+from . import results
 from ..evolution.backends import make_backend, worker_trial
 from ..evolution.conditions import Phase
 from ..evolution.genome import as_groups, decode
 from ..evolution.rundir import RunDirectory, RunError
 from ..evolution.settings import baseline_genomes, trial_config
-from ..files import DirectoryLock, atomic_write, remove_temporaries
+from ..files import DirectoryLock, remove_temporaries
 from ..measures.metrics import trial_metrics
 from ..progress import evaluation_bar
 from ..recording.rrd import RobotModel, TrialInfo, trial_rrd, write_blueprint, write_rrd
@@ -103,6 +104,8 @@ class RobotJob:
     world: WorldConfig
     record: bool
     baseline: bool = False
+    #: Which of the 45 positions to run (None: all); a subset checks stored rows quickly.
+    positions: tuple[int, ...] | None = None
 
     def recording_path(self, k: int, sector: int) -> str:
         """Path of trial k's recording, relative to the run directory."""
@@ -123,6 +126,8 @@ def run_robot(job: RobotJob) -> tuple[list[dict], list[bytes | None]]:
     network = network_for(decode(job.genome, as_groups(job.phase.free_groups)), job.trial)
     rows, recordings = [], []
     for k, position in enumerate(world.systematic_points()):
+        if job.positions is not None and k not in job.positions:
+            continue
         sector = k // POINTS_PER_SECTOR
         data = runner.run(network, sector, position)
         path = job.recording_path(k, sector) if job.record else None
@@ -188,15 +193,16 @@ def open_finished(run_dir, finished_only: bool | None = None) -> RunDirectory:
 
 
 def load_evaluation(run_dir, baseline: bool | None = False) -> pl.DataFrame:
-    """The post-evaluation table of a run (``evaluation.parquet``): the trained robots'
-    trials (``baseline`` False, the default), the random baseline's (True) or all (None)."""
-    path = Path(run_dir) / TABLE
-    if not path.is_file():
-        raise RunError(f"{path}: no post-evaluation yet; run 'dart-reach evaluate {run_dir}'")
-    try:
-        table = pl.read_parquet(path)
-    except Exception as exc:  # polars raises several kinds for a damaged file
-        raise RunError(f"{path}: unreadable ({exc})") from None
+    """The post-evaluation of a run: the trained robots' trials (``evaluation.parquet``;
+    ``baseline`` False, the default), the random baseline's (``baseline.parquet``; True) or
+    both (None). Stored float32 measures read as float64 (``results``)."""
+    run_dir = Path(run_dir)
+    if not (run_dir / TABLE).is_file():
+        raise RunError(f"{run_dir / TABLE}: no post-evaluation yet; run "
+                       f"'dart-reach evaluate {run_dir}'")
+    parts = [t for t in (results.read_table(run_dir / TABLE),
+                         results.read_table(run_dir / results.BASELINE)) if t is not None]
+    table = pl.concat(parts, how="diagonal_relaxed") if len(parts) > 1 else parts[0]
     if "baseline" not in table.columns:  # written before the baseline existed
         table = table.with_columns(pl.lit(False).alias("baseline"))
     if "measures_version" not in table.columns:  # written before measures of version 2
@@ -249,10 +255,11 @@ def _evaluate(run: RunDirectory, senses, robots, record, workers, ray_address, p
                          f"got {robots}")
     if baseline < 0:
         raise ValueError(f"baseline must be 0 or more random genomes, got {baseline}")
-    path = run.out / TABLE
-    table = load_evaluation(run.out, baseline=None) if path.exists() else None
+    table = load_evaluation(run.out, baseline=None) if (run.out / TABLE).exists() else None
     done = set() if table is None else set(
         table.filter(pl.col("measures_version") >= MEASURES_VERSION).select(_KEY).iter_rows())
+    tables = {flag: None if table is None else table.filter(pl.col("baseline") == flag)
+              for flag in (False, True)}
     jobs = []
     for condition, phase in run.unique_phases():
         if not run.final_path(phase).exists():
@@ -277,6 +284,15 @@ def _evaluate(run: RunDirectory, senses, robots, record, workers, ray_address, p
                                          False, baseline=True))
     if not jobs:
         return table if table is not None else pl.DataFrame()
+    entry = results.session()
+    paths = {False: run.out / TABLE, True: run.out / results.BASELINE}
+
+    def save(rows: list[dict]) -> None:
+        for flag in (True, False):  # the baseline first: it may come out of evaluation.parquet
+            part = [row for row in rows if row["baseline"] is flag]
+            if part or tables[flag] is not None and not results.is_current(paths[flag]):
+                tables[flag] = results.save_table(paths[flag], tables[flag], part, _KEY, entry)
+
     if any(job.record for job in jobs) and not (run.out / BLUEPRINT).exists():
         write_blueprint(run.out / BLUEPRINT)
     backend = make_backend(workers, ray_address)
@@ -290,25 +306,13 @@ def _evaluate(run: RunDirectory, senses, robots, record, workers, ray_address, p
                     write_rrd(run.out / row["recording"], content)
             rows.extend(job_rows)
             if time.monotonic() - last_save > save_every_s:
-                table, rows = save_table(path, table, rows), []
-                last_save = time.monotonic()
+                save(rows)
+                rows, last_save = [], time.monotonic()
             if progress:
                 progress(EvaluationProgress(n, len(jobs), time.monotonic() - t0, job.phase.name,
                                             job.trial.senses.value))
     finally:
         backend.close()
         if rows:
-            table = save_table(path, table, rows)
-    return table
-
-
-def save_table(path: Path, table: pl.DataFrame | None, rows: list[dict],
-               key: Sequence[str] = _KEY) -> pl.DataFrame:
-    """``rows`` added to ``table`` (replacing its rows of the same ``key``: robots measured
-    by an older version), written atomically."""
-    new = pl.DataFrame(rows, schema_overrides={"recording": pl.Utf8}, infer_schema_length=None)
-    if table is not None:
-        table = table.join(new.select(key).unique(), on=list(key), how="anti")
-    table = new if table is None else pl.concat([table, new], how="diagonal_relaxed")
-    atomic_write(path, lambda p: table.write_parquet(p))
-    return table
+            save(rows)
+    return pl.concat([t for t in tables.values() if t is not None], how="diagonal_relaxed")

@@ -142,6 +142,18 @@ def levers_markdown(table: pl.DataFrame) -> str:
     return "\n".join(lines) + "\n"
 
 
+def levers_grid(table: pl.DataFrame) -> str:
+    """``levers`` as a markdown grid: one row per measure, one column per lever, each cell the
+    shift and its 95 % interval, ✓ where the replications agree."""
+    names = list(dict.fromkeys(table["lever"].to_list()))
+    lines = ["| measure | " + " | ".join(names) + " |", "|" + "---|" * (len(names) + 1)]
+    for (label,), rows in table.group_by("measure", maintain_order=True):
+        cells = {r["lever"]: f"{r['shift']:+.2g} [{r['shift_low']:+.2g}, {r['shift_high']:+.2g}]"
+                 + (" ✓" if r["replications_agree"] else "") for r in rows.iter_rows(named=True)}
+        lines.append(f"| {label} | " + " | ".join(cells.get(n, "–") for n in names) + " |")
+    return "\n".join(lines) + "\n"
+
+
 def sector_rates(run_dirs: Sequence[Path]) -> pl.DataFrame:
     """The evolved robots' reach and grasp rate per sector, one row per scene and sector."""
     tables = []
@@ -207,18 +219,28 @@ def figure(table: pl.DataFrame, sectors: pl.DataFrame):
     return fig
 
 
+def study_runs(study: Path) -> list[Path]:
+    """The post-evaluated scene runs in ``study``, by name."""
+    return sorted(d for d in Path(study).iterdir() if (d / "evaluation.parquet").is_file())
+
+
+def tables_text(runs: Sequence[Path]) -> str:
+    """scene-study.md: the summary and the levers' full table."""
+    return markdown(summary(runs)) + "\n" + levers_markdown(levers(robots(runs)))
+
+
 def main(argv=None) -> int:
     argv = sys.argv[1:] if argv is None else argv
     if len(argv) != 2:
         print("usage: python -m dart_reach.studies.scene_study STUDY_DIR OUT_DIR", file=sys.stderr)
         return 2
     study, out = Path(argv[0]), Path(argv[1])
-    runs = sorted(d for d in study.iterdir() if (d / "evaluation.parquet").is_file())
+    runs = study_runs(study)
     if not runs:
         print(f"{study}: no post-evaluated scene run", file=sys.stderr)
         return 2
     table = summary(runs)
-    text = markdown(table) + "\n" + levers_markdown(levers(robots(runs)))
+    text = tables_text(runs)
     (out / "scene-study.md").write_text(text)
     figure(table, sector_rates(runs)).savefig(out / "scene-study.png", dpi=90)
     print(text)

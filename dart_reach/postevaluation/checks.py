@@ -1,0 +1,213 @@
+"""Whether a run's post-evaluation results are complete, and whether they still reproduce.
+
+``table_status`` says, for each of a run's three tables (``results``), what it holds against
+what the run's phases, replications and snapshots allow: a table is complete when every
+phase has every replication's robots (the same ranks) under every sensory condition it holds,
+every random genome under them, every snapshot's robots, each on the 45 positions.
+
+``reproduce`` runs a slice of the stored rows again in the real DART world (one robot per
+phase and table, on a few of the 45 positions: trials are independent, each starts from the
+same state) and compares the rows, as stored (``results.quantised``), with the table's:
+equal to the last bit, or the columns that differ. A model, measure or setting changed since
+the table was written shows here instead of silently invalidating what the docs say.
+"""
+
+from __future__ import annotations
+
+import json
+from dataclasses import dataclass, replace
+from pathlib import Path
+
+import polars as pl
+
+from . import results
+from .systematic import RobotJob, load_evaluation, run_robot
+from ..evolution.rundir import RunDirectory
+from ..evolution.settings import baseline_genomes, trial_config
+from ..model.task import Senses
+from ..model.world import N_SECTORS, POINTS_PER_SECTOR
+
+POSITIONS = N_SECTORS * POINTS_PER_SECTOR
+
+
+@dataclass(frozen=True)
+class TableStatus:
+    """One results table of a run: ``trials`` rows, what they cover (``summary``), whether
+    that is all the run allows (``complete``; ``missing`` names what is not there) and the
+    sessions that wrote it (``results.session`` entries)."""
+
+    name: str
+    trials: int
+    summary: str
+    complete: bool
+    missing: tuple[str, ...]
+    sessions: tuple[dict, ...]
+
+
+def _robots(table: pl.DataFrame, keys: list[str]) -> dict[tuple, int]:
+    """Trials per robot: ``keys`` (a robot's columns) -> rows."""
+    return {k[:-1]: k[-1] for k in table.group_by(keys).len().rows()}
+
+
+def _finished(run: RunDirectory):
+    return [(c, p) for c, p in run.unique_phases() if run.final_path(p).exists()]
+
+
+def _evaluation_status(run: RunDirectory, table: pl.DataFrame, name: str) -> TableStatus:
+    baseline = name == results.BASELINE
+    senses = sorted(set(table["senses"]))
+    if baseline:  # a random genome's index is its "replication", its rank 0
+        units, ranks = sorted(set(table["replication"])), [0]
+    else:
+        units, ranks = list(range(run.settings.replications)), sorted(set(table["rank"]))
+    have = _robots(table, ["phase_key", "senses", "replication", "rank"])
+    missing = []
+    for _, phase in _finished(run):
+        for s in senses:
+            gaps = [(u, i) for u in units for i in ranks
+                    if have.get((phase.key, s, u, i)) != POSITIONS]
+            if gaps:
+                missing.append(f"{phase.name}/{s}: {len(gaps)} of {len(units) * len(ranks)} "
+                               f"robots")
+    phases = len({p for p, *_ in have})
+    what = (f"{len(units)} random genomes" if baseline else
+            f"{len(units)} replications x {len(ranks)} robots")
+    return TableStatus(name, table.height,
+                       f"{phases} phase(s) x {what} x {len(senses)} senses ({', '.join(senses)})",
+                       not missing, tuple(missing), tuple(results.sessions(run.out / name)))
+
+
+def _development_status(run: RunDirectory, table: pl.DataFrame) -> TableStatus:
+    robots = int(table["rank"].max()) + 1
+    have = _robots(table, ["phase_key", "generation", "replication", "rank"])
+    expected = found = 0
+    missing = []
+    for _, phase in _finished(run):
+        gaps = 0
+        for generation, genomes, _ in run.snapshots(phase):
+            for r in range(genomes.shape[0]):
+                for i in range(min(robots, genomes.shape[1])):
+                    expected += 1
+                    ok = have.get((phase.key, generation, r, i)) == POSITIONS
+                    found += ok
+                    gaps += not ok
+        if gaps:
+            missing.append(f"{phase.name}: {gaps} snapshot robots")
+    return TableStatus(results.DEVELOPMENT, table.height,
+                       f"{found} of {expected} snapshot robots (the best {robots} of each "
+                       f"replication)", not missing, tuple(missing),
+                       tuple(results.sessions(run.out / results.DEVELOPMENT)))
+
+
+def table_status(run_dir) -> list[TableStatus]:
+    """The status of each results table the run has (none: an empty list)."""
+    run = RunDirectory.open(run_dir)
+    out = []
+    for name in (results.EVALUATION, results.BASELINE):
+        table = results.read_table(run.out / name)
+        if table is not None:
+            if "baseline" in table.columns and name == results.EVALUATION:
+                chance = table.filter(pl.col("baseline"))  # the older format held both
+                table = table.filter(~pl.col("baseline"))
+                if chance.height:
+                    out.append(_evaluation_status(run, chance, results.BASELINE))
+            out.append(_evaluation_status(run, table, name))
+    development = results.read_table(run.out / results.DEVELOPMENT)
+    if development is not None:
+        out.append(_development_status(run, development))
+    return sorted(out, key=lambda s: [results.EVALUATION, results.BASELINE,
+                                      results.DEVELOPMENT].index(s.name))
+
+
+def _compare(stored: pl.DataFrame, rows: list[dict]) -> tuple[list[str], float]:
+    """Columns of the re-run ``rows`` that differ from ``stored`` (the same trials), and the
+    largest absolute difference among their floats."""
+    again = results.quantised(pl.DataFrame(rows, schema_overrides={"recording": pl.Utf8},
+                                           infer_schema_length=None)).sort("trial")
+    stored = results.quantised(stored).sort("trial")  # a table of the older format: float64
+    if stored.height != again.height:
+        return ["rows"], float("nan")
+    columns = [c for c in again.columns if c in stored.columns and c != "recording"]
+    differ = [c for c in columns if not stored[c].equals(again[c])]
+    worst = 0.0
+    for c in differ:
+        if again[c].dtype.is_float():
+            worst = max(worst, float((stored[c] - again[c]).abs().max() or 0.0))
+    return differ, worst
+
+
+def reproduce(run_dir, points: int = N_SECTORS) -> pl.DataFrame:
+    """Run again, for each phase and each results table, one stored robot on ``points`` of
+    the 45 positions (spread over the sectors; the robot, position and sensory condition
+    rotate with the phase) and compare the rows. One row per robot checked: table, phase,
+    senses, replication, rank, generation (development; else null), trials, equal (every
+    column to the last bit), differ (the columns that do not) and max_abs_diff."""
+    run = RunDirectory.open(run_dir)
+    world = run.settings.world
+    step = POSITIONS // points
+    checks = []
+    tables = {name: results.read_table(run.out / name) for name in
+              (results.EVALUATION, results.BASELINE, results.DEVELOPMENT)}
+    if tables[results.EVALUATION] is not None:
+        every = load_evaluation(run.out, None)
+        tables[results.EVALUATION] = every.filter(~pl.col("baseline"))
+        tables[results.BASELINE] = every.filter(pl.col("baseline"))
+    for n, (condition, phase) in enumerate(_finished(run)):
+        positions = tuple(range(n % step, POSITIONS, step))[:points]
+        base = trial_config(phase, run.settings)
+        for name, table in tables.items():
+            if table is None or not table.height:
+                continue
+            table = table.filter(pl.col("phase_key") == phase.key)
+            if not table.height:
+                continue
+            generation = None
+            if name == results.DEVELOPMENT:
+                generation = sorted(set(table["generation"]))[n % table["generation"].n_unique()]
+                table = table.filter(pl.col("generation") == generation)
+            senses = sorted(set(table["senses"]))[n % table["senses"].n_unique()]
+            table = table.filter(pl.col("senses") == senses)
+            replication = sorted(set(table["replication"]))[n % table["replication"].n_unique()]
+            stored = table.filter((pl.col("replication") == replication) & (pl.col("rank") == 0)
+                                  & pl.col("trial").is_in(positions))
+            if name == results.BASELINE:
+                genome = baseline_genomes(run.settings, phase, replication + 1)[replication]
+                fitness = float("nan")
+            else:
+                genomes, fitness = (run.load_final(phase) if generation is None else next(
+                    (g, f) for gen, g, f in run.snapshots(phase) if gen == generation))
+                genome, fitness = genomes[replication, 0], float(fitness[replication, 0])
+            job = RobotJob(condition.name, phase, run.phase_dir(phase).name, replication, 0,
+                           fitness, genome, replace(base, senses=Senses(senses)), world, False,
+                           baseline=name == results.BASELINE, positions=positions)
+            rows, _ = run_robot(job)
+            differ, worst = _compare(stored, rows)
+            checks.append({"table": name, "phase": phase.name, "senses": senses,
+                           "replication": replication, "rank": 0, "generation": generation,
+                           "trials": len(rows), "equal": not differ, "differ": differ,
+                           "max_abs_diff": worst})
+    return pl.DataFrame(checks, schema_overrides={"generation": pl.Int64,
+                                                  "differ": pl.List(pl.Utf8)})
+
+
+def describe(run_dir) -> list[str]:
+    """Lines for ``dart-reach status``: each table's status and where it came from, against
+    the revision that trained the run."""
+    run_dir = Path(run_dir)
+    statuses = table_status(run_dir)
+    if not statuses:
+        return ["results: no post-evaluation (dart-reach evaluate RUN)"]
+    trained = json.loads((run_dir / "manifest.json").read_text()).get("git_revision")
+    lines = []
+    for s in statuses:
+        state = "complete" if s.complete else "incomplete: " + "; ".join(s.missing)
+        revisions = sorted({str(e.get("revision"))[:7] for e in s.sessions}) or ["unknown"]
+        lines.append(f"results: {s.name}: {s.trials:,} trials, {s.summary}: {state}; written "
+                     f"at {', '.join(revisions)} in {len(s.sessions) or 'unknown'} session(s)")
+    written = {e.get("revision") for s in statuses for e in s.sessions}
+    if written == {trained}:
+        lines.append(f"results: written at the revision that trained the run ({trained[:7]})")
+    else:
+        lines.append(f"results: trained at {str(trained)[:7]}, written at another revision: "
+                     f"'dart-reach status {run_dir} --reproduce' runs a slice again to check")
+    return lines

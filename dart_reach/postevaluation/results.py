@@ -1,0 +1,162 @@
+"""The post-evaluation's tables as results anyone can check: how they are stored, where they
+come from, and whether a run's are complete.
+
+A run's post-evaluation lives in three tables in its directory, committed with its compact
+state for the runs the docs cite (docs/guides/runs.md, "Results"):
+
+    evaluation.parquet   the trained robots' trials (``systematic``), one row per trial
+    baseline.parquet     the random genomes' trials (``evaluate --baseline``), one row per trial
+    development.parquet  the snapshots' robots' trials (``snapshots``), one row per trial
+
+Storage: zstd parquet. Every floating-point measure is stored as float32 (7 significant digits:
+far finer than any measure's meaning; it halves the files) and read back as float64, so a table
+evaluated anywhere and a committed one hold the same numbers to the last bit. Tables written
+before this format (float64; the baseline inside evaluation.parquet) are read as they are and
+rewritten in it the next time rows are added.
+
+Provenance: the parquet file's key-value metadata ``dart_reach`` holds a JSON object
+``{"format": FORMAT, "sessions": [...]}``: one entry per session that added rows (``Session``:
+git revision and whether the tree was dirty, package version, command, start time, machine,
+rows added), and every row's ``session`` column is the index of the entry that added it.
+"""
+
+from __future__ import annotations
+
+import json
+import os
+import platform
+import sys
+import time
+from pathlib import Path
+from typing import Sequence
+
+import polars as pl
+
+from .. import __version__
+from ..evolution.provenance import git_state
+from ..evolution.rundir import RunError
+from ..files import atomic_write
+
+#: Version of the storage format (1: float32 measures, the baseline in its own table, sessions).
+FORMAT = 1
+EVALUATION = "evaluation.parquet"
+BASELINE = "baseline.parquet"
+DEVELOPMENT = "development.parquet"
+_META = "dart_reach"
+
+
+def session(command: str | None = None) -> dict:
+    """This process's provenance entry: ``revision`` (git commit of the package's source, or
+    None outside a git tree), ``dirty``, ``version``, ``command`` (default: the command line),
+    ``started`` (UTC, ISO 8601), ``machine`` and ``pid``; ``rows`` is filled in on saving."""
+    git = git_state()
+    return {"revision": git["git_revision"], "dirty": git["git_dirty"],
+            "version": __version__,
+            "command": command if command is not None else " ".join(
+                [Path(sys.argv[0]).name, *sys.argv[1:]]),
+            "started": time.strftime("%Y-%m-%dT%H:%M:%SZ", time.gmtime()),
+            "machine": f"{platform.machine()} {platform.processor() or ''}".strip(),
+            "pid": os.getpid(), "rows": 0}
+
+
+def read_table(path: Path) -> pl.DataFrame | None:
+    """The table at ``path`` with its float32 columns as float64, or None when there is none;
+    ``RunError`` when it cannot be read."""
+    if not path.is_file():
+        return None
+    try:
+        table = pl.read_parquet(path)
+    except Exception as exc:  # polars raises several kinds for a damaged file
+        raise RunError(f"{path}: unreadable ({exc})") from None
+    return table.with_columns(pl.col(pl.Float32).cast(pl.Float64))
+
+
+def sessions(path: Path) -> list[dict]:
+    """The provenance entries of the table at ``path`` (empty for a table written before
+    provenance was recorded, or none)."""
+    if not path.is_file():
+        return []
+    try:
+        meta = pl.read_parquet_metadata(path)
+    except Exception as exc:
+        raise RunError(f"{path}: unreadable ({exc})") from None
+    return json.loads(meta[_META])["sessions"] if _META in meta else []
+
+
+def is_current(path: Path) -> bool:
+    """True when the table at ``path`` is stored in the current ``FORMAT``."""
+    try:
+        meta = pl.read_parquet_metadata(path)
+    except Exception:
+        return False
+    return _META in meta and json.loads(meta[_META]).get("format") == FORMAT
+
+
+def _stored(frame: pl.DataFrame) -> pl.DataFrame:
+    return frame.with_columns(pl.col(pl.Float64).cast(pl.Float32))
+
+
+def quantised(frame: pl.DataFrame) -> pl.DataFrame:
+    """``frame`` with every float64 column rounded to float32 and back: the values a table
+    holds once saved (what the reproduction check compares)."""
+    return frame.with_columns(pl.col(pl.Float64).cast(pl.Float32).cast(pl.Float64))
+
+
+def write_table(path: Path, table: pl.DataFrame, entries: Sequence[dict]) -> None:
+    """Write ``table`` (float64 columns stored as float32) with its provenance ``entries``,
+    atomically."""
+    meta = {_META: json.dumps({"format": FORMAT, "sessions": list(entries)})}
+    atomic_write(path, lambda p: _stored(table).write_parquet(p, metadata=meta))
+
+
+def save_table(path: Path, table: pl.DataFrame | None, rows: list[dict], key: Sequence[str],
+               entry: dict) -> pl.DataFrame:
+    """``rows`` (added by the session ``entry``) added to ``table`` (the table at ``path`` as
+    read or as last returned), replacing its rows of the same ``key`` (robots measured by an
+    older version of the measures), written atomically; returns the new table as it now reads
+    back."""
+    entries = sessions(path)
+    same = [i for i, e in enumerate(entries)
+            if e.get("pid") == entry["pid"] and e.get("started") == entry["started"]]
+    index = same[0] if same else len(entries)
+    if not same:
+        entries.append(dict(entry))
+    if table is not None and "session" not in table.columns:  # written before provenance
+        table = table.with_columns(pl.lit(None, pl.Int16).alias("session"))
+    if rows:
+        new = quantised(pl.DataFrame(rows, schema_overrides={"recording": pl.Utf8},
+                                     infer_schema_length=None)
+                        ).with_columns(pl.lit(index, pl.Int16).alias("session"))
+        entries[index]["rows"] = entries[index].get("rows", 0) + new.height
+        if table is not None:
+            table = table.join(new.select(key).unique(), on=list(key), how="anti")
+        table = new if table is None else pl.concat([table, new], how="diagonal_relaxed")
+    write_table(path, table, entries)
+    return table
+
+
+def migrate(run_dir, entry: dict | None = None) -> list[Path]:
+    """Rewrite a run's post-evaluation tables written before the current ``FORMAT`` in it
+    (the baseline's rows of an old evaluation.parquet into baseline.parquet), giving their rows
+    without a session the provenance ``entry`` (default: one saying it is unknown). Returns the
+    tables rewritten; tables already current are left as they are."""
+    run_dir = Path(run_dir)
+    entry = entry or {"revision": None, "dirty": None, "version": None, "command": None,
+                      "started": None, "machine": None, "pid": None,
+                      "note": "written before provenance was recorded"}
+    written = []
+    legacy = read_table(run_dir / EVALUATION) if not is_current(run_dir / EVALUATION) else None
+    parts = {}
+    if legacy is not None:
+        if "baseline" not in legacy.columns:  # written before the baseline existed
+            legacy = legacy.with_columns(pl.lit(False).alias("baseline"))
+        parts[EVALUATION] = legacy.filter(~pl.col("baseline"))
+        if legacy["baseline"].any():  # the new code writes both tables in the new format
+            parts[BASELINE] = legacy.filter(pl.col("baseline"))
+    if not is_current(run_dir / DEVELOPMENT) and (run_dir / DEVELOPMENT).is_file():
+        parts[DEVELOPMENT] = read_table(run_dir / DEVELOPMENT)
+    for name, table in parts.items():
+        write_table(run_dir / name, quantised(table).with_columns(
+            pl.lit(0, pl.Int16).alias("session")), [dict(entry, rows=table.height)])
+        written.append(run_dir / name)
+    return written

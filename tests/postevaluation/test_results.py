@@ -1,0 +1,92 @@
+"""The post-evaluation's tables as results (results.py): float32 storage read as float64, the
+baseline in its own table, provenance per session, and tables of the older format kept."""
+
+from __future__ import annotations
+
+import shutil
+
+import polars as pl
+import pytest
+
+from dart_reach.evolution.conditions import load_condition, scaled
+from dart_reach.evolution.settings import Settings
+from dart_reach.evolution.trainer import train
+from dart_reach.postevaluation import results
+from dart_reach.postevaluation.systematic import evaluate_run, load_evaluation
+
+TRIALS = 45
+
+
+@pytest.fixture(scope="module")
+def trained(tmp_path_factory):
+    out = tmp_path_factory.mktemp("runs") / "tiny"
+    train([scaled(load_condition("standard"), 1)],
+          Settings(replications=2, trials=1, steps=5, seed=3), out, workers=1)
+    return out
+
+
+def test_tables_are_float32_apart_and_say_who_wrote_them(trained, tmp_path):
+    out = tmp_path / "run"
+    shutil.copytree(trained, out)
+    evaluate_run(out, senses=["normal"], robots=1, baseline=1, record="none", workers=1,
+                 progress=False)
+    raw = pl.read_parquet(out / results.EVALUATION)
+    chance = pl.read_parquet(out / results.BASELINE)
+    assert not raw["baseline"].any() and chance["baseline"].all()
+    assert (raw.height, chance.height) == (3 * 2 * TRIALS, 3 * TRIALS)  # phases x robots
+    for table in (raw, chance):
+        assert pl.Float64 not in table.schema.dtypes() and pl.Float32 in table.schema.dtypes()
+        assert (table["session"] == 0).all()
+    loaded = load_evaluation(out, baseline=None)
+    assert pl.Float32 not in loaded.schema.dtypes()
+    assert loaded.filter(~pl.col("baseline")).equals(
+        raw.with_columns(pl.col(pl.Float32).cast(pl.Float64)))
+    (first,) = results.sessions(out / results.EVALUATION)
+    assert first["rows"] == raw.height and first["version"]
+    assert "revision" in first and first["command"]
+    assert results.is_current(out / results.EVALUATION)
+
+    # a second session appends its entry; rows keep the index of the session that added them
+    evaluate_run(out, senses=["no-ball"], robots=1, record="none", workers=1, progress=False)
+    entries = results.sessions(out / results.EVALUATION)
+    table = pl.read_parquet(out / results.EVALUATION)
+    assert len(entries) == 2 and [e["rows"] for e in entries] == [raw.height] * 2
+    assert table.group_by("senses", "session").len().sort("senses").rows() == [
+        ("no-ball", 1, raw.height), ("normal", 0, raw.height)]
+    assert table.filter(pl.col("senses") == "normal").equals(raw)  # nothing rewritten
+    assert len(results.sessions(out / results.BASELINE)) == 1  # no baseline rows added
+
+
+def test_a_table_of_the_older_format_loses_nothing(trained, tmp_path):
+    """A float64 evaluation.parquet holding the baseline too (written before results.py)
+    reads as it is; adding rows writes both tables in the current format, every old row
+    kept; ``migrate`` rewrites one with the provenance given."""
+    out = tmp_path / "run"
+    shutil.copytree(trained, out)
+    evaluate_run(out, senses=["normal"], robots=1, baseline=1, record="none", workers=1,
+                 progress=False)
+    every = load_evaluation(out, baseline=None).drop("session")
+    for copy in ("old", "migrated"):
+        shutil.copytree(out, tmp_path / copy)
+        (tmp_path / copy / results.BASELINE).unlink()
+        every.write_parquet(tmp_path / copy / results.EVALUATION)  # the old format
+        assert not results.is_current(tmp_path / copy / results.EVALUATION)
+        assert load_evaluation(tmp_path / copy, None).equals(every)
+
+    old = tmp_path / "old"
+    evaluate_run(old, senses=["no-ball"], robots=1, record="none", workers=1, progress=False)
+    key = ["phase", "baseline", "replication", "trial"]
+    kept = load_evaluation(old, None).filter(pl.col("senses") == "normal")
+    assert kept.drop("session").sort(key).equals(every.sort(key))
+    assert kept["session"].is_null().all()  # who wrote them is not known
+    assert pl.read_parquet(old / results.BASELINE)["senses"].to_list() == ["normal"] * 3 * 45
+    assert results.is_current(old / results.EVALUATION) and results.is_current(
+        old / results.BASELINE)
+
+    migrated = tmp_path / "migrated"
+    entry = {"revision": "abc", "command": "dart-reach evaluate run"}
+    assert sorted(p.name for p in results.migrate(migrated, entry)) == [
+        results.BASELINE, results.EVALUATION]
+    assert results.sessions(migrated / results.BASELINE) == [dict(entry, rows=3 * 45)]
+    assert load_evaluation(migrated, None).drop("session").equals(every)
+    assert results.migrate(migrated, entry) == []  # current: left alone

@@ -1,0 +1,61 @@
+"""The results docs are their templates rendered from the committed results
+(``dart_reach.studies.results_docs``, ``make results``): a committed doc that differs from its
+rendering fails here, and so does a doc whose data change."""
+
+from __future__ import annotations
+
+import shutil
+import subprocess
+import sys
+from pathlib import Path
+
+import polars as pl
+import pytest
+
+from dart_reach.postevaluation import results
+from dart_reach.studies import results_docs
+
+ROOT = Path(__file__).resolve().parents[2]
+
+
+def test_every_committed_results_doc_is_its_rendering():
+    docs = results_docs.generate(ROOT)
+    assert ROOT / "docs/results/scene-study.md" in docs
+    stale = [str(p.relative_to(ROOT)) for p, text in docs.items()
+             if p.read_text(encoding="utf-8") != text]
+    assert not stale, f"run 'make results': {stale} differ from their rendering"
+
+
+def test_a_change_in_the_data_changes_the_doc(tmp_path):
+    """The same check on a copy whose results say something else fails: a robot of `near`
+    that reached nothing."""
+    shutil.copytree(ROOT / "docs/results/templates", tmp_path / results_docs.TEMPLATES)
+    shutil.copytree(ROOT / "recordings/scene-study", tmp_path / "recordings/scene-study")
+    table_path = tmp_path / "recordings/scene-study/near" / results.EVALUATION
+    table = results.read_table(table_path)
+    changed = table.with_columns(pl.when((pl.col("replication") == 0) & (pl.col("rank") == 0))
+                                 .then(False).otherwise(pl.col("reached")).alias("reached"))
+    assert not changed.equals(table)
+    results.write_table(table_path, changed, results.sessions(table_path))
+    for name in ("scene-study.md", "scene-study/scene-study.md"):
+        target = tmp_path / results_docs.OUT / name
+        target.parent.mkdir(parents=True, exist_ok=True)
+        shutil.copy(ROOT / results_docs.OUT / name, target)
+    check = subprocess.run([sys.executable, "-m", "dart_reach.studies.results_docs",
+                            str(tmp_path), "--check"], capture_output=True, text=True)
+    assert check.returncode == 1
+    assert "scene-study.md: differs from its rendering" in check.stderr
+    written = subprocess.run([sys.executable, "-m", "dart_reach.studies.results_docs",
+                              str(tmp_path)], capture_output=True, text=True)
+    assert written.returncode == 0, written.stderr
+    assert (tmp_path / results_docs.OUT / "scene-study.md").read_text() != (
+        ROOT / results_docs.OUT / "scene-study.md").read_text()
+
+
+def test_a_placeholder_without_a_value_is_named():
+    assert results_docs.render("a {{ x }} b {{y.z}}", {"x": "1", "y.z": "2"}) == "a 1 b 2"
+    with pytest.raises(KeyError, match="doc: no value for missing, other"):
+        results_docs.render("{{ missing }} {{ x }} {{ other }}", {"x": "1"}, "doc")
+    assert results_docs.number(0.5, "reached") == "50 %"
+    assert results_docs.number(0.012345) == "0.0123"
+    assert results_docs.number(float("nan")) == "–"
