@@ -23,10 +23,13 @@ from typing import Callable, Mapping
 
 import numpy as np
 
+import polars as pl
+
 from . import scene_study
+from ..analysis import budgets, findings, report, verdicts
 from ..evolution.rundir import RunDirectory
 from ..model.scenes import scene_of
-from ..postevaluation import results
+from ..postevaluation import checks, results
 
 TEMPLATES = Path("docs/results/templates")
 OUT = Path("docs/results")
@@ -52,6 +55,23 @@ def number(value: float, measure: str = "") -> str:
     if measure in _RATES:
         return f"{value:.0%}".replace("%", " %")
     return f"{value:.3g}"
+
+
+def markdown_table(table: pl.DataFrame) -> str:
+    """``table`` as a markdown table: floats to 3 significant digits (``budgets.number_text``),
+    booleans as yes/no, nulls as an en dash."""
+    def cell(value) -> str:
+        if value is None:
+            return "–"
+        if isinstance(value, bool):
+            return "yes" if value else "no"
+        if isinstance(value, float):
+            return budgets.number_text(value)
+        return str(value).replace("|", "\\|")
+
+    lines = ["| " + " | ".join(table.columns) + " |", "|" + "---|" * table.width]
+    lines += ["| " + " | ".join(cell(v) for v in row) + " |" for row in table.iter_rows()]
+    return "\n".join(lines)
 
 
 def provenance(run_dirs) -> dict[str, str]:
@@ -92,9 +112,94 @@ def scene_study_values(recordings: Path) -> dict[str, str]:
     return values
 
 
+#: The replication runs of docs/results/replication.md, smallest budget first.
+REPLICATIONS = ("replication-10", "replication-50")
+
+
+def _training(run: RunDirectory) -> str:
+    table = run.status()
+    done, total = int(table["generations"].sum()), int(table["of"].sum())
+    wall = table.unique(["condition", "phase"])["wall_h"].sum()
+    sessions = json.loads((run.out / "manifest.json").read_text()).get("sessions", [])
+    revisions = sorted({str(s.get("git_revision"))[:7] for s in sessions})
+    return (f"{done:,} of {total:,} replication-generations, {wall:.1f} h of wall time in "
+            f"{len(sessions)} session(s) at {', '.join(revisions)}")
+
+
+def _post_evaluation(run_dir: Path) -> str:
+    statuses = checks.table_status(run_dir)
+    if not statuses:
+        return "not yet"
+    return "; ".join(f"{s.name.removesuffix('.parquet')} {s.trials:,} trials, "
+                     + ("complete" if s.complete else "incomplete") for s in statuses)
+
+
+def replication_values(recordings: Path) -> dict[str, str]:
+    """The values of docs/results/templates/replication.md: ``runs`` (what each run is and
+    where it stands), ``counts`` (the paper's claims by verdict at each budget, the replication
+    as the unit, raw and Holm-surviving; ``own_counts`` the project's own), ``sections`` (by
+    section of the paper), ``claims`` (every claim side by side, ``budgets.side_by_side``),
+    and per run ``<run>.measures`` (means over robots beside the random baseline) and
+    ``<run>.status`` (training, ``dart-reach status --markdown``)."""
+    dirs = [recordings / name for name in REPLICATIONS]
+    by_budget = budgets.findings_by_budget(dirs)
+    values = {"sections": markdown_table(report.section_counts(by_budget)),
+              "claims": markdown_table(budgets.side_by_side(by_budget))}
+    rows, own, judged = [], [], {}
+    for budget, block in zip(budgets.budgets(by_budget), by_budget.partition_by(
+            "scene", "generations_per_phase", maintain_order=True)):
+        for target, is_own in ((rows, False), (own, True)):
+            target.append({"budget": budget.label, "runs": block["runs"][0],
+                           **findings.summary(block, is_own)})
+        paper = rows[-1]
+        judged[block["runs"][0]] = (
+            "not judged yet" if paper[verdicts.NOT_RUN] == block.filter(~pl.col("own")).height
+            else f"{paper[verdicts.REPRODUCED]} of the paper's claims reproduced "
+                 f"({paper['reproduced (Holm)']} after Holm), "
+                 f"{paper[verdicts.CONTRADICTED]} contradicted, "
+                 f"{paper[verdicts.INCONCLUSIVE]} inconclusive, "
+                 f"{paper[verdicts.UNDERPOWERED]} underpowered, {paper[verdicts.NOT_RUN]} not run")
+    values["counts"] = markdown_table(pl.DataFrame(rows))
+    values["own_counts"] = markdown_table(pl.DataFrame(own))
+    described = []
+    for d in dirs:
+        run = RunDirectory.open(d)
+        manifest = json.loads((d / "manifest.json").read_text())
+        described.append({
+            "run": f"`{d.name}`", "conditions": ", ".join(c.name for c in run.conditions),
+            "generations per phase": budgets.generations_per_phase(run)[0],
+            "replications": run.settings.replications, "seed": run.settings.seed,
+            "scene": scene_of(run.settings.world.sectors) or "custom",
+            "created": manifest["created"][:10], "training": _training(run),
+            "post-evaluation": _post_evaluation(d)})
+        table = results.read_table(d / results.EVALUATION)
+        values[f"{d.name}.measures"] = "not post-evaluated yet" if table is None else \
+            markdown_table(report.baseline_table(
+                table, results.read_table(d / results.BASELINE)))
+        status = run.status().with_columns(
+            pl.format("{} / {}", "generations", "of").alias("generations")).drop("of")
+        values[f"{d.name}.status"] = markdown_table(status)
+        values[f"{d.name}.training"] = _training(run)
+    values["runs"] = markdown_table(pl.DataFrame(described))
+    ten = RunDirectory.open(recordings / "replication-50x10")
+    values["replication-50x10.training"] = _training(ten)
+    values["overview"] = markdown_table(pl.DataFrame([
+        {"run": f"`{r['run'].strip('`')}`", "budget (generations per phase)":
+         f"{r['generations per phase']}, {r['conditions']}", "replications": r["replications"],
+         "state": f"trained; {judged.get(r['run'].strip('`'), 'not judged yet')}"}
+        for r in described] + [
+        {"run": "`replication-50x10`", "budget (generations per phase)":
+         f"{budgets.generations_per_phase(ten)[0]}, "
+         + ", ".join(c.name for c in ten.conditions),
+         "replications": ten.settings.replications,
+         "state": f"training: {_training(ten)}"}]))
+    return values
+
+
 #: Each doc rendered from a template: its name and the function of the recordings directory
 #: giving its values.
-DOCS: dict[str, Callable[[Path], dict[str, str]]] = {"scene-study.md": scene_study_values}
+DOCS: dict[str, Callable[[Path], dict[str, str]]] = {"scene-study.md": scene_study_values,
+                                                    "replication.md": replication_values}
 #: Each doc that is a table alone: its path under docs/results and the function of the
 #: recordings directory giving its text.
 TABLES: dict[str, Callable[[Path], str]] = {
@@ -103,13 +208,38 @@ TABLES: dict[str, Callable[[Path], str]] = {
             recordings / "scene-study"))}
 
 
+#: Generated parts of other pages: the page (from the root), the template rendered between
+#: its ``BEGIN`` and ``END`` lines, and the function giving the values.
+PARTS: dict[str, tuple[str, Callable[[Path], dict[str, str]]]] = {
+    "README.md": ("readme-results.md", replication_values)}
+BEGIN = "<!-- results: generated by `make results` from docs/results/templates/{} -->"
+END = "<!-- /results -->"
+
+
 def generate(root: Path) -> dict[Path, str]:
     """Every generated doc of the repository at ``root``: path -> its text."""
     recordings = root / "recordings"
     out = {root / OUT / name: text(recordings) for name, text in TABLES.items()}
-    for name, values in DOCS.items():
+    cache: dict[Callable, dict[str, str]] = {}
+
+    def values(function):
+        if function not in cache:
+            cache[function] = function(recordings)
+        return cache[function]
+
+    for name, function in DOCS.items():
         template = (root / TEMPLATES / name).read_text(encoding="utf-8")
-        out[root / OUT / name] = render(template, values(recordings), name)
+        out[root / OUT / name] = render(template, values(function), name)
+    for page, (name, function) in PARTS.items():
+        text = (root / page).read_text(encoding="utf-8")
+        begin = BEGIN.format(name)
+        if text.count(begin) != 1 or text.count(END) != 1:
+            raise ValueError(f"{root / page}: expected one '{begin}' line and one '{END}' line")
+        head, rest = text.split(begin + "\n", 1)
+        _, tail = rest.split(END, 1)
+        part = render((root / TEMPLATES / name).read_text(encoding="utf-8"), values(function),
+                      name)
+        out[root / page] = head + begin + "\n" + part + END + tail
     return out
 
 
