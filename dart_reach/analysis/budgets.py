@@ -49,22 +49,31 @@ TOWARD, AWAY, NO_CHANGE, NO_INTERVAL, NOT_RUN = ("toward", "away", "no change", 
                                                  "not run")
 MOVEMENTS = (TOWARD, AWAY, NO_CHANGE, NO_INTERVAL, NOT_RUN)
 #: Columns ``findings_by_budget`` puts before the findings' own.
-KEY_COLUMNS = ("scene", "generations_per_phase", "runs", "sign")
+KEY_COLUMNS = ("scene", "generations_per_phase", "replications", "runs", "sign")
 
 
 @dataclass(frozen=True, order=True)
 class Budget:
-    """What a run was trained at, as far as pooling goes: the scene (the ball's sectors, II-B)
-    and the generations per standard phase (the paper: 500, III-D). Ordered by scene, then
-    generations."""
+    """What a run was trained at, as far as pooling goes: the scene (the ball's sectors, II-B),
+    the generations per standard phase (the paper: 500, III-D) and the replications (the
+    paper: 10; they set the transitions, the best 20 of the replications' populations, III-D).
+    Ordered by scene, generations, replications."""
 
     scene: str
     generations_per_phase: int
+    replications: int
 
     @property
     def label(self) -> str:
-        n = self.generations_per_phase
-        return f"{self.scene}, {n} generation{'' if n == 1 else 's'} per phase"
+        n, r = self.generations_per_phase, self.replications
+        return (f"{self.scene}, {n} generation{'' if n == 1 else 's'} per phase, {r} "
+                f"replication{'' if r == 1 else 's'}")
+
+    @property
+    def series(self) -> str:
+        """The budgets whose generations alone differ: a scene and a number of
+        replications."""
+        return f"{self.scene}, {self.replications} replications"
 
 
 def generations_per_phase(run: RunDirectory) -> tuple[int, ...]:
@@ -94,7 +103,7 @@ def budget_of(run_dir) -> Budget:
     """The budget of a run directory: its scene and its largest generations per phase (the
     budget ``report.budget_text`` states)."""
     run = RunDirectory.open(run_dir)
-    return Budget(_scene_name(run), generations_per_phase(run)[-1])
+    return Budget(_scene_name(run), generations_per_phase(run)[-1], run.settings.replications)
 
 
 def budget_groups(run_dirs: Sequence) -> dict[Budget, list[Path]]:
@@ -154,6 +163,7 @@ def label_findings(found: pl.DataFrame, budget: Budget, run_dirs: Sequence,
     return found.select(
         pl.lit(budget.scene).alias("scene"),
         pl.lit(budget.generations_per_phase, dtype=pl.Int64).alias("generations_per_phase"),
+        pl.lit(budget.replications, dtype=pl.Int64).alias("replications"),
         pl.lit(", ".join(Path(d).name for d in run_dirs)).alias("runs"),
         pl.col("claim").replace_strict(signs, default=0, return_dtype=pl.Int64).alias("sign"),
         pl.all())
@@ -169,8 +179,18 @@ def findings_by_budget(run_dirs: Sequence) -> pl.DataFrame:
 
 def budgets(by_budget: pl.DataFrame) -> list[Budget]:
     """The budgets of a findings-by-budget frame, in order."""
-    return sorted(Budget(s, g) for s, g in
-                  by_budget.select("scene", "generations_per_phase").unique().iter_rows())
+    return sorted(Budget(s, g, r) for s, g, r in by_budget.select(
+        "scene", "generations_per_phase", "replications").unique().iter_rows())
+
+
+def with_series(by_budget: pl.DataFrame) -> pl.DataFrame:
+    """``by_budget`` with ``series``: the budgets along which a claim moves with the
+    generations alone (``Budget.series``), named by the scene alone when every budget has the
+    same replications."""
+    one = by_budget["replications"].n_unique() <= 1
+    return by_budget.with_columns(
+        pl.col("scene").alias("series") if one
+        else pl.format("{}, {} replications", "scene", "replications").alias("series"))
 
 
 # ------------------------------------------------------------------------------ direction
@@ -256,8 +276,9 @@ def _move(small: tuple[float, float, float], large: tuple[float, float, float]
 
 
 def movement(by_budget: pl.DataFrame) -> pl.DataFrame:
-    """How each claim moves as the budget grows, per scene with at least two budgets: from
-    its smallest to its largest generations per phase, on the ``toward_paper`` scale.
+    """How each claim moves as the budget grows, per series (``with_series``: a scene and a
+    number of replications) with at least two budgets: from its smallest to its largest
+    generations per phase, on the ``toward_paper`` scale.
 
     - ``not run``: no effect at either end (the claim not run, or decided underpowered before
       any effect was computed);
@@ -267,26 +288,26 @@ def movement(by_budget: pl.DataFrame) -> pl.DataFrame:
     - ``no interval`` where either end has none (Friedman's W, an underpowered rule): two
       points are no evidence against noise, so they are not counted as a move.
 
-    Columns: claim, scene, from_generations, to_generations, movement (one of ``MOVEMENTS``);
-    one row per claim and scene, in the frame's order."""
-    scored = toward_paper(by_budget)
+    Columns: claim, series, from_generations, to_generations, movement (one of
+    ``MOVEMENTS``); one row per claim and series, in the frame's order."""
+    scored = with_series(toward_paper(by_budget))
     claims = scored["claim"].unique(maintain_order=True).to_list()
     rows = []
-    for scene in scored["scene"].unique(maintain_order=True).to_list():
-        gens = sorted(scored.filter(pl.col("scene") == scene)["generations_per_phase"]
+    for series in scored["series"].unique(maintain_order=True).to_list():
+        gens = sorted(scored.filter(pl.col("series") == series)["generations_per_phase"]
                       .unique().to_list())
         if len(gens) < 2:
             continue
         ends = [{r[0]: tuple(r[1:]) for r in scored.filter(
-            (pl.col("scene") == scene) & (pl.col("generations_per_phase") == g))
+            (pl.col("series") == series) & (pl.col("generations_per_phase") == g))
             .select("claim", "toward", "toward_low", "toward_high").iter_rows()}
             for g in (gens[0], gens[-1])]
         nan3 = (math.nan,) * 3
         for claim in claims:
-            rows.append((claim, scene, gens[0], gens[-1],
+            rows.append((claim, series, gens[0], gens[-1],
                          _move(ends[0].get(claim, nan3), ends[1].get(claim, nan3))))
     return pl.DataFrame(rows, orient="row", schema={
-        "claim": pl.Utf8, "scene": pl.Utf8, "from_generations": pl.Int64,
+        "claim": pl.Utf8, "series": pl.Utf8, "from_generations": pl.Int64,
         "to_generations": pl.Int64, "movement": pl.Utf8})
 
 
@@ -307,10 +328,13 @@ def effect_text(effect: float, low: float, high: float) -> str:
     return number_text(effect) + ci
 
 
-def budget_column(budget: Budget, one_scene: bool) -> str:
-    """The name of a budget's columns in ``side_by_side``."""
-    return (f"{budget.generations_per_phase} gen/phase" if one_scene
-            else f"{budget.scene}, {budget.generations_per_phase} gen/phase")
+def budget_column(budget: Budget, one_scene: bool, one_replications: bool = True) -> str:
+    """The name of a budget's columns in ``side_by_side``: its generations per phase, with its
+    scene and its replications where the frame has several."""
+    name = f"{budget.generations_per_phase} gen/phase"
+    if not one_replications:
+        name += f" x {budget.replications}"
+    return name if one_scene else f"{budget.scene}, {name}"
 
 
 def side_by_side(by_budget: pl.DataFrame) -> pl.DataFrame:
@@ -318,16 +342,18 @@ def side_by_side(by_budget: pl.DataFrame) -> pl.DataFrame:
     (``budgets``; named by ``budget_column``) its ``effect [CI]`` (the claim's own effect,
     ``effect_text``), ``verdict`` (the replication as the unit; "not run" where the budget's
     runs lack it) and ``robots as units`` (the paper's analysis, never a headline); and the
-    movement (``movement``) as "as the budget grows" (one column per scene with two budgets or
-    more, named after the scene when there are several)."""
+    movement (``movement``) as "as the budget grows" (one column per series with two budgets or
+    more, named after the series when there are several)."""
     order = by_budget.select("claim", "section", "kind").unique("claim", maintain_order=True)
     all_budgets = budgets(by_budget)
     scenes = list(dict.fromkeys(b.scene for b in all_budgets))
+    one_replications = len({b.replications for b in all_budgets}) == 1
     out = order
     for b in all_budgets:
-        name = budget_column(b, len(scenes) == 1)
+        name = budget_column(b, len(scenes) == 1, one_replications)
         block = by_budget.filter((pl.col("scene") == b.scene)
-                                 & (pl.col("generations_per_phase") == b.generations_per_phase))
+                                 & (pl.col("generations_per_phase") == b.generations_per_phase)
+                                 & (pl.col("replications") == b.replications))
         cells = pl.DataFrame(
             {"claim": block["claim"],
              f"{name}: effect [CI]": [effect_text(*r) for r in block.select(
@@ -340,10 +366,11 @@ def side_by_side(by_budget: pl.DataFrame) -> pl.DataFrame:
             pl.col(f"{name}: verdict").fill_null(verdicts.NOT_RUN),
             pl.col(f"{name}: robots as units").fill_null("–"))
     moves = movement(by_budget)
-    moved = moves["scene"].unique(maintain_order=True).to_list()
-    for scene in moved:
-        name = ("as the budget grows" if len(scenes) == 1
-                else f"as the budget grows ({scene})")
-        m = moves.filter(pl.col("scene") == scene).select("claim", pl.col("movement").alias(name))
+    moved = moves["series"].unique(maintain_order=True).to_list()
+    several = with_series(by_budget)["series"].n_unique() > 1
+    for series in moved:
+        name = (f"as the budget grows ({series})" if several else "as the budget grows")
+        m = moves.filter(pl.col("series") == series).select("claim",
+                                                             pl.col("movement").alias(name))
         out = out.join(m, on="claim", how="left", maintain_order="left")
     return out

@@ -29,6 +29,7 @@ import numpy as np
 import polars as pl
 from scipy import stats as sps
 
+from . import summaries
 from . import verdicts as v
 
 #: Data sets per rule, nesting and scenario; the Monte-Carlo standard error of a rate near
@@ -312,6 +313,41 @@ def robot_level_null(nest: Nesting, datasets: int = DATASETS, seed: int = 2013) 
         friedman.append(v.senses_differ(rob.reshape(-1, k) + 10.0).verdict == v.REPRODUCED)
     return {"directional, robots as units": decided,
             "senses differ, robots as blocks": _rate(friedman)}
+
+
+#: The measures whose spreads ``spreads`` estimates: those most claims judge.
+SPREAD_MEASURES = ("fitness", "reached", "grasped", "speed", "straightness", "var_elbow",
+                   "var_shoulder", "var_trunk", "hand_shoulder_cv", "babbling")
+
+
+def spreads(table: pl.DataFrame, measures=SPREAD_MEASURES, senses: str = "normal"
+            ) -> pl.DataFrame:
+    """The spreads of a run's post-evaluation against the calibration's ``Nesting``: per
+    phase (``notation``) and measure, from the robots' means under ``senses``
+    (``summaries.robot_means``), ``within_sd`` (the pooled s.d. of robots around their
+    replication's mean), ``between_sd`` (the s.d. of replication effects: the variance of the
+    replication means less within_sd² / robots, 0 when that is negative) and ``ratio`` =
+    within / between (inf where between is 0). The calibration simulates ratios 0.2 and 1."""
+    normal = table.filter(pl.col("senses") == senses)
+    names = [m for m in measures if m in normal.columns]
+    robots_ = summaries.robot_means(normal, names, by=("notation", "replication", "rank"))
+    rows = []
+    for (notation,), group in robots_.group_by("notation", maintain_order=True):
+        for m in names:
+            per = [g[m].drop_nans().to_numpy() for _, g in group.group_by("replication",
+                                                                          maintain_order=True)]
+            per = [x for x in per if len(x) >= 2]
+            if len(per) < 2:
+                continue
+            within = math.sqrt(sum(((x - x.mean()) ** 2).sum() for x in per)
+                               / sum(len(x) - 1 for x in per))
+            k = np.mean([len(x) for x in per])
+            var_means = float(np.var([x.mean() for x in per], ddof=1))
+            between = math.sqrt(max(var_means - within ** 2 / k, 0.0))
+            rows.append({"phase": notation, "measure": m, "replications": len(per),
+                         "robots": float(k), "between_sd": between, "within_sd": within,
+                         "ratio": within / between if between > 0 else math.inf})
+    return pl.DataFrame(rows)
 
 
 def markdown(table: pl.DataFrame) -> str:

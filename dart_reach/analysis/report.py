@@ -279,10 +279,12 @@ def section_counts(by_budget: pl.DataFrame) -> pl.DataFrame:
     """The paper's claims by section of the paper (the section's first part, e.g. "IV-A-2")
     and budget: how many got each verdict, the replication as the unit, and how many decided
     ones survive Holm's adjustment within the budget."""
+    several = by_budget["replications"].n_unique() > 1
     head = by_budget.filter(~pl.col("own")).with_columns(
         pl.col("section").str.split(",").list.first().str.split(":").list.first()
         .str.strip_chars().alias("part"),
-        pl.format("{} gen/phase", "generations_per_phase").alias("budget"))
+        (pl.format("{} gen/phase x {}", "generations_per_phase", "replications") if several
+         else pl.format("{} gen/phase", "generations_per_phase")).alias("budget"))
     holm = (((pl.col("verdict") == verdicts.REPRODUCED) & (pl.col("p_holm") < verdicts.ALPHA))
             | ((pl.col("verdict") == verdicts.CONTRADICTED)
                & (pl.col("p_holm_against") < verdicts.ALPHA)))

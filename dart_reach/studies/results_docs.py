@@ -8,8 +8,9 @@ template again and fails when a committed doc differs: a doc cannot drift from i
 number typed into a doc by hand has nowhere to go.
 
 ``python -m dart_reach.studies.results_docs [ROOT]`` writes the docs of the repository at ROOT
-(default: the current directory); ``--check`` writes nothing and exits 1 naming the docs that
-differ from their rendering.
+(default: the current directory) and each post-evaluated replication run's findings frame
+(``recordings/<run>/findings.parquet``: every claim judged at the run's budget); ``--check``
+writes nothing and exits 1 naming the files that differ from their rendering.
 """
 
 from __future__ import annotations
@@ -147,7 +148,7 @@ def replication_values(recordings: Path) -> dict[str, str]:
               "claims": markdown_table(budgets.side_by_side(by_budget))}
     rows, own, judged = [], [], {}
     for budget, block in zip(budgets.budgets(by_budget), by_budget.partition_by(
-            "scene", "generations_per_phase", maintain_order=True)):
+            "scene", "generations_per_phase", "replications", maintain_order=True)):
         for target, is_own in ((rows, False), (own, True)):
             target.append({"budget": budget.label, "runs": block["runs"][0],
                            **findings.summary(block, is_own)})
@@ -243,6 +244,24 @@ def generate(root: Path) -> dict[Path, str]:
     return out
 
 
+def findings_frames(root: Path) -> dict[Path, pl.DataFrame]:
+    """The findings frame of each post-evaluated replication run at its own budget
+    (``budgets.findings_by_budget``), committed as ``recordings/<run>/findings.parquet``."""
+    out = {}
+    for name in REPLICATIONS:
+        run = root / "recordings" / name
+        if (run / results.EVALUATION).is_file():
+            out[run / "findings.parquet"] = budgets.findings_by_budget([run])
+    return out
+
+
+def _same_frame(path: Path, frame: pl.DataFrame) -> bool:
+    if not path.is_file():
+        return False
+    stored = pl.read_parquet(path)
+    return stored.schema == frame.schema and stored.equals(frame)
+
+
 def main(argv=None) -> int:
     parser = argparse.ArgumentParser(prog="python -m dart_reach.studies.results_docs",
                                      description="write the results docs from the committed "
@@ -257,14 +276,19 @@ def main(argv=None) -> int:
               file=sys.stderr)
         return 2
     docs = generate(args.root)
+    frames = findings_frames(args.root)
     stale = [p for p, text in docs.items()
              if not p.is_file() or p.read_text(encoding="utf-8") != text]
+    stale += [p for p, frame in frames.items() if not _same_frame(p, frame)]
     if args.check:
         for p in stale:
             print(f"{p}: differs from its rendering (make results)", file=sys.stderr)
         return 1 if stale else 0
     for p in stale:
-        p.write_text(docs[p], encoding="utf-8")
+        if p in frames:
+            frames[p].write_parquet(p)
+        else:
+            p.write_text(docs[p], encoding="utf-8")
         print(f"wrote {p}")
     return 0
 

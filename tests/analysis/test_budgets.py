@@ -23,42 +23,48 @@ NAN = math.nan
 
 
 # ------------------------------------------------------------------------------ the key
-def _run(out, generations: int, sectors=None, conditions=("standard", "gross-hat")):
+def _run(out, generations: int, sectors=None, conditions=("standard", "gross-hat"),
+         replications: int = 2):
     """A run directory with its manifest only (nothing trained)."""
-    settings = Settings(replications=2)
+    settings = Settings(replications=replications)
     if sectors is not None:
         settings = replace(settings, world=replace(settings.world, sectors=sectors))
     Trainer(out, [scaled(load_condition(c), generations) for c in conditions], settings)
     return out
 
 
-def test_the_budget_is_the_scene_and_the_generations_per_phase(tmp_path):
+def test_the_budget_is_the_scene_the_generations_per_phase_and_the_replications(tmp_path):
     shoulder = load_scene("arm-length-shoulder").sectors
     a = _run(tmp_path / "a", 50, shoulder)
     b = _run(tmp_path / "b", 50, shoulder, conditions=("pre-h",))
     c = _run(tmp_path / "c", 10, shoulder)
     d = _run(tmp_path / "d", 50, load_scene("near").sectors)
     # gross^ trains 100 generations: 2 phases' worth of 50
-    assert bd.budget_of(a) == bd.Budget("arm-length-shoulder", 50)
+    assert bd.budget_of(a) == bd.Budget("arm-length-shoulder", 50, 2)
     assert bd.budget_of(b) == bd.budget_of(a)
-    assert bd.budget_of(c) == bd.Budget("arm-length-shoulder", 10)
-    assert bd.budget_of(d) == bd.Budget("near", 50)
-    assert bd.budget_of(a).label == "arm-length-shoulder, 50 generations per phase"
+    assert bd.budget_of(c) == bd.Budget("arm-length-shoulder", 10, 2)
+    assert bd.budget_of(d) == bd.Budget("near", 50, 2)
+    assert bd.budget_of(a).label == "arm-length-shoulder, 50 generations per phase, 2 replications"
+    # more replications: another design (the transitions merge the best of each), never pooled
+    ten = _run(tmp_path / "ten", 50, shoulder, replications=10)
+    assert bd.budget_of(ten) == bd.Budget("arm-length-shoulder", 50, 10)
     # two user scenes are two scenes, each named by its numbers
     e = _run(tmp_path / "e", 50, replace(shoulder, radius=0.40))
     f = _run(tmp_path / "f", 50, replace(shoulder, radius=0.41))
     assert bd.budget_of(e).scene.startswith("custom") and "0.4 m" in bd.budget_of(e).scene
     assert bd.budget_of(e) != bd.budget_of(f)
-    groups = bd.budget_groups([c, a, d, b, a])
-    assert list(groups) == [bd.Budget("arm-length-shoulder", 10),
-                            bd.Budget("arm-length-shoulder", 50), bd.Budget("near", 50)]
-    assert groups[bd.Budget("arm-length-shoulder", 50)] == [a, b]  # given twice: once
+    groups = bd.budget_groups([c, ten, a, d, b, a])
+    assert list(groups) == [bd.Budget("arm-length-shoulder", 10, 2),
+                            bd.Budget("arm-length-shoulder", 50, 2),
+                            bd.Budget("arm-length-shoulder", 50, 10), bd.Budget("near", 50, 2)]
+    assert groups[bd.Budget("arm-length-shoulder", 50, 2)] == [a, b]  # given twice: once
 
 
 # ------------------------------------------------------------------------------ movement
-def _rows(budget: int, specs: dict, scene: str = "near") -> list[dict]:
+def _rows(budget: int, specs: dict, scene: str = "near", replications: int = 4) -> list[dict]:
     """Findings rows of one budget: {claim: (kind, sign, effect, low, high)}."""
-    return [{"scene": scene, "generations_per_phase": budget, "runs": f"r{budget}",
+    return [{"scene": scene, "generations_per_phase": budget, "replications": replications,
+             "runs": f"r{budget}",
              "sign": sign, "claim": claim, "section": "S", "kind": kind.value,
              "effect": e, "effect_low": lo, "effect_high": hi,
              "verdict": (vd.NOT_RUN if math.isnan(e) else vd.REPRODUCED if claim == "overlap"
@@ -173,13 +179,28 @@ def test_scenes_are_never_compared_with_each_other():
     frame = pl.DataFrame(_rows(10, one, "near") + _rows(50, up, "near")
                          + _rows(10, up, "far") + _rows(50, one, "far")
                          + _rows(30, up, "lone"))
-    moves = {r["scene"]: r["movement"] for r in bd.movement(frame).iter_rows(named=True)}
+    moves = {r["series"]: r["movement"] for r in bd.movement(frame).iter_rows(named=True)}
     assert moves == {"near": bd.TOWARD, "far": bd.AWAY}
     table = bd.side_by_side(frame)
     assert "as the budget grows (near)" in table.columns
     assert "as the budget grows (far)" in table.columns
     assert "far, 10 gen/phase: verdict" in table.columns
     assert not any("lone)" in c for c in table.columns)
+
+
+def test_more_replications_are_a_series_of_their_own():
+    """10 x 4 -> 50 x 4 is a movement; 50 x 10 sits beside 50 x 4 as a column of its own,
+    never the end of the 4-replication series."""
+    low = {"c": (K.DIRECTIONAL, +1, 0.1, 0.0, 0.2)}
+    high = {"c": (K.DIRECTIONAL, +1, 0.9, 0.8, 1.0)}
+    frame = pl.DataFrame(_rows(10, low) + _rows(50, high) + _rows(50, low, replications=10))
+    moves = bd.movement(frame)
+    assert moves.select("series", "movement").rows() == [("near, 4 replications", bd.TOWARD)]
+    table = bd.side_by_side(frame)
+    assert {"10 gen/phase x 4: verdict", "50 gen/phase x 4: verdict",
+            "50 gen/phase x 10: verdict", "as the budget grows (near, 4 replications)"
+            } <= set(table.columns)
+    assert table["50 gen/phase x 10: effect [CI]"][0] == "0.1 [0, 0.2]"
 
 
 def test_the_figure_draws_the_claims_with_an_effect_at_two_budgets():

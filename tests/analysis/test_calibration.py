@@ -60,3 +60,23 @@ def test_robots_as_units_would_decide_under_the_null():
 def test_the_docs_table_is_the_simulated_one(table):
     assert cal.markdown(table) in DOC.read_text(), \
         "docs/results/calibration.md is stale: regenerate it with `make results`"
+
+
+def test_the_spreads_of_a_run_are_estimated_as_the_nesting_defines_them():
+    """Robots at w x (-2..2) around replication effects b x (-1.5, -0.5, 0.5, 1.5): within
+    s.d. w sqrt(10 / 4); between s.d. sqrt(var of the means - within^2 / 5)."""
+    import math
+
+    b, w = 1.0, 0.3
+    rows = [{"notation": "pre", "senses": "normal", "replication": r, "rank": i, "trial": t,
+             "reached": b * e + w * d}
+            for r, e in enumerate((-1.5, -0.5, 0.5, 1.5)) for i, d in enumerate(range(-2, 3))
+            for t in range(3)]
+    rows += [dict(row, senses="no-ball", reached=99.0) for row in rows]  # other senses: out
+    (got,) = cal.spreads(pl.DataFrame(rows), measures=("reached",)).iter_rows(named=True)
+    within = w * math.sqrt(10 / 4)
+    between = math.sqrt(b * b * 5 / 3 - within ** 2 / 5)
+    assert (got["replications"], got["robots"]) == (4, 5.0)
+    assert got["within_sd"] == pytest.approx(within, rel=1e-12)
+    assert got["between_sd"] == pytest.approx(between, rel=1e-12)
+    assert got["ratio"] == pytest.approx(within / between, rel=1e-12)

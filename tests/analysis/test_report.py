@@ -195,15 +195,16 @@ def test_a_report_of_two_budgets_sets_them_side_by_side(tiny_run, other_budget, 
     assert re.search(r'<img alt="figure" src="data:image/png;base64,[A-Za-z0-9+/=]+">'
                      + re.escape(f"<p>{html.escape(report.BUDGET_FIGURE_NOTE)}</p>"), found)
     assert found.count('<table class="findings">') == 2
-    assert f"<h3>{DEFAULT_SCENE}, 1 generation per phase: tiny</h3>" in found
-    assert f"<h3>{DEFAULT_SCENE}, 2 generations per phase: tiny-2</h3>" in found
+    assert f"<h3>{DEFAULT_SCENE}, 1 generation per phase, 2 replications: tiny</h3>" in found
+    assert f"<h3>{DEFAULT_SCENE}, 2 generations per phase, 2 replications: tiny-2</h3>" in found
     assert "scenes" not in found.split("<table")[0]  # one scene: no notice
 
 
 def test_the_summary_counts_the_papers_claims_per_section_and_draws_the_forest():
     """The first screen: counts per section and budget of the paper's claims only, with the
     Holm-surviving ones, and the forest of every claim's effect."""
-    rows = [{"scene": "s", "generations_per_phase": g, "runs": "r", "sign": 1, "claim": c,
+    rows = [{"scene": "s", "generations_per_phase": g, "replications": 4, "runs": "r",
+             "sign": 1, "claim": c,
              "section": sec, "kind": "directional", "own": own, "effect": e,
              "effect_low": e - 0.1, "effect_high": e + 0.1, "verdict": v,
              "p_holm": ph, "p_holm_against": 1.0}

@@ -25,6 +25,10 @@ def test_every_committed_results_doc_is_its_rendering():
     stale = [str(p.relative_to(ROOT)) for p, text in docs.items()
              if p.read_text(encoding="utf-8") != text]
     assert not stale, f"run 'make results': {stale} differ from their rendering"
+    for path, frame in results_docs.findings_frames(ROOT).items():
+        stored = pl.read_parquet(path)
+        assert stored.schema == frame.schema and stored.equals(frame), \
+            f"run 'make results': {path.relative_to(ROOT)} differs from the findings"
 
 
 def test_a_change_in_the_data_changes_the_doc(tmp_path):

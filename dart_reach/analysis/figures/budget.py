@@ -28,11 +28,11 @@ def budget_figure(by_budget: pl.DataFrame, claims: Sequence[str] | None = None,
     ``by_budget`` (``budgets.findings_by_budget``): one small panel per claim, the effect on
     the scale where up is the paper's direction (``budgets.toward_paper``; the claim's own
     units, the dashed line at 0: no effect, or the claim's boundary) with its interval (a
-    hollow point: none, or an unbounded one), a line per scene, and the claim's movement as
+    hollow point: none, or an unbounded one), a line per series (a scene and a number of replications), and the claim's movement as
     the budget grows (``budgets.movement``) under the panel, in its colour. ``claims``: the
     claim ids to draw (default: those with an effect at two budgets or more), in the frame's
     order."""
-    scored = budgets.toward_paper(by_budget)
+    scored = budgets.with_series(budgets.toward_paper(by_budget))
     if claims is None:
         counts = (scored.filter(pl.col("toward").is_not_nan())
                   .group_by("claim").len().filter(pl.col("len") >= 2))
@@ -40,9 +40,9 @@ def budget_figure(by_budget: pl.DataFrame, claims: Sequence[str] | None = None,
                   if c in set(counts["claim"].to_list())]
     claims = list(claims)
     moves = budgets.movement(by_budget)
-    scenes = scored["scene"].unique(maintain_order=True).to_list()
-    scene_colours = ({scenes[0]: "0.15"} if len(scenes) == 1
-                     else {s: colormaps["tab10"](i % 10) for i, s in enumerate(scenes)})
+    lines = scored["series"].unique(maintain_order=True).to_list()
+    colours = ({lines[0]: "0.15"} if len(lines) == 1
+               else {s: colormaps["tab10"](i % 10) for i, s in enumerate(lines)})
     gens = sorted(scored["generations_per_phase"].unique().to_list())
     if not claims:
         fig = Figure(figsize=(8, 2), layout="constrained")
@@ -58,12 +58,12 @@ def budget_figure(by_budget: pl.DataFrame, claims: Sequence[str] | None = None,
         ax.set_visible(False)
     for ax, claim in zip(axes, claims):
         sub = scored.filter(pl.col("claim") == claim)
-        for scene in scenes:
-            pts = (sub.filter((pl.col("scene") == scene) & pl.col("toward").is_not_nan())
+        for line in lines:
+            pts = (sub.filter((pl.col("series") == line) & pl.col("toward").is_not_nan())
                    .sort("generations_per_phase"))
             if pts.height == 0:
                 continue
-            colour = scene_colours[scene]
+            colour = colours[line]
             x, y = pts["generations_per_phase"].to_numpy(), pts["toward"].to_numpy()
             lo, hi = pts["toward_low"].to_numpy(), pts["toward_high"].to_numpy()
             bounded = np.isfinite(lo) & np.isfinite(hi)
@@ -83,17 +83,17 @@ def budget_figure(by_budget: pl.DataFrame, claims: Sequence[str] | None = None,
         ax.tick_params(labelsize=9)
         ax.yaxis.set_major_locator(MaxNLocator(3))
         ax.set_title(textwrap.fill(claim, 26), fontsize=9, loc="left")
-        words = [(m["scene"], m["movement"], m["movement"])
+        words = [(m["series"], m["movement"], m["movement"])
                  for m in moves.filter(pl.col("claim") == claim).iter_rows(named=True)]
         if len(words) == 1:  # under the axis, in the movement's colour
             ax.set_xlabel(words[0][1], fontsize=9, color=MOVEMENT_COLOURS[words[0][2]])
-        elif words:  # one line per scene, in the scene's colour
+        elif words:  # one line per series, in its colour
             ax.set_xlabel("\n".join(f"{s}: {w}" for s, w, _ in words), fontsize=9)
     fig.supxlabel("generations per phase (the paper: 500)", fontsize=10)
     fig.supylabel("effect, the paper's direction up (claim's units)", fontsize=10)
     fig.suptitle("Each claim's effect against the budget (interval: the claim's own)",
                  fontsize=10)
-    if len(scenes) > 1:
-        handles = [Line2D([], [], color=scene_colours[s], marker="o", label=s) for s in scenes]
-        fig.legend(handles=handles, loc="outside upper right", fontsize=9, ncol=len(scenes))
+    if len(lines) > 1:
+        handles = [Line2D([], [], color=colours[s], marker="o", label=s) for s in lines]
+        fig.legend(handles=handles, loc="outside upper right", fontsize=9, ncol=len(lines))
     return fig

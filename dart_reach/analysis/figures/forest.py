@@ -28,14 +28,15 @@ def forest_figure(by_budget: pl.DataFrame, own: bool = False) -> Figure:
     there."""
     scored = budgets.toward_paper(by_budget).filter(pl.col("own") == own)
     claims = scored["claim"].unique(maintain_order=True).to_list()
-    labels = sorted(scored.select("generations_per_phase", "scene").unique().rows())
+    labels = sorted(scored.select("generations_per_phase", "replications", "scene")
+                    .unique().rows())
     markers = dict(zip(labels, "osD^v<>"))
     fig = Figure(figsize=(7.5, max(3.0, 0.6 + 0.16 * len(claims))), layout="constrained")
     ax = fig.add_subplot()
     offsets = np.linspace(-0.25, 0.25, len(labels)) if len(labels) > 1 else [0.0]
-    for (gens, scene), dy in zip(labels, offsets):
+    for (gens, reps, scene), dy in zip(labels, offsets):
         block = scored.filter((pl.col("generations_per_phase") == gens)
-                              & (pl.col("scene") == scene))
+                              & (pl.col("replications") == reps) & (pl.col("scene") == scene))
         for r in block.iter_rows(named=True):
             t, lo, hi = (r[k] for k in ("toward", "toward_low", "toward_high"))
             if not all(x is not None and np.isfinite(x) for x in (t, lo, hi)):
@@ -44,7 +45,7 @@ def forest_figure(by_budget: pl.DataFrame, own: bool = False) -> Figure:
             y = claims.index(r["claim"]) + dy
             colour = VERDICT_COLOURS.get(r["verdict"], "0.6")
             ax.plot([lo / scale, hi / scale], [y, y], color=colour, linewidth=1.2)
-            ax.plot(t / scale, y, markers[(gens, scene)], color=colour, markersize=4)
+            ax.plot(t / scale, y, markers[(gens, reps, scene)], color=colour, markersize=4)
     ax.axvline(0, color="0.4", linestyle="--", linewidth=0.7)
     ax.set_yticks(range(len(claims)), claims, fontsize=6)
     ax.set_ylim(len(claims) - 0.5, -0.5)
@@ -53,9 +54,10 @@ def forest_figure(by_budget: pl.DataFrame, own: bool = False) -> Figure:
                   "largest end)", fontsize=8)
     handles = [Line2D([], [], color=c, marker="o", linestyle="", label=v)
                for v, c in VERDICT_COLOURS.items()]
+    several = {i: len({k[i] for k in labels}) > 1 for i in (1, 2)}
     handles += [Line2D([], [], color="0.3", marker=markers[k], linestyle="",
-                       label=f"{k[0]} gen/phase" + (f", {k[1]}" if len({s for _, s in labels})
-                                                    > 1 else ""))
+                       label=f"{k[0]} gen/phase" + (f" x {k[1]}" if several[1] else "")
+                       + (f", {k[2]}" if several[2] else ""))
                 for k in labels]
     ax.legend(handles=handles, fontsize=6, loc="lower right")
     return fig
