@@ -290,7 +290,8 @@ def _evaluate(run: RunDirectory, senses, robots, record, workers, ray_address, p
     def save(rows: list[dict]) -> None:
         for flag in (True, False):  # the baseline first: it may come out of evaluation.parquet
             part = [row for row in rows if row["baseline"] is flag]
-            if part or tables[flag] is not None and not results.is_current(paths[flag]):
+            old = tables[flag]
+            if part or (old is not None and old.height and not results.is_current(paths[flag])):
                 tables[flag] = results.save_table(paths[flag], tables[flag], part, _KEY, entry)
 
     if any(job.record for job in jobs) and not (run.out / BLUEPRINT).exists():

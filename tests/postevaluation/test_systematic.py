@@ -105,6 +105,7 @@ def test_evaluating_again_adds_only_what_is_missing(evaluated, tmp_path):
     old = {p: p.stat().st_mtime_ns for p in (out / "evaluation").rglob("*.rrd")}
     table = evaluate_run(out, senses=SENSES, robots=2, record="none", workers=1)
     assert table.height == 4 * before.height
+    assert not (out / "baseline.parquet").exists()  # no random genome asked for: no table
     assert table.filter(pl.col("senses") == "no-touch").equals(before)
     assert {p: p.stat().st_mtime_ns for p in (out / "evaluation").rglob("*.rrd")} == old
     saved = (out / "evaluation.parquet").read_bytes()
