@@ -122,11 +122,15 @@ def load_runs(run_dirs: Sequence) -> pl.DataFrame:
 
 
 def recorded_robot(table: pl.DataFrame, phase: str, senses: str = "normal") -> pl.DataFrame:
-    """The trials (sorted by trial) of the best recorded robot of ``phase`` under ``senses``:
-    among robots with recordings, the one of highest lifetime fitness, i.e. by default the best
-    robot (rank 0) of the best replication (Figs. 6, 8). Empty when nothing was recorded."""
-    rows = table.filter((pl.col("phase") == phase) & (pl.col("senses") == senses)
-                        & pl.col("recording").is_not_null())
+    """The trials (sorted by trial) of the robot of ``phase`` under ``senses`` whose
+    trajectories Figs. 6 and 8 draw: among the robots with recordings, the one of highest
+    lifetime fitness, i.e. by default the best robot (rank 0) of the best replication; where
+    none was recorded (``evaluate --record none``, committed results), that robot all the same
+    (its recordings are made again on demand: ``replay.recording``). Empty when the phase has
+    no trial under ``senses``."""
+    rows = table.filter((pl.col("phase") == phase) & (pl.col("senses") == senses))
+    recorded = rows.filter(pl.col("recording").is_not_null())
+    rows = recorded if recorded.height else rows.filter(pl.col("rank") == 0)
     if rows.height == 0:
         return rows
     best = (rows.group_by("replication", "rank")

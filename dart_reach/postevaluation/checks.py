@@ -15,16 +15,14 @@ the table was written shows here instead of silently invalidating what the docs 
 from __future__ import annotations
 
 import json
-from dataclasses import dataclass, replace
+from dataclasses import dataclass
 from pathlib import Path
 
 import polars as pl
 
 from . import results
-from .systematic import RobotJob, load_evaluation, run_robot
+from .systematic import load_evaluation, run_robot, stored_robot_job
 from ..evolution.rundir import RunDirectory
-from ..evolution.settings import baseline_genomes, trial_config
-from ..model.task import Senses
 from ..model.world import N_SECTORS, POINTS_PER_SECTOR
 
 POSITIONS = N_SECTORS * POINTS_PER_SECTOR
@@ -143,7 +141,6 @@ def reproduce(run_dir, points: int = N_SECTORS) -> pl.DataFrame:
     senses, replication, rank, generation (development; else null), trials, equal (every
     column to the last bit), differ (the columns that do not) and max_abs_diff."""
     run = RunDirectory.open(run_dir)
-    world = run.settings.world
     step = POSITIONS // points
     checks = []
     tables = {name: results.read_table(run.out / name) for name in
@@ -152,9 +149,8 @@ def reproduce(run_dir, points: int = N_SECTORS) -> pl.DataFrame:
         every = load_evaluation(run.out, None)
         tables[results.EVALUATION] = every.filter(~pl.col("baseline"))
         tables[results.BASELINE] = every.filter(pl.col("baseline"))
-    for n, (condition, phase) in enumerate(_finished(run)):
+    for n, (_, phase) in enumerate(_finished(run)):
         positions = tuple(range(n % step, POSITIONS, step))[:points]
-        base = trial_config(phase, run.settings)
         for name, table in tables.items():
             if table is None or not table.height:
                 continue
@@ -170,16 +166,9 @@ def reproduce(run_dir, points: int = N_SECTORS) -> pl.DataFrame:
             replication = sorted(set(table["replication"]))[n % table["replication"].n_unique()]
             stored = table.filter((pl.col("replication") == replication) & (pl.col("rank") == 0)
                                   & pl.col("trial").is_in(positions))
-            if name == results.BASELINE:
-                genome = baseline_genomes(run.settings, phase, replication + 1)[replication]
-                fitness = float("nan")
-            else:
-                genomes, fitness = (run.load_final(phase) if generation is None else next(
-                    (g, f) for gen, g, f in run.snapshots(phase) if gen == generation))
-                genome, fitness = genomes[replication, 0], float(fitness[replication, 0])
-            job = RobotJob(condition.name, phase, run.phase_dir(phase).name, replication, 0,
-                           fitness, genome, replace(base, senses=Senses(senses)), world, False,
-                           baseline=name == results.BASELINE, positions=positions)
+            job = stored_robot_job(run, phase.key, senses, replication, 0,
+                                   baseline=name == results.BASELINE, generation=generation,
+                                   positions=positions)
             rows, _ = run_robot(job)
             differ, worst = _compare(stored, rows)
             checks.append({"table": name, "phase": phase.name, "senses": senses,

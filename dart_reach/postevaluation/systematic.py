@@ -113,6 +113,27 @@ class RobotJob:
                 f"rep{self.replication:02d}-rank{self.rank}/trial{k:02d}-sector{sector}.rrd")
 
 
+def stored_robot_job(run: RunDirectory, phase_key: str, senses: str, replication: int,
+                     rank: int, baseline: bool = False, generation: int | None = None,
+                     positions: tuple[int, ...] | None = None, record: bool = False
+                     ) -> RobotJob:
+    """The job that evaluates again one robot of a stored table: a trained robot (its phase's
+    final population), a random genome of the baseline (``baseline``: ``replication`` is its
+    index) or a snapshot's robot (``generation``), under ``senses``, on ``positions``."""
+    condition, phase = next((c, p) for c, p in run.unique_phases() if p.key == phase_key)
+    if baseline:
+        genome = baseline_genomes(run.settings, phase, replication + 1)[replication]
+        fitness = float("nan")
+    else:
+        genomes, fit = (run.load_final(phase) if generation is None else next(
+            (g, f) for gen, g, f in run.snapshots(phase) if gen == generation))
+        genome, fitness = genomes[replication, rank], float(fit[replication, rank])
+    trial = replace(trial_config(phase, run.settings), senses=Senses(senses))
+    return RobotJob(condition.name, phase, run.phase_dir(phase).name, replication, rank, fitness,
+                    genome, trial, run.settings.world, record, baseline=baseline,
+                    positions=positions)
+
+
 _MODELS: dict[WorldConfig, RobotModel] = {}
 
 

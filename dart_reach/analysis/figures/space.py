@@ -21,6 +21,7 @@ from ..stats import performance_summary
 from ..tables import ball_radius, phase_list, positions, recorded_robot, select_trials
 from ...measures import metrics
 from ...model.world import POINTS_PER_SECTOR, SectorConfig
+from ...postevaluation import replay
 from ...postevaluation.systematic import BALL_ABSENT, TESTS
 from ...recording.rrd import read_rrd
 from .style import bar_panel, bars_figure, phase_colours
@@ -72,7 +73,7 @@ def fig6_distances_variability(table: pl.DataFrame, run_dir, phases: Sequence[st
         r = by_trial.get(k)
         if r is None:
             continue
-        rec = read_rrd(Path(run_dir) / r["recording"])
+        rec = read_rrd(replay.recording(run_dir, r))
         t = rec["sim_time"].to_numpy()
         hand = positions(rec, "hand")
         d_shoulder = metrics.hand_shoulder_distance(hand, positions(rec, "shoulder"))
@@ -243,7 +244,7 @@ def fig8_trajectories(table: pl.DataFrame, run_dir, phases: Sequence[str] | None
         for j, p in enumerate(phases):
             robot = recorded_robot(table, p, s).filter(pl.col("trial") == trial)
             if robot.height:
-                rec = read_rrd(Path(run_dir) / robot["recording"][0])
+                rec = read_rrd(replay.recording(run_dir, robot.row(0, named=True)))
                 paths[i, j] = (rec["sim_time"].to_numpy(), positions(rec, "hand"),
                                positions(rec, "ball"), positions(rec, "shoulder"),
                                robot.row(0, named=True))
