@@ -27,7 +27,7 @@ import numpy as np
 import polars as pl
 
 from . import scene_study
-from ..analysis import budgets, findings, report, verdicts
+from ..analysis import budgets, calibration, findings, report, verdicts
 from ..evolution.rundir import RunDirectory
 from ..model.scenes import scene_of
 from ..postevaluation import checks, results
@@ -135,6 +135,29 @@ def _post_evaluation(run_dir: Path) -> str:
                      + ("complete" if s.complete else "incomplete") for s in statuses)
 
 
+def spreads_summary(run_dirs) -> pl.DataFrame:
+    """Per post-evaluated run, the spreads of its robots against the calibration's nestings
+    (``calibration.spreads`` over every phase and measure): the ratio of the within- to the
+    between-replication s.d., its quartiles and largest finite value, and how often the
+    replications' means vary no more than their robots would alone (between s.d. 0)."""
+    rows = []
+    for d in map(Path, run_dirs):
+        table = results.read_table(d / results.EVALUATION)
+        if table is None:
+            continue
+        found = calibration.spreads(table)
+        ratio = found["ratio"].to_numpy()
+        finite = ratio[np.isfinite(ratio)]
+        q1, q2, q3 = np.quantile(finite, [0.25, 0.5, 0.75]) if finite.size else [np.nan] * 3
+        rows.append({"run": f"`{d.name}`", "phases x measures": found.height,
+                     "within / between: median": float(q2),
+                     "quartiles": f"{budgets.number_text(float(q1))}–"
+                                  f"{budgets.number_text(float(q3))}",
+                     "largest finite": float(finite.max()) if finite.size else np.nan,
+                     "between s.d. 0": int((~np.isfinite(ratio)).sum())})
+    return pl.DataFrame(rows) if rows else pl.DataFrame({"run": ["none post-evaluated yet"]})
+
+
 def replication_values(recordings: Path) -> dict[str, str]:
     """The values of docs/results/templates/replication.md: ``runs`` (what each run is and
     where it stands), ``counts`` (the paper's claims by verdict at each budget, the replication
@@ -182,6 +205,7 @@ def replication_values(recordings: Path) -> dict[str, str]:
         values[f"{d.name}.status"] = markdown_table(status)
         values[f"{d.name}.training"] = _training(run)
     values["runs"] = markdown_table(pl.DataFrame(described))
+    values["spreads"] = markdown_table(spreads_summary(dirs))
     ten = RunDirectory.open(recordings / "replication-50x10")
     values["replication-50x10.training"] = _training(ten)
     values["overview"] = markdown_table(pl.DataFrame([
