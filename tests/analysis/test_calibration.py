@@ -80,3 +80,17 @@ def test_the_spreads_of_a_run_are_estimated_as_the_nesting_defines_them():
     assert got["within_sd"] == pytest.approx(within, rel=1e-12)
     assert got["between_sd"] == pytest.approx(between, rel=1e-12)
     assert got["ratio"] == pytest.approx(within / between, rel=1e-12)
+
+
+def test_the_nestings_are_the_committed_runs_spreads():
+    """calibration.RUN_RATIOS are the quartiles of replication-50's within / between ratio
+    (docs/results/replication.md), to one decimal."""
+    import numpy as np
+
+    from dart_reach.postevaluation import results
+
+    table = results.read_table(Path(__file__).resolve().parents[2]
+                               / "recordings/replication-50/evaluation.parquet")
+    ratio = cal.spreads(table)["ratio"].to_numpy()
+    q1, q3 = np.quantile(ratio[np.isfinite(ratio)], [0.25, 0.75])
+    assert (round(q1, 1), round(q3, 1)) == cal.RUN_RATIOS
