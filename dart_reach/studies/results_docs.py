@@ -170,8 +170,10 @@ def replication_values(recordings: Path) -> dict[str, str]:
     values = {"sections": markdown_table(report.section_counts(by_budget)),
               "claims": markdown_table(budgets.side_by_side(by_budget))}
     rows, own, judged = [], [], {}
-    for budget, block in zip(budgets.budgets(by_budget), by_budget.partition_by(
-            "scene", "generations_per_phase", "replications", maintain_order=True)):
+    for block in by_budget.partition_by("scene", "generations_per_phase", "replications",
+                                        maintain_order=True):
+        budget = budgets.Budget(*block.select("scene", "generations_per_phase",
+                                              "replications").row(0))
         for target, is_own in ((rows, False), (own, True)):
             target.append({"budget": budget.label, "runs": block["runs"][0],
                            **findings.summary(block, is_own)})
@@ -190,7 +192,7 @@ def replication_values(recordings: Path) -> dict[str, str]:
         run = RunDirectory.open(d)
         manifest = json.loads((d / "manifest.json").read_text())
         described.append({
-            "run": f"`{d.name}`", "conditions": ", ".join(c.name for c in run.conditions),
+            "name": d.name, "run": f"`{d.name}`", "conditions": ", ".join(c.name for c in run.conditions),
             "generations per phase": budgets.generations_per_phase(run)[0],
             "replications": run.settings.replications, "seed": run.settings.seed,
             "scene": scene_of(run.settings.world.sectors) or "custom",
@@ -204,14 +206,14 @@ def replication_values(recordings: Path) -> dict[str, str]:
             pl.format("{} / {}", "generations", "of").alias("generations")).drop("of")
         values[f"{d.name}.status"] = markdown_table(status)
         values[f"{d.name}.training"] = _training(run)
-    values["runs"] = markdown_table(pl.DataFrame(described))
+    values["runs"] = markdown_table(pl.DataFrame(described).drop("name"))
     values["spreads"] = markdown_table(spreads_summary(dirs))
     ten = RunDirectory.open(recordings / "replication-50x10")
     values["replication-50x10.training"] = _training(ten)
     values["overview"] = markdown_table(pl.DataFrame([
-        {"run": f"`{r['run'].strip('`')}`", "budget (generations per phase)":
+        {"run": r["run"], "budget (generations per phase)":
          f"{r['generations per phase']}, {r['conditions']}", "replications": r["replications"],
-         "state": f"trained; {judged.get(r['run'].strip('`'), 'not judged yet')}"}
+         "state": f"trained; {judged.get(r['name'], 'not judged yet')}"}
         for r in described] + [
         {"run": "`replication-50x10`", "budget (generations per phase)":
          f"{budgets.generations_per_phase(ten)[0]}, "
