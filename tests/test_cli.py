@@ -157,8 +157,10 @@ def test_status_says_where_training_stands(tmp_path):
     lines = status.stdout.splitlines()
     assert lines[0].split()[:3] == ["condition", "phase", "replication"]
     assert sum("2 / 2" in line for line in lines) == 6  # 3 phases x 2 replications, done
-    assert "12 of 12 replication-generations (100%)" in lines[-1]
-    assert "1 session(s)" in lines[-1] and "unfinished: none" in lines[-1]
+    (total,) = [line for line in lines if "replication-generations" in line]
+    assert "12 of 12 replication-generations (100%)" in total
+    assert "1 session(s)" in total and "unfinished: none" in total
+    assert lines[-1] == "results: no post-evaluation (dart-reach evaluate RUN)"
     markdown = _cli("status", str(out), "--markdown").stdout.splitlines()
     assert markdown[0].startswith("| condition |") and markdown[1].startswith("|---|")
     missing = _cli("status", str(tmp_path / "none"))
