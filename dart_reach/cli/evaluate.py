@@ -28,7 +28,7 @@ def register_evaluate(subparsers) -> None:
                         "replication (default), the best of each replication, all, none")
     p.add_argument("--baseline", type=non_negative, default=0, metavar="N",
                    help="also post-evaluate N random genomes per phase, the chance level of "
-                        "every measure (rows flagged 'baseline'; default 0)")
+                        "every measure (in baseline.parquet; default 0)")
     p.add_argument("--development", type=non_negative, default=0, metavar="N",
                    help="also post-evaluate the best N robots of each replication of every "
                         "snapshot (train --snapshot-every): the measures' course over "
@@ -42,6 +42,9 @@ def register_evaluate(subparsers) -> None:
 
 
 def cmd_evaluate(args) -> int:
+    import polars as pl
+
+    from ..postevaluation.results import BASELINE
     from ..postevaluation.systematic import BLUEPRINT, RECORDINGS, TABLE, evaluate_run, parse_senses
 
     senses = parse_senses(args.sensors)
@@ -58,7 +61,10 @@ def cmd_evaluate(args) -> int:
               f"run the same command again to evaluate the rest", file=sys.stderr)
         return interrupted(exc)
     out = Path(args.run_dir)
-    print(f"\n{table.height} trials in {out / TABLE}", file=sys.stderr)
+    trained = table.filter(~pl.col("baseline")).height if table.height else 0
+    print(f"\n{trained} trials in {out / TABLE}"
+          + (f", {table.height - trained} in {out / BASELINE}" if table.height > trained else ""),
+          file=sys.stderr)
     if args.development:
         from ..postevaluation.snapshots import TABLE as DEVELOPMENT, measure_snapshots
 

@@ -13,14 +13,16 @@ Output, in the run directory::
                          replication, rank, lifetime_fitness), how (senses), where (trial,
                          sector, ball_x/y/z: where the ball hangs, or would in a no-ball
                          trial) and every measure of ``metrics.trial_metrics``, plus
-                         ``recording`` (path of the trial's .rrd relative to the run, or null)
-                         and ``measures_version`` (``MEASURES_VERSION``)
+                         ``recording`` (path of the trial's .rrd relative to the run, or null),
+                         ``measures_version`` (``MEASURES_VERSION``) and ``session`` (who
+                         wrote it); stored as ``results`` says (float32, provenance)
+    baseline.parquet     the same for the random genomes (below)
     evaluation/<phase>/<senses>/rep<R>-rank<I>/trial<K>-sector<S>.rrd   (see ``Record``)
     evaluation/trial.rbl  their layout in the viewer: rerun TRIAL.rrd evaluation/trial.rbl
 
 Random genomes of each phase can be post-evaluated beside the trained robots as the chance
-level of every measure (``baseline``: ``evaluate --baseline N``): they are rows with
-``baseline`` true, replication = the random genome's index, rank 0, lifetime_fitness NaN, drawn
+level of every measure (``baseline``: ``evaluate --baseline N``): they are the rows of
+baseline.parquet, with ``baseline`` true, replication = the random genome's index, rank 0, lifetime_fitness NaN, drawn
 from the run's seed tree (``settings.baseline_genomes``) and decoded with the phase's free
 groups and maturational state. ``load_evaluation`` leaves them out unless asked.
 
