@@ -5,8 +5,6 @@ rendering fails here, and so does a doc whose data change."""
 from __future__ import annotations
 
 import shutil
-import subprocess
-import sys
 from pathlib import Path
 
 import polars as pl
@@ -31,7 +29,7 @@ def test_every_committed_results_doc_is_its_rendering():
             f"run 'make results': {path.relative_to(ROOT)} differs from the findings"
 
 
-def test_a_change_in_the_data_changes_the_doc(tmp_path):
+def test_a_change_in_the_data_changes_the_doc(tmp_path, capsys):
     """The same check on a copy whose results say something else fails: a robot of `near`
     that reached nothing."""
     shutil.copytree(ROOT / "docs/results/templates", tmp_path / results_docs.TEMPLATES)
@@ -48,15 +46,12 @@ def test_a_change_in_the_data_changes_the_doc(tmp_path):
         target = tmp_path / results_docs.OUT / name
         target.parent.mkdir(parents=True, exist_ok=True)
         shutil.copy(ROOT / results_docs.OUT / name, target)
-    check = subprocess.run([sys.executable, "-m", "dart_reach.studies.results_docs",
-                            str(tmp_path), "--check"], capture_output=True, text=True)
-    assert check.returncode == 1
-    assert "scene-study.md: differs from its rendering" in check.stderr
-    written = subprocess.run([sys.executable, "-m", "dart_reach.studies.results_docs",
-                              str(tmp_path)], capture_output=True, text=True)
-    assert written.returncode == 0, written.stderr
+    assert results_docs.main([str(tmp_path), "--check"]) == 1
+    assert "scene-study.md: differs from its rendering" in capsys.readouterr().err
+    assert results_docs.main([str(tmp_path)]) == 0  # writes the new rendering
     assert (tmp_path / results_docs.OUT / "scene-study.md").read_text() != (
         ROOT / results_docs.OUT / "scene-study.md").read_text()
+    assert results_docs.main([str(tmp_path), "--check"]) == 0
 
 
 def test_a_placeholder_without_a_value_is_named():
