@@ -20,6 +20,9 @@ Run directory::
                                5, 10, every ``snapshot_every`` and the last (development over
                                generations, ``postevaluation.snapshots``)
     evaluation.parquet, evaluation/   the post-evaluation (``postevaluation.systematic``)
+    baseline.parquet, development.parquet  its random genomes and snapshots
+                               (``postevaluation.results``: the format, the provenance)
+    findings.parquet           every claim judged at the run's budget (``make results``)
     .lock                      held by the process working in the directory (``files``)
 
 Each phase's checkpoint carries its statistics rows: the statistics of a run are read from its
