@@ -6,23 +6,11 @@ from __future__ import annotations
 import shutil
 
 import polars as pl
-import pytest
 
-from dart_reach.evolution.conditions import load_condition, scaled
-from dart_reach.evolution.settings import Settings
-from dart_reach.evolution.trainer import train
 from dart_reach.postevaluation import results
 from dart_reach.postevaluation.systematic import evaluate_run, load_evaluation
 
 TRIALS = 45
-
-
-@pytest.fixture(scope="module")
-def trained(tmp_path_factory):
-    out = tmp_path_factory.mktemp("runs") / "tiny"
-    train([scaled(load_condition("standard"), 1)],
-          Settings(replications=2, trials=1, steps=5, seed=3), out, workers=1)
-    return out
 
 
 def test_tables_are_float32_apart_and_say_who_wrote_them(trained, tmp_path):

@@ -13,10 +13,7 @@ import polars as pl
 import pytest
 
 from dart_reach.measures import metrics
-from dart_reach.evolution.conditions import load_condition, scaled
 from dart_reach.postevaluation.systematic import SENSES, evaluate_run, load_evaluation
-from dart_reach.evolution.settings import Settings
-from dart_reach.evolution.trainer import train
 from dart_reach.recording.rrd import MEASURES, read_properties, read_rrd, verify
 
 TRIALS = 45  # systematic positions, 5 per sector
@@ -25,14 +22,6 @@ TRIALS = 45  # systematic positions, 5 per sector
 def _cli(*args):
     return subprocess.run([sys.executable, "-m", "dart_reach.cli", *map(str, args)],
                           capture_output=True, text=True, timeout=600)
-
-
-@pytest.fixture(scope="module")
-def trained(tmp_path_factory):
-    out = tmp_path_factory.mktemp("runs") / "tiny"
-    train([scaled(load_condition("standard"), 1)],
-          Settings(replications=2, trials=1, steps=5, seed=1), out, workers=1)
-    return out
 
 
 @pytest.fixture(scope="module")
