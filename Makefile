@@ -130,8 +130,10 @@ results: $(VENV)/.installed
 	$(BIN)/python -m dart_reach.studies.scene_study $(STUDY) docs/results/scene-study > /dev/null
 	$(BIN)/python -m dart_reach.studies.results_docs .
 
+# The whole suite, one process per core (pytest-xdist); a test file stays in one process, so its
+# module fixtures are built once. The slowest tests are listed at the end.
 test: $(VENV)/.installed-dev
-	$(BIN)/python -m pytest -q
+	$(BIN)/python -m pytest -q -n auto --dist loadfile --durations=15
 
 bench: $(VENV)/.installed
 	$(BIN)/dart-reach bench --json bench.json

@@ -63,11 +63,13 @@ class Nesting:
         return math.sqrt(self.between_sd ** 2 + self.within_sd ** 2 / self.robots)
 
 
-#: The runs' ratio of within- to between-replication s.d.: the quartiles over replication-50's
-#: phases and measures (0.62 and 1.6, ``spreads``; docs/results/replication.md), rounded.
-RUN_RATIOS = (0.6, 1.6)
+#: The runs' ratio of within- to between-replication s.d. (``spreads``, over phases and
+#: measures; docs/results/replication.md): the lowest lower quartile and the highest upper
+#: quartile of the committed replication runs (replication-50's 0.62, replication-10's 2.97),
+#: rounded.
+RUN_RATIOS = (0.6, 3.0)
 #: The nestings of the runs: 4 replications (the 10- and 50-generation runs), 10 (the
-#: paper's), each at the runs' two quartile ratios.
+#: paper's), each at the two ends of the runs' quartile ratios.
 NESTINGS = tuple(Nesting(r, 5, 1.0, w) for r in (4, 10) for w in RUN_RATIOS)
 
 
@@ -330,7 +332,7 @@ def spreads(table: pl.DataFrame, measures=SPREAD_MEASURES, senses: str = "normal
     (``summaries.robot_means``), ``within_sd`` (the pooled s.d. of robots around their
     replication's mean), ``between_sd`` (the s.d. of replication effects: the variance of the
     replication means less within_sd² / robots, 0 when that is negative) and ``ratio`` =
-    within / between (inf where between is 0). The calibration simulates ratios 0.2 and 1."""
+    within / between (inf where between is 0). The calibration simulates ``RUN_RATIOS``."""
     normal = table.filter(pl.col("senses") == senses)
     names = [m for m in measures if m in normal.columns]
     robots_ = summaries.robot_means(normal, names, by=("notation", "replication", "rank"))

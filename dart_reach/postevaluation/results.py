@@ -59,9 +59,10 @@ def session(command: str | None = None) -> dict:
             "pid": os.getpid(), "rows": 0}
 
 
-def read_table(path: Path) -> pl.DataFrame | None:
+def read_table(path: str | os.PathLike) -> pl.DataFrame | None:
     """The table at ``path`` with its float32 columns as float64, or None when there is none;
     ``RunError`` when it cannot be read."""
+    path = Path(path)
     if not path.is_file():
         return None
     try:
@@ -71,9 +72,10 @@ def read_table(path: Path) -> pl.DataFrame | None:
     return table.with_columns(pl.col(pl.Float32).cast(pl.Float64))
 
 
-def sessions(path: Path) -> list[dict]:
+def sessions(path: str | os.PathLike) -> list[dict]:
     """The provenance entries of the table at ``path`` (empty for a table written before
     provenance was recorded, or none)."""
+    path = Path(path)
     if not path.is_file():
         return []
     try:
@@ -83,7 +85,7 @@ def sessions(path: Path) -> list[dict]:
     return json.loads(meta[_META])["sessions"] if _META in meta else []
 
 
-def is_current(path: Path) -> bool:
+def is_current(path: str | os.PathLike) -> bool:
     """True when the table at ``path`` is stored in the current ``FORMAT``."""
     try:
         meta = pl.read_parquet_metadata(path)

@@ -33,6 +33,9 @@ def test_tables_are_float32_apart_and_say_who_wrote_them(trained, tmp_path):
     assert first["rows"] == raw.height and first["version"]
     assert "revision" in first and first["command"]
     assert results.is_current(out / results.EVALUATION)
+    path = str(out / results.EVALUATION)  # as a user types it
+    assert results.read_table(path).equals(raw.with_columns(pl.col(pl.Float32).cast(pl.Float64)))
+    assert results.sessions(path) == [first] and results.is_current(path)
 
     # a second session appends its entry; rows keep the index of the session that added them
     evaluate_run(out, senses=["no-ball"], robots=1, record="none", workers=1, progress=False)
