@@ -35,7 +35,9 @@ def test_a_change_in_the_data_changes_the_doc(tmp_path, capsys):
     shutil.copytree(ROOT / "docs/results/templates", tmp_path / results_docs.TEMPLATES)
     shutil.copytree(ROOT / "recordings", tmp_path / "recordings",
                     ignore=shutil.ignore_patterns("*.rrd", ".lock"))
-    shutil.copy(ROOT / "README.md", tmp_path / "README.md")
+    for page in results_docs.PARTS:
+        (tmp_path / page).parent.mkdir(parents=True, exist_ok=True)
+        shutil.copy(ROOT / page, tmp_path / page)
     table_path = tmp_path / "recordings/scene-study/near" / results.EVALUATION
     table = results.read_table(table_path)
     changed = table.with_columns(pl.when((pl.col("replication") == 0) & (pl.col("rank") == 0))
