@@ -241,22 +241,20 @@ def cost_values(recordings: Path) -> dict[str, str]:
     core-seconds per replication-generation, and the paper's Fig. 10 budget (every shipped
     condition at its 500 generations per phase, 10 replications) recomputed from them:
     ``fig10.*`` core-hours and hours on ``CLUSTER_CORES`` cores at ``RAY_EFFICIENCY``."""
-    frames = []
-    for name in (*REPLICATIONS, TEN):
-        measured = cost.measured_cost(RunDirectory.open(recordings / name))
-        frames.append(measured.select(pl.lit(f"`{name}`").alias("run"), pl.all()))
-    table = pl.concat(frames).rename({
+    runs = {name: RunDirectory.open(recordings / name) for name in (*REPLICATIONS, TEN)}
+    table = pl.concat(cost.measured_cost(run).select(pl.lit(f"`{name}`").alias("run"), pl.all())
+                      for name, run in runs.items()).rename({
         "wall_h": "wall (h)", "core_s_min": "core-s: min", "core_s_q1": "lower quartile",
         "core_s_median": "median", "core_s_q3": "upper quartile"})
-    ten = RunDirectory.open(recordings / TEN)
+    ten = runs[TEN]
     sessions = json.loads((ten.out / "manifest.json").read_text())["sessions"]
-    walls = cost.core_seconds(ten)
-    q1, median = np.quantile(walls["core_s"].drop_nans().to_numpy(), [0.25, 0.5])
+    per = cost.core_seconds(ten)
+    q1, median = np.quantile(per["core_s"].drop_nans().to_numpy(), [0.25, 0.5])
     fig10 = cost.cost_estimate(list(list_conditions()), Settings()).replication_generations
     hours = [fig10 * c / 3600 for c in (q1, median)]
     return {"cost": markdown_table(table),
-            "ten.replication_generations": f"{walls.height * ten.settings.replications:,}",
-            "ten.wall_h": number(float(walls["wall_s"].sum()) / 3600),
+            "ten.replication_generations": f"{per.height * ten.settings.replications:,}",
+            "ten.wall_h": number(float(per["wall_s"].sum()) / 3600),
             "ten.sessions": str(len(sessions)), "ten.resumes": str(max(len(sessions) - 1, 0)),
             "ten.q1": number(q1), "ten.median": number(median),
             "fig10.replication_generations": f"{fig10:,}",
