@@ -40,7 +40,8 @@ from .tables import load_runs
 
 __all__ = ["Budget", "Pooled", "MOVEMENTS", "TOWARD", "AWAY", "NO_CHANGE", "NOT_RUN",
            "budget_of", "budget_groups", "pooled", "label_findings", "findings_by_budget",
-           "budgets", "toward_paper", "movement", "side_by_side", "number_text", "effect_text"]
+           "budgets", "toward_paper", "movement", "side_by_side", "number_text", "effect_text",
+           "REPLICATION_OUTCOMES", "replications_decide"]
 
 #: The movement of a claim's effect from the smallest to the largest budget of a scene:
 #: decided only from the replication-level intervals at both ends; where either end has no
@@ -309,6 +310,54 @@ def movement(by_budget: pl.DataFrame) -> pl.DataFrame:
     return pl.DataFrame(rows, orient="row", schema={
         "claim": pl.Utf8, "series": pl.Utf8, "from_generations": pl.Int64,
         "to_generations": pl.Int64, "movement": pl.Utf8})
+
+
+# ------------------------------------------------------------------------------ replications
+#: What more replications did to a claim's verdict at the same scene and generations
+#: (``replications_decide``).
+DECIDED_NOW, STILL_OPEN, SAME, REVERSED, UNDECIDED_NOW = (
+    "decided", "still open", "the same", "reversed", "no longer decided")
+REPLICATION_OUTCOMES = (DECIDED_NOW, STILL_OPEN, SAME, REVERSED, UNDECIDED_NOW, NOT_RUN)
+
+
+def _replication_outcome(few: str | None, many: str | None) -> str:
+    if few in (None, verdicts.NOT_RUN) or many in (None, verdicts.NOT_RUN):
+        return NOT_RUN
+    decided = few in verdicts.DECIDED, many in verdicts.DECIDED
+    if decided == (False, True):
+        return DECIDED_NOW
+    if decided == (False, False):
+        return STILL_OPEN
+    if decided == (True, False):
+        return UNDECIDED_NOW
+    return SAME if few == many else REVERSED
+
+
+def replications_decide(by_budget: pl.DataFrame) -> pl.DataFrame:
+    """What more replications decided: for every scene and generations per phase judged at
+    several replication counts, each claim's verdict at the fewest (``few``) and the most
+    (``many``) and the ``outcome`` (``REPLICATION_OUTCOMES``): *decided* (reproduced or
+    contradicted where the fewer left it inconclusive or underpowered), *still open*, *the
+    same*, *reversed* (reproduced <-> contradicted), *no longer decided*, *not run* (at either).
+    Columns: claim, scene, generations_per_phase, replications_few, replications_many, few,
+    many, outcome; in the frame's order."""
+    rows = []
+    claims = by_budget["claim"].unique(maintain_order=True).to_list()
+    for (scene, gens), block in by_budget.group_by("scene", "generations_per_phase",
+                                                    maintain_order=True):
+        counts = sorted(block["replications"].unique().to_list())
+        if len(counts) < 2:
+            continue
+        ends = [dict(block.filter(pl.col("replications") == r).select("claim", "verdict")
+                     .iter_rows()) for r in (counts[0], counts[-1])]
+        for claim in claims:
+            few, many = ends[0].get(claim), ends[1].get(claim)
+            rows.append((claim, scene, gens, counts[0], counts[-1], few, many,
+                         _replication_outcome(few, many)))
+    return pl.DataFrame(rows, orient="row", schema={
+        "claim": pl.Utf8, "scene": pl.Utf8, "generations_per_phase": pl.Int64,
+        "replications_few": pl.Int64, "replications_many": pl.Int64, "few": pl.Utf8,
+        "many": pl.Utf8, "outcome": pl.Utf8})
 
 
 # ------------------------------------------------------------------------------ the table

@@ -163,6 +163,27 @@ def spreads_summary(run_dirs) -> pl.DataFrame:
     return pl.DataFrame(rows) if rows else pl.DataFrame({"run": ["none post-evaluated yet"]})
 
 
+def replications_text(by_budget: pl.DataFrame) -> str:
+    """What more replications decided at the same budget (``budgets.replications_decide``):
+    the count of the paper's claims per outcome, and the claims whose verdict changed."""
+    decide = budgets.replications_decide(by_budget.filter(~pl.col("own")))
+    if decide.height == 0:
+        return (f"Not yet: `{TEN}` is training. Once it is post-evaluated, this section "
+                "sets its verdicts beside `replication-50`'s claim by claim.")
+    counts = decide.group_by("outcome").len()
+    order = pl.DataFrame({"outcome": budgets.REPLICATION_OUTCOMES})
+    changed = decide.filter(pl.col("outcome").is_in([budgets.DECIDED_NOW, budgets.REVERSED,
+                                                     budgets.UNDECIDED_NOW]))
+    return (markdown_table(order.join(counts, on="outcome", how="left")
+                           .with_columns(pl.col("len").fill_null(0).alias("claims"))
+                           .drop("len"))
+            + "\n\nWhere the verdict changed:\n\n"
+            + (markdown_table(changed.select("claim", "generations_per_phase",
+                                             "replications_few", "few", "replications_many",
+                                             "many", "outcome"))
+               if changed.height else "none."))
+
+
 def replication_values(recordings: Path) -> dict[str, str]:
     """The values of docs/results/templates/replication.md: ``runs`` (what each run is and
     where it stands), ``counts`` (the paper's claims by verdict at each budget, the replication
@@ -171,10 +192,12 @@ def replication_values(recordings: Path) -> dict[str, str]:
     and per run ``<run>.measures`` (means over robots beside the random baseline) and
     ``<run>.status`` (training, ``dart-reach status --markdown``)."""
     dirs = [recordings / name for name in REPLICATIONS]
-    by_budget = budgets.findings_by_budget(dirs)
+    judged = dirs + [recordings / TEN] * (recordings / TEN / results.EVALUATION).is_file()
+    by_budget = budgets.findings_by_budget(judged)
     values = {"sections": markdown_table(report.section_counts(by_budget)),
-              "claims": markdown_table(budgets.side_by_side(by_budget))}
-    rows, own, judged = [], [], {}
+              "claims": markdown_table(budgets.side_by_side(by_budget)),
+              "by_replications": replications_text(by_budget)}
+    rows, own, verdict_counts = [], [], {}
     for block in by_budget.partition_by("scene", "generations_per_phase", "replications",
                                         maintain_order=True):
         budget = budgets.Budget(*block.select("scene", "generations_per_phase",
@@ -183,7 +206,7 @@ def replication_values(recordings: Path) -> dict[str, str]:
             target.append({"budget": budget.label, "runs": block["runs"][0],
                            **findings.summary(block, is_own)})
         paper = rows[-1]
-        judged[block["runs"][0]] = (
+        verdict_counts[block["runs"][0]] = (
             "not judged yet" if paper[verdicts.NOT_RUN] == block.filter(~pl.col("own")).height
             else f"{paper[verdicts.REPRODUCED]} of the paper's claims reproduced "
                  f"({paper['reproduced (Holm)']} after Holm), "
@@ -218,7 +241,7 @@ def replication_values(recordings: Path) -> dict[str, str]:
     values["overview"] = markdown_table(pl.DataFrame([
         {"run": r["run"], "budget (generations per phase)":
          f"{r['generations per phase']}, {r['conditions']}", "replications": r["replications"],
-         "state": f"trained; {judged.get(r['name'], 'not judged yet')}"}
+         "state": f"trained; {verdict_counts.get(r['name'], 'not judged yet')}"}
         for r in described] + [
         {"run": "`replication-50x10`", "budget (generations per phase)":
          f"{budgets.generations_per_phase(ten)[0]}, "
@@ -317,7 +340,7 @@ def findings_frames(root: Path) -> dict[Path, pl.DataFrame]:
     """The findings frame of each post-evaluated replication run at its own budget
     (``budgets.findings_by_budget``), committed as ``recordings/<run>/findings.parquet``."""
     out = {}
-    for name in REPLICATIONS:
+    for name in (*REPLICATIONS, TEN):
         run = root / "recordings" / name
         if (run / results.EVALUATION).is_file():
             out[run / "findings.parquet"] = budgets.findings_by_budget([run])

@@ -203,6 +203,28 @@ def test_more_replications_are_a_series_of_their_own():
     assert table["50 gen/phase x 10: effect [CI]"][0] == "0.1 [0, 0.2]"
 
 
+def test_what_more_replications_decided():
+    """50 x 4 against 50 x 10, claim by claim: each outcome from its pair of verdicts; the
+    10 x 4 budget (one replication count) gives none."""
+    pairs = {"decided": (vd.INCONCLUSIVE, vd.REPRODUCED), "open": (vd.UNDERPOWERED,
+                                                                   vd.INCONCLUSIVE),
+             "same": (vd.CONTRADICTED, vd.CONTRADICTED), "reversed": (vd.REPRODUCED,
+                                                                    vd.CONTRADICTED),
+             "lost": (vd.REPRODUCED, vd.INCONCLUSIVE), "new": (vd.NOT_RUN, vd.REPRODUCED)}
+    spec = {c: (K.DIRECTIONAL, +1, 0.1, 0.0, 0.2) for c in pairs}
+    rows = _rows(10, spec)
+    for replications, end in ((4, 0), (10, 1)):
+        rows += [dict(r, verdict=pairs[r["claim"]][end])
+                 for r in _rows(50, spec, replications=replications)]
+    got = bd.replications_decide(pl.DataFrame(rows))
+    assert got["claim"].to_list() == list(pairs)
+    assert set(got["generations_per_phase"]) == {50}
+    assert set(got["replications_few"]) == {4} and set(got["replications_many"]) == {10}
+    assert got["outcome"].to_list() == [bd.DECIDED_NOW, bd.STILL_OPEN, bd.SAME, bd.REVERSED,
+                                        bd.UNDECIDED_NOW, bd.NOT_RUN]
+    assert bd.replications_decide(pl.DataFrame(_rows(10, spec) + _rows(50, spec))).height == 0
+
+
 def test_the_figure_draws_the_claims_with_an_effect_at_two_budgets():
     from dart_reach.analysis import figures
 

@@ -63,3 +63,20 @@ def test_a_placeholder_without_a_value_is_named():
     assert results_docs.number(0.5, "reached") == "50 %"
     assert results_docs.number(0.012345) == "0.0123"
     assert results_docs.number(float("nan")) == "–"
+
+
+def test_what_ten_replications_decided_is_counted_and_listed():
+    """The paper's claims only; every outcome counted (zeros shown); changed verdicts listed."""
+    def rows(replications, verdicts_, own=False):
+        return [{"scene": "s", "generations_per_phase": 50, "replications": replications,
+                 "claim": c, "verdict": v, "own": own} for c, v in verdicts_.items()]
+    few = {"A": "inconclusive", "B": "underpowered", "C": "reproduced"}
+    many = {"A": "reproduced", "B": "inconclusive", "C": "reproduced"}
+    frame = pl.DataFrame(rows(4, few) + rows(10, many) + rows(4, {"own": "inconclusive"}, True)
+                         + rows(10, {"own": "reproduced"}, True))
+    text = results_docs.replications_text(frame)
+    assert "| decided | 1 |" in text and "| still open | 1 |" in text
+    assert "| the same | 1 |" in text and "| reversed | 0 |" in text
+    assert "| A | 50 | 4 | inconclusive | 10 | reproduced | decided |" in text
+    assert "own" not in text.split("Where the verdict changed")[1]
+    assert "Not yet" in results_docs.replications_text(pl.DataFrame(rows(4, few)))
