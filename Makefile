@@ -108,10 +108,11 @@ replication-10: $(VENV)/.installed
 # at 100, on the default scene, so that the replication can be the unit of every verdict and
 # each transition merges the best 2 of each of the 10 replications (III-D). About 30 core-hours;
 # resumes like the others, its compact state tracked under recordings/replication-50x10/. It was
-# started at a revision that does not pin numpy's BLAS kernels itself: the variable does.
+# started at a revision that pins neither numpy's BLAS kernels nor its dispatch: the variables do.
 REPLICATION10 := recordings/replication-50x10
 replication-50x10: $(VENV)/.installed
-	OPENBLAS_CORETYPE=Haswell $(BIN)/dart-reach train standard gross-hat --generations 50 --replications 10 --seed 2015 \
+	OPENBLAS_CORETYPE=Haswell NPY_DISABLE_CPU_FEATURES="X86_V4 AVX512_ICL AVX512_SPR" \
+		$(BIN)/dart-reach train standard gross-hat --generations 50 --replications 10 --seed 2015 \
 		--record-every 5 --snapshot-every 5 --out $(REPLICATION10) \
 		$$(test -f $(REPLICATION10)/manifest.json && echo --resume)
 

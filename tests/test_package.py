@@ -73,6 +73,31 @@ def test_numpy_blas_kernels_are_pinned_for_bit_identical_results():
     assert "Core: Sandybridge" in chosen.stdout + chosen.stderr
 
 
+def test_numpy_dispatch_is_kept_at_avx2_and_recorded():
+    """numpy's elementwise functions take other code on AVX-512 CPUs: importing dart_reach keeps
+    its dispatch at AVX2 at most, unless the user chose, and ``provenance.simd`` says the level
+    that took effect (here: the user's choice of the baseline shows)."""
+    import os
+    import platform
+
+    import dart_reach
+
+    if platform.machine() != "x86_64":
+        import pytest
+        pytest.skip("the pin is for x86_64 CPUs")
+    env = {k: v for k, v in os.environ.items() if k != "NPY_DISABLE_CPU_FEATURES"}
+    code = ("import os, dart_reach; from dart_reach.evolution.provenance import simd; "
+            "print(os.environ.get('NPY_DISABLE_CPU_FEATURES'), simd(), sep='|')")
+    pinned = subprocess.run([sys.executable, "-c", code], env=env, capture_output=True,
+                            text=True, timeout=120)
+    disabled, level = pinned.stdout.strip().split("|")
+    assert disabled == dart_reach._ABOVE_AVX2 and level not in {"X86_V4", "AVX512_ICL",
+                                                                  "AVX512_SPR"}
+    chosen = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
+                            env={**env, "NPY_DISABLE_CPU_FEATURES": "X86_V3 X86_V4"}, timeout=120)
+    assert chosen.stdout.strip().split("|") == ["X86_V3 X86_V4", "X86_V2"]
+
+
 def test_the_names_users_import_are_on_the_package():
     """The README's and the notebooks' names come from ``dart_reach`` itself, whatever module
     holds them, and resolve to the objects of those modules."""

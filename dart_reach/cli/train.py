@@ -160,4 +160,6 @@ def cmd_status(args) -> int:
               f"{r['replication']} rank {r['rank']}, {r['trials']} trials: "
               + ("the same to the last bit" if r["equal"] else
                  f"DIFFERENT in {', '.join(r['differ'])} (max |diff| {r['max_abs_diff']:.3g})"))
-    return 0 if found.height == 0 or found["equal"].all() else 1
+    ok, why = checks.reproduced(found, checks.table_status(run.out))
+    print(f"reproduce: {'reproduces' if ok else 'DOES NOT REPRODUCE'}: {why}")
+    return 0 if ok else 1

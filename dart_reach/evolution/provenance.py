@@ -50,10 +50,22 @@ def git_state(directory=None) -> dict:
             "git_diff_sha256": digest.hexdigest()}
 
 
+def simd() -> str:
+    """numpy's dispatch level in this process: the highest of its dispatch groups (numpy 2.4:
+    X86_V3 = AVX2, X86_V4 = AVX-512, ...) the CPU has and the environment did not disable, else
+    its baseline; a float64 ``np.exp`` may round differently at different levels, so results
+    are bit-identical only between processes at the same level."""
+    import numpy as np
+
+    umath = np._core._multiarray_umath
+    found = [f for f in umath.__cpu_dispatch__ if umath.__cpu_features__.get(f)]
+    return (found or list(umath.__cpu_baseline__) or ["none"])[-1]
+
+
 def machine() -> dict:
-    """Where a run was created (its speed figures depend on it)."""
+    """Where a run was created (its speed figures depend on it; its bits on ``simd``)."""
     return {"platform": platform.platform(), "processor": platform.machine(),
-            "cores": os.cpu_count()}
+            "cores": os.cpu_count(), "simd": simd()}
 
 
 def versions() -> dict:

@@ -33,7 +33,7 @@ from typing import Sequence
 import polars as pl
 
 from .. import __version__
-from ..evolution.provenance import git_state
+from ..evolution.provenance import git_state, simd
 from ..evolution.rundir import RunError
 from ..files import atomic_write
 
@@ -48,7 +48,8 @@ _META = "dart_reach"
 def session(command: str | None = None) -> dict:
     """This process's provenance entry: ``revision`` (git commit of the package's source, or
     None outside a git tree), ``dirty``, ``version``, ``command`` (default: the command line),
-    ``started`` (UTC, ISO 8601), ``machine`` and ``pid``; ``rows`` is filled in on saving."""
+    ``started`` (UTC, ISO 8601), ``machine``, ``simd`` (numpy's dispatch level,
+    ``provenance.simd``) and ``pid``; ``rows`` is filled in on saving."""
     git = git_state()
     return {"revision": git["git_revision"], "dirty": git["git_dirty"],
             "version": __version__,
@@ -56,7 +57,7 @@ def session(command: str | None = None) -> dict:
                 [Path(sys.argv[0]).name, *sys.argv[1:]]),
             "started": time.strftime("%Y-%m-%dT%H:%M:%SZ", time.gmtime()),
             "machine": f"{platform.machine()} {platform.processor() or ''}".strip(),
-            "pid": os.getpid(), "rows": 0}
+            "simd": simd(), "pid": os.getpid(), "rows": 0}
 
 
 def read_table(path: str | os.PathLike) -> pl.DataFrame | None:
