@@ -111,7 +111,7 @@ replication-10: $(VENV)/.installed
 # started at a revision that pins neither numpy's BLAS kernels nor its dispatch: the variables do.
 REPLICATION10 := recordings/replication-50x10
 replication-50x10: $(VENV)/.installed
-	OPENBLAS_CORETYPE=Haswell NPY_DISABLE_CPU_FEATURES="X86_V4 AVX512_ICL AVX512_SPR" \
+	OPENBLAS_CORETYPE=Haswell NPY_DISABLE_CPU_FEATURES="X86_V4 AVX512_ICL AVX512_SPR AVX512F AVX512_SKX" \
 		$(BIN)/dart-reach train standard gross-hat --generations 50 --replications 10 --seed 2015 \
 		--record-every 5 --snapshot-every 5 --out $(REPLICATION10) \
 		$$(test -f $(REPLICATION10)/manifest.json && echo --resume)

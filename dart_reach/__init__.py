@@ -50,8 +50,10 @@ def _pin_blas_kernels() -> None:
 _pin_blas_kernels()
 
 
-#: numpy's dispatch groups above AVX2 (numpy 2.4: ``numpy.show_runtime()``).
-_ABOVE_AVX2 = "X86_V4 AVX512_ICL AVX512_SPR"
+#: numpy's dispatch targets above AVX2: numpy 2.4's groups (``numpy.show_runtime()``) and the
+#: AVX-512 names of earlier 2.x releases; a name a release does not know is ignored.
+_ABOVE_AVX2 = ("X86_V4 AVX512_ICL AVX512_SPR AVX512F AVX512CD AVX512_KNL AVX512_KNM AVX512_SKX "
+               "AVX512_CLX AVX512_CNL")
 
 
 def _pin_numpy_dispatch() -> None:
@@ -59,11 +61,11 @@ def _pin_numpy_dispatch() -> None:
     elementwise functions by the CPU, and on an AVX-512 one float64 ``np.exp`` (the
     controller's logistic) has an implementation of its own, which can round differently from
     the one an AVX2 machine runs (the likely cause; no AVX-512 machine was at hand to isolate
-    it). Measured: the results tables written on an AVX-512 machine
-    reproduce on an AVX2 one for all but 1 of 12 and 1 of 30 robots checked (docs/guides/
-    runs.md, "Results"). Before numpy loads, keep numpy's dispatch at AVX2 at most, unless the
-    user has chosen (``NPY_DISABLE_CPU_FEATURES``); it changes nothing on an AVX2 machine.
-    Worker processes inherit it. Where numpy was imported before dart_reach it cannot take
+    it). Measured: results tables written on an AVX-512 machine reproduce on an AVX2 one for
+    all but 1 of 12 and 1 of 30 robots checked (docs/guides/runs.md, "Determinism"). Before
+    numpy loads, keep numpy's dispatch at AVX2 at most, unless the user has chosen
+    (``NPY_DISABLE_CPU_FEATURES``); it changes nothing on an AVX2 machine. Worker processes
+    inherit it. Where numpy was imported before dart_reach it cannot take
     effect (``provenance.simd`` records what did)."""
     if "NPY_DISABLE_CPU_FEATURES" in os.environ or platform.machine() != "x86_64":
         return
