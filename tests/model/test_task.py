@@ -152,7 +152,9 @@ def test_an_exploding_simulation_scores_zero_with_a_flag(world):
 #: different dispatch levels (``provenance.simd``; docs/guides/runs.md, "Determinism"), so the
 #: digests are per level: X86_V4 (AVX-512) as computed at 7804bb0; X86_V3 (AVX2) computed on
 #: 2026-11-25 at 4908b6d, on the first AVX2 machine, where the X86_V4 ones had matched on every
-#: revision since 7804bb0 (no change to the trials in between).
+#: revision since 7804bb0 (no change to the trials in between). tests/conftest.py imports
+#: dart_reach before numpy, so an AVX-512 machine checks the X86_V3 set, as its users compute;
+#: with ``NPY_DISABLE_CPU_FEATURES=""`` (no pin) it checks the X86_V4 one.
 GOLDEN_BY_SIMD = {
     "X86_V4": {"pre/normal": "a5bdf409dd3b0545", "pre/no-touch": "a705815512f4863d",
                "pre/no-sight": "1bda4af485bb400d", "pre/nothing": "fdad038bef1f08dd",
