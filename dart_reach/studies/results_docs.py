@@ -116,10 +116,10 @@ def scene_study_values(recordings: Path) -> dict[str, str]:
     return values
 
 
-#: The replication runs of docs/results/replication.md, smallest budget first.
-REPLICATIONS = ("replication-10", "replication-50")
-#: The ten-replication run, training.
+#: The ten-replication run (issue 32).
 TEN = "replication-50x10"
+#: The replication runs of docs/results/replication.md, smallest budget first.
+REPLICATIONS = ("replication-10", "replication-50", TEN)
 
 
 def _training(run: RunDirectory) -> str:
@@ -192,7 +192,7 @@ def replication_values(recordings: Path) -> dict[str, str]:
     and per run ``<run>.measures`` (means over robots beside the random baseline) and
     ``<run>.status`` (training, ``dart-reach status --markdown``)."""
     dirs = [recordings / name for name in REPLICATIONS]
-    judged = dirs + [recordings / TEN] * (recordings / TEN / results.EVALUATION).is_file()
+    judged = [d for d in dirs if (d / results.EVALUATION).is_file()]
     by_budget = budgets.findings_by_budget(judged)
     values = {"sections": markdown_table(report.section_counts(by_budget)),
               "claims": markdown_table(budgets.side_by_side(by_budget)),
@@ -225,7 +225,7 @@ def replication_values(recordings: Path) -> dict[str, str]:
             "replications": run.settings.replications, "seed": run.settings.seed,
             "scene": scene_of(run.settings.world.sectors) or "custom",
             "created": manifest["created"][:10], "training": _training(run),
-            "post-evaluation": _post_evaluation(d)})
+            "post-evaluation": _post_evaluation(d), "finished": not run.unfinished()})
         table = results.read_table(d / results.EVALUATION)
         values[f"{d.name}.measures"] = "not post-evaluated yet" if table is None else \
             markdown_table(report.baseline_table(
@@ -234,20 +234,14 @@ def replication_values(recordings: Path) -> dict[str, str]:
             pl.format("{} / {}", "generations", "of").alias("generations")).drop("of")
         values[f"{d.name}.status"] = markdown_table(status)
         values[f"{d.name}.training"] = _training(run)
-    values["runs"] = markdown_table(pl.DataFrame(described).drop("name"))
+    values["runs"] = markdown_table(pl.DataFrame(described).drop("name", "finished"))
     values["spreads"] = markdown_table(spreads_summary(dirs))
-    ten = RunDirectory.open(recordings / TEN)
-    values["replication-50x10.training"] = _training(ten)
     values["overview"] = markdown_table(pl.DataFrame([
         {"run": r["run"], "budget (generations per phase)":
          f"{r['generations per phase']}, {r['conditions']}", "replications": r["replications"],
-         "state": f"trained; {verdict_counts.get(r['name'], 'not judged yet')}"}
-        for r in described] + [
-        {"run": "`replication-50x10`", "budget (generations per phase)":
-         f"{budgets.generations_per_phase(ten)[0]}, "
-         + ", ".join(c.name for c in ten.conditions),
-         "replications": ten.settings.replications,
-         "state": f"training: {_training(ten)}"}]))
+         "state": f"trained; {verdict_counts.get(r['name'], 'not judged yet')}" if r["finished"]
+         else f"training: {r['training']}"}
+        for r in described]))
     return values
 
 
@@ -264,7 +258,7 @@ def cost_values(recordings: Path) -> dict[str, str]:
     core-seconds per replication-generation, and the paper's Fig. 10 budget (every shipped
     condition at its 500 generations per phase, 10 replications) recomputed from them:
     ``fig10.*`` core-hours and hours on ``CLUSTER_CORES`` cores at ``RAY_EFFICIENCY``."""
-    runs = {name: RunDirectory.open(recordings / name) for name in (*REPLICATIONS, TEN)}
+    runs = {name: RunDirectory.open(recordings / name) for name in REPLICATIONS}
     table = pl.concat(cost.measured_cost(run).select(pl.lit(f"`{name}`").alias("run"), pl.all())
                       for name, run in runs.items()).rename({
         "wall_h": "wall (h)", "core_s_min": "core-s: min", "core_s_q1": "lower quartile",
@@ -340,7 +334,7 @@ def findings_frames(root: Path) -> dict[Path, pl.DataFrame]:
     """The findings frame of each post-evaluated replication run at its own budget
     (``budgets.findings_by_budget``), committed as ``recordings/<run>/findings.parquet``."""
     out = {}
-    for name in (*REPLICATIONS, TEN):
+    for name in REPLICATIONS:
         run = root / "recordings" / name
         if (run / results.EVALUATION).is_file():
             out[run / "findings.parquet"] = budgets.findings_by_budget([run])
