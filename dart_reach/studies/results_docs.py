@@ -178,9 +178,11 @@ def replications_text(by_budget: pl.DataFrame) -> str:
                            .with_columns(pl.col("len").fill_null(0).alias("claims"))
                            .drop("len"))
             + "\n\nWhere the verdict changed:\n\n"
-            + (markdown_table(changed.select("claim", "generations_per_phase",
-                                             "replications_few", "few", "replications_many",
-                                             "many", "outcome"))
+            + (markdown_table(changed.select(
+                "claim", pl.col("generations_per_phase").alias("generations per phase"),
+                pl.col("replications_few").alias("replications"), pl.col("few").alias("verdict"),
+                pl.col("replications_many").alias("more replications"),
+                pl.col("many").alias("their verdict"), "outcome"))
                if changed.height else "none."))
 
 

@@ -78,5 +78,6 @@ def test_what_ten_replications_decided_is_counted_and_listed():
     assert "| decided | 1 |" in text and "| still open | 1 |" in text
     assert "| the same | 1 |" in text and "| reversed | 0 |" in text
     assert "| A | 50 | 4 | inconclusive | 10 | reproduced | decided |" in text
+    assert "| claim | generations per phase | replications | verdict | more replications |" in text
     assert "own" not in text.split("Where the verdict changed")[1]
     assert "Not yet" in results_docs.replications_text(pl.DataFrame(rows(4, few)))
