@@ -57,8 +57,12 @@ def cmd_evaluate(args) -> int:
                                  progress=checked(bar), baseline=args.baseline,
                                  finished_only=args.finished_only)
     except KeyboardInterrupt as exc:
-        print(f"\ninterrupted: the robots finished so far are saved in {args.run_dir}/{TABLE}; "
-              f"run the same command again to evaluate the rest", file=sys.stderr)
+        # every robot whose trials were collected is saved, reported or not: a stop signal can
+        # land between a robot's trials and its progress line
+        path = Path(args.run_dir) / TABLE
+        saved = pl.scan_parquet(path).select(pl.len()).collect().item() if path.is_file() else 0
+        print(f"\ninterrupted: {saved} trials are saved in {path}; run the same command "
+              f"again to evaluate the rest", file=sys.stderr)
         return interrupted(exc)
     out = Path(args.run_dir)
     trained = table.filter(~pl.col("baseline")).height if table.height else 0
