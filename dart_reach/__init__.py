@@ -61,9 +61,9 @@ def _pin_numpy_dispatch() -> None:
     elementwise functions by the CPU, and on an AVX-512 one float64 ``np.exp`` (the
     controller's logistic) has an implementation of its own, which can round differently from
     the one an AVX2 machine runs (measured on an AVX-512 CPU: one ulp apart for 4.6 % of
-    inputs; docs/guides/runs.md). Measured: results tables written on an AVX-512 machine
-    reproduce on an AVX2 one for all but 1 of 12 and 1 of 30 robots checked (docs/guides/runs.md, "Determinism"). Before
-    numpy loads, keep numpy's dispatch at AVX2 at most, unless the user has chosen
+    inputs). Measured: results tables written on an AVX-512 machine reproduce on an AVX2 one
+    for all but 1 of 12 and 1 of 30 robots checked (docs/guides/runs.md, "Determinism").
+    Before numpy loads, keep numpy's dispatch at AVX2 at most, unless the user has chosen
     (``NPY_DISABLE_CPU_FEATURES``); it changes nothing on an AVX2 machine. Worker processes
     inherit it. Where numpy was imported before dart_reach it cannot take
     effect (``provenance.simd`` records what did)."""
