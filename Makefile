@@ -116,14 +116,14 @@ replication-50x10: $(VENV)/.installed
 		--record-every 5 --snapshot-every 5 --out $(REPLICATION10) \
 		$$(test -f $(REPLICATION10)/manifest.json && echo --resume)
 
-# The post-evaluation of both stages (best 5 robots of every replication under the four senses
-# and with the ball absent, 10 random genomes per phase, every snapshot's best 5) and the
-# report over both budgets. Evaluating again adds only what is missing.
+# The post-evaluation of the three runs (best 5 robots of every replication under the four
+# senses and with the ball absent, 10 random genomes per phase, every snapshot's best 5) and the
+# report over their budgets. Evaluating again adds only what is missing.
 replication-report: $(VENV)/.installed
-	for run in $(REPLICATION) $(FIG10); do \
+	for run in $(REPLICATION) $(FIG10) $(REPLICATION10); do \
 		$(BIN)/dart-reach evaluate $$run --sensors all --robots 5 --baseline 10 \
 			--development 5 || exit 1; done
-	$(BIN)/dart-reach report $(REPLICATION) $(FIG10) --out recordings/replication-report.html
+	$(BIN)/dart-reach report $(REPLICATION) $(FIG10) $(REPLICATION10) --out recordings/replication-report.html
 
 # The results docs (docs/results/templates/*.md rendered from the committed tables under
 # recordings/, and scene-study/scene-study.md and .png); a test fails when they differ.
