@@ -70,7 +70,7 @@ def _evaluation_status(run: RunDirectory, table: pl.DataFrame, name: str) -> Tab
                     if have.get((phase.key, s, u, i)) != POSITIONS]
             if gaps:
                 missing.append(f"{phase.name}/{s}: {len(gaps)} of {len(units) * len(ranks)} "
-                               f"robots")
+                               f"robots missing")
     phases = len({p for p, *_ in have})
     what = (f"{len(units)} random genomes" if baseline else
             f"{len(units)} replications x {len(ranks)} robots")
@@ -94,7 +94,7 @@ def _development_status(run: RunDirectory, table: pl.DataFrame) -> TableStatus:
                     found += ok
                     gaps += not ok
         if gaps:
-            missing.append(f"{phase.name}: {gaps} snapshot robots")
+            missing.append(f"{phase.name}: {gaps} snapshot robots missing")
     return TableStatus(results.DEVELOPMENT, table.height,
                        f"{found} of {expected} snapshot robots (the best {robots} of each "
                        f"replication)", not missing, tuple(missing),

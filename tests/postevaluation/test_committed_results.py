@@ -32,6 +32,29 @@ def test_a_slice_of_every_committed_table_reproduces(run):
     assert ok, (why, found.filter(~found["equal"]).to_dicts())
 
 
+def test_an_incomplete_table_names_what_is_missing(tmp_path):
+    """A robot's trials removed from a copy of a complete table: its status is incomplete and
+    counts that one robot as missing of those its phase and senses should hold."""
+    import shutil
+
+    import polars as pl
+
+    run = tmp_path / "near"
+    shutil.copytree(ROOT / "recordings/scene-study/near", run)
+    path = run / results.EVALUATION
+    table = results.read_table(path)
+    robot = table.row(0, named=True)
+    keys = ["phase_key", "senses", "replication", "rank"]
+    gone = pl.all_horizontal([pl.col(k) == robot[k] for k in keys])
+    expected = table.filter((pl.col("phase_key") == robot["phase_key"])
+                            & (pl.col("senses") == robot["senses"])).select(keys[2:]).unique()
+    results.write_table(path, table.filter(~gone), results.sessions(path))
+    status = {s.name: s for s in checks.table_status(run)}[results.EVALUATION]
+    assert not status.complete
+    assert status.missing == (f"{robot['phase']}/{robot['senses']}: 1 of {expected.height} "
+                              f"robots missing",)
+
+
 def test_a_stored_value_that_the_model_does_not_give_is_found(tmp_path):
     import shutil
 
