@@ -186,6 +186,49 @@ def replications_text(by_budget: pl.DataFrame) -> str:
                if changed.height else "none."))
 
 
+def plain_values(by_budget: pl.DataFrame, run: str = TEN) -> dict[str, str]:
+    """The paper's claims at ``run``'s budget in plain words, the replication as the unit.
+    ``plain``: the reproduced and the contradicted, each with what was measured and whether
+    it survives Holm's adjustment, then the names of those left undecided (inconclusive or
+    underpowered) and of those not run (a condition the run did not train); ``plain_names``:
+    one sentence naming the decided ones, for the README."""
+    rows = by_budget.filter((pl.col("runs") == run) & ~pl.col("own"))
+    if rows.filter(pl.col("verdict") != verdicts.NOT_RUN).height == 0:
+        text = f"Not yet: `{run}` has not been post-evaluated."
+        return {"plain": text, "plain_names": text}
+    count = findings.summary(rows)
+    holm = {verdicts.REPRODUCED: "p_holm", verdicts.CONTRADICTED: "p_holm_against"}
+
+    def of(*chosen: str) -> pl.DataFrame:
+        return rows.filter(pl.col("verdict").is_in(chosen))
+
+    def names(*chosen: str) -> str:
+        return "; ".join(of(*chosen)["claim"]) or "none"
+
+    def listed(verdict: str) -> str:
+        return "".join(f"\n  - {r['claim']} — {r['measured']}"
+                       + (" (survives Holm)" if r[holm[verdict]] < findings.ALPHA else "")
+                       for r in of(verdict).iter_rows(named=True)) or " none"
+
+    undecided = (verdicts.INCONCLUSIVE, verdicts.UNDERPOWERED)
+    budget = (f"{rows['generations_per_phase'][0]} generations per phase with "
+              f"{rows['replications'][0]} replications (`{run}`)")
+    lines = [f"Of the paper's {rows.height} claims, at {budget}:", ""]
+    for verdict in holm:
+        lines.append(f"- **{verdict}: {count[verdict]}** ({count[verdict + ' (Holm)']} after "
+                     f"Holm):{listed(verdict)}")
+    lines.append(f"- **undecided: {of(*undecided).height}** ({count[undecided[0]]} "
+                 f"inconclusive, {count[undecided[1]]} underpowered): {names(*undecided)}.")
+    lines.append(f"- **not run: {count[verdicts.NOT_RUN]}** (conditions this run did not "
+                 f"train): {names(verdicts.NOT_RUN)}.")
+    sentence = (f"At {budget}, with the replication as the unit: reproduced "
+                f"{count[verdicts.REPRODUCED]} of the paper's claims ({names(verdicts.REPRODUCED)}), "
+                f"contradicted {count[verdicts.CONTRADICTED]} ({names(verdicts.CONTRADICTED)}); "
+                f"{of(*undecided).height} stay undecided and {count[verdicts.NOT_RUN]} were not "
+                f"run (the control conditions).")
+    return {"plain": "\n".join(lines), "plain_names": sentence}
+
+
 def replication_values(recordings: Path) -> dict[str, str]:
     """The values of docs/results/templates/replication.md: ``runs`` (what each run is and
     where it stands), ``counts`` (the paper's claims by verdict at each budget, the replication
@@ -198,7 +241,8 @@ def replication_values(recordings: Path) -> dict[str, str]:
     by_budget = budgets.findings_by_budget(judged)
     values = {"sections": markdown_table(report.section_counts(by_budget)),
               "claims": markdown_table(budgets.side_by_side(by_budget)),
-              "by_replications": replications_text(by_budget)}
+              "by_replications": replications_text(by_budget),
+              **plain_values(by_budget)}
     rows, own, verdict_counts = [], [], {}
     for block in by_budget.partition_by("scene", "generations_per_phase", "replications",
                                         maintain_order=True):

@@ -81,3 +81,29 @@ def test_what_ten_replications_decided_is_counted_and_listed():
     assert "| claim | generations per phase | replications | verdict | more replications |" in text
     assert "own" not in text.split("Where the verdict changed")[1]
     assert "Not yet" in results_docs.replications_text(pl.DataFrame(rows(4, few)))
+
+
+def test_the_plain_words_name_every_claim_by_its_verdict():
+    """The paper's claims only, each named under its verdict once; a decided one with what was
+    measured and whether it survives Holm; a run not judged yet says so."""
+    verdict = {"A": "reproduced", "B": "contradicted", "C": "inconclusive", "D": "underpowered",
+               "E": "not run", "F": "reproduced"}
+    frame = pl.DataFrame([{"runs": "ten", "generations_per_phase": 50, "replications": 10,
+                           "claim": c, "verdict": v, "own": False, "measured": f"m{c}",
+                           "p_holm": 0.01 if c == "A" else 0.2, "p_holm_against": 0.2}
+                          for c, v in verdict.items()]
+                         + [{"runs": "ten", "generations_per_phase": 50, "replications": 10,
+                             "claim": "OWN", "verdict": "reproduced", "own": True,
+                             "measured": "x", "p_holm": 0.01, "p_holm_against": 0.2}])
+    values = results_docs.plain_values(frame, "ten")
+    text = values["plain"]
+    assert text.startswith("Of the paper's 6 claims, at 50 generations per phase with 10 "
+                           "replications (`ten`):")
+    assert "- **reproduced: 2** (1 after Holm):\n  - A — mA (survives Holm)\n  - F — mF\n" in text
+    assert "- **contradicted: 1** (0 after Holm):\n  - B — mB\n" in text
+    assert "- **undecided: 2** (1 inconclusive, 1 underpowered): C; D." in text
+    assert "- **not run: 1** (conditions this run did not train): E." in text
+    assert "OWN" not in text and "OWN" not in values["plain_names"]
+    assert "reproduced 2 of the paper's claims (A; F), contradicted 1 (B)" in values["plain_names"]
+    assert "Not yet" in results_docs.plain_values(
+        frame.with_columns(pl.lit("not run").alias("verdict")), "ten")["plain"]
