@@ -225,7 +225,7 @@ def plain_values(by_budget: pl.DataFrame, run: str = TEN) -> dict[str, str]:
                 f"{count[verdicts.REPRODUCED]} of the paper's claims ({names(verdicts.REPRODUCED)}), "
                 f"contradicted {count[verdicts.CONTRADICTED]} ({names(verdicts.CONTRADICTED)}); "
                 f"{of(*undecided).height} stay undecided and {count[verdicts.NOT_RUN]} were not "
-                f"run (the control conditions).")
+                f"run (conditions it did not train).")
     return {"plain": "\n".join(lines), "plain_names": sentence}
 
 
