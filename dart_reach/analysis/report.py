@@ -188,6 +188,23 @@ def baseline_table(table: pl.DataFrame, baseline: pl.DataFrame | None) -> pl.Dat
     return out.rename({"notation": "phase", **{m: label for m, label in MEASURES}})
 
 
+#: The measures of ``replication_table``: what a phase's replications differ in.
+REPLICATION_MEASURES = (("fitness", "fitness"), ("reached", "reach rate"),
+                        ("babbling", "babbling rate"), ("hand_path", "hand path (m)"))
+
+
+def replication_table(table: pl.DataFrame, phase: str) -> pl.DataFrame:
+    """One row per replication of ``phase`` (its name), normal senses: the mean over its
+    robots of each robot's mean over its trials (``REPLICATION_MEASURES``), the unit of every
+    verdict (docs/model/claims.md, "Verdicts")."""
+    rows = table.filter((pl.col("phase") == phase) & (pl.col("senses") == "normal"))
+    names = [m for m, _ in REPLICATION_MEASURES]
+    robots = summaries.robot_means(rows, names, by=("replication", "rank"))
+    return (robots.group_by("replication").agg(pl.len().alias("robots"),
+                                               *[pl.col(m).mean() for m in names])
+            .sort("replication").rename(dict(REPLICATION_MEASURES)))
+
+
 def _provenance(run_dir: Path) -> pl.DataFrame:
     manifest = json.loads((run_dir / "manifest.json").read_text())
     run = RunDirectory.open(run_dir)

@@ -229,6 +229,16 @@ def plain_values(by_budget: pl.DataFrame, run: str = TEN) -> dict[str, str]:
     return {"plain": "\n".join(lines), "plain_names": sentence}
 
 
+def _pre_replications(table: pl.DataFrame | None) -> tuple[str, str]:
+    """A run's pre-reachers replication by replication (``report.replication_table``) and
+    how many of its replications had no robot babble in any trial."""
+    if table is None:
+        return "not post-evaluated yet", "not post-evaluated yet"
+    pre = report.replication_table(table, "pre")
+    still = int((pre["babbling rate"] == 0).sum())
+    return markdown_table(pre), f"{still} of {pre.height}"
+
+
 def replication_values(recordings: Path) -> dict[str, str]:
     """The values of docs/results/templates/replication.md: ``runs`` (what each run is and
     where it stands), ``counts`` (the paper's claims by verdict at each budget, the replication
@@ -276,6 +286,7 @@ def replication_values(recordings: Path) -> dict[str, str]:
         values[f"{d.name}.measures"] = "not post-evaluated yet" if table is None else \
             markdown_table(report.baseline_table(
                 table, results.read_table(d / results.BASELINE)))
+        values[f"{d.name}.pre"], values[f"{d.name}.pre_still"] = _pre_replications(table)
         status = run.status().with_columns(
             pl.format("{} / {}", "generations", "of").alias("generations")).drop("of")
         values[f"{d.name}.status"] = markdown_table(status)

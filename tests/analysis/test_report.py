@@ -223,3 +223,24 @@ def test_the_summary_counts_the_papers_claims_per_section_and_draws_the_forest()
     assert counts["claims"].sum() == 6  # the project's own claim is not counted
     text = report.summary_html(frame)
     assert text.count("<img") == 1 and "directional" in text
+
+
+def test_a_replication_is_the_mean_of_its_robots_means():
+    """report.replication_table: per replication of the phase asked, normal senses only, the
+    mean over robots of each robot's mean over its trials (not the mean over all trials)."""
+    rows = []
+    for replication, rank, trials, reached in ((0, 0, 1, [True]), (0, 1, 3, [False] * 3),
+                                               (1, 0, 2, [True, False])):
+        for t in range(trials):
+            rows.append({"phase": "pre", "senses": "normal", "replication": replication,
+                         "rank": rank, "fitness": 0.1 * (t + 1), "reached": reached[t],
+                         "babbling": False, "hand_path": 2.0 * replication})
+    noise = [dict(r, senses="nothing", fitness=9.0) for r in rows] + \
+            [dict(r, phase="gross", fitness=9.0) for r in rows]
+    table = report.replication_table(pl.DataFrame(rows + noise), "pre")
+    assert table["replication"].to_list() == [0, 1]
+    assert table["robots"].to_list() == [2, 1]
+    assert table["reach rate"].to_list() == [0.5, 0.5]  # robots 1 and 0; trials would give 0.25
+    assert table["fitness"].to_list() == pytest.approx([(0.1 + 0.2) / 2, 0.15])
+    assert table["hand path (m)"].to_list() == [0.0, 2.0]
+    assert table["babbling rate"].to_list() == [0.0, 0.0]
