@@ -222,10 +222,11 @@ def plain_values(by_budget: pl.DataFrame, run: str = TEN) -> dict[str, str]:
     lines.append(f"- **not run: {count[verdicts.NOT_RUN]}** (conditions this run did not "
                  f"train): {names(verdicts.NOT_RUN)}.")
     sentence = (f"At {budget}, with the replication as the unit: reproduced "
-                f"{count[verdicts.REPRODUCED]} of the paper's claims ({names(verdicts.REPRODUCED)}), "
-                f"contradicted {count[verdicts.CONTRADICTED]} ({names(verdicts.CONTRADICTED)}); "
-                f"{of(*undecided).height} stay undecided and {count[verdicts.NOT_RUN]} were not "
-                f"run (conditions it did not train).")
+                f"{count[verdicts.REPRODUCED]} of the paper's claims "
+                f"({names(verdicts.REPRODUCED)}), contradicted {count[verdicts.CONTRADICTED]} "
+                f"({names(verdicts.CONTRADICTED)}); {of(*undecided).height} stay undecided at "
+                f"this budget and {count[verdicts.NOT_RUN]} were not run (conditions it did not "
+                f"train).")
     return {"plain": "\n".join(lines), "plain_names": sentence}
 
 

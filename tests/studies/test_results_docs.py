@@ -99,7 +99,8 @@ def test_the_plain_words_name_every_claim_by_its_verdict():
     text = values["plain"]
     assert text.startswith("Of the paper's 6 claims, at 50 generations per phase with 10 "
                            "replications (`ten`):")
-    assert "- **reproduced: 2** (1 after Holm):\n  - A — mA (survives Holm)\n  - F — mF\n" in text
+    assert ("- **reproduced: 2** (1 after Holm):\n  - A — mA (survives Holm)\n  - F — mF\n"
+            in text)
     assert "- **contradicted: 1** (0 after Holm):\n  - B — mB\n" in text
     assert "- **undecided: 2** (1 inconclusive, 1 underpowered): C; D." in text
     assert "- **not run: 1** (conditions this run did not train): E." in text
