@@ -190,8 +190,9 @@ def plain_values(by_budget: pl.DataFrame, run: str = TEN) -> dict[str, str]:
     """The paper's claims at ``run``'s budget in plain words, the replication as the unit.
     ``plain``: the reproduced and the contradicted, each with what was measured and whether
     it survives Holm's adjustment, then the names of those left undecided (inconclusive or
-    underpowered) and of those not run (a condition the run did not train); ``plain_names``:
-    one sentence naming the decided ones, for the README."""
+    underpowered) and of those not run (no data: a condition the run did not train, or a
+    table not committed); ``plain_names``: one sentence naming the decided ones, for the
+    README."""
     rows = by_budget.filter((pl.col("runs") == run) & ~pl.col("own"))
     if rows.filter(pl.col("verdict") != verdicts.NOT_RUN).height == 0:
         text = f"Not yet: `{run}` has not been post-evaluated."
@@ -219,14 +220,14 @@ def plain_values(by_budget: pl.DataFrame, run: str = TEN) -> dict[str, str]:
                      f"Holm):{listed(verdict)}")
     lines.append(f"- **undecided: {of(*undecided).height}** ({count[undecided[0]]} "
                  f"inconclusive, {count[undecided[1]]} underpowered): {names(*undecided)}.")
-    lines.append(f"- **not run: {count[verdicts.NOT_RUN]}** (conditions this run did not "
-                 f"train): {names(verdicts.NOT_RUN)}.")
+    lines.append(f"- **not run: {count[verdicts.NOT_RUN]}** (no data for them at this budget"
+                 f"): {names(verdicts.NOT_RUN)}.")
     sentence = (f"At {budget}, with the replication as the unit: reproduced "
                 f"{count[verdicts.REPRODUCED]} of the paper's claims "
                 f"({names(verdicts.REPRODUCED)}), contradicted {count[verdicts.CONTRADICTED]} "
                 f"({names(verdicts.CONTRADICTED)}); {of(*undecided).height} stay undecided at "
-                f"this budget and {count[verdicts.NOT_RUN]} were not run (conditions it did not "
-                f"train).")
+                f"this budget and {count[verdicts.NOT_RUN]} were not run (no data for "
+                f"them).")
     return {"plain": "\n".join(lines), "plain_names": sentence}
 
 

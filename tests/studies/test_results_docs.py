@@ -103,7 +103,7 @@ def test_the_plain_words_name_every_claim_by_its_verdict():
             in text)
     assert "- **contradicted: 1** (0 after Holm):\n  - B — mB\n" in text
     assert "- **undecided: 2** (1 inconclusive, 1 underpowered): C; D." in text
-    assert "- **not run: 1** (conditions this run did not train): E." in text
+    assert "- **not run: 1** (no data for them at this budget): E." in text
     assert "OWN" not in text and "OWN" not in values["plain_names"]
     assert "reproduced 2 of the paper's claims (A; F), contradicted 1 (B)" in values["plain_names"]
     assert "Not yet" in results_docs.plain_values(
