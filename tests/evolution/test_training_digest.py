@@ -8,8 +8,8 @@ Two parts, each a digest of float64 bytes:
   run (``replication-50x10``: 2 of each of pre-, gross- and fine-reaching, 9 trials of 200
   steps at the GA's positions), robots that touch and hold the ball, so that the contacts,
   the grasp reflex and the offset sensors all count;
-- a tiny training of the standard condition (2 generations per phase, 2 replications, 3
-  trials of 60 steps): its generations table and every phase's final population.
+- a tiny training of the standard condition (2 generations per phase, 2 replications, 2
+  trials of 30 steps): its generations table and every phase's final population.
 
 The digests were computed at revision 101bebd (the revision that began the full-budget run
 ``standard-500x10``), on x86_64 with dartpy 6.20.0 and numpy 2.4.6 at numpy's AVX2 dispatch
@@ -33,7 +33,7 @@ from dart_reach.evolution.trainer import train
 from dart_reach.model.world import WorldConfig
 from dart_reach.robots import robots
 
-GOLDEN = {"X86_V3": {"robots": "f81ed924ac7e7e19", "training": "f3df54bafb0af8bb"}}
+GOLDEN = {"X86_V3": {"robots": "f81ed924ac7e7e19", "training": "0fe27afab9a601aa"}}
 GOLDEN_PLATFORM = ("x86_64", "6.20.0", "2.4.6")
 
 
@@ -68,7 +68,7 @@ def tiny_training(out) -> np.ndarray:
     """The fitness columns of a tiny training's generations table and its final populations
     (genes and fitness), as one float64 vector."""
     run = train([scaled(load_condition("standard"), 2)],
-                Settings(replications=2, trials=3, steps=60, seed=49), out, workers=1,
+                Settings(replications=2, trials=2, steps=30, seed=49), out, workers=1,
                 progress=False)
     stats = pl.read_parquet(run.out / "generations.parquet").sort(
         "phase_key", "replication", "generation")
