@@ -73,11 +73,11 @@ def run_trial(unit: tuple[Job, int]) -> float:
     trial, at the same position, as trial k of ``task.lifetime`` with the job's generator."""
     job, k = unit
     trial = worker_trial(job.world, job.trial)
-    sector, position = trial_positions(trial.world, _rng(job), job.trial.trials)[k]
+    position = trial_positions(trial.world, _rng(job), job.trial.trials)[k][1]
     key = (job.genome.tobytes(), job.free_groups, job.trial)
     if _NETWORK[0] != key:
         _NETWORK[:] = key, network_for(decode(job.genome, job.free_groups), job.trial)
-    return trial.run(_NETWORK[1], sector, position).fitness
+    return trial.fitness(_NETWORK[1], position)
 
 
 def fitness_of_trials(trials: Sequence[float]) -> float:

@@ -134,74 +134,106 @@ class Lifetime:
 
 class Trial:
     """Runs trials of one network in one world. Build once, run many (buffers are reused for
-    the observation; each trial gets its own ``TrialData``)."""
+    the observation; each recorded trial gets its own ``TrialData``).
+
+    Two ways through the same steps: ``run`` keeps every per-step record (post-evaluation,
+    recordings); ``fitness`` keeps only what the fitness needs (the genetic algorithm). Both
+    compute the sensors and the fitness terms with the one ``sense``, so a trial's fitness is
+    the same to the last bit either way."""
 
     def __init__(self, world: World, config: TrialConfig = TrialConfig()):
         self.world, self.config = world, config
         self._x = np.zeros(N_SENSORS)
         self._q = np.zeros(N_MOTORS)
         self._contacts = np.zeros(N_SEGMENTS, bool)
-        self._contacts_any = np.zeros(N_SEGMENTS, bool)
+        self._touching = np.zeros(len(TOUCH_SEGMENTS), bool)
         self._ball_at = np.zeros(3)  # where the ball hangs (or would hang) in this trial
         self._targets = np.zeros(N_MOTORS)
         self._proprio_span = world.motor_limit_upper - world.motor_limit_lower
+        self._p = np.zeros(config.steps)  # p_multimodal per step of ``fitness``
+        self._no_touch = config.senses in _NO_TOUCH
+        self._no_sight = config.senses in _NO_SIGHT
+        self._offsets = config.offset_sensors and not self._no_sight
+        # What ``sense`` read last: the skeleton's positions, the ball's centre, the hand's
+        # pose (None when the step did not need it) and the fitness terms of the step.
+        self._positions = self._ball = self._hand_pose = None
+        self._p_sight = self._p_touch = self._p_multimodal = 0.0
 
     # ------------------------------------------------------------------ observation
-    def observe(self, data: TrialData, t: int) -> bool:
-        """Read the world into the sensor vector and the record's row t; False when the
-        state read is not finite (the simulation has exploded)."""
-        w, cfg, x = self.world, self.config, self._x
-        q = w.motor_positions(self._q)
+    def sense(self) -> bool:
+        """Read the world into the sensor vector (the network's input) and the fitness terms
+        of this step (Eq. 5); False when the state read is not finite (the simulation has
+        exploded). Reads the hand's pose only when the offset sensors need it."""
+        w, x = self.world, self._x
+        positions = self._positions = w.joint_positions()
+        q = w.motor_positions(self._q, positions)
         contacts = w.hand_contacts(self._contacts)
-        hand_pose = w.hand_transform()
-        hand, ball = palm_point(hand_pose), w.ball_position()
+        ball = self._ball = w.ball_position()
         cam = w.camera_pose()
         R, origin = cam[:3, :3], cam[:3, 3]
         ball_cam = (ball - origin) @ R  # R^T (p - o)
-        hand_cam = (hand - origin) @ R
         sensors.proprioception(q, w.motor_limit_lower, w.motor_limit_upper, out=x[PROPRIO],
                                span=self._proprio_span)
-        if cfg.senses in _NO_TOUCH:
+        if self._no_touch:
             x[TOUCH] = sensors.NO_TOUCH
         else:
-            sensors.touch(contacts[TOUCH_SEGMENTS], out=x[TOUCH])
+            sensors.touch(np.take(contacts, TOUCH_SEGMENTS, out=self._touching), out=x[TOUCH])
         cx, cy, ball_visible = sensors.project(ball_cam)
-        if cfg.senses in _NO_SIGHT:
+        if self._no_sight:
             x[SIGHT] = sensors.NO_SIGHT
         else:
-            sensors.sight(cx, cy, float(np.linalg.norm(ball_cam)), ball_visible, cfg.acuity,
-                          out=x[SIGHT])
-        if cfg.offset_sensors and cfg.senses not in _NO_SIGHT:
+            sensors.sight(cx, cy, math.sqrt(ball_cam.dot(ball_cam)), ball_visible,
+                          self.config.acuity, out=x[SIGHT])
+        if self._offsets:
+            hand_pose = self._hand_pose = w.hand_transform()
+            hand_cam = (palm_point(hand_pose) - origin) @ R
             hand_visible = sensors.project(hand_cam)[2]
             sensors.offset(sensors.visual_angles(ball_cam), sensors.visual_angles(hand_cam),
                            ball_visible and hand_visible, out=x[OFFSET])
         else:
+            self._hand_pose = None
             x[OFFSET] = sensors.NO_SIGHT
         # The fitness is about the world, whatever the robot is deprived of (Eq. 5).
-        p_s = sensors.p_sight(cx, cy, ball_visible)
-        p_t = sensors.p_touch(int(contacts.sum()), N_SEGMENTS)
-        data.joints[t] = q
-        data.dofs[t] = w.robot.getPositions()
-        data.hand[t] = hand
+        p_s = self._p_sight = sensors.p_sight(cx, cy, ball_visible)
+        p_t = self._p_touch = sensors.p_touch(int(np.count_nonzero(contacts)), N_SEGMENTS)
+        self._p_multimodal = sensors.p_multimodal(p_s, p_t)
+        return math.isfinite(positions.sum() + ball.sum())
+
+    def observe(self, data: TrialData, t: int) -> bool:
+        """``sense``, and the world and the sensors into the record's row t; False when the
+        state read is not finite."""
+        finite = self.sense()
+        w = self.world
+        hand_pose = w.hand_transform() if self._hand_pose is None else self._hand_pose
+        data.joints[t] = self._q
+        data.dofs[t] = self._positions
+        data.hand[t] = palm_point(hand_pose)
         data.shoulder[t] = w.shoulder_position()
-        data.ball[t] = self._ball_at if cfg.senses is Senses.NO_BALL else ball
-        data.contacts[t] = contacts
+        data.ball[t] = self._ball_at if self.config.senses is Senses.NO_BALL else self._ball
+        data.contacts[t] = self._contacts
         w.hand_contacts_any(data.contacts_any[t])
         palm_normal(hand_pose, out=data.palm_normal[t])
-        data.sensors[t] = x
-        data.p_sight[t] = p_s
-        data.p_touch[t] = p_t
-        data.p_multimodal[t] = sensors.p_multimodal(p_s, p_t)
-        return math.isfinite(data.dofs[t].sum() + ball.sum())
+        data.sensors[t] = self._x
+        data.p_sight[t] = self._p_sight
+        data.p_touch[t] = self._p_touch
+        data.p_multimodal[t] = self._p_multimodal
+        return finite
 
     # ------------------------------------------------------------------ one trial
-    def run(self, network: Network, sector: int, ball_position) -> TrialData:
-        """One trial of ``config.steps`` steps with the ball at ``ball_position`` (in
-        ``sector``). The network is reset to the state that holds the home posture."""
+    def _start(self, network: Network, ball_position) -> None:
+        """The world at its start (home posture, the ball at rest at ``ball_position`` or
+        parked when it is absent) and the network in the state that holds the home posture."""
         w = self.world
         self._ball_at[:] = ball_position
         w.reset(BALL_PARKED if self.config.senses is Senses.NO_BALL else ball_position)
         network.reset(motor=(w.home_targets + 1.0) / 2.0)
+
+    def run(self, network: Network, sector: int, ball_position) -> TrialData:
+        """One trial of ``config.steps`` steps with the ball at ``ball_position`` (in
+        ``sector``), every per-step record kept. The network is reset to the state that holds
+        the home posture."""
+        w = self.world
+        self._start(network, ball_position)
         data = TrialData.empty(self.config.steps, sector, ball_position, w.robot.getNumDofs())
         targets = self._targets
         for t in range(self.config.steps):
@@ -214,11 +246,28 @@ class Trial:
             data.motor[t] = motor
             data.targets[t] = targets
             data.steps_run = t + 1
-            if not (np.isfinite(targets).all()):
+            if not math.isfinite(targets.sum()):  # targets lie in [-1, 1] when finite
                 data.diverged = True
                 break
             w.step(targets)
         return data
+
+    def fitness(self, network: Network, ball_position) -> float:
+        """The fitness of the trial ``run`` would run with the ball at ``ball_position`` (mean
+        p_multimodal over its steps, 0 when it diverges; section III-C), to the last bit,
+        keeping no record: what the genetic algorithm needs."""
+        w, x, p, targets = self.world, self._x, self._p, self._targets
+        self._start(network, ball_position)
+        step = network.step
+        for t in range(self.config.steps):
+            if not self.sense():
+                return 0.0
+            p[t] = self._p_multimodal
+            motor_targets(step(x), out=targets)
+            if not math.isfinite(targets.sum()):
+                return 0.0
+            w.step(targets)
+        return float(p.mean())
 
 
 def trial_positions(world: World, rng: np.random.Generator, trials: int = 18
