@@ -241,7 +241,7 @@ def sigmoid(z, out=None) -> np.ndarray:
     out = np.array(z, dtype=float) if out is None else out
     if out is not z:
         out[...] = z
-    np.clip(out, -_SIGMOID_CLIP, _SIGMOID_CLIP, out=out)
+    out.clip(-_SIGMOID_CLIP, _SIGMOID_CLIP, out=out)  # np.clip without its wrapper
     np.negative(out, out=out)
     np.exp(out, out=out)
     out += 1.0

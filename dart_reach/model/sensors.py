@@ -43,24 +43,37 @@ OFFSET_D_MAX_DEG = 10.0
 OFFSET_SCALE = 0.1
 
 
+def _floats(a) -> list:
+    """``a`` as a list of Python floats (a list is taken as it is)."""
+    return a if type(a) is list else np.asarray(a, dtype=float).ravel().tolist()
+
+
+def _clip(v: float, lo: float, hi: float) -> float:
+    """``np.clip`` of one float, to the last bit: NaN stays NaN, else min(max(v, lo), hi)."""
+    if v != v:
+        return v
+    v = v if v > lo else lo
+    return v if v < hi else hi
+
+
 def proprioception(q, lower, upper, out=None, *, span=None) -> np.ndarray:
     """Proprioceptors (section III-B): joint angles scaled linearly from [lower, upper] to
-    [-1, 1], clipped to [-1, 1].
+    [-1, 1], clipped to [-1, 1]: clip((q - lower) / (upper - lower) * 2 - 1).
 
     ``q``, ``lower``, ``upper``: joint angles and limits, rad (the hand: mean finger flexion and
-    the flexion limits). ``span`` (optional) is ``upper - lower`` precomputed; without it one
-    temporary of len(q) is made. Returns ``out`` (a new array if None), dimensionless.
+    the flexion limits), arrays or lists of floats. ``span`` (optional) is ``upper - lower``
+    precomputed. Returns ``out`` (a new array if None), dimensionless. Computed on Python
+    floats (the same IEEE operations as numpy's, in the same order): for 14 joints that is a
+    third of the cost of numpy's calls.
     """
     q = np.asarray(q, dtype=float)
     if out is None:
         out = np.empty(q.shape)
-    if span is None:
-        span = np.subtract(upper, lower)
-    np.subtract(q, lower, out=out)
-    np.divide(out, span, out=out)
-    out *= 2.0
-    out -= 1.0
-    np.clip(out, -1.0, 1.0, out=out)
+    lo = _floats(lower)
+    span = [u - l for u, l in zip(_floats(upper), lo)] if span is None else _floats(span)
+    values = [_clip((v - l) / s * 2.0 - 1.0, -1.0, 1.0)
+              for v, l, s in zip(q.ravel().tolist(), lo, span)]
+    out[...] = values if q.ndim == 1 else np.reshape(values, q.shape)
     return out
 
 
@@ -70,11 +83,11 @@ def touch(contacts, out=None) -> np.ndarray:
     ``contacts``: booleans (palm, thumb, index, middle, ring, little fingertips). Returns
     ``out`` (a new float array if None).
     """
-    contacts = np.asarray(contacts, dtype=bool)
+    flags = np.asarray(contacts, dtype=bool)
     if out is None:
-        out = np.empty(contacts.shape)
-    np.multiply(contacts, TOUCHING - NO_TOUCH, out=out)
-    out += NO_TOUCH
+        out = np.empty(flags.shape)
+    values = [TOUCHING if c else NO_TOUCH for c in flags.ravel().tolist()]
+    out[...] = values if flags.ndim == 1 else np.reshape(values, flags.shape)
     return out
 
 

@@ -143,13 +143,17 @@ class Trial:
 
     def __init__(self, world: World, config: TrialConfig = TrialConfig()):
         self.world, self.config = world, config
-        self._x = np.zeros(N_SENSORS)
+        self._x = x = np.zeros(N_SENSORS)
+        # views of the sensor vector's layers (a slice costs as much as a small operation)
+        self._x_proprio, self._x_touch = x[PROPRIO], x[TOUCH]
+        self._x_sight, self._x_offset = x[SIGHT], x[OFFSET]
         self._q = np.zeros(N_MOTORS)
         self._contacts = np.zeros(N_SEGMENTS, bool)
-        self._touching = np.zeros(len(TOUCH_SEGMENTS), bool)
         self._ball_at = np.zeros(3)  # where the ball hangs (or would hang) in this trial
         self._targets = np.zeros(N_MOTORS)
-        self._proprio_span = world.motor_limit_upper - world.motor_limit_lower
+        self._proprio_lower = world.motor_limit_lower.tolist()
+        self._proprio_span = (world.motor_limit_upper - world.motor_limit_lower).tolist()
+        self._touch_segments = TOUCH_SEGMENTS.tolist()
         self._p = np.zeros(config.steps)  # p_multimodal per step of ``fitness``
         self._no_touch = config.senses in _NO_TOUCH
         self._no_sight = config.senses in _NO_SIGHT
@@ -164,7 +168,7 @@ class Trial:
         """Read the world into the sensor vector (the network's input) and the fitness terms
         of this step (Eq. 5); False when the state read is not finite (the simulation has
         exploded). Reads the hand's pose only when the offset sensors need it."""
-        w, x = self.world, self._x
+        w = self.world
         positions = self._positions = w.joint_positions()
         q = w.motor_positions(self._q, positions)
         contacts = w.hand_contacts(self._contacts)
@@ -172,30 +176,31 @@ class Trial:
         cam = w.camera_pose()
         R, origin = cam[:3, :3], cam[:3, 3]
         ball_cam = (ball - origin) @ R  # R^T (p - o)
-        sensors.proprioception(q, w.motor_limit_lower, w.motor_limit_upper, out=x[PROPRIO],
+        sensors.proprioception(q, self._proprio_lower, None, out=self._x_proprio,
                                span=self._proprio_span)
+        touching = contacts.tolist()
         if self._no_touch:
-            x[TOUCH] = sensors.NO_TOUCH
+            self._x_touch[:] = sensors.NO_TOUCH
         else:
-            sensors.touch(np.take(contacts, TOUCH_SEGMENTS, out=self._touching), out=x[TOUCH])
+            sensors.touch([touching[i] for i in self._touch_segments], out=self._x_touch)
         cx, cy, ball_visible = sensors.project(ball_cam)
         if self._no_sight:
-            x[SIGHT] = sensors.NO_SIGHT
+            self._x_sight[:] = sensors.NO_SIGHT
         else:
             sensors.sight(cx, cy, math.sqrt(ball_cam.dot(ball_cam)), ball_visible,
-                          self.config.acuity, out=x[SIGHT])
+                          self.config.acuity, out=self._x_sight)
         if self._offsets:
             hand_pose = self._hand_pose = w.hand_transform()
             hand_cam = (palm_point(hand_pose) - origin) @ R
             hand_visible = sensors.project(hand_cam)[2]
             sensors.offset(sensors.visual_angles(ball_cam), sensors.visual_angles(hand_cam),
-                           ball_visible and hand_visible, out=x[OFFSET])
+                           ball_visible and hand_visible, out=self._x_offset)
         else:
             self._hand_pose = None
-            x[OFFSET] = sensors.NO_SIGHT
+            self._x_offset[:] = sensors.NO_SIGHT
         # The fitness is about the world, whatever the robot is deprived of (Eq. 5).
         p_s = self._p_sight = sensors.p_sight(cx, cy, ball_visible)
-        p_t = self._p_touch = sensors.p_touch(int(np.count_nonzero(contacts)), N_SEGMENTS)
+        p_t = self._p_touch = sensors.p_touch(sum(touching), N_SEGMENTS)
         self._p_multimodal = sensors.p_multimodal(p_s, p_t)
         return math.isfinite(positions.sum() + ball.sum())
 

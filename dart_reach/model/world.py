@@ -214,6 +214,7 @@ class World:
             raise SkeletonError("skeleton has joints that no motor drives")
         self._motor_dofs = np.array(motor_dofs)
         self._finger_dofs = np.array(finger_dofs)
+        self._finger_q = np.zeros(len(finger_dofs))
         self.lower = np.asarray(r.getPositionLowerLimits())
         self.upper = np.asarray(r.getPositionUpperLimits())
         if not (np.isfinite(self.lower).all() and np.isfinite(self.upper).all()
@@ -418,8 +419,11 @@ class World:
         of the skeleton's ``positions`` when given (``joint_positions()``, read once)."""
         q = self.robot.getPositions() if positions is None else positions
         out = np.empty(N_MOTORS) if out is None else out
-        np.take(q, self._motor_dofs, out=out[:13])
-        out[13] = q[self._finger_dofs].mean()
+        q.take(self._motor_dofs, out=out[:13])
+        # the mean as ``ndarray.mean`` computes it (the sum divided by the count), without
+        # its wrapper
+        out[13] = np.add.reduce(q.take(self._finger_dofs, out=self._finger_q)
+                                ) / len(self._finger_dofs)
         return out
 
     def ball_position(self) -> np.ndarray:
