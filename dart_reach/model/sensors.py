@@ -48,7 +48,7 @@ def _floats(a) -> list:
     return a if type(a) is list else np.asarray(a, dtype=float).ravel().tolist()
 
 
-def _clip(v: float, lo: float, hi: float) -> float:
+def clip(v: float, lo: float, hi: float) -> float:
     """``np.clip`` of one float, to the last bit: NaN stays NaN, else min(max(v, lo), hi)."""
     if v != v:
         return v
@@ -71,7 +71,7 @@ def proprioception(q, lower, upper, out=None, *, span=None) -> np.ndarray:
         out = np.empty(q.shape)
     lo = _floats(lower)
     span = [u - l for u, l in zip(_floats(upper), lo)] if span is None else _floats(span)
-    values = [_clip((v - l) / s * 2.0 - 1.0, -1.0, 1.0)
+    values = [clip((v - l) / s * 2.0 - 1.0, -1.0, 1.0)
               for v, l, s in zip(q.ravel().tolist(), lo, span)]
     out[...] = values if q.ndim == 1 else np.reshape(values, q.shape)
     return out
