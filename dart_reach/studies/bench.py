@@ -116,13 +116,17 @@ def panel_genomes(kind: str, n: int = PANEL, seed: int = 0) -> np.ndarray:
     return evolved_pre()[0][:n]
 
 
-def closed_loop(kind: str, config: WorldConfig | None = None, trials: int = 9) -> dict:
-    """A full trial (observation, network, touch, every per-step record kept; section III-C)
-    against the bare physics replaying the same targets (the same motion to the last bit),
-    in pairs over the sector centres, for ``PANEL`` robots of ``kind``. Figures (suffix
-    ``_evolved`` for evolved robots): ``closed_loop_rtf``, ``closed_loop_over_limit``
-    (physics time over the whole loop's) and ``python_us_per_control_step`` (what the loop
-    adds to the physics per 0.1 s step, µs)."""
+def closed_loop(kind: str, config: WorldConfig | None = None, trials: int = 9,
+                records: bool = True) -> dict:
+    """A full trial (observation, network, touch; section III-C) against the bare physics
+    replaying the same targets (the same motion to the last bit), in pairs over the sector
+    centres, for ``PANEL`` robots of ``kind``: with every per-step record kept
+    (``Trial.run``, post-evaluation; figures ``closed_loop_*``) or, ``records`` False, only
+    the fitness (``Trial.fitness``, what the genetic algorithm runs; figures
+    ``training_loop_*``). Figures (suffix ``_evolved`` for evolved robots): ``*_rtf``,
+    ``*_over_limit`` (physics time over the whole loop's) and ``python_us_per_control_step``
+    / ``training_python_us_per_control_step`` (what the loop adds to the physics per 0.1 s
+    step, µs)."""
     world = World(config or WorldConfig())
     cfg = standard_trial("pre")
     runner = Trial(world, cfg)
@@ -135,7 +139,10 @@ def closed_loop(kind: str, config: WorldConfig | None = None, trials: int = 9) -
         targets, n = data.targets, data.steps_run
 
         def whole():
-            runner.run(network, k, centres[k])
+            if records:
+                runner.run(network, k, centres[k])
+            else:
+                runner.fitness(network, centres[k])
 
         def physics():
             _replay(world, centres[k], targets, n)
@@ -147,10 +154,10 @@ def closed_loop(kind: str, config: WorldConfig | None = None, trials: int = 9) -
         steps.append(n)
     closed, replay, steps = map(np.asarray, (closed, replay, steps))
     suffix = "" if kind == "random" else f"_{kind}"
-    return {f"closed_loop_rtf{suffix}": float(np.median(steps * world.config.control_dt
-                                                        / closed)),
-            **ratio(f"closed_loop_over_limit{suffix}", replay / closed),
-            f"python_us_per_control_step{suffix}": float(np.median((closed - replay) / steps))
+    loop, python = ("closed_loop", "python") if records else ("training_loop", "training_python")
+    return {f"{loop}_rtf{suffix}": float(np.median(steps * world.config.control_dt / closed)),
+            **ratio(f"{loop}_over_limit{suffix}", replay / closed),
+            f"{python}_us_per_control_step{suffix}": float(np.median((closed - replay) / steps))
             * 1e6}
 
 
@@ -309,6 +316,8 @@ TARGETS = {
     "controlled_over_limit": (0.9, ">="),
     "closed_loop_over_limit": (0.9, ">="),
     "closed_loop_over_limit_evolved": (0.9, ">="),
+    "training_loop_over_limit": (0.9, ">="),
+    "training_loop_over_limit_evolved": (0.9, ">="),
     "parallel_efficiency": (0.95, ">="),
     "ray_efficiency": (0.8, ">="),
     "recording_overhead": (1.15, "<="),
@@ -333,7 +342,8 @@ def run(seconds: float = 2.0, pairs: int = 30) -> dict:
     results.update(world_rtf(seconds=seconds, pairs=pairs))
     results.update(physics_speedup())
     for kind in ("random", "evolved"):
-        results.update(closed_loop(kind))
+        for records in (True, False):
+            results.update(closed_loop(kind, records=records))
     results.update(parallel())
     try:
         import ray  # noqa: F401
