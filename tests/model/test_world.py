@@ -276,3 +276,32 @@ def test_cli_scripted_reach_touches_the_ball():
     result = _cli("reach", "--seconds", "3")
     assert result.returncode == 0, result.stderr
     assert "segments that touched the ball: r_hand" in result.stdout
+
+
+def test_inner_face_touch_decides_as_numpy_does_even_at_the_cone_s_edge():
+    """The touch decision on Python floats falls back to numpy's operations near the edge of
+    the cone, so it agrees with them everywhere: random directions, and directions placed on
+    the edge itself (where a rounding difference would flip a decision)."""
+    import math
+
+    from dart_reach.model.world import inner_face_touch
+
+    rng = np.random.default_rng(5)
+    inner = np.array([0.0, 0.5 ** 0.5, 0.5 ** 0.5])
+    cos_limit = math.cos(math.radians(67.5))
+    face = (0, inner, cos_limit, tuple(inner.tolist()))
+    edge_cases = 0
+    for i in range(4000):
+        q, _ = np.linalg.qr(rng.normal(size=(3, 3)))  # a random rotation (or reflection)
+        if i % 2:  # on the edge: o at exactly the cone's half angle from inner, in the frame
+            side = np.cross(inner, rng.normal(size=3))
+            side /= np.linalg.norm(side)
+            o = cos_limit * inner + math.sqrt(1 - cos_limit ** 2) * side
+            v = q @ (o * rng.uniform(0.01, 0.05))
+        else:
+            v = rng.normal(size=3) * 0.03
+        outward = q.T @ v
+        expected = bool(outward @ inner >= cos_limit * math.sqrt(outward @ outward))
+        assert inner_face_touch(q, v, face) == expected
+        edge_cases += abs(outward @ inner - cos_limit * math.sqrt(outward @ outward)) < 1e-12
+    assert edge_cases > 1000  # the edge was really visited
