@@ -21,7 +21,7 @@ from typing import Callable
 import numpy as np
 
 from ..evolution.backends import (Job, LocalRayCluster, PoolBackend, RayBackend, SerialBackend,
-                                  worker_trial)
+                                  peak_rss_mb, worker_trial)
 from ..evolution.conditions import load_condition
 from ..evolution.genome import ParamGroup, as_groups, decode, random_genome
 from ..evolution.settings import Settings, standard_trial, trial_config
@@ -205,12 +205,6 @@ def physics_speedup(config: WorldConfig | None = None, trials: int = 45) -> dict
 
 
 # --------------------------------------------------------------------------------- parallel
-def _peak_rss_mb(_=None) -> float:
-    """This process's peak resident memory (MB); run in a pool worker, that worker's."""
-    time.sleep(0.2)  # so that every worker takes one of these tasks
-    return resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024
-
-
 def _generation(kind: str, jobs: int, trials: int, seed: int) -> list:
     """The jobs of one pre-reaching generation of ``jobs`` lifetimes of ``trials`` trials."""
     phase = load_condition("standard").phases[0]
@@ -265,7 +259,7 @@ def parallel(kind: str = "evolved", jobs: int = 40, trials: int = 2, pairs: int 
     serial, pool = SerialBackend(), PoolBackend(cores)
     try:
         t_serial, t_pool = _time_backends(serial, pool, batch, pairs, warm=cores)
-        worker_mb = max(pool.imap(_peak_rss_mb, range(4 * cores)))
+        worker_mb = max(pool.imap(peak_rss_mb, range(4 * cores)))
     finally:
         pool.close()
     suffix = "" if kind == "evolved" else f"_{kind}"
