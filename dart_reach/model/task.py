@@ -195,14 +195,21 @@ class Trial:
         return math.isfinite(data.dofs[t].sum() + ball.sum())
 
     # ------------------------------------------------------------------ one trial
+    def begin(self, sector: int, ball_position) -> TrialData:
+        """Start a trial: the world reset with the ball at ``ball_position`` (in ``sector``)
+        and the trial's empty record. ``run`` and the Gymnasium environment (``envs``) then
+        step it: ``observe``, the motor targets, ``world.step``."""
+        w = self.world
+        self._ball_at[:] = ball_position
+        w.reset(BALL_PARKED if self.config.senses is Senses.NO_BALL else ball_position)
+        return TrialData.empty(self.config.steps, sector, ball_position, w.robot.getNumDofs())
+
     def run(self, network: Network, sector: int, ball_position) -> TrialData:
         """One trial of ``config.steps`` steps with the ball at ``ball_position`` (in
         ``sector``). The network is reset to the state that holds the home posture."""
         w = self.world
-        self._ball_at[:] = ball_position
-        w.reset(BALL_PARKED if self.config.senses is Senses.NO_BALL else ball_position)
+        data = self.begin(sector, ball_position)
         network.reset(motor=(w.home_targets + 1.0) / 2.0)
-        data = TrialData.empty(self.config.steps, sector, ball_position, w.robot.getNumDofs())
         targets = self._targets
         for t in range(self.config.steps):
             if not self.observe(data, t):  # the last physics step exploded
