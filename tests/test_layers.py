@@ -30,9 +30,10 @@ DEFERRED = {
     "progress": "start-up: tqdm.auto takes 60 ms to import and is needed only to draw a bar; "
                 "the CLI imports progress for every command",
 }
-#: Optional extras imported where they are used: ray (cluster), imageio (video), pinocchio.
+#: Optional extras imported where they are used: ray (cluster), imageio (video), pinocchio,
+#: the Gymnasium environment (``envs``: the gym extra).
 OPTIONAL = {"ray", "imageio", "imageio_ffmpeg", "imageio.v2", "pinocchio", "IPython",
-            "ipywidgets", "icub_models"}
+            "ipywidgets", "icub_models", "envs"}
 
 
 def _modules():
