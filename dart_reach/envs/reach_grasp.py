@@ -19,6 +19,8 @@ network stepped through the environment earns the fitness ``Trial.run`` gives it
   in which the action is chosen: the rewards of an episode are the trial's ``p_multimodal``
   row by row and their mean is the trial's fitness. A trial whose physics explodes scores 0
   (``Trial.run``): the episode then terminates and its last reward cancels the return so far.
+- **Observations** are read-only views of the trial's record (``trial_data.sensors``), so that
+  nothing is copied per step and no learner's in-place normalisation corrupts the record.
 - **Episode end**: ``truncated`` after ``steps`` steps (200, 20 s; the observation does not
   show the time, so the end of a trial is a time limit); ``terminated`` only on divergence.
   The last observation is read from the world after the last step; the trial itself never
@@ -51,6 +53,7 @@ network stepped through the environment earns the fitness ``Trial.run`` gives it
 
 from __future__ import annotations
 
+import math
 from dataclasses import replace
 
 import gymnasium as gym
@@ -65,9 +68,10 @@ from ..model.scenes import load_scene
 from ..model.task import Senses, Trial, TrialData, trial_positions
 from ..model.world import World, WorldConfig, check_sector
 
+_REFLEX_MASK = reflex_biases()[0]
 #: Indices of the motors the reflexes drive (neck_yaw, neck_pitch, r_hand_fingers): the
 #: action's entries there are ignored while the reflexes are on.
-REFLEX_MOTORS = np.flatnonzero(reflex_biases()[0])
+REFLEX_MOTORS = np.flatnonzero(_REFLEX_MASK)
 #: The options ``reset`` accepts.
 RESET_OPTIONS = ("sector", "ball_position")
 
@@ -153,7 +157,9 @@ class ReachGraspEnv(gym.Env):
             raise RuntimeError("the world's state is not finite right after a reset")
         info = {"sector": sector, "ball_position": data.ball_start.copy(),
                 "home_action": self.home_action.copy()}
-        return data.sensors[0], info
+        observation = data.sensors[0]
+        observation.flags.writeable = False
+        return observation, info
 
     def _ball(self, options: dict) -> tuple[int, np.ndarray]:
         unknown = sorted(set(options) - set(RESET_OPTIONS))
@@ -182,11 +188,11 @@ class ReachGraspEnv(gym.Env):
         if np.shape(action) != (N_MOTORS,):
             raise ValueError(f"the action must have shape ({N_MOTORS},), got {np.shape(action)}")
         a[:] = action
-        if not np.isfinite(a).all():
+        if not math.isfinite(a.sum()):
             raise ValueError(f"the action must be 14 finite numbers in [0, 1], got {action!r}")
         np.clip(a, 0.0, 1.0, out=a)
         if self._reflex is not None:
-            a[REFLEX_MOTORS] = self._reflex.step(data.sensors[t])[REFLEX_MOTORS]
+            np.copyto(a, self._reflex.step(data.sensors[t]), where=_REFLEX_MASK)
         # as Trial.run: record, targets, one control step, observe the next state
         targets = motor_targets(a, out=self._targets)
         data.motor[t] = a
@@ -197,7 +203,9 @@ class ReachGraspEnv(gym.Env):
         self._t = t = t + 1
         last = t == self.config.steps
         ok = self.trial.observe(self._final if last else data, 0 if last else t)
-        observation = self._final.sensors[0] if last else data.sensors[t]
+        # a read-only view of the record's row (the last one: a copy, its buffer is reused)
+        observation = self._final.sensors[0].copy() if last else data.sensors[t]
+        observation.flags.writeable = False
         info = {"p_sight": float(data.p_sight[t - 1]), "p_touch": float(data.p_touch[t - 1])}
         if not ok:
             data.diverged = True

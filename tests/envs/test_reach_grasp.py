@@ -171,7 +171,9 @@ def test_bad_options_are_refused_with_their_reason():
         env.reset(options={"ball_position": [0.0, 0.0, 0.0]})
     with pytest.raises(ValueError, match="sector must be an integer in 0..8"):
         env.reset(options={"sector": 9})
-    env.reset(seed=0)
+    observation, _ = env.reset(seed=0)
+    with pytest.raises(ValueError, match="read-only"):  # the trial's record is safe
+        observation *= 2.0
     with pytest.raises(ValueError, match=r"shape \(14,\)"):
         env.step(np.zeros(13))
     with pytest.raises(ValueError, match="finite"):
