@@ -174,26 +174,23 @@ def gym_env(trials: int = 9) -> dict:
     in_env, in_trial, steps = [], [], []
     for i in range(trials * len(networks)):
         network, k = networks[i % len(networks)], i % 9
-        done = []
 
         def episode():
             x, info = env.reset(options={"sector": k, "ball_position": centres[k]})
             network.reset(motor=info["home_action"])
-            over, n = False, 0
+            over = False
             while not over:
                 x, _, terminated, truncated, _ = env.step(network.step(x))
-                over, n = terminated or truncated, n + 1
-            done.append(n)
+                over = terminated or truncated
 
         def trial():
             runner.run(network, k, centres[k])
 
-        first, second = (episode, trial) if i % 2 == 0 else (trial, episode)
-        a, b = paired(first, second, 1)
-        t_env, t_trial = (a, b) if i % 2 == 0 else (b, a)
+        t_env, t_trial = paired(episode, trial, 1) if i % 2 == 0 else \
+            paired(trial, episode, 1)[::-1]
         in_env.append(t_env[0])
         in_trial.append(t_trial[0])
-        steps.append(done[0])
+        steps.append(env.trial_data.steps_run)
     in_env, in_trial = np.asarray(in_env), np.asarray(in_trial)
     return {"env_steps_per_s": float(np.median(np.asarray(steps) / in_env)),
             **ratio("env_over_trial", in_trial / in_env)}
