@@ -57,7 +57,8 @@ def record_episode(env, path) -> Path:
 class Renderer:
     """The frames of ``render_mode="rgb_array"``: the episode so far, recorded, opened in a
     headless Rerun viewer (started on the first frame, one per environment) with the time
-    cursor at the current step, and its screenshot. About a second per frame on a CPU: for
+    cursor at the current step, and its screenshot: 5 s for the first frame (the viewer
+    starts), 1 s for each after (software Vulkan, a loaded 2-core machine, 2026-11-26): for
     looking at a policy, not for training with pixels. RuntimeError where the viewer cannot
     draw (no Vulkan driver), with the reason."""
 
