@@ -12,8 +12,11 @@ PACKAGE = Path(__file__).resolve().parents[1] / "dart_reach"
 
 #: Each layer may import itself and the layers before it. ``errors``, ``files`` and
 #: ``progress`` are shared utilities every layer may use.
+#: ``envs`` (the Gymnasium environment) wraps the model's trial, takes its phases from
+#: evolution's conditions and draws its frames with viewing's headless viewer: it sits after
+#: viewing, and bench (studies) measures it.
 LAYERS = ("model", "measures", "recording", "evolution", "postevaluation", "analysis",
-          "robots", "viewing", "studies", "cli")
+          "robots", "viewing", "envs", "studies", "cli")
 SHARED = {"errors", "files", "progress", "skeletons", ""}
 
 MAX_LINES = 600
@@ -22,12 +25,15 @@ MAX_LINES = 600
 DEFERRED = {
     "cli": "start-up: 'dart-reach --help' and every command load only what they run",
     "__init__": "the public names are loaded on first use (PEP 562)",
+    "envs": "render_mode='rgb_array' alone loads the headless viewer (rerun, polars: about a "
+            "second), which every process of a vector environment would pay",
     "progress": "start-up: tqdm.auto takes 60 ms to import and is needed only to draw a bar; "
                 "the CLI imports progress for every command",
 }
-#: Optional extras imported where they are used: ray (cluster), imageio (video), pinocchio.
+#: Optional extras imported where they are used: ray (cluster), imageio (video), pinocchio,
+#: the Gymnasium environment (``envs``: the gym extra).
 OPTIONAL = {"ray", "imageio", "imageio_ffmpeg", "imageio.v2", "pinocchio", "IPython",
-            "ipywidgets", "icub_models"}
+            "ipywidgets", "icub_models", "envs"}
 
 
 def _modules():

@@ -20,7 +20,7 @@ ROOT = Path(__file__).resolve().parents[1]
 README = ROOT / "README.md"
 #: documentation pages whose Python blocks run as scripts here (those of docs/guides/ablations.md
 #: run in tests/test_ablations.py)
-DOC_SNIPPETS = (ROOT / "docs" / "model" / "world.md",)
+DOC_SNIPPETS = (ROOT / "docs" / "model" / "world.md", ROOT / "docs" / "guides" / "gymnasium.md")
 
 #: (text in the README, what the test runs instead)
 TINY = (

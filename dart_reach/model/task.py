@@ -155,6 +155,7 @@ class Trial:
         self._proprio_span = (world.motor_limit_upper - world.motor_limit_lower).tolist()
         self._touch_segments = TOUCH_SEGMENTS.tolist()
         self._p = np.zeros(config.steps)  # p_multimodal per step of ``fitness``
+        self._home_motor = (world.home_targets + 1.0) / 2.0  # the network's start
         self._no_touch = config.senses in _NO_TOUCH
         self._no_sight = config.senses in _NO_SIGHT
         self._offsets = config.offset_sensors and not self._no_sight
@@ -225,21 +226,27 @@ class Trial:
         return finite
 
     # ------------------------------------------------------------------ one trial
-    def _start(self, network: Network, ball_position) -> None:
-        """The world at its start (home posture, the ball at rest at ``ball_position`` or
-        parked when it is absent) and the network in the state that holds the home posture."""
-        w = self.world
+    def _reset(self, ball_position) -> None:
+        """The world at a trial's start: home posture, the ball at rest at ``ball_position``
+        (parked away when it is absent)."""
         self._ball_at[:] = ball_position
-        w.reset(BALL_PARKED if self.config.senses is Senses.NO_BALL else ball_position)
-        network.reset(motor=(w.home_targets + 1.0) / 2.0)
+        self.world.reset(BALL_PARKED if self.config.senses is Senses.NO_BALL else ball_position)
+
+    def begin(self, sector: int, ball_position) -> TrialData:
+        """Start a trial: the world reset with the ball at ``ball_position`` (in ``sector``)
+        and the trial's empty record. ``run`` and the Gymnasium environment (``envs``) then
+        step it: ``observe``, the motor targets, ``world.step``."""
+        self._reset(ball_position)
+        return TrialData.empty(self.config.steps, sector, ball_position,
+                               self.world.robot.getNumDofs())
 
     def run(self, network: Network, sector: int, ball_position) -> TrialData:
         """One trial of ``config.steps`` steps with the ball at ``ball_position`` (in
         ``sector``), every per-step record kept. The network is reset to the state that holds
         the home posture."""
         w = self.world
-        self._start(network, ball_position)
-        data = TrialData.empty(self.config.steps, sector, ball_position, w.robot.getNumDofs())
+        data = self.begin(sector, ball_position)
+        network.reset(motor=self._home_motor)
         targets = self._targets
         for t in range(self.config.steps):
             if not self.observe(data, t):  # the last physics step exploded
@@ -262,7 +269,8 @@ class Trial:
         p_multimodal over its steps, 0 when it diverges; section III-C), to the last bit,
         keeping no record: what the genetic algorithm needs."""
         w, x, p, targets = self.world, self._x, self._p, self._targets
-        self._start(network, ball_position)
+        self._reset(ball_position)
+        network.reset(motor=self._home_motor)
         step = network.step
         for t in range(self.config.steps):
             if not self.sense():

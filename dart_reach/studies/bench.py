@@ -9,12 +9,14 @@ tests. A real-time factor (RTF) is simulated seconds per wall-clock second on on
 
 from __future__ import annotations
 
+import importlib.util
 import os
 import platform
 import resource
 import tempfile
 import time
 from importlib import metadata
+from dataclasses import replace
 from pathlib import Path
 from typing import Callable
 
@@ -159,6 +161,46 @@ def closed_loop(kind: str, config: WorldConfig | None = None, trials: int = 9,
             **ratio(f"{loop}_over_limit{suffix}", replay / closed),
             f"{python}_us_per_control_step{suffix}": float(np.median((closed - replay) / steps))
             * 1e6}
+
+
+def gym_env(trials: int = 9) -> dict:
+    """The Gymnasium environment (``envs``, the ``gym`` extra) against the trial it wraps:
+    the shipped evolved pre-reaching robots' networks stepped through ``ReachGraspEnv`` (with
+    its reflexes off: the networks have theirs) and run by ``Trial.run``, the same trials to
+    the last bit, in pairs over the sector centres. ``env_steps_per_s``: control steps of
+    0.1 s per second of one core (one process; a vector environment runs one per core);
+    ``env_over_trial``: the trial's time over the environment's (1: the wrapper costs
+    nothing)."""
+    from ..envs import ReachGraspEnv  # the gym extra
+
+    env = ReachGraspEnv(phase="pre", reflexes=False)
+    runner = Trial(World(env.world.config), env.config)
+    networks = [network_for(decode(g, {ParamGroup.DIRECT}), replace(env.config, reflexes=True))
+                for g in panel_genomes("evolved")]
+    centres = [env.world.sector_point(k, 0.5, 0.5) for k in range(9)]
+    in_env, in_trial, steps = [], [], []
+    for i in range(trials * len(networks)):
+        network, k = networks[i % len(networks)], i % 9
+
+        def episode():
+            x, info = env.reset(options={"sector": k, "ball_position": centres[k]})
+            network.reset(motor=info["home_action"])
+            over = False
+            while not over:
+                x, _, terminated, truncated, _ = env.step(network.step(x))
+                over = terminated or truncated
+
+        def trial():
+            runner.run(network, k, centres[k])
+
+        t_env, t_trial = paired(episode, trial, 1) if i % 2 == 0 else \
+            paired(trial, episode, 1)[::-1]
+        in_env.append(t_env[0])
+        in_trial.append(t_trial[0])
+        steps.append(env.trial_data.steps_run)
+    in_env, in_trial = np.asarray(in_env), np.asarray(in_trial)
+    return {"env_steps_per_s": float(np.median(np.asarray(steps) / in_env)),
+            **ratio("env_over_trial", in_trial / in_env)}
 
 
 def _replay(world: World, ball: np.ndarray, targets: np.ndarray, steps: int) -> None:
@@ -331,7 +373,8 @@ def check(results: dict) -> dict[str, bool]:
 def run(seconds: float = 2.0, pairs: int = 30) -> dict:
     """Every figure, in one run: ``pairs`` pairs of ``seconds`` simulated seconds for the
     physics ratio; the closed loop over 45 trials of each kind; 10 pairs of generations on the
-    pool, 5 on a local Ray cluster (when the ``cluster`` extra is installed)."""
+    pool, 5 on a local Ray cluster (when the ``cluster`` extra is installed); the Gymnasium
+    environment over 45 trials (when the ``gym`` extra is)."""
     results = {"machine": machine()}
     results.update(world_rtf(seconds=seconds, pairs=pairs))
     results.update(physics_speedup())
@@ -346,6 +389,10 @@ def run(seconds: float = 2.0, pairs: int = 30) -> dict:
     else:
         results.update(ray_efficiency())
     results.update(recording_overhead())
+    if importlib.util.find_spec("gymnasium") is None:
+        results["env_skipped"] = "Gymnasium is not installed (the 'gym' extra)"
+    else:
+        results.update(gym_env())
     results["targets_met"] = check(results)
     return results
 

@@ -60,3 +60,11 @@ def test_the_tuned_physics_simulates_what_the_reference_does():
 def test_physics_speedup_is_a_ratio_of_pairs():
     r = bench.physics_speedup(trials=2)
     assert r["physics_speedup"] > 0 and len(r["physics_speedup_iqr"]) == 2
+
+
+def test_the_environment_figure_times_the_same_trials():
+    import pytest
+
+    pytest.importorskip("gymnasium")
+    g = bench.gym_env(trials=1)
+    assert g["env_steps_per_s"] > 0 and 0 < g["env_over_trial"] < 10
