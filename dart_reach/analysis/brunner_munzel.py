@@ -18,8 +18,8 @@ for theta = 0.5 even when the shapes differ, and exact when they are the same.
 The interval of theta is the test inverted with the same permutation distribution: theta
 +- q se, q the permutation critical value of |T| at the level: 0.5 lies outside it exactly
 when the two-sided p is below the level, so a verdict and its interval always agree (ties
-included). Complete separation has se = 0 and |T| = infinity; a split with the same
-theta = 0.5 and se = 0 has T = 0.
+included). The standard error is never below ``smallest_se`` (that of the samples nearest
+complete separation): complete separation, whose se is 0, has a finite T and an interval.
 """
 
 from __future__ import annotations
@@ -30,6 +30,7 @@ import math
 from dataclasses import dataclass
 
 import numpy as np
+from scipy import special
 
 #: At most this many distinct splits: every one is used (an exact test).
 EXACT_SPLITS = 10_000
@@ -99,11 +100,32 @@ def statistics(pooled, in_b: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.nda
     var_b = (b * (among_a - mean_b[:, None]) ** 2).sum(axis=1) / (n_b - 1)
     var_a = (a * (among_b - mean_a[:, None]) ** 2).sum(axis=1) / (n_a - 1)
     theta = mean_b / n_a
-    se = np.sqrt(var_a / (n_a * n_b ** 2) + var_b / (n_b * n_a ** 2))
-    centred = np.where(np.abs(theta - 0.5) < 1e-12, 0.0, theta - 0.5)
-    with np.errstate(divide="ignore", invalid="ignore"):
-        t = np.where(se > 0, centred / np.where(se > 0, se, 1.0), np.sign(centred) * np.inf)
-    return theta, se, np.nan_to_num(t, nan=0.0, posinf=np.inf, neginf=-np.inf)
+    se = np.maximum(np.sqrt(var_a / (n_a * n_b ** 2) + var_b / (n_b * n_a ** 2)),
+                    smallest_se(int(n_a), int(n_b)))
+    return theta, se, _logit(theta, int(n_a), int(n_b)) / se
+
+
+def _clip(theta, n_a: int, n_b: int):
+    """theta kept 1 / (n_a n_b) inside (0, 1), where its logit is finite: complete
+    separation counts as one pair short of it, and with ``smallest_se`` ties the split of one
+    pair swapped (any closer edge would rank it below that split)."""
+    edge = 1 / (n_a * n_b)
+    return np.clip(theta, edge, 1 - edge)
+
+
+def _logit(theta, n_a: int, n_b: int):
+    """logit(theta) x theta (1 - theta), theta clipped (``_clip``): theta - 0.5 to first
+    order, on the logit scale (the delta method's: T is then logit(theta) over its s.e.)."""
+    c = _clip(theta, n_a, n_b)
+    return np.where(np.abs(theta - 0.5) < 1e-12, 0.0, special.logit(c)) * c * (1 - c)
+
+
+def smallest_se(n_a: int, n_b: int) -> float:
+    """The floor of the standard error: sqrt(2) / (n_a n_b), Brunner-Munzel's for the samples
+    nearest complete separation (one unit of each group one place over). Without it complete
+    separation (se 0) would give T infinite and theta an interval of one point, which at 4
+    replications would miss the true theta one time in ten."""
+    return math.sqrt(2) / (n_a * n_b)
 
 
 def test(a, b, alternative: str = "two-sided", confidence: float = 0.95) -> Result:
@@ -128,12 +150,12 @@ def test(a, b, alternative: str = "two-sided", confidence: float = 0.95) -> Resu
     at_least = {"two-sided": (np.abs(permuted), abs(observed)),
                 "greater": (permuted, observed), "less": (-permuted, -observed)}
     values, at = at_least[alternative]
-    p = (extra + int(np.count_nonzero(values >= at - TOLERANCE * abs(at)
-                                      if math.isfinite(at) else values >= at))) / total
+    p = (extra + int(np.count_nonzero(values >= at - TOLERANCE * abs(at)))) / total
     # q: |T| > q exactly when the two-sided p < 1 - confidence (the k-th largest |T|)
     k = math.ceil((1 - confidence) * total - extra)
     q = float(np.sort(np.abs(permuted))[::-1][k - 1]) / (1 - TOLERANCE) if k >= 1 else math.inf
-    half = q * se[0] if se[0] > 0 else (0.0 if math.isfinite(q) else math.inf)
-    return Result(float(theta[0]), float(max(theta[0] - half, 0.0)),
-                  float(min(theta[0] + half, 1.0)), confidence, float(min(p, 1.0)),
+    clipped = float(_clip(theta[0], len(a), len(b)))
+    half = q * se[0] / (clipped * (1 - clipped))
+    low, high = special.expit(special.logit(clipped) + np.array([-half, half]))
+    return Result(float(theta[0]), float(low), float(high), confidence, float(min(p, 1.0)),
                   float(observed), total, exact)

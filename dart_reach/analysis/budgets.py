@@ -34,6 +34,7 @@ from . import findings, verdicts
 from ..evolution.rundir import RunDirectory
 from .claims import ABOUT_HALF, CLAIMS, Claim, Kind
 from ..model.scenes import scene_of
+from ..postevaluation import results
 from ..postevaluation.snapshots import load_development
 from ..postevaluation.systematic import load_evaluation
 from .tables import load_runs
@@ -135,7 +136,7 @@ class Pooled:
 
 def pooled(run_dirs: Sequence) -> Pooled:
     """The pooled tables of ``run_dirs`` (those without ``evaluation.parquet`` are left out)."""
-    evaluated = [Path(d) for d in run_dirs if (Path(d) / "evaluation.parquet").is_file()]
+    evaluated = [Path(d) for d in run_dirs if results.exists(Path(d) / results.EVALUATION)]
     if not evaluated:
         return Pooled(None, None, None)
     baselines = [load_evaluation(d, baseline=True).with_columns(pl.lit(d.name).alias("run"))

@@ -31,6 +31,7 @@ import polars as pl
 
 from . import budgets, figures, findings, summaries, verdicts
 from ..errors import UsageError
+from ..postevaluation import results
 from ..postevaluation import snapshots as development
 from ..postevaluation.systematic import run_phases
 from .stats import fig9_statistics, fig10_statistics, phase_statistics
@@ -402,7 +403,7 @@ def build(run_dirs: Sequence, out=None, findings_out=None) -> Path:
     if findings_out is not None:
         findings_out = Path(findings_out)
         _check_findings_out(findings_out)
-    evaluated = [d for d in run_dirs if (d / "evaluation.parquet").is_file()]
+    evaluated = [d for d in run_dirs if results.exists(d / results.EVALUATION)]
     everything = budgets.pooled(evaluated)
     table = everything.table
     groups = budgets.budget_groups(run_dirs)

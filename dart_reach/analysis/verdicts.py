@@ -175,6 +175,21 @@ def smallest_mann_whitney_p(n_a: int, n_b: int) -> float:
     return min(1.0, 2.0 / math.comb(n_a + n_b, n_a)) if n_a and n_b else 1.0
 
 
+def smallest_directional_p(n_a: int, n_b: int) -> float:
+    """The smallest two-sided p of ``directional``'s test for sizes n_a, n_b: both complete
+    separations and both splits one pair short of them tie at the top of its statistic
+    (``brunner_munzel``), 4 / C(n_a + n_b, n_a)."""
+    return min(1.0, 4.0 / math.comb(n_a + n_b, n_a)) if n_a and n_b else 1.0
+
+
+def one_mode(n_a: int, n_b: int) -> float:
+    """How often, under theta = 0.5, a group of two equal modes (a population babbling or
+    still) has every unit in one mode, against a group between the modes: 2^(1 - n) for the
+    smaller group's n. Complete separation then has that chance, so no rank test of fewer
+    units than 6 a group can hold ``ALPHA`` when the shapes may differ so (4: 1 / 8)."""
+    return 2.0 ** (1 - min(n_a, n_b))
+
+
 def smallest_signed_rank_p(n: int) -> float:
     """The smallest two-tailed p of the Wilcoxon signed-rank test of n non-zero differences
     (all of one sign, exact distribution): 2 / 2^n."""
@@ -228,13 +243,19 @@ def directional(a, b, sign: int, level: float = ALPHA) -> Outcome:
     is theta = P(B > A) + P(B = A) / 2 = 0.5, whatever the shapes of the two groups; direction
     from theta; effect: theta with the interval of the same test inverted (0.5 outside it
     exactly when p < ``ALPHA``). Underpowered when even complete separation cannot reach
-    ``ALPHA``."""
+    ``ALPHA``, or when a two-mode group could fall in one mode more often than ``ALPHA``
+    under the null (``one_mode``: fewer than 6 units a group)."""
     a, b = finite(a), finite(b)
     if min(len(a), len(b)) == 0:
         return Outcome(UNDERPOWERED, note=f"{len(b)} vs {len(a)} units")
-    if min(len(a), len(b)) < 2 or smallest_mann_whitney_p(len(a), len(b)) >= ALPHA:
-        return Outcome(UNDERPOWERED, note=f"{len(b)} vs {len(a)}: the smallest possible p is "
-                                          f"{smallest_mann_whitney_p(len(a), len(b)):.2g}")
+    theta = float(np.mean((b[None, :] > a[:, None]) + 0.5 * (b[None, :] == a[:, None])))
+    if min(len(a), len(b)) < 2 or smallest_directional_p(len(a), len(b)) >= ALPHA:
+        return Outcome(UNDERPOWERED, effect=theta, note=f"{len(b)} vs {len(a)}: the smallest "
+                       f"possible p is {smallest_directional_p(len(a), len(b)):.2g}")
+    if one_mode(len(a), len(b)) > ALPHA:
+        return Outcome(UNDERPOWERED, effect=theta, note=f"{len(b)} vs {len(a)}: under the null "
+                       f"a two-mode group falls in one mode {one_mode(len(a), len(b)):.2g} of "
+                       "the time")
     if _no_spread(a, b):
         return Outcome(INCONCLUSIVE, 1.0, 0.5, 0.5, 0.5, 1 - ALPHA, 1.0, False,
                        "every value equal: no evidence")

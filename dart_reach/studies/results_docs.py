@@ -249,7 +249,7 @@ def replication_values(recordings: Path) -> dict[str, str]:
     and per run ``<run>.measures`` (means over robots beside the random baseline) and
     ``<run>.status`` (training, ``dart-reach status --markdown``)."""
     dirs = [recordings / name for name in REPLICATIONS]
-    judged = [d for d in dirs if (d / results.EVALUATION).is_file()]
+    judged = [d for d in dirs if results.exists(d / results.EVALUATION)]
     by_budget = budgets.findings_by_budget(judged)
     values = {"sections": markdown_table(report.section_counts(by_budget)),
               "claims": markdown_table(budgets.side_by_side(by_budget)),
@@ -395,7 +395,7 @@ def findings_frames(root: Path) -> dict[Path, pl.DataFrame]:
     out = {}
     for name in REPLICATIONS:
         run = root / "recordings" / name
-        if (run / results.EVALUATION).is_file():
+        if results.exists(run / results.EVALUATION):
             out[run / "findings.parquet"] = budgets.findings_by_budget([run])
     return out
 

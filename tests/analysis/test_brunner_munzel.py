@@ -24,24 +24,37 @@ def _samples(rng, trials=120, low=2, high=12):
         yield a, b
 
 
-def test_the_statistic_is_scipys():
+def test_the_statistic_is_brunner_munzels_on_the_logit_scale():
+    """T = logit(theta) theta (1 - theta) / se (theta's logit over its delta-method s.e.),
+    se scipy's Brunner-Munzel one ((theta - 0.5) / its statistic)."""
     rng = np.random.default_rng(1)
     for a, b in _samples(rng):
         res = bm.test(a, b)
         with warnings.catch_warnings():
             warnings.simplefilter("ignore")  # scipy warns where the variances are 0
             ref = sps.brunnermunzel(a, b)
-        if np.isfinite(ref.statistic):
-            assert res.statistic == pytest.approx(ref.statistic, rel=1e-9)
+        theta = res.theta
+        if np.isfinite(ref.statistic) and ref.statistic != 0 and 0 < theta < 1:
+            se = (theta - 0.5) / ref.statistic
+            if se > bm.smallest_se(len(a), len(b)):
+                expected = np.log(theta / (1 - theta)) * theta * (1 - theta) / se
+                assert res.statistic == pytest.approx(expected, rel=1e-9)
         assert res.theta == pytest.approx(
             np.mean((b[None, :] > a[:, None]) + 0.5 * (b[None, :] == a[:, None])), abs=1e-12)
 
 
 def _abs_statistic(x, y, axis=-1):
+    """|T| from scipy's Brunner-Munzel statistic: se = (theta - 0.5) / its statistic, floored
+    at ``smallest_se``; theta clipped 1 / (n_a n_b) inside (0, 1)."""
+    n, m = x.shape[axis], y.shape[axis]
+    theta = ((y[..., None, :] > x[..., :, None])
+             + 0.5 * (y[..., None, :] == x[..., :, None])).mean(axis=(-1, -2))
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
-        t = sps.brunnermunzel(x, y, axis=axis).statistic
-    return np.nan_to_num(np.abs(t), nan=0.0, posinf=1e300)  # scipy cannot count infinities
+        se = (theta - 0.5) / sps.brunnermunzel(x, y, axis=axis).statistic
+    se = np.maximum(np.nan_to_num(se, nan=0.0), bm.smallest_se(n, m))
+    c = np.clip(theta, 1 / (n * m), 1 - 1 / (n * m))
+    return np.abs(np.log(c / (1 - c)) * c * (1 - c) / se)
 
 
 def test_the_exact_p_is_scipys_permutation_test():
@@ -49,7 +62,6 @@ def test_the_exact_p_is_scipys_permutation_test():
     observed one, as scipy.stats.permutation_test gives it over every split."""
     rng = np.random.default_rng(2)
     for a, b in _samples(rng, trials=30, low=3, high=6):
-        a, b = a + rng.normal(0, 1e-6, len(a)), b  # no ties: scipy's T of a tie split is NaN
         ref = sps.permutation_test((a, b), _abs_statistic, permutation_type="independent",
                                    vectorized=True, alternative="greater",
                                    n_resamples=np.inf).pvalue
@@ -67,10 +79,16 @@ def test_one_sided_p_and_monte_carlo():
     assert 1 / two.splits <= two.p <= 1.0
 
 
-def test_complete_separation_and_no_spread():
-    sep = bm.test([0.0, 0, 0, 0], [1.0, 2, 3, 4])
-    assert sep.statistic == np.inf and sep.p == pytest.approx(2 / 70)
-    assert (sep.theta, sep.low, sep.high) == (1.0, 1.0, 1.0)
+def test_complete_separation_ties_one_pair_short_of_it():
+    """Complete separation (se 0) has a finite statistic, equal to that of one pair swapped:
+    the four splits tie at the top, p = 4 / C(n_a + n_b, n_a); its interval is not a point."""
+    sep = bm.test([0.0, 1, 2, 3, 4, 5], [6.0, 7, 8, 9, 10, 11])
+    swap = bm.test([0.0, 1, 2, 3, 4, 6], [5.0, 7, 8, 9, 10, 11])
+    assert np.isfinite(sep.statistic) and sep.statistic == pytest.approx(swap.statistic)
+    assert sep.p == swap.p == pytest.approx(4 / 924)
+    assert sep.theta == 1.0 and 0.5 < sep.low < sep.high < 1.0
+    tied = bm.test([0.0] * 4, [1.0] * 4)  # separated, no spread at all: still no point
+    assert tied.theta == 1.0 and tied.low < tied.high
     same = bm.test([1.0, 1, 1], [1.0, 1, 1])
     assert same.p == 1.0 and same.low <= 0.5 <= same.high
 
@@ -85,12 +103,13 @@ def test_bad_input_is_refused():
 
 
 def test_the_verdict_and_its_interval_agree():
-    """Decided exactly when theta's interval leaves 0.5 out, at 4 and 10 units and with ties
-    (a zero-inflated group against a continuous one)."""
+    """Decided exactly when theta's interval leaves 0.5 out, at 6 and 10 units (the fewest
+    the rule decides at, and the paper's) and with ties (a zero-inflated group against a
+    continuous one)."""
     rng = np.random.default_rng(4)
     seen = set()
     for trial in range(400):
-        n = (4, 10)[trial % 2]
+        n = (6, 10)[trial % 2]
         a = np.where(rng.random(n) < 0.4, 0.0, rng.normal(1.0, 0.5, n))
         b = rng.normal(rng.uniform(-1, 2), rng.uniform(0.2, 2), n)
         if trial % 4 == 1:

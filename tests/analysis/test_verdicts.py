@@ -84,8 +84,12 @@ def test_directional_gives_every_verdict():
     assert v.directional(a, a + 5, +1).verdict == v.REPRODUCED
     assert v.directional(a, a - 5, +1).verdict == v.CONTRADICTED
     assert v.directional(a, rng.normal(0, 1, 10), +1).verdict == v.INCONCLUSIVE
-    assert v.directional(a[:3], a[:3] + 5, +1).verdict == v.UNDERPOWERED  # 2 / 20 = 0.1
-    assert v.directional(np.ones(5), np.ones(5), +1).verdict == v.INCONCLUSIVE
+    assert v.directional(a[:3], a[:3] + 5, +1).verdict == v.UNDERPOWERED  # 4 / 20 = 0.2
+    # 4 / 70 = 0.057; and a two-mode group of 5 falls in one mode 1 / 16 of the time
+    assert v.directional(a[:4], a[:4] + 5, +1).verdict == v.UNDERPOWERED
+    assert "one mode" in v.directional(a[:5], a[:5] + 5, +1).note
+    assert v.directional(a[:6], a[:6] + 5, +1).verdict == v.REPRODUCED
+    assert v.directional(np.ones(6), np.ones(6), +1).verdict == v.INCONCLUSIVE
 
 
 def test_equivalence_and_non_superiority_give_every_verdict():
