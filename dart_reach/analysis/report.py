@@ -270,7 +270,7 @@ VERDICTS_NOTE = (
 #: Under the figure of the effects against the budget.
 BUDGET_FIGURE_NOTE = (
     "Each claim's effect at each budget, on a scale where up is the paper's direction (the "
-    "claim's own units: a shift for a directional claim, 0.15 - |theta - 0.5| for a claim of "
+    "claim's own units: theta - 0.5 for a directional claim, 0.15 - |theta - 0.5| for a claim of "
     "no difference, the depth inside the band, the weakest sector's rate above the floor, ...; "
     "docs/model/claims.md, \"Several budgets\"), with its interval; hollow: no interval or an "
     "unbounded one. The dashed line is 0: no effect, or the claim's boundary. Only the claims "
@@ -285,12 +285,15 @@ def _baseline_html(budget, pooled_, heading: bool) -> str:
 
 
 def _counts(found: pl.DataFrame) -> str:
-    """The headline: the paper's claims by verdict, the replication as the unit (raw and
-    Holm-surviving), and the project's own claims apart."""
-    def line(own: bool) -> str:
-        return " · ".join(f"{v}: <b>{n}</b>" for v, n in findings.summary(found, own).items())
-    return (f'<p class="counts">The paper\'s claims, replications as units: {line(False)}</p>'
-            f'<p class="counts">The project\'s own claims: {line(True)}</p>')
+    """The headline: the paper's claims of its robots by verdict, the replication as the unit
+    (raw and Holm-surviving); its claims of infants (Table I) and the project's own apart."""
+    def line(who: str) -> str:
+        return " · ".join(f"{v}: <b>{n}</b>" for v, n in findings.summary(found, who).items())
+    return (f'<p class="counts">The paper\'s claims of its robots, replications as units: '
+            f'{line(findings.ROBOTS)}</p>'
+            f'<p class="counts">The paper\'s claims of infants (Table I): '
+            f'{line(findings.INFANTS)}</p>'
+            f'<p class="counts">The project\'s own claims: {line(findings.OWN)}</p>')
 
 
 def section_counts(by_budget: pl.DataFrame) -> pl.DataFrame:
@@ -298,7 +301,7 @@ def section_counts(by_budget: pl.DataFrame) -> pl.DataFrame:
     and budget: how many got each verdict, the replication as the unit, and how many decided
     ones survive Holm's adjustment within the budget."""
     several = by_budget["replications"].n_unique() > 1
-    head = by_budget.filter(~pl.col("own")).with_columns(
+    head = findings.reading(by_budget).with_columns(
         pl.col("section").str.split(",").list.first().str.split(":").list.first()
         .str.strip_chars().alias("part"),
         (pl.format("{} gen/phase x {}", "generations_per_phase", "replications") if several

@@ -491,23 +491,37 @@ def paired_tost(reference, changed, bound: float) -> tuple[float, float, float, 
     return p_eq, p_diff, mean, mean - half, mean + half
 
 
-def paired_equivalent(reference, changed, margin: float = PAIRED_MARGIN) -> Outcome:
+def relative_changes(reference, changed) -> np.ndarray:
+    """Each unit's change relative to its own level: (changed - reference) over their mean
+    magnitude, 0 where both are 0 (in [-2, 2]; +-0.2 is a change of about 20 %)."""
+    ref, new = np.asarray(reference, float), np.asarray(changed, float)
+    scale = (np.abs(ref) + np.abs(new)) / 2
+    with np.errstate(invalid="ignore", divide="ignore"):
+        return np.where(scale > 0, (new - ref) / np.where(scale > 0, scale, 1.0), 0.0)
+
+
+def paired_equivalent(reference, changed, margin: float = PAIRED_MARGIN,
+                      relative: bool = False) -> Outcome:
     """Claim: ``changed`` is substantially the same as ``reference`` (paired). Two one-sided
     paired t-tests (Lakens 2017) of the mean change against +-``margin`` x |median of the
-    reference|: reproduced when both reject; contradicted when the change differs from 0
-    (paired t, two-tailed); otherwise inconclusive. Changes without spread are no evidence
-    (inconclusive); underpowered below ``MIN_UNITS`` pairs."""
+    reference|, or with ``relative`` of the mean of each unit's change relative to its own
+    level (``relative_changes``) against +-``margin`` (a still replication and a babbling one
+    each keep their own scale: a margin from the median of a group of two strategies lies
+    between them, too wide for the one and too narrow for the other): reproduced when both
+    reject; contradicted when the change differs from 0 (t, two-tailed); otherwise
+    inconclusive. Changes without spread are no evidence (inconclusive); underpowered below
+    ``MIN_UNITS`` pairs."""
     ref, new = np.asarray(reference, float), np.asarray(changed, float)
     keep = np.isfinite(ref) & np.isfinite(new)
     ref, new = ref[keep], new[keep]
     if len(ref) < MIN_UNITS:
         return Outcome(UNDERPOWERED, note=f"{len(ref)} pairs")
-    d = new - ref
+    d = relative_changes(ref, new) if relative else new - ref
     if _no_spread(d):
         return Outcome(INCONCLUSIVE, effect=float(d.mean()),
                        note="every unit changed alike: no evidence")
-    bound = margin * abs(float(np.median(ref)))
-    p_eq, p_diff, mean, low, high = paired_tost(ref, new, bound)
+    bound = margin if relative else margin * abs(float(np.median(ref)))
+    p_eq, p_diff, mean, low, high = paired_tost(np.zeros_like(d), d, bound)
     verdict = (REPRODUCED if p_eq < ALPHA else CONTRADICTED if p_diff < ALPHA
                else INCONCLUSIVE)
     return Outcome(verdict, p_eq, mean, low, high, 1 - 2 * ALPHA, p_diff,

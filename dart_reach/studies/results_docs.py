@@ -166,7 +166,7 @@ def spreads_summary(run_dirs) -> pl.DataFrame:
 def replications_text(by_budget: pl.DataFrame) -> str:
     """What more replications decided at the same budget (``budgets.replications_decide``):
     the count of the paper's claims per outcome, and the claims whose verdict changed."""
-    decide = budgets.replications_decide(by_budget.filter(~pl.col("own")))
+    decide = budgets.replications_decide(findings.reading(by_budget))
     if decide.height == 0:
         return (f"Not yet: `{TEN}` is training. Once it is post-evaluated, this section "
                 "sets its verdicts beside `replication-50`'s claim by claim.")
@@ -193,7 +193,7 @@ def plain_values(by_budget: pl.DataFrame, run: str = TEN) -> dict[str, str]:
     underpowered) and of those not run (no data: a condition the run did not train, or a
     table not committed); ``plain_names``: one sentence naming the decided ones, for the
     README."""
-    rows = by_budget.filter((pl.col("runs") == run) & ~pl.col("own"))
+    rows = findings.reading(by_budget.filter(pl.col("runs") == run))
     if rows.filter(pl.col("verdict") != verdicts.NOT_RUN).height == 0:
         text = f"Not yet: `{run}` has not been post-evaluated."
         return {"plain": text, "plain_names": text}
@@ -255,23 +255,25 @@ def replication_values(recordings: Path) -> dict[str, str]:
               "claims": markdown_table(budgets.side_by_side(by_budget)),
               "by_replications": replications_text(by_budget),
               **plain_values(by_budget)}
-    rows, own, verdict_counts = [], [], {}
+    rows, infants, own, verdict_counts = [], [], [], {}
     for block in by_budget.partition_by("scene", "generations_per_phase", "replications",
                                         maintain_order=True):
         budget = budgets.Budget(*block.select("scene", "generations_per_phase",
                                               "replications").row(0))
-        for target, is_own in ((rows, False), (own, True)):
+        for target, who in ((rows, findings.ROBOTS), (infants, findings.INFANTS),
+                            (own, findings.OWN)):
             target.append({"budget": budget.label, "runs": block["runs"][0],
-                           **findings.summary(block, is_own)})
+                           **findings.summary(block, who)})
         paper = rows[-1]
         verdict_counts[block["runs"][0]] = (
-            "not judged yet" if paper[verdicts.NOT_RUN] == block.filter(~pl.col("own")).height
+            "not judged yet" if paper[verdicts.NOT_RUN] == findings.reading(block).height
             else f"{paper[verdicts.REPRODUCED]} of the paper's claims reproduced "
                  f"({paper['reproduced (Holm)']} after Holm), "
                  f"{paper[verdicts.CONTRADICTED]} contradicted, "
                  f"{paper[verdicts.INCONCLUSIVE]} inconclusive, "
                  f"{paper[verdicts.UNDERPOWERED]} underpowered, {paper[verdicts.NOT_RUN]} not run")
     values["counts"] = markdown_table(pl.DataFrame(rows))
+    values["infant_counts"] = markdown_table(pl.DataFrame(infants))
     values["own_counts"] = markdown_table(pl.DataFrame(own))
     described = []
     for d in dirs:

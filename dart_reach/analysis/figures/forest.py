@@ -26,7 +26,8 @@ def forest_figure(by_budget: pl.DataFrame, own: bool = False) -> Figure:
     paper's way. The marker's colour is the verdict, its shape the budget; a claim without a
     bounded interval at a budget (Friedman's W, an underpowered or unrun rule) has no marker
     there."""
-    scored = budgets.toward_paper(by_budget).filter(pl.col("own") == own)
+    scored = budgets.toward_paper(by_budget).filter(pl.col("own") == own
+                                                    & ~pl.col("infants").fill_null(False))
     claims = scored["claim"].unique(maintain_order=True).to_list()
     labels = sorted(scored.select("generations_per_phase", "replications", "scene")
                     .unique().rows())
