@@ -323,6 +323,8 @@ def _band(claim: Claim, data: _Data) -> dict:
 
 
 def _at_least(claim: Claim, data: _Data) -> dict:
+    if claim.measure not in data.robots(claim.senses).columns:
+        return _not_run(claim, f"no {claim.measure}")
     reps = replication_means(data.robots(claim.senses), claim.measure) \
         .filter((pl.col("notation") == claim.b) & pl.col(claim.measure).is_not_nan())
     if reps.height == 0:

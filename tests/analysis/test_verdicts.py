@@ -143,3 +143,17 @@ def test_senses_differ_gives_every_verdict():
     assert v.senses_differ(blocks + rng.normal(0, 0.05, (10, 4))).verdict == v.CONTRADICTED
     assert v.senses_differ(blocks + rng.normal(0, 3, (10, 4))).verdict == v.INCONCLUSIVE
     assert v.senses_differ(blocks[:2] + np.arange(4)).verdict == v.UNDERPOWERED
+
+
+def test_no_change_relative_to_each_replications_own_level():
+    """Two strategies, still (near 0) and babbling (near 1): each replication changing by
+    about 30 % of its own level is a change; by about 2 % it is the same."""
+    rng = np.random.default_rng(9)
+    ref = np.r_[rng.uniform(0.01, 0.02, 5), rng.uniform(0.9, 1.1, 5)]
+    new = ref * rng.uniform(1.25, 1.35, 10)
+    d = v.relative_changes(ref, new)
+    assert np.allclose(d, (new - ref) / ((new + ref) / 2))
+    assert v.relative_changes([0.0], [0.0])[0] == 0.0
+    assert v.paired_equivalent(ref, new, relative=True).verdict == v.CONTRADICTED
+    same = ref * rng.uniform(0.98, 1.02, 10)
+    assert v.paired_equivalent(ref, same, relative=True).verdict == v.REPRODUCED
