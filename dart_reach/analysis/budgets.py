@@ -153,6 +153,7 @@ def _empty_table() -> pl.DataFrame:
             "lifetime_fitness": pl.Float64}
     cols.update({m: pl.Float64 for m in ("fitness", "speed", "straightness", "var_elbow",
                                          "var_shoulder", "var_trunk", "babbling_share")})
+    cols["babbling"] = pl.Boolean
     return pl.DataFrame(schema=cols)
 
 

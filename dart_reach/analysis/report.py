@@ -57,11 +57,14 @@ HOLM_NOTE = (
 #: Marks the files this module writes: only those are ever overwritten.
 GENERATOR = '<meta name="generator" content="dart_reach report">'
 #: Measures of the baseline table (Figs. 5, 6 and the babbling measure), with their labels.
+#: ``babbling_share`` is the share of the hand's spectral power at its dominant frequency (a
+#: spectral concentration, one of the inputs of the babbling measure, high for any movement
+#: at one rhythm: random networks 0.3-0.4), not babbling, which is ``babbling``'s rate.
 MEASURES = (("fitness", "fitness"), ("reached", "reach rate"), ("grasped", "grasp rate"),
             ("speed", "speed (m/s)"), ("straightness", "straightness"),
             ("var_elbow", "elbow var. (rad)"), ("var_shoulder", "shoulder var. (rad)"),
             ("var_trunk", "trunk var. (rad)"), ("elbow_freezing", "hand-shoulder s.d. (m)"),
-            ("babbling_share", "babbling share"))
+            ("babbling", "babbling rate"), ("babbling_share", "spectral concentration"))
 
 
 # ------------------------------------------------------------------------------ pieces

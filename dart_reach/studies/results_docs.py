@@ -231,14 +231,19 @@ def plain_values(by_budget: pl.DataFrame, run: str = TEN) -> dict[str, str]:
     return {"plain": "\n".join(lines), "plain_names": sentence}
 
 
-def _pre_replications(table: pl.DataFrame | None) -> tuple[str, str]:
-    """A run's pre-reachers replication by replication (``report.replication_table``) and
-    how many of its replications had no robot babble in any trial."""
+def _pre_replications(table: pl.DataFrame | None) -> tuple[str, str, str]:
+    """A run's pre-reachers replication by replication (``report.replication_table``), how
+    many of its replications had no robot babble in any trial, and the mean fitness of those
+    still replications beside the babbling ones'."""
     if table is None:
-        return "not post-evaluated yet", "not post-evaluated yet"
+        return ("not post-evaluated yet",) * 3
     pre = report.replication_table(table, "pre")
-    still = int((pre["babbling rate"] == 0).sum())
-    return markdown_table(pre), f"{still} of {pre.height}"
+    is_still = pre["babbling rate"] == 0
+    fit = {name: pre.filter(rows)["fitness"] for name, rows in
+           (("still", is_still), ("babbling", ~is_still))}
+    fitness = "; ".join(f"{name} {budgets.number_text(float(f.mean()))} ({f.len()})"
+                        if f.len() else f"{name}: none" for name, f in fit.items())
+    return markdown_table(pre), f"{int(is_still.sum())} of {pre.height}", fitness
 
 
 def replication_values(recordings: Path) -> dict[str, str]:
@@ -290,7 +295,8 @@ def replication_values(recordings: Path) -> dict[str, str]:
         values[f"{d.name}.measures"] = "not post-evaluated yet" if table is None else \
             markdown_table(report.baseline_table(
                 table, results.read_table(d / results.BASELINE)))
-        values[f"{d.name}.pre"], values[f"{d.name}.pre_still"] = _pre_replications(table)
+        (values[f"{d.name}.pre"], values[f"{d.name}.pre_still"],
+         values[f"{d.name}.pre_fitness"]) = _pre_replications(table)
         status = run.status().with_columns(
             pl.format("{} / {}", "generations", "of").alias("generations")).drop("of")
         values[f"{d.name}.status"] = markdown_table(status)
