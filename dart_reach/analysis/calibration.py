@@ -474,7 +474,9 @@ def markdown(table: pl.DataFrame) -> str:
     lines = ["| rule | scenario | measure | " + " | ".join(heads) + " | bound | met |",
              "|---|---|---|" + "---:|" * len(heads) + "---:|---|"]
     keys = table.select("rule", "scenario", "measure", "kind").unique(maintain_order=True)
-    for rule, scenario, measure, kind in keys.rows():
+    first = {r: i for i, r in enumerate(table["rule"].unique(maintain_order=True))}
+    # rows grouped by rule (a rule's rows that only some nestings have come after the others)
+    for rule, scenario, measure, kind in sorted(keys.rows(), key=lambda k: first[k[0]]):
         rows = table.filter((pl.col("rule") == rule) & (pl.col("scenario") == scenario)
                             & (pl.col("measure") == measure))
         values = []

@@ -409,7 +409,9 @@ def reading(found: pl.DataFrame, who: str = ROBOTS) -> pl.DataFrame:
     robots (the headline), the paper's of infants, or the project's own."""
     if who not in READINGS:
         raise ValueError(f"unknown reading {who!r}; known: {READINGS}")
-    own, infants = pl.col("own"), pl.col("infants").fill_null(False)
+    own = pl.col("own")
+    infants = (pl.col("infants").fill_null(False) if "infants" in found.columns  # older tables
+               else pl.lit(False))
     return found.filter(~own & ~infants if who == ROBOTS else
                         ~own & infants if who == INFANTS else own)
 
