@@ -1,25 +1,28 @@
-"""The studentized permutation test of the Brunner-Munzel statistic (Neubert & Brunner 2007):
-the two-group rule whose null is what a directional claim means, and which holds its level
-when the groups' shapes differ.
+"""The studentized permutation test of the Brunner-Munzel statistic (Neubert & Brunner 2007),
+on the logit scale (Pauly, Asendorf & Konietschke 2016): the two-group rule whose null is
+what a directional claim means, and which holds its level when the groups' shapes differ.
 
 The effect is the probabilistic index theta = P(B > A) + P(B = A) / 2 of the two groups' units;
 the null is theta = 0.5, whatever the groups' shapes or spreads (Mann-Whitney's exact null is
 that the two groups have the *same distribution*: under theta = 0.5 with a bimodal group
-against a unimodal one it decides about twice as often as its level; docs/results/
-calibration.md). The statistic is Brunner & Munzel's (2000) T = (theta - 0.5) / se, se from the
-variances of the placements (``scipy.stats.brunnermunzel``'s statistic, tested equal). Its
-t approximation (scipy's p) is liberal below about ten units a group, so p comes from the
-distribution of T over the splits of the pooled units into groups of the same sizes: every
-split when there are at most ``EXACT_SPLITS`` (exact; 70 at 4 vs 4), else ``PERMUTATIONS``
-random ones (Monte Carlo) drawn by a generator seeded with ``SEED`` (the same data, the same p), p then
-(1 + count) / (1 + PERMUTATIONS). Studentizing makes the permutation test asymptotically exact
-for theta = 0.5 even when the shapes differ, and exact when they are the same.
+against a unimodal one it decides more often than its level; docs/results/calibration.md).
+theta's standard error se is Brunner & Munzel's (2000), from the variances of the placements
+(``scipy.stats.brunnermunzel``'s, tested equal), never below ``smallest_se``; the statistic is
+T = logit(theta) theta (1 - theta) / se, the logit of theta over its delta-method standard
+error (theta clipped 1 / (n_a n_b) inside (0, 1)), so that the interval stays in (0, 1) and
+covers a theta near 0 or 1 (on theta's own scale it does not: se is small there). The t
+approximation is liberal at a few units a group, so p comes from the distribution of T over
+the splits of the pooled units into groups of the same sizes: every split when there are at
+most ``EXACT_SPLITS`` (exact; 924 at 6 vs 6), else ``PERMUTATIONS`` random ones (Monte
+Carlo) drawn by a generator seeded with ``SEED`` (the same data, the same p), p then
+(1 + count) / (1 + PERMUTATIONS). Studentizing makes the permutation test asymptotically
+exact for theta = 0.5 even when the shapes differ, and exact when they are the same.
 
-The interval of theta is the test inverted with the same permutation distribution: theta
-+- q se, q the permutation critical value of |T| at the level: 0.5 lies outside it exactly
-when the two-sided p is below the level, so a verdict and its interval always agree (ties
-included). The standard error is never below ``smallest_se`` (that of the samples nearest
-complete separation): complete separation, whose se is 0, has a finite T and an interval.
+The interval of theta is the test inverted with the same permutation distribution:
+expit(logit(theta) +- q se / (theta (1 - theta))), q the permutation critical value of |T|:
+0.5 lies outside it exactly when the two-sided p is below 1 - confidence, so a verdict and
+its interval always agree (ties included). Complete separation (se 0) has a finite T, equal
+to that of the splits one pair short of it, and an interval.
 """
 
 from __future__ import annotations
@@ -123,8 +126,7 @@ def _logit(theta, n_a: int, n_b: int):
 def smallest_se(n_a: int, n_b: int) -> float:
     """The floor of the standard error: sqrt(2) / (n_a n_b), Brunner-Munzel's for the samples
     nearest complete separation (one unit of each group one place over). Without it complete
-    separation (se 0) would give T infinite and theta an interval of one point, which at 4
-    replications would miss the true theta one time in ten."""
+    separation (se 0) would give T infinite and theta an interval of one point."""
     return math.sqrt(2) / (n_a * n_b)
 
 

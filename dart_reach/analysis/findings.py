@@ -370,7 +370,8 @@ def _senses(claim: Claim, data: _Data) -> dict:
 
 _JUDGES = {Kind.DIRECTIONAL: _two_groups, Kind.NOT_BETTER: _two_groups,
            Kind.NO_DIFFERENCE: _two_groups, Kind.BAND: _band, Kind.EVERY_SECTOR: _every_sector,
-           Kind.NEVER: _never, Kind.PAIRED: _senses, Kind.SAME_PAIRED: _paired_change, Kind.AT_LEAST: _at_least,
+           Kind.NEVER: _never, Kind.PAIRED: _senses, Kind.SAME_PAIRED: _paired_change,
+           Kind.AT_LEAST: _at_least,
            Kind.CHANGE_PAIRED: _paired_change, Kind.WITHIN: _within}
 
 

@@ -59,7 +59,7 @@ GENERATOR = '<meta name="generator" content="dart_reach report">'
 #: Measures of the baseline table (Figs. 5, 6 and the babbling measure), with their labels.
 #: ``babbling_share`` is the share of the hand's spectral power at its dominant frequency (a
 #: spectral concentration, one of the inputs of the babbling measure, high for any movement
-#: at one rhythm: random networks 0.3-0.4), not babbling, which is ``babbling``'s rate.
+#: at one rhythm, random networks' too), not babbling, which is ``babbling``'s rate.
 MEASURES = (("fitness", "fitness"), ("reached", "reach rate"), ("grasped", "grasp rate"),
             ("speed", "speed (m/s)"), ("straightness", "straightness"),
             ("var_elbow", "elbow var. (rad)"), ("var_shoulder", "shoulder var. (rad)"),
@@ -268,7 +268,9 @@ def _try(draw, *args, **kwargs) -> str:
 #: Above the findings: what the verdicts mean.
 VERDICTS_NOTE = (
     "<i>Underpowered</i>: even the most favourable data could not reach p &lt; 0.05 at this n "
-    "(decided from the sizes before any test); <i>inconclusive</i>: the data cannot decide; a "
+    "(decided from the sizes before any test; a directional claim also below 6 replications a "
+    "group, where no rank test holds its level when the groups' shapes differ); "
+    "<i>inconclusive</i>: the data cannot decide; a "
     "claim of no difference is <i>reproduced</i> only by an equivalence test.")
 #: Under the figure of the effects against the budget.
 BUDGET_FIGURE_NOTE = (

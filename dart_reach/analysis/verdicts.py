@@ -8,12 +8,13 @@ the paper's own Fig. 10 compares replications. Every rule is calibrated by simul
 data like the runs' (``calibration``; the table in docs/results/calibration.md).
 
 - ``directional``: "b is higher (lower) than a": the two-sided studentized permutation
-  Brunner-Munzel test (``brunner_munzel``; exact at the runs' 4 and 10 replications a group
-  up to 10,000 splits), whose null, theta = P(B > A) + P(B = A) / 2 = 0.5, is what the claim
-  denies, whatever the groups' shapes (a bimodal group of pre-reachers against a unimodal
-  later phase: Mann-Whitney, whose exact null is "the same distribution", decides twice as
-  often as its level there; docs/results/calibration.md); direction from theta; effect: theta
-  with the 95 % interval of the same test inverted, so that verdict and interval agree.
+  Brunner-Munzel test on the logit scale (``brunner_munzel``: over every split up to 10,000,
+  else 1,999 random ones), whose null, theta = P(B > A) + P(B = A) / 2 = 0.5, is what the
+  claim denies, whatever the groups' shapes (a bimodal group of pre-reachers against a
+  unimodal later phase: Mann-Whitney, whose exact null is "the same distribution", decides
+  more often than its level there; docs/results/calibration.md); underpowered below 6 units
+  a group (``one_mode``); direction from theta; effect: theta with the 95 % interval of the
+  same test inverted, so that verdict and interval agree.
 - ``not_better``: "b is not significantly better than a", as the paper words it (one-sided):
   non-superiority on the probabilistic index theta = P(B > A) + P(B = A) / 2 (Brunner-Munzel
   standard error): reproduced when the upper one-sided 95 % bound of theta (in the direction

@@ -8,10 +8,10 @@ state for the runs the docs cite (docs/guides/runs.md, "Results"):
     baseline.parquet     the random genomes' trials (``evaluate --baseline``), one row per trial
     development.parquet  the snapshots' robots' trials (``snapshots``), one row per trial
 
-Storage: zstd parquet, one file, or when that file would be over ``PART_BYTES`` (a tracked
-file may have at most 5 MB) parts of it, ``<name>/part-000.parquet``, ``part-001`` ...
+Storage: zstd parquet, in one file, or where that file would be over ``PART_BYTES`` (a tracked
+file may have at most 5 MB) in parts, ``<name>/part-000.parquet``, ``part-001`` ...
 (consecutive rows, each part with the table's provenance), which ``read_table`` reads as the
-one table they are. Storage: Every floating-point measure is stored as float32 (7 significant digits:
+one table they are. Every floating-point measure is stored as float32 (7 significant digits:
 far finer than any measure's meaning; it halves the files) and read back as float64, so a table
 evaluated anywhere and a committed one hold the same numbers to the last bit. Tables written
 before this format (float64; the baseline inside evaluation.parquet) are read as they are and
