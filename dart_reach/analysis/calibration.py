@@ -9,7 +9,9 @@ and nesting, ``calibrate`` measures:
 
 - the rate of a decided verdict (reproduced or contradicted) where the truth is the rule's
   null, which must be at most ``ALPHA`` within Monte-Carlo error, also when one replication is
-  an outlier (``OUTLIER`` between-replication s.d.);
+  an outlier (``OUTLIER`` between-replication s.d.) and, for the directional rules, when the
+  groups' shapes differ at theta = 0.5 (``shaped``: bimodal against unimodal, zero-inflated
+  against continuous, unequal spreads), with the rule before (Mann-Whitney) reported beside;
 - the coverage of the rule's interval (it must hold the true effect at least as often as its
   level says, within Monte-Carlo error);
 - the power: how often it reproduces a true effect of 1 and 2 s.d. of a replication mean.
