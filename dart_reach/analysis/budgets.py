@@ -34,6 +34,7 @@ from . import findings, verdicts
 from ..evolution.rundir import RunDirectory
 from .claims import ABOUT_HALF, CLAIMS, Claim, Kind
 from ..model.scenes import scene_of
+from ..postevaluation import results
 from ..postevaluation.snapshots import load_development
 from ..postevaluation.systematic import load_evaluation
 from .tables import load_runs
@@ -135,7 +136,7 @@ class Pooled:
 
 def pooled(run_dirs: Sequence) -> Pooled:
     """The pooled tables of ``run_dirs`` (those without ``evaluation.parquet`` are left out)."""
-    evaluated = [Path(d) for d in run_dirs if (Path(d) / "evaluation.parquet").is_file()]
+    evaluated = [Path(d) for d in run_dirs if results.exists(Path(d) / results.EVALUATION)]
     if not evaluated:
         return Pooled(None, None, None)
     baselines = [load_evaluation(d, baseline=True).with_columns(pl.lit(d.name).alias("run"))
@@ -152,6 +153,7 @@ def _empty_table() -> pl.DataFrame:
             "lifetime_fitness": pl.Float64}
     cols.update({m: pl.Float64 for m in ("fitness", "speed", "straightness", "var_elbow",
                                          "var_shoulder", "var_trunk", "babbling_share")})
+    cols["babbling"] = pl.Boolean
     return pl.DataFrame(schema=cols)
 
 
@@ -209,12 +211,14 @@ def _band_depth(x: float) -> float:
     return min(x - lo, hi - x)
 
 
-def _toward(kind: str, sign: int, effect: float, low: float, high: float
-            ) -> tuple[float, float, float]:
+def _toward(kind: str, sign: int, effect: float, low: float, high: float,
+            floor: float = math.nan) -> tuple[float, float, float]:
     """One claim's effect and interval on the scale where the paper's direction is up (see
     ``toward_paper``); the interval NaN where the claim has none."""
-    if kind in (Kind.DIRECTIONAL.value, Kind.CHANGE_PAIRED.value, Kind.WITHIN.value,
-                Kind.NEVER.value):
+    if kind in (Kind.DIRECTIONAL.value, Kind.NEVER.value):  # theta
+        point = sign * (effect - 0.5)
+        image = lambda lo, hi: sorted((sign * (lo - 0.5), sign * (hi - 0.5)))  # noqa: E731
+    elif kind in (Kind.CHANGE_PAIRED.value, Kind.WITHIN.value):
         point, image = sign * effect, lambda lo, hi: sorted((sign * lo, sign * hi))
     elif kind == Kind.NOT_BETTER.value:  # theta of "b better": the lower, the more so
         top = 0.5 + verdicts.EQUIVALENCE_MARGIN
@@ -228,8 +232,8 @@ def _toward(kind: str, sign: int, effect: float, low: float, high: float
         point = _band_depth(effect)
         def image(lo, hi):
             return min(_band_depth(lo), _band_depth(hi)), _band_depth(min(max(centre, lo), hi))
-    elif kind == Kind.EVERY_SECTOR.value:
-        f = verdicts.SECTOR_FLOOR
+    elif kind in (Kind.EVERY_SECTOR.value, Kind.AT_LEAST.value):
+        f = verdicts.SECTOR_FLOOR if kind == Kind.EVERY_SECTOR.value else floor
         point, image = effect - f, lambda lo, hi: (lo - f, hi - f)
     elif kind == Kind.PAIRED.value:  # Kendall's W: the senses matter more
         point, image = effect, lambda lo, hi: (lo, hi)
@@ -246,7 +250,9 @@ def toward_paper(by_budget: pl.DataFrame) -> pl.DataFrame:
     interval (NaN: none) on a scale where up is the paper's direction, in the units of the
     claim's effect:
 
-    - directional, never, change (paired), within: ``sign`` x effect (0: no difference);
+    - directional, never: ``sign`` x (theta - 0.5) (0: no difference);
+    - change (paired), within: ``sign`` x effect (0: no difference);
+    - at least: the mean above the claim's floor;
     - not better: 0.65 - theta(better) (0: the margin, above it: not better);
     - no difference: 0.15 - |theta - 0.5| (``verdicts.EQUIVALENCE_MARGIN``; 0: the margin,
       above it: inside);
@@ -256,10 +262,12 @@ def toward_paper(by_budget: pl.DataFrame) -> pl.DataFrame:
     - paired (Friedman): Kendall's W.
 
     An interval maps to its image (e.g. theta's interval [0.45, 0.6] to [0.05, 0.15])."""
-    rows = [_toward(k, s, e, lo, hi) for k, s, e, lo, hi in by_budget.select(
-        "kind", "sign", pl.col("effect").fill_null(math.nan),
-        pl.col("effect_low").fill_null(math.nan),
-        pl.col("effect_high").fill_null(math.nan)).iter_rows()]
+    floors = {c.id: c.floor for c in CLAIMS}
+    rows = [_toward(k, s, e, lo, hi, floors.get(c, math.nan))
+            for c, k, s, e, lo, hi in by_budget.select(
+                "claim", "kind", "sign", pl.col("effect").fill_null(math.nan),
+                pl.col("effect_low").fill_null(math.nan),
+                pl.col("effect_high").fill_null(math.nan)).iter_rows()]
     t, lo, hi = zip(*rows) if rows else ((), (), ())
     return by_budget.with_columns(pl.Series("toward", t, pl.Float64),
                                   pl.Series("toward_low", lo, pl.Float64),

@@ -9,7 +9,9 @@ and nesting, ``calibrate`` measures:
 
 - the rate of a decided verdict (reproduced or contradicted) where the truth is the rule's
   null, which must be at most ``ALPHA`` within Monte-Carlo error, also when one replication is
-  an outlier (``OUTLIER`` between-replication s.d.);
+  an outlier (``OUTLIER`` between-replication s.d.) and, for the directional rules, when the
+  groups' shapes differ at theta = 0.5 (``shaped``: bimodal against unimodal, zero-inflated
+  against continuous, unequal spreads), with the rule before (Mann-Whitney) reported beside;
 - the coverage of the rule's interval (it must hold the true effect at least as often as its
   level says, within Monte-Carlo error);
 - the power: how often it reproduces a true effect of 1 and 2 s.d. of a replication mean.
@@ -24,9 +26,11 @@ from __future__ import annotations
 import math
 from collections.abc import Callable
 from dataclasses import dataclass
+from pathlib import Path
 
 import numpy as np
 import polars as pl
+from scipy import optimize
 from scipy import stats as sps
 
 from . import summaries
@@ -103,14 +107,17 @@ def _rate(flags) -> float:
 
 def _row(rule: str, nest: Nesting, scenario: str, measure: str, value: float, bound: float,
          kind: str) -> dict:
-    """``kind``: "at most" (an error rate against ``bound``), "at least" (a coverage) or
-    "power" (reported, no bound)."""
-    se = math.sqrt(max(bound * (1 - bound), 1e-12) / DATASETS) if kind != "power" else math.nan
+    """``kind``: "at most" (an error rate against ``bound``), "at least" (a coverage),
+    "power" or "reported" (a rule not used, for comparison; neither has a bound)."""
+    if kind not in ("at most", "at least", "power", "reported"):
+        raise ValueError(f"unknown kind {kind!r}")
+    free = kind in ("power", "reported")
+    se = math.sqrt(max(bound * (1 - bound), 1e-12) / DATASETS) if not free else math.nan
     ok = (value <= bound + Z_MC * se if kind == "at most" else
           value >= bound - Z_MC * se if kind == "at least" else None)
     return {"rule": rule, "replications": nest.replications, "robots": nest.robots,
             "between_sd": nest.between_sd, "within_sd": nest.within_sd, "scenario": scenario,
-            "measure": measure, "value": value, "bound": bound if kind != "power" else math.nan,
+            "measure": measure, "value": value, "bound": bound if not free else math.nan,
             "kind": kind, "ok": ok}
 
 
@@ -118,42 +125,139 @@ def _repeat(rng, n, draw: Callable):
     return [draw(rng) for _ in range(n)]
 
 
+# ------------------------------------------------------------------- groups of unequal shapes
+#: Where the groups' shapes differ under theta = P(B > A) + P(B = A) / 2 = 0.5 (the null of a
+#: directional claim), in between-replication s.d.: a bimodal group (replications at +-1, s.d.
+#: 0.25 about each: babbling or still) against a narrow unimodal one (s.d. 0.3); a
+#: zero-inflated group (half its replications exactly 0 on every robot, as a still population's
+#: babbling; the others N(3, 1)) against a continuous one (s.d. 0.3, its centre solved for
+#: theta = 0.5); unequal spreads (s.d. 1 against 4).
+BIMODAL = (1.0, 0.25, 0.3)
+ZERO_INFLATED = (0.5, 3.0, 0.3)
+SPREADS = (1.0, 4.0)
+
+
+def _noisy(rng, nest, rep):
+    return rep[:, None] + rng.normal(0.0, nest.within_sd, (len(rep), nest.robots))
+
+
+def _zero_inflated_centre(nest: Nesting) -> float:
+    """The centre of the continuous group that gives theta = 0.5 against the zero-inflated one
+    (replication means: the still ones exactly 0, the others N(3, s_a), the continuous
+    N(centre, s_b), s from between and within s.d.)."""
+    share, centre_a, sd_b = ZERO_INFLATED
+    s_a = math.sqrt(nest.between_sd ** 2 + nest.within_sd ** 2 / nest.robots)
+    s_b = math.sqrt((sd_b * nest.between_sd) ** 2 + nest.within_sd ** 2 / nest.robots)
+    theta = lambda c: (share * sps.norm.cdf(c / s_b) + (1 - share) * sps.norm.cdf(  # noqa: E731
+        (c - centre_a * nest.between_sd) / math.hypot(s_a, s_b)) - 0.5)
+    return float(optimize.brentq(theta, -10 * centre_a, 10 * centre_a))
+
+
+def shaped(rng: np.random.Generator, nest: Nesting, shape: str,
+           replications: int | None = None) -> tuple[np.ndarray, np.ndarray]:
+    """Replication means (a, b) of two groups of different ``shape`` (``SHAPES``) with
+    theta = 0.5; ``replications`` of b (default ``nest.replications``; a's too)."""
+    n = nest.replications
+    m = replications or n
+    sd = nest.between_sd
+    if shape == "bimodal against unimodal":
+        centre, spread, narrow = BIMODAL
+        a = rng.choice((-centre, centre), n) * sd + rng.normal(0.0, spread * sd, n)
+        b = rng.normal(0.0, narrow * sd, m)
+        return _noisy(rng, nest, a).mean(axis=1), _noisy(rng, nest, b).mean(axis=1)
+    if shape == "zero-inflated against continuous":
+        share, centre_a, sd_b = ZERO_INFLATED
+        still = rng.random(n) < share
+        a = np.where(still, 0.0, _noisy(rng, nest, rng.normal(centre_a * sd, sd, n))
+                     .mean(axis=1))
+        b = rng.normal(_zero_inflated_centre(nest), sd_b * sd, m)
+        return a, _noisy(rng, nest, b).mean(axis=1)
+    if shape == "unequal spreads (1 : 4)":
+        a, b = (rng.normal(0.0, k * sd, size) for k, size in zip(SPREADS, (n, m)))
+        return _noisy(rng, nest, a).mean(axis=1), _noisy(rng, nest, b).mean(axis=1)
+    raise ValueError(f"unknown shape {shape!r}; known: {SHAPES}")
+
+
+SHAPES = ("bimodal against unimodal", "zero-inflated against continuous",
+          "unequal spreads (1 : 4)")
+
+
+def mann_whitney_decides(a, b, sign: int = 0) -> bool:
+    """The directional rule before Brunner-Munzel (kept to measure what the change costs and
+    gains): two-tailed Mann-Whitney U (``scipy.stats.mannwhitneyu``, exact without ties) at
+    ``ALPHA``, in direction ``sign`` (0: either)."""
+    ties = len(np.unique(np.concatenate([a, b]))) < len(a) + len(b)
+    res = sps.mannwhitneyu(b, a, method="asymptotic" if ties else "exact")
+    return bool(res.pvalue < v.ALPHA
+                and (sign == 0 or np.sign(res.statistic - len(a) * len(b) / 2) == sign))
+
+
+def _has_intervals(out) -> bool:
+    """Whether the rule gave intervals (none where it is underpowered at these sizes)."""
+    return any(o.verdict != v.UNDERPOWERED for o in out)
+
+
 # ----------------------------------------------------------------------------------- the rules
 def _directional(nest, rng, n):
+    """The rule under its nulls (also with unequal shapes) and effects; beside it, as
+    "reported", the old rule (Mann-Whitney) under the same data."""
     means = lambda x: x.mean(axis=1)  # noqa: E731
+    old = "directional: Mann-Whitney (the rule before, reported)"
+    nulls = {"null": lambda r: tuple(map(means, _pair(r, nest))),
+             "null, one outlying replication": lambda r: tuple(map(means, _pair(r, nest, 0.0,
+                                                                                True)))}
+    nulls.update({f"null, {shape}": (lambda r, s=shape: shaped(r, nest, s)) for shape in SHAPES})
     rows = []
-    for outlier in (False, True):
-        out = _repeat(rng, n, lambda r: v.directional(*map(means, _pair(r, nest, 0.0, outlier)),
-                                                      +1))
-        rows.append(_row("directional", nest, "null" + (", one outlying replication" if outlier
-                                                         else ""),
-                         "decided", _rate([o.verdict in v.DECIDED for o in out]), v.ALPHA,
-                         "at most"))
-    shift = nest.mean_sd
-    out = _repeat(rng, n, lambda r: v.directional(*map(means, _pair(r, nest, shift)), +1))
-    rows.append(_row("directional", nest, "shift 1 s.d.", "coverage of the 95 % interval",
-                     _rate([o.low <= shift <= o.high for o in out]), 0.95, "at least"))
+    for scenario, draw in nulls.items():
+        data = _repeat(rng, n, draw)
+        out = [v.directional(a, b, +1) for a, b in data]
+        rows.append(_row("directional", nest, scenario, "decided",
+                         _rate([o.verdict in v.DECIDED for o in out]), v.ALPHA, "at most"))
+        if scenario != "null, one outlying replication" and _has_intervals(out):
+            rows.append(_row("directional", nest, scenario, "coverage of the 95 % interval",
+                             _rate([o.low <= 0.5 <= o.high for o in out]), 0.95, "at least"))
+        rows.append(_row(old, nest, scenario, "decided",
+                         _rate([mann_whitney_decides(a, b) for a, b in data]), math.nan,
+                         "reported"))
+    theta = float(sps.norm.cdf(1 / math.sqrt(2)))  # a shift of 1 s.d.
     for d in (1, 2):
-        out = _repeat(rng, n, lambda r: v.directional(
-            *map(means, _pair(r, nest, d * nest.mean_sd)), +1))
+        data = _repeat(rng, n, lambda r: tuple(map(means, _pair(r, nest, d * nest.mean_sd))))
+        out = [v.directional(a, b, +1) for a, b in data]
+        if d == 1 and _has_intervals(out):
+            rows.append(_row("directional", nest, "shift 1 s.d.", "coverage of the 95 % "
+                             "interval", _rate([o.low <= theta <= o.high for o in out]), 0.95,
+                             "at least"))
         rows.append(_row("directional", nest, f"shift {d} s.d.", "reproduced",
                          _rate([o.verdict == v.REPRODUCED for o in out]), math.nan, "power"))
+        rows.append(_row(old, nest, f"shift {d} s.d.", "reproduced",
+                         _rate([mann_whitney_decides(a, b, +1) for a, b in data]), math.nan,
+                         "reported"))
     return rows
 
 
 def _against_random(nest, rng, n):
-    """A phase's replication means against random genomes, which are independent robots."""
+    """A phase's replication means against random genomes, which are independent robots (10
+    of them): under the null alike, and with the phase's replications bimodal against
+    unimodal random genomes or with spreads 1 : 4."""
     sd = math.sqrt(nest.between_sd ** 2 + nest.within_sd ** 2)
+    rule = "directional vs 10 random genomes"
+
+    def alike(r, d=0.0):
+        return r.normal(0.0, sd, 10), robots(r, nest, d * sd).mean(axis=1)
+
+    def unequal(r, shape):
+        phase, random_ = shaped(r, nest, shape, replications=10)
+        return random_, phase
     rows = []
-    for d, scenario, kind in ((0.0, "null", "at most"), (1.0, "shift 1 s.d.", "power")):
-        def one(r):
-            random_ = r.normal(0.0, sd, 10)
-            return v.directional(random_, robots(r, nest, d * sd).mean(axis=1), +1)
-        out = _repeat(rng, n, one)
-        measure = "decided" if kind == "at most" else "reproduced"
-        flags = [o.verdict in (v.DECIDED if kind == "at most" else (v.REPRODUCED,)) for o in out]
-        rows.append(_row("directional vs 10 random genomes", nest, scenario, measure,
-                         _rate(flags), v.ALPHA if kind == "at most" else math.nan, kind))
+    for scenario, draw in (("null", alike),
+                           *((f"null, {s}", lambda r, s=s: unequal(r, s))
+                             for s in (SHAPES[0], SHAPES[2]))):
+        out = _repeat(rng, n, lambda r: v.directional(*draw(r), +1))
+        rows.append(_row(rule, nest, scenario, "decided",
+                         _rate([o.verdict in v.DECIDED for o in out]), v.ALPHA, "at most"))
+    out = _repeat(rng, n, lambda r: v.directional(*alike(r, 1.0), +1))
+    rows.append(_row(rule, nest, "shift 1 s.d.", "reproduced",
+                     _rate([o.verdict == v.REPRODUCED for o in out]), math.nan, "power"))
     return rows
 
 
@@ -242,13 +346,16 @@ def _paired(nest, rng, n):
                      _rate([o.verdict == v.REPRODUCED for o in out]), math.nan, "power"))
 
     def same(r, change_by):
-        ref = robots(r, nest).mean(axis=1) + 10.0  # a positive reference (the margin is
-        bound = v.PAIRED_MARGIN * abs(float(np.median(ref)))  # relative to its median)
-        return ref, ref + r.normal(change_by * bound, nest.mean_sd / 5, nest.replications)
-    out = _repeat(rng, n, lambda r: v.paired_equivalent(*same(r, 1.0)))
+        """Positive references (each replication's change is relative to its own level), each
+        changed by a relative change N(change_by x margin, margin / 4)."""
+        ref = robots(r, nest).mean(axis=1) + 10.0
+        c = r.normal(change_by * v.PAIRED_MARGIN, v.PAIRED_MARGIN / 4, nest.replications)
+        return ref, ref * (2 + c) / (2 - c)  # (new - ref) / mean(new, ref) = c
+    judge = lambda ref, new: v.paired_equivalent(ref, new, relative=True)  # noqa: E731
+    out = _repeat(rng, n, lambda r: judge(*same(r, 1.0)))
     rows.append(_row("paired no change", nest, "change at the margin", "reproduced",
                      _rate([o.verdict == v.REPRODUCED for o in out]), v.ALPHA, "at most"))
-    out = _repeat(rng, n, lambda r: v.paired_equivalent(*same(r, 0.0)))
+    out = _repeat(rng, n, lambda r: judge(*same(r, 0.0)))
     rows.append(_row("paired no change", nest, "no change", "contradicted",
                      _rate([o.verdict == v.CONTRADICTED for o in out]), v.ALPHA, "at most"))
     rows.append(_row("paired no change", nest, "no change", "reproduced",
@@ -292,12 +399,16 @@ def _senses(nest, rng, n):
 RULES = (_directional, _against_random, _equivalence, _band, _sectors, _paired, _senses)
 
 
-def calibrate(nestings=NESTINGS, datasets: int = DATASETS, seed: int = 2013) -> pl.DataFrame:
-    """Every rule under every nesting: one row per (rule, nesting, scenario, measure) with the
-    measured ``value``, its ``bound`` and whether it is met (``ok``; None for power)."""
+def calibrate(nestings=NESTINGS, datasets: int = DATASETS, seed: int = 2013,
+              rules=RULES) -> pl.DataFrame:
+    """Every rule of ``rules`` under every nesting: one row per (rule, nesting, scenario,
+    measure) with the measured ``value``, its ``bound`` and whether it is met (``ok``; None
+    for power and reported rows). Each (nesting, rule) block has its own seed, so a block
+    computed alone is the block of the whole table."""
     rows = []
     for i, nest in enumerate(nestings):
-        for j, rule in enumerate(RULES):
+        for rule in rules:
+            j = RULES.index(rule)
             rng = np.random.default_rng(np.random.SeedSequence(seed, spawn_key=(i, j)))
             rows += rule(nest, rng, datasets)
     return pl.DataFrame(rows)
@@ -365,22 +476,32 @@ def markdown(table: pl.DataFrame) -> str:
     lines = ["| rule | scenario | measure | " + " | ".join(heads) + " | bound | met |",
              "|---|---|---|" + "---:|" * len(heads) + "---:|---|"]
     keys = table.select("rule", "scenario", "measure", "kind").unique(maintain_order=True)
-    for rule, scenario, measure, kind in keys.rows():
+    first = {r: i for i, r in enumerate(table["rule"].unique(maintain_order=True))}
+    # rows grouped by rule (a rule's rows that only some nestings have come after the others)
+    for rule, scenario, measure, kind in sorted(keys.rows(), key=lambda k: first[k[0]]):
         rows = table.filter((pl.col("rule") == rule) & (pl.col("scenario") == scenario)
                             & (pl.col("measure") == measure))
         values = []
         for r, k, b, w in nests:
             cell = rows.filter((pl.col("replications") == r) & (pl.col("within_sd") == w))
             values.append(f"{cell['value'][0]:.3f}" if cell.height else "")
-        bound = ("power" if kind == "power" else
+        bound = (kind if kind in ("power", "reported") else
                  f"≤ {rows['bound'][0]:g}" if kind == "at most" else f"≥ {rows['bound'][0]:g}")
-        met = "" if kind == "power" else ("yes" if rows["ok"].all() else "**no**")
+        met = "" if kind in ("power", "reported") else ("yes" if rows["ok"].all() else "**no**")
         lines.append(f"| {rule} | {scenario} | {measure} | " + " | ".join(values)
                      + f" | {bound} | {met} |")
     return "\n".join(lines) + "\n"
 
 
+#: The calibration table as committed data (``python -m dart_reach.analysis.calibration``
+#: writes it; docs/results/calibration.md shows it, tests/analysis/test_calibration.py checks
+#: it and recomputes parts of it).
+TABLE = Path(__file__).resolve().parents[2] / "docs" / "results" / "calibration.parquet"
+
+
 if __name__ == "__main__":  # the table of docs/results/calibration.md
-    print(markdown(calibrate()))
+    table = calibrate()
+    table.write_parquet(TABLE)
+    print(markdown(table))
     for nest in NESTINGS:
         print(nest.label, robot_level_null(nest))

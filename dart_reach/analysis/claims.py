@@ -3,7 +3,10 @@ statement the runs can test, with the paper's sentence and section, the measure,
 the kind of claim (which rule of ``verdicts`` judges it) and the paper's level.
 
 A claim whose statement is not the paper's, but the project's own reading or robustness check,
-has ``own=True``: it is judged like the others and counted apart from the headline. Where the
+has ``own=True``: it is judged like the others and counted apart from the headline. A
+behaviour of Table I's "Resulting Behaviors" that cites infant studies and that the text never
+attributes to the robots (or, for T7, says the robots lack) has ``infants=True``: the paper
+says it of infants, so it too is judged and counted apart. Where the
 paper gives no number, the measure and threshold are the project's operationalisation, fixed
 before any run was judged (docs/guides/analysis.md, "Claims").
 """
@@ -19,6 +22,11 @@ from .verdicts import ALPHA
 ABOUT_HALF = (1 / 3, 2 / 3)
 #: The trial-level babbling measure (docs/model/measures.md).
 BABBLING = "babbling"
+#: Swipes in the trials without a grasp (NaN in a trial with one): F2's "when they don't
+#: grasp the ball they try again" (``findings.robots`` derives it from ``swipes``).
+SWIPES_UNGRASPED = "swipes_ungrasped"
+#: "Try again with similar swipes": a swipe, then at least one more.
+SWIPES_AGAIN = 2.0
 #: The four sensory conditions of Fig. 9.
 SENSES = ("normal", "no-touch", "no-sight", "nothing")
 
@@ -29,6 +37,7 @@ class Kind(enum.Enum):
     NO_DIFFERENCE = "no difference"
     BAND = "band"
     EVERY_SECTOR = "every sector"
+    AT_LEAST = "at least"
     NEVER = "never"
     PAIRED = "senses differ"
     SAME_PAIRED = "no change (paired)"
@@ -48,7 +57,8 @@ class Claim:
     both; a directional claim compares the drop ``senses`` - ``versus``); ``versus_measure`` a
     second measure of the same units (``Kind.WITHIN``); ``source`` "post" or "development"
     (groups "phase@start" / "phase@end": the first / last tenth of the phase's generations).
-    ``own``: the statement is the project's, not the paper's."""
+    ``own``: the statement is the project's, not the paper's; ``infants``: the paper says it
+    of infants (Table I), not of its robots; ``floor``: the least mean of an at-least claim."""
 
     id: str
     section: str
@@ -65,6 +75,8 @@ class Claim:
     versus_measure: str = ""
     source: str = "post"
     own: bool = False
+    infants: bool = False
+    floor: float = float("nan")
 
 
 _K = Kind
@@ -103,9 +115,15 @@ def _phase_claims() -> list[Claim]:
         claims.append(Claim(f"F2 {what}", "IV-A-2, Figs. 5-7",
                             f"gross- vs pre-reachers: {what}", _K.DIRECTIONAL, measure, "pre",
                             "gross", sign, level))
-    claims.append(Claim("F2 swipes again", "IV-A-2", "\"When they don't grasp the ball they "
-                        "try again with similar swipes\": more swipes per trial than "
-                        "pre-reachers", _K.DIRECTIONAL, "swipes", "pre", "gross", +1))
+    claims.append(Claim("F2 swipes again", "IV-A-2", "\"The visual inspection of the best "
+                        "robots at the end of this phase reveals that they ... produce long "
+                        "swipes up. When they don't grasp the ball they try again with similar "
+                        "swipes\": in a gross-reacher's trial without a grasp, a swipe and "
+                        "another (at least 2 on average)", _K.AT_LEAST, SWIPES_UNGRASPED,
+                        b="gross", floor=SWIPES_AGAIN))
+    claims.append(Claim("F2 swipes: gross > pre", "IV-A-2 (the project's reading)",
+                        "gross-reachers swipe more per trial than pre-reachers",
+                        _K.DIRECTIONAL, "swipes", "pre", "gross", +1, own=True))
     for measure, sign, level, what in (
             ("reached", +1, 0.001, "reach up"), ("grasped", +1, 0.001, "grasp up"),
             ("var_elbow", +1, 0.001, "elbow variability up"),
@@ -117,7 +135,10 @@ def _phase_claims() -> list[Claim]:
     for measure, better in (("speed", -1), ("straightness", +1)):
         claims.append(Claim(f"F3 {measure} not better", "IV-A-3, Fig. 5",
                             "\"The analysis of speed and straightness in reaching, instead, "
-                            "does not indicate any significant improvement during this phase\"",
+                            "does not indicate any significant improvement during this phase\""
+                            + (" (better speed is slower: IV-A-2 counts gross's \"decrease of "
+                               "movement speed\" among its \"more direct\" reaches)"
+                               if measure == "speed" else ""),
                             _K.NOT_BETTER, measure, "gross", "fine", better))
     claims.append(Claim("F3 all sectors", "IV-A-3, Fig. 7",
                         "fine-reachers \"acquire a capacity to successfully accomplish these "
@@ -141,6 +162,11 @@ def _phase_claims() -> list[Claim]:
                         "gross^ condition (p < 0.05, two tailed Mann-Whitney U test)\"",
                         _K.DIRECTIONAL, "fitness", "gross^", "gross", +1, 0.05,
                         "replications"))
+    claims.append(Claim("F5 gross > gross^ (best 5)", "IV-C, Fig. 10 (the project's reading)",
+                        "the same, each replication's unit the mean of its best 5 robots' "
+                        "post-evaluation fitness (Figs. 5-7's robots) instead of its best "
+                        "robot's", _K.DIRECTIONAL, "fitness", "gross^", "gross", +1, 0.05,
+                        own=True))
     for standard, control in (("pre", "pre-h"), ("gross", "gross-h"), ("pre", "pre*"),
                               ("gross^", "gross^*"), ("fine^", "fine*"), ("fine", "fine^")):
         claims.append(Claim(f"F6 {standard} not better than {control}", "IV-C, Fig. 10",
@@ -201,20 +227,27 @@ def _behaviour_claims() -> list[Claim]:
     c.append(Claim("T1 arm orienting", tab, "pre-reaching: \"arm orienting\" [49]: the hand "
                    "heads toward the ball more than random networks'", _K.DIRECTIONAL,
                    "heading", "random pre", "pre", +1))
-    c.append(Claim("T2 reach onset", tab, "gross-reaching: \"reach onset\" [7]: the first "
-                   "touch comes sooner than pre-reachers'", _K.DIRECTIONAL, "first_touch_s",
-                   "pre", "gross", -1))
+    c.append(Claim("T2 reach onset", tab, "gross-reaching: \"reach onset\" [7] (of infants; "
+                   "the text does not say it of the robots): the first touch comes sooner than "
+                   "pre-reachers'", _K.DIRECTIONAL, "first_touch_s", "pre", "gross", -1,
+                   infants=True))
     for g in ("gross", "fine"):
         c.append(Claim(f"T4 babbling reduced in {g}", tab, "\"the reduced use of motor "
                        "babbling\" after pre-reaching (III-D-2, V)", _K.DIRECTIONAL,
                        BABBLING, "pre", g, -1))
     c.append(Claim("T6 anticipatory grasp", tab, "fine-reaching: \"anticipatory grasp\" "
-                   "[54]: fingers closing before the palm touches", _K.DIRECTIONAL,
-                   "anticipatory_grasp", "gross", "fine", +1))
-    c.append(Claim("T7 smoother reach", tab, "fine-reaching: \"smoother and straighter reach\" "
-                   "(Table I; IV-A-3 says the robots' straightness does not improve): fewer "
-                   "movement units than gross-reachers", _K.DIRECTIONAL, "movement_units",
-                   "gross", "fine", -1))
+                   "[54] (of infants; the text does not say it of the robots): fingers closing "
+                   "before the palm touches", _K.DIRECTIONAL, "anticipatory_grasp", "gross",
+                   "fine", +1, infants=True))
+    c.append(Claim("T7 smoother reach (infants)", tab, "fine-reaching: \"smoother and "
+                   "straighter reach\" [27], [12], [26], of infants: fewer movement units than "
+                   "gross-reachers", _K.DIRECTIONAL, "movement_units", "gross", "fine", -1,
+                   infants=True))
+    c.append(Claim("T7 smoothness not better", "IV-A-3", "fine-reachers improve as infants "
+                   "do, \"who however also show a significant improvement in smoothness and "
+                   "straightness [12], [27] during this phase\": the robots' reach is not "
+                   "significantly smoother (movement units not fewer) than gross-reachers'",
+                   _K.NOT_BETTER, "movement_units", "gross", "fine", -1))
     for m, sign, level in (("straightness_onset", +1, 0.01), ("speed_final", -1, 0.05),
                            ("speed_peak", -1, 0.05)):
         c.append(Claim(f"T8 gross vs pre: {m}", tab, "robustness of F2 straighter / slower "
@@ -250,9 +283,10 @@ def _behaviour_claims() -> list[Claim]:
                            "appreciable effect on the observed behavior\" / \"does not alter "
                            "significantly the type of behavior\"", _K.NO_DIFFERENCE, m, a, b))
     c += [Claim("V1 motor suppression at the start of gross", dev, "\"initial motor "
-                "suppression\" [30] (Table I): less movement in gross's first tenth of "
-                "generations than in pre's last", _K.DIRECTIONAL, "hand_path", "pre@end",
-                "gross@start", -1, source="development"),
+                "suppression\" [30] (Table I, of infants; the text does not say it of the "
+                "robots): less movement in gross's first tenth of generations than in pre's "
+                "last", _K.DIRECTIONAL, "hand_path", "pre@end", "gross@start", -1,
+                source="development", infants=True),
           Claim("V2 elbow un-freezes in fine", dev, "\"the reduced use (freeze) followed by a "
                 "re-extended use (un-freeze) of the distal DOFs\"", _K.DIRECTIONAL,
                 "var_elbow", "fine@start", "fine@end", +1, source="development"),

@@ -24,7 +24,7 @@ import numpy as np
 import polars as pl
 
 from . import stats, summaries, verdicts
-from .claims import ABOUT_HALF, CLAIMS, SENSES, Claim, Kind
+from .claims import ABOUT_HALF, CLAIMS, SENSES, SWIPES_UNGRASPED, Claim, Kind
 from .verdicts import ALPHA, NOT_RUN, VERDICTS, Outcome
 
 _ROBOT = ("notation", "run", "replication", "rank")
@@ -33,8 +33,13 @@ _REPLICATION = ("notation", "run", "replication")
 _SPREAD = ("sectors_reached", "reach_entropy")
 _MEASURES = tuple(sorted({m for c in CLAIMS for m in (c.measure, c.versus_measure) if m}
                          - set(_SPREAD)))
+#: Who a claim is of: the paper's robots (the headline), infants (Table I, counted apart) or
+#: the project (its own reading, counted apart).
+ROBOTS, INFANTS, OWN = "the paper's robots", "infants", "the project's own"
+READINGS = (ROBOTS, INFANTS, OWN)
 SCHEMA = {"claim": pl.Utf8, "section": pl.Utf8, "paper": pl.Utf8, "kind": pl.Utf8,
-          "own": pl.Boolean, "measured": pl.Utf8, "test": pl.Utf8, "n": pl.Utf8,
+          "own": pl.Boolean, "infants": pl.Boolean,
+          "measured": pl.Utf8, "test": pl.Utf8, "n": pl.Utf8,
           "effect": pl.Float64, "effect_low": pl.Float64, "effect_high": pl.Float64,
           "confidence": pl.Float64, "p": pl.Float64, "p_against": pl.Float64,
           "p_holm": pl.Float64, "p_holm_against": pl.Float64, "paper_level_met": pl.Boolean,
@@ -43,8 +48,10 @@ SCHEMA = {"claim": pl.Utf8, "section": pl.Utf8, "paper": pl.Utf8, "kind": pl.Utf
 
 #: How each kind is tested, said once (the report's table and docs/guides/analysis.md).
 TESTS = {
-    Kind.DIRECTIONAL.value: "two-tailed Mann-Whitney U on replications, direction from U; "
-                            "effect: Hodges-Lehmann shift b - a [exact 95 % CI]",
+    Kind.DIRECTIONAL.value: "two-sided studentized permutation Brunner-Munzel test on "
+                            "replications (null: theta = P(b > a) = 0.5, whatever the shapes; "
+                            "underpowered below 6 a group); effect: theta [95 % CI, the test "
+                            "inverted]",
     Kind.NOT_BETTER.value: "non-superiority on theta = P(b better than a): upper one-sided "
                            f"95 % bound below {0.5 + verdicts.EQUIVALENCE_MARGIN:g}; "
                            "contradicted when b is better (one-sided Mann-Whitney)",
@@ -55,11 +62,15 @@ TESTS = {
     Kind.EVERY_SECTOR.value: "every sector's reach and grasp rate: one-sided 95 % lower bound "
                              f"over replications above {verdicts.SECTOR_FLOOR:g}; contradicted "
                              "when a Bonferroni upper bound is below",
-    Kind.NEVER.value: "\"never\" read as less than pre-reachers: Mann-Whitney on replications",
+    Kind.AT_LEAST.value: "one-sided 95 % lower bound of the mean over replications above the "
+                         "claim's floor; contradicted when the upper bound is below it",
+    Kind.NEVER.value: "\"never\" read as less than pre-reachers: the directional test on "
+                      "replications",
     Kind.PAIRED.value: "Friedman's test, replication as block; contradicted when every pair of "
                        f"conditions is equivalent (paired TOST, +-{verdicts.PAIRED_MARGIN:.0%})",
-    Kind.SAME_PAIRED.value: "two one-sided paired t-tests on replications, mean change within "
-                            f"+-{verdicts.PAIRED_MARGIN:.0%} of the reference's median",
+    Kind.SAME_PAIRED.value: "two one-sided t-tests on replications: the mean of each "
+                            "replication's change relative to its own level within "
+                            f"+-{verdicts.PAIRED_MARGIN:.0%}",
     Kind.CHANGE_PAIRED.value: "Wilcoxon signed-rank on replications (exact); effect: "
                               "Hodges-Lehmann change [exact 95 % CI]",
     Kind.WITHIN.value: "Wilcoxon signed-rank on replications of one measure against another",
@@ -76,6 +87,9 @@ def robots(table: pl.DataFrame, senses: str = "normal") -> pl.DataFrame:
     trials of each measure (booleans: rates), ``sectors_reached`` (sectors in which it reached
     the ball at least once, Fig. 7) and ``reach_entropy`` (``summaries.peripersonal_space``)."""
     table = _with_run(table).filter(pl.col("senses") == senses)
+    if {"swipes", "grasped"} <= set(table.columns):
+        table = table.with_columns(pl.when(~pl.col("grasped")).then(pl.col("swipes"))
+                                   .otherwise(None).cast(pl.Float64).alias(SWIPES_UNGRASPED))
     present = [m for m in _MEASURES if m in table.columns]
     means = summaries.robot_means(table, present, by=_ROBOT)
     spread = (summaries.peripersonal_space(table, by=_ROBOT)
@@ -178,7 +192,8 @@ def _row(claim: Claim, out: Outcome, measured: str, n: str, robots_out: Outcome 
          ) -> dict:
     note = out.note
     return {"claim": claim.id, "section": claim.section, "paper": claim.paper,
-            "kind": claim.kind.value, "own": claim.own, "measured": measured,
+            "kind": claim.kind.value, "own": claim.own, "infants": claim.infants,
+            "measured": measured,
             "test": TESTS[claim.kind.value], "n": n, "effect": out.effect,
             "effect_low": out.low, "effect_high": out.high, "confidence": out.confidence,
             "p": out.p, "p_against": out.p_against, "p_holm": math.nan,
@@ -268,7 +283,8 @@ def _paired_change(claim: Claim, data: _Data) -> dict:
         return _not_run(claim, f"no {claim.b} robots under both {claim.senses} and "
                                f"{claim.versus} (evaluate --sensors all)")
     if claim.kind is Kind.SAME_PAIRED:
-        judge = verdicts.paired_equivalent
+        def judge(ref, new):
+            return verdicts.paired_equivalent(ref, new, relative=True)
     else:
         def judge(ref, new):
             return verdicts.paired_directional(ref, new, claim.sign, claim.level)
@@ -303,6 +319,18 @@ def _band(claim: Claim, data: _Data) -> dict:
         return _not_run(claim, f"no {claim.b} robots")
     out = verdicts.in_band(reps[claim.measure].to_numpy(), ABOUT_HALF)
     return _row(claim, out, f"{claim.measure} rate {out.effect:.2f}",
+                f"{reps.height} replications")
+
+
+def _at_least(claim: Claim, data: _Data) -> dict:
+    if claim.measure not in data.robots(claim.senses).columns:
+        return _not_run(claim, f"no {claim.measure}")
+    reps = replication_means(data.robots(claim.senses), claim.measure) \
+        .filter((pl.col("notation") == claim.b) & pl.col(claim.measure).is_not_nan())
+    if reps.height == 0:
+        return _not_run(claim, f"no {claim.b} robots with a {claim.measure}")
+    out = verdicts.at_least({claim.b: reps[claim.measure].to_numpy()}, claim.floor)
+    return _row(claim, out, f"{claim.measure} {out.effect:.3g} (mean over replications)",
                 f"{reps.height} replications")
 
 
@@ -343,6 +371,7 @@ def _senses(claim: Claim, data: _Data) -> dict:
 _JUDGES = {Kind.DIRECTIONAL: _two_groups, Kind.NOT_BETTER: _two_groups,
            Kind.NO_DIFFERENCE: _two_groups, Kind.BAND: _band, Kind.EVERY_SECTOR: _every_sector,
            Kind.NEVER: _never, Kind.PAIRED: _senses, Kind.SAME_PAIRED: _paired_change,
+           Kind.AT_LEAST: _at_least,
            Kind.CHANGE_PAIRED: _paired_change, Kind.WITHIN: _within}
 
 
@@ -367,7 +396,7 @@ def findings(table: pl.DataFrame, baseline: pl.DataFrame | None = None,
         raise ValueError(f"the post-evaluation table lacks columns {missing}")
     data = _Data(table, baseline, development)
     found = pl.DataFrame([_judge(c, data) for c in claims], schema=SCHEMA)
-    headline = ~found["own"].to_numpy()
+    headline = (~found["own"] & ~found["infants"]).to_numpy()
     adjusted = {}
     for column in ("p", "p_against"):
         p = np.where(headline, found[column].to_numpy(), np.nan)
@@ -376,12 +405,25 @@ def findings(table: pl.DataFrame, baseline: pl.DataFrame | None = None,
                               pl.Series("p_holm_against", adjusted["p_holm_against"]))
 
 
-def summary(found: pl.DataFrame, own: bool = False) -> dict[str, int]:
-    """How many of the paper's claims (``own`` True: the project's own) got each verdict, and
-    how many decided ones survive Holm's adjustment (``reproduced (Holm)``, ``contradicted
-    (Holm)``; claims without a p, the band and every-sector rules, count as surviving only
-    raw)."""
-    rows = found.filter(pl.col("own") == own)
+def reading(found: pl.DataFrame, who: str = ROBOTS) -> pl.DataFrame:
+    """The rows of ``found`` whose claims are ``who``'s (``READINGS``): the paper's of its
+    robots (the headline), the paper's of infants, or the project's own."""
+    if who not in READINGS:
+        raise ValueError(f"unknown reading {who!r}; known: {READINGS}")
+    own = pl.col("own")
+    infants = (pl.col("infants").fill_null(False) if "infants" in found.columns  # older tables
+               else pl.lit(False))
+    return found.filter(~own & ~infants if who == ROBOTS else
+                        ~own & infants if who == INFANTS else own)
+
+
+def summary(found: pl.DataFrame, who: str = ROBOTS) -> dict[str, int]:
+    """How many of ``who``'s claims (``reading``; default the paper's of its robots, the
+    headline) got each verdict, and how many decided ones survive Holm's adjustment
+    (``reproduced (Holm)``, ``contradicted (Holm)``; claims without a p, the band and
+    every-sector rules, count as surviving only raw; Holm's family is the headline, so the
+    other readings have none)."""
+    rows = reading(found, who)
     counts = dict(rows.group_by("verdict").len().iter_rows())
     out = {v: int(counts.get(v, 0)) for v in VERDICTS}
     out["reproduced (Holm)"] = rows.filter((pl.col("verdict") == verdicts.REPRODUCED)

@@ -31,6 +31,7 @@ import polars as pl
 
 from . import budgets, figures, findings, summaries, verdicts
 from ..errors import UsageError
+from ..postevaluation import results
 from ..postevaluation import snapshots as development
 from ..postevaluation.systematic import run_phases
 from .stats import fig9_statistics, fig10_statistics, phase_statistics
@@ -56,11 +57,14 @@ HOLM_NOTE = (
 #: Marks the files this module writes: only those are ever overwritten.
 GENERATOR = '<meta name="generator" content="dart_reach report">'
 #: Measures of the baseline table (Figs. 5, 6 and the babbling measure), with their labels.
+#: ``babbling_share`` is the share of the hand's spectral power at its dominant frequency (a
+#: spectral concentration, one of the inputs of the babbling measure, high for any movement
+#: at one rhythm, random networks' too), not babbling, which is ``babbling``'s rate.
 MEASURES = (("fitness", "fitness"), ("reached", "reach rate"), ("grasped", "grasp rate"),
             ("speed", "speed (m/s)"), ("straightness", "straightness"),
             ("var_elbow", "elbow var. (rad)"), ("var_shoulder", "shoulder var. (rad)"),
             ("var_trunk", "trunk var. (rad)"), ("elbow_freezing", "hand-shoulder s.d. (m)"),
-            ("babbling_share", "babbling share"))
+            ("babbling", "babbling rate"), ("babbling_share", "spectral concentration"))
 
 
 # ------------------------------------------------------------------------------ pieces
@@ -264,12 +268,14 @@ def _try(draw, *args, **kwargs) -> str:
 #: Above the findings: what the verdicts mean.
 VERDICTS_NOTE = (
     "<i>Underpowered</i>: even the most favourable data could not reach p &lt; 0.05 at this n "
-    "(decided from the sizes before any test); <i>inconclusive</i>: the data cannot decide; a "
+    "(decided from the sizes before any test; a directional claim also below 6 replications a "
+    "group, where no rank test holds its level when the groups' shapes differ); "
+    "<i>inconclusive</i>: the data cannot decide; a "
     "claim of no difference is <i>reproduced</i> only by an equivalence test.")
 #: Under the figure of the effects against the budget.
 BUDGET_FIGURE_NOTE = (
     "Each claim's effect at each budget, on a scale where up is the paper's direction (the "
-    "claim's own units: a shift for a directional claim, 0.15 - |theta - 0.5| for a claim of "
+    "claim's own units: theta - 0.5 for a directional claim, 0.15 - |theta - 0.5| for a claim of "
     "no difference, the depth inside the band, the weakest sector's rate above the floor, ...; "
     "docs/model/claims.md, \"Several budgets\"), with its interval; hollow: no interval or an "
     "unbounded one. The dashed line is 0: no effect, or the claim's boundary. Only the claims "
@@ -284,12 +290,15 @@ def _baseline_html(budget, pooled_, heading: bool) -> str:
 
 
 def _counts(found: pl.DataFrame) -> str:
-    """The headline: the paper's claims by verdict, the replication as the unit (raw and
-    Holm-surviving), and the project's own claims apart."""
-    def line(own: bool) -> str:
-        return " · ".join(f"{v}: <b>{n}</b>" for v, n in findings.summary(found, own).items())
-    return (f'<p class="counts">The paper\'s claims, replications as units: {line(False)}</p>'
-            f'<p class="counts">The project\'s own claims: {line(True)}</p>')
+    """The headline: the paper's claims of its robots by verdict, the replication as the unit
+    (raw and Holm-surviving); its claims of infants (Table I) and the project's own apart."""
+    def line(who: str) -> str:
+        return " · ".join(f"{v}: <b>{n}</b>" for v, n in findings.summary(found, who).items())
+    return (f'<p class="counts">The paper\'s claims of its robots, replications as units: '
+            f'{line(findings.ROBOTS)}</p>'
+            f'<p class="counts">The paper\'s claims of infants (Table I): '
+            f'{line(findings.INFANTS)}</p>'
+            f'<p class="counts">The project\'s own claims: {line(findings.OWN)}</p>')
 
 
 def section_counts(by_budget: pl.DataFrame) -> pl.DataFrame:
@@ -297,7 +306,7 @@ def section_counts(by_budget: pl.DataFrame) -> pl.DataFrame:
     and budget: how many got each verdict, the replication as the unit, and how many decided
     ones survive Holm's adjustment within the budget."""
     several = by_budget["replications"].n_unique() > 1
-    head = by_budget.filter(~pl.col("own")).with_columns(
+    head = findings.reading(by_budget).with_columns(
         pl.col("section").str.split(",").list.first().str.split(":").list.first()
         .str.strip_chars().alias("part"),
         (pl.format("{} gen/phase x {}", "generations_per_phase", "replications") if several
@@ -402,7 +411,7 @@ def build(run_dirs: Sequence, out=None, findings_out=None) -> Path:
     if findings_out is not None:
         findings_out = Path(findings_out)
         _check_findings_out(findings_out)
-    evaluated = [d for d in run_dirs if (d / "evaluation.parquet").is_file()]
+    evaluated = [d for d in run_dirs if results.exists(d / results.EVALUATION)]
     everything = budgets.pooled(evaluated)
     table = everything.table
     groups = budgets.budget_groups(run_dirs)

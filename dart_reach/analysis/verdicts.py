@@ -7,18 +7,22 @@ robots): the robots of a phase are the best few of one population, not independe
 the paper's own Fig. 10 compares replications. Every rule is calibrated by simulation of nested
 data like the runs' (``calibration``; the table in docs/results/calibration.md).
 
-- ``directional``: "b is higher (lower) than a": two-tailed Mann-Whitney U (exact without
-  ties); direction from U - n_a n_b / 2; effect: the Hodges-Lehmann shift with its exact
-  distribution-free 95 % interval (the order statistics of the pairwise differences that the
-  exact null distribution of U gives; Hollander & Wolfe 1999, ch. 4).
+- ``directional``: "b is higher (lower) than a": the two-sided studentized permutation
+  Brunner-Munzel test on the logit scale (``brunner_munzel``: over every split up to 10,000,
+  else 1,999 random ones), whose null, theta = P(B > A) + P(B = A) / 2 = 0.5, is what the
+  claim denies, whatever the groups' shapes (a bimodal group of pre-reachers against a
+  unimodal later phase: Mann-Whitney, whose exact null is "the same distribution", decides
+  more often than its level there; docs/results/calibration.md); underpowered below 6 units
+  a group (``one_mode``); direction from theta; effect: theta with the 95 % interval of the
+  same test inverted, so that verdict and interval agree.
 - ``not_better``: "b is not significantly better than a", as the paper words it (one-sided):
   non-superiority on the probabilistic index theta = P(B > A) + P(B = A) / 2 (Brunner-Munzel
   standard error): reproduced when the upper one-sided 95 % bound of theta (in the direction
   "better") is below 0.5 + ``EQUIVALENCE_MARGIN``; contradicted when b is better (one-sided
-  Mann-Whitney p < ALPHA).
+  Brunner-Munzel permutation p < ALPHA).
 - ``equivalent``: "a and b do not differ" (two-sided): two one-sided tests on theta within
-  0.5 +- ``EQUIVALENCE_MARGIN`` (Lakens 2017); contradicted by a two-tailed Mann-Whitney
-  difference.
+  0.5 +- ``EQUIVALENCE_MARGIN`` (Lakens 2017); contradicted by a two-sided Brunner-Munzel
+  permutation difference.
 - ``in_band``: "about half": Student's t 95 % interval of the mean over units inside the band.
 - ``at_least``: "in every sector": every cell's one-sided 95 % lower bound above a floor (an
   intersection-union test); contradicted when some cell's upper bound, Bonferroni-adjusted
@@ -46,6 +50,8 @@ from dataclasses import dataclass
 import numpy as np
 from scipy import special
 from scipy.stats import rankdata
+
+from . import brunner_munzel
 
 REPRODUCED, CONTRADICTED, INCONCLUSIVE, UNDERPOWERED, NOT_RUN = (
     "reproduced", "contradicted", "inconclusive", "underpowered", "not run")
@@ -170,6 +176,21 @@ def smallest_mann_whitney_p(n_a: int, n_b: int) -> float:
     return min(1.0, 2.0 / math.comb(n_a + n_b, n_a)) if n_a and n_b else 1.0
 
 
+def smallest_directional_p(n_a: int, n_b: int) -> float:
+    """The smallest two-sided p of ``directional``'s test for sizes n_a, n_b: both complete
+    separations and both splits one pair short of them tie at the top of its statistic
+    (``brunner_munzel``), 4 / C(n_a + n_b, n_a)."""
+    return min(1.0, 4.0 / math.comb(n_a + n_b, n_a)) if n_a and n_b else 1.0
+
+
+def one_mode(n_a: int, n_b: int) -> float:
+    """How often, under theta = 0.5, a group of two equal modes (a population babbling or
+    still) has every unit in one mode, against a group between the modes: 2^(1 - n) for the
+    smaller group's n. Complete separation then has that chance, so no rank test of fewer
+    units than 6 a group can hold ``ALPHA`` when the shapes may differ so (4: 1 / 8)."""
+    return 2.0 ** (1 - min(n_a, n_b))
+
+
 def smallest_signed_rank_p(n: int) -> float:
     """The smallest two-tailed p of the Wilcoxon signed-rank test of n non-zero differences
     (all of one sign, exact distribution): 2 / 2^n."""
@@ -216,60 +237,38 @@ def _normal_sf(z: float) -> float:
     return float(special.ndtr(-z))
 
 
-def mann_whitney(a, b, alternative: str = "two-sided") -> tuple[float, int]:
-    """p of the Mann-Whitney U test of b against a and the observed direction (+1: b higher):
-    exact without ties (``u_distribution``), else the normal approximation with the tie and
-    continuity corrections. Equal to ``scipy.stats.mannwhitneyu(b, a, method="exact" /
-    "asymptotic")`` (tested), and fast enough to be calibrated over thousands of data sets."""
-    a, b = finite(a), finite(b)
-    n, m = len(a), len(b)
-    pooled = np.concatenate([a, b])
-    u = float(rankdata(pooled)[n:].sum() - m * (m + 1) / 2)  # U of b: pairs b > a, ties 1/2
-    mu = n * m / 2
-    direction = int(np.sign(u - mu))
-    ties = _ties(pooled)
-    if ties == 0:
-        cdf = np.cumsum(u_distribution(n, m))
-        k = int(round(u))
-        below, above = cdf[k], 1.0 - (cdf[k - 1] if k else 0.0)
-        p = {"two-sided": min(1.0, 2 * min(below, above)), "greater": above,
-             "less": below}[alternative]
-        return float(min(max(p, 0.0), 1.0)), direction
-    big = n + m
-    sd = math.sqrt(n * m / 12 * ((big + 1) - ties / (big * (big - 1))))
-    if sd == 0:
-        return 1.0, direction
-    if alternative == "two-sided":
-        p = min(1.0, 2 * _normal_sf((max(u, n * m - u) - mu - 0.5) / sd))
-    elif alternative == "greater":
-        p = _normal_sf((u - mu - 0.5) / sd)
-    else:
-        p = _normal_sf((n * m - u - mu - 0.5) / sd)
-    return float(p), direction
-
-
 # --------------------------------------------------------------------------------- two groups
 def directional(a, b, sign: int, level: float = ALPHA) -> Outcome:
-    """Claim: b is higher (``sign`` +1) or lower (-1) than a; ``level`` the paper's. Two-tailed
-    Mann-Whitney U; underpowered when even complete separation cannot reach ``ALPHA``."""
+    """Claim: b is higher (``sign`` +1) or lower (-1) than a; ``level`` the paper's. The
+    two-sided studentized permutation Brunner-Munzel test (``brunner_munzel.test``): its null
+    is theta = P(B > A) + P(B = A) / 2 = 0.5, whatever the shapes of the two groups; direction
+    from theta; effect: theta with the interval of the same test inverted (0.5 outside it
+    exactly when p < ``ALPHA``). Underpowered when even complete separation cannot reach
+    ``ALPHA``, or when a two-mode group could fall in one mode more often than ``ALPHA``
+    under the null (``one_mode``: fewer than 6 units a group)."""
     a, b = finite(a), finite(b)
     if min(len(a), len(b)) == 0:
         return Outcome(UNDERPOWERED, note=f"{len(b)} vs {len(a)} units")
-    shift, low, high = hodges_lehmann(a, b)
-    if smallest_mann_whitney_p(len(a), len(b)) >= ALPHA:
-        return Outcome(UNDERPOWERED, effect=shift, low=low, high=high, confidence=0.95,
-                       note=f"{len(b)} vs {len(a)}: the smallest possible p is "
-                            f"{smallest_mann_whitney_p(len(a), len(b)):.2g}")
+    theta = float(np.mean((b[None, :] > a[:, None]) + 0.5 * (b[None, :] == a[:, None])))
+    if min(len(a), len(b)) < 2 or smallest_directional_p(len(a), len(b)) >= ALPHA:
+        return Outcome(UNDERPOWERED, effect=theta, note=f"{len(b)} vs {len(a)}: the smallest "
+                       f"possible p is {smallest_directional_p(len(a), len(b)):.2g}")
+    if one_mode(len(a), len(b)) > ALPHA:
+        return Outcome(UNDERPOWERED, effect=theta, note=f"{len(b)} vs {len(a)}: under the null "
+                       f"a two-mode group falls in one mode {one_mode(len(a), len(b)):.2g} of "
+                       "the time")
     if _no_spread(a, b):
-        return Outcome(INCONCLUSIVE, 1.0, shift, low, high, 0.95, 1.0, False,
+        return Outcome(INCONCLUSIVE, 1.0, 0.5, 0.5, 0.5, 1 - ALPHA, 1.0, False,
                        "every value equal: no evidence")
-    p, observed = mann_whitney(a, b)
-    verdict = (REPRODUCED if p < ALPHA and observed == sign else
-               CONTRADICTED if p < ALPHA and observed == -sign else INCONCLUSIVE)
-    toward = p if observed == sign else 1.0
-    against = p if observed == -sign else 1.0
-    return Outcome(verdict, toward, shift, low, high, 0.95, against,
-                   bool(p < level and observed == sign))
+    res = brunner_munzel.test(a, b, confidence=1 - ALPHA)
+    observed = int(np.sign(res.theta - 0.5))
+    decided = res.p < ALPHA
+    verdict = (REPRODUCED if decided and observed == sign else
+               CONTRADICTED if decided and observed == -sign else INCONCLUSIVE)
+    return Outcome(verdict, res.p if observed == sign else 1.0, res.theta, res.low, res.high,
+                   res.confidence, res.p if observed == -sign else 1.0,
+                   bool(res.p < level and observed == sign),
+                   f"{'exact' if res.exact else 'Monte Carlo'} over {res.splits} splits")
 
 
 def probabilistic_index(a, b) -> tuple[float, float, float]:
@@ -301,16 +300,17 @@ def equivalence_reachable(n_a: int, n_b: int, margin: float = EQUIVALENCE_MARGIN
 
 def equivalent(a, b, margin: float = EQUIVALENCE_MARGIN) -> Outcome:
     """Claim: a and b do not differ. Reproduced when both one-sided tests reject theta outside
-    0.5 +- ``margin`` (p = the larger of the two); contradicted when the two-tailed
-    Mann-Whitney test shows a difference; otherwise inconclusive, or underpowered where the
-    sizes could never show equivalence (``equivalence_reachable``) and no difference shows."""
+    0.5 +- ``margin`` (p = the larger of the two); contradicted when the two-sided
+    Brunner-Munzel permutation test shows a difference; otherwise inconclusive, or
+    underpowered where the sizes could never show equivalence (``equivalence_reachable``) and
+    no difference shows."""
     a, b = finite(a), finite(b)
     if min(len(a), len(b)) < 2:
         return Outcome(UNDERPOWERED, note=f"{len(b)} vs {len(a)}: no spread to estimate")
     theta, se, df = probabilistic_index(a, b)
     if _no_spread(a, b):
         return Outcome(INCONCLUSIVE, math.nan, theta, note="every value equal: no evidence")
-    p_diff, _ = mann_whitney(a, b)
+    p_diff = brunner_munzel.test(a, b).p
     if se == 0:  # complete separation: a difference, never equivalence
         p_eq, low, high = 1.0, theta, theta
     else:
@@ -334,7 +334,7 @@ def not_better(a, b, better: int, margin: float = EQUIVALENCE_MARGIN) -> Outcome
     or lower (-1): the paper's one-sided "no significant improvement". Non-superiority on
     theta_better (theta, or 1 - theta when lower is better): reproduced when its upper
     one-sided 95 % bound is below 0.5 + ``margin``; contradicted when b is better (one-sided
-    Mann-Whitney p < ``ALPHA``); otherwise inconclusive."""
+    Brunner-Munzel permutation p < ``ALPHA``); otherwise inconclusive."""
     a, b = finite(a), finite(b)
     if min(len(a), len(b)) < 2:
         return Outcome(UNDERPOWERED, note=f"{len(b)} vs {len(a)}: no spread to estimate")
@@ -342,9 +342,9 @@ def not_better(a, b, better: int, margin: float = EQUIVALENCE_MARGIN) -> Outcome
     theta = theta if better > 0 else 1 - theta
     if _no_spread(a, b):
         return Outcome(INCONCLUSIVE, math.nan, theta, note="every value equal: no evidence")
-    p_better, _ = mann_whitney(a, b, "greater" if better > 0 else "less")
+    p_better = brunner_munzel.test(a, b, "greater" if better > 0 else "less").p
     if se == 0:  # complete separation: b worse everywhere (or better everywhere)
-        p_ns = mann_whitney(a, b, "less" if better > 0 else "greater")[0]
+        p_ns = brunner_munzel.test(a, b, "less" if better > 0 else "greater").p
         high = theta
     else:
         p_ns = t_cdf((theta - 0.5 - margin) / se, df)
@@ -492,23 +492,37 @@ def paired_tost(reference, changed, bound: float) -> tuple[float, float, float, 
     return p_eq, p_diff, mean, mean - half, mean + half
 
 
-def paired_equivalent(reference, changed, margin: float = PAIRED_MARGIN) -> Outcome:
+def relative_changes(reference, changed) -> np.ndarray:
+    """Each unit's change relative to its own level: (changed - reference) over their mean
+    magnitude, 0 where both are 0 (in [-2, 2]; +-0.2 is a change of about 20 %)."""
+    ref, new = np.asarray(reference, float), np.asarray(changed, float)
+    scale = (np.abs(ref) + np.abs(new)) / 2
+    with np.errstate(invalid="ignore", divide="ignore"):
+        return np.where(scale > 0, (new - ref) / np.where(scale > 0, scale, 1.0), 0.0)
+
+
+def paired_equivalent(reference, changed, margin: float = PAIRED_MARGIN,
+                      relative: bool = False) -> Outcome:
     """Claim: ``changed`` is substantially the same as ``reference`` (paired). Two one-sided
     paired t-tests (Lakens 2017) of the mean change against +-``margin`` x |median of the
-    reference|: reproduced when both reject; contradicted when the change differs from 0
-    (paired t, two-tailed); otherwise inconclusive. Changes without spread are no evidence
-    (inconclusive); underpowered below ``MIN_UNITS`` pairs."""
+    reference|, or with ``relative`` of the mean of each unit's change relative to its own
+    level (``relative_changes``) against +-``margin`` (a still replication and a babbling one
+    each keep their own scale: a margin from the median of a group of two strategies lies
+    between them, too wide for the one and too narrow for the other): reproduced when both
+    reject; contradicted when the change differs from 0 (t, two-tailed); otherwise
+    inconclusive. Changes without spread are no evidence (inconclusive); underpowered below
+    ``MIN_UNITS`` pairs."""
     ref, new = np.asarray(reference, float), np.asarray(changed, float)
     keep = np.isfinite(ref) & np.isfinite(new)
     ref, new = ref[keep], new[keep]
     if len(ref) < MIN_UNITS:
         return Outcome(UNDERPOWERED, note=f"{len(ref)} pairs")
-    d = new - ref
+    d = relative_changes(ref, new) if relative else new - ref
     if _no_spread(d):
         return Outcome(INCONCLUSIVE, effect=float(d.mean()),
                        note="every unit changed alike: no evidence")
-    bound = margin * abs(float(np.median(ref)))
-    p_eq, p_diff, mean, low, high = paired_tost(ref, new, bound)
+    bound = margin if relative else margin * abs(float(np.median(ref)))
+    p_eq, p_diff, mean, low, high = paired_tost(np.zeros_like(d), d, bound)
     verdict = (REPRODUCED if p_eq < ALPHA else CONTRADICTED if p_diff < ALPHA
                else INCONCLUSIVE)
     return Outcome(verdict, p_eq, mean, low, high, 1 - 2 * ALPHA, p_diff,

@@ -8,7 +8,10 @@ state for the runs the docs cite (docs/guides/runs.md, "Results"):
     baseline.parquet     the random genomes' trials (``evaluate --baseline``), one row per trial
     development.parquet  the snapshots' robots' trials (``snapshots``), one row per trial
 
-Storage: zstd parquet. Every floating-point measure is stored as float32 (7 significant digits:
+Storage: zstd parquet, in one file, or where that file would be over ``PART_BYTES`` (a tracked
+file may have at most 5 MB) in parts, ``<name>/part-000.parquet``, ``part-001`` ...
+(consecutive rows, each part with the table's provenance), which ``read_table`` reads as the
+one table they are. Every floating-point measure is stored as float32 (7 significant digits:
 far finer than any measure's meaning; it halves the files) and read back as float64, so a table
 evaluated anywhere and a committed one hold the same numbers to the last bit. Tables written
 before this format (float64; the baseline inside evaluation.parquet) are read as they are and
@@ -22,7 +25,9 @@ rows added), and every row's ``session`` column is the index of the entry that a
 
 from __future__ import annotations
 
+import io
 import json
+import math
 import os
 import platform
 import sys
@@ -43,6 +48,26 @@ EVALUATION = "evaluation.parquet"
 BASELINE = "baseline.parquet"
 DEVELOPMENT = "development.parquet"
 _META = "dart_reach"
+#: The largest file a table is written in; a larger table is written in parts.
+PART_BYTES = 4_000_000
+
+
+def parts_folder(path: str | os.PathLike) -> Path:
+    """Where the parts of the table at ``path`` are (``development.parquet``:
+    ``development/``)."""
+    return Path(path).with_suffix("")
+
+
+def stored_files(path: str | os.PathLike) -> list[Path]:
+    """The files the table at ``path`` is stored in: the file itself, else its parts in order
+    (empty: no table)."""
+    path = Path(path)
+    return [path] if path.is_file() else sorted(parts_folder(path).glob("part-*.parquet"))
+
+
+def exists(path: str | os.PathLike) -> bool:
+    """Whether a table is stored at ``path``, in one file or in parts."""
+    return bool(stored_files(path))
 
 
 def session(command: str | None = None) -> dict:
@@ -61,35 +86,39 @@ def session(command: str | None = None) -> dict:
 
 
 def read_table(path: str | os.PathLike) -> pl.DataFrame | None:
-    """The table at ``path`` with its float32 columns as float64, or None when there is none;
-    ``RunError`` when it cannot be read."""
-    path = Path(path)
-    if not path.is_file():
+    """The table at ``path`` (one file or its parts, read as one) with its float32 columns as
+    float64, or None when there is none; ``RunError`` when it cannot be read."""
+    files = stored_files(path)
+    if not files:
         return None
-    try:
-        table = pl.read_parquet(path)
-    except Exception as exc:  # polars raises several kinds for a damaged file
-        raise RunError(f"{path}: unreadable ({exc})") from None
+    frames = []
+    for file in files:
+        try:
+            frames.append(pl.read_parquet(file))
+        except Exception as exc:  # polars raises several kinds for a damaged file
+            raise RunError(f"{file}: unreadable ({exc})") from None
+    table = pl.concat(frames, how="diagonal_relaxed") if len(frames) > 1 else frames[0]
     return table.with_columns(pl.col(pl.Float32).cast(pl.Float64))
 
 
 def sessions(path: str | os.PathLike) -> list[dict]:
     """The provenance entries of the table at ``path`` (empty for a table written before
     provenance was recorded, or none)."""
-    path = Path(path)
-    if not path.is_file():
+    files = stored_files(path)
+    if not files:
         return []
     try:
-        meta = pl.read_parquet_metadata(path)
+        meta = pl.read_parquet_metadata(files[0])
     except Exception as exc:
-        raise RunError(f"{path}: unreadable ({exc})") from None
+        raise RunError(f"{files[0]}: unreadable ({exc})") from None
     return json.loads(meta[_META])["sessions"] if _META in meta else []
 
 
 def is_current(path: str | os.PathLike) -> bool:
     """True when the table at ``path`` is stored in the current ``FORMAT``."""
+    files = stored_files(path)
     try:
-        meta = pl.read_parquet_metadata(path)
+        meta = pl.read_parquet_metadata(files[0])
     except Exception:
         return False
     return _META in meta and json.loads(meta[_META]).get("format") == FORMAT
@@ -107,9 +136,31 @@ def quantised(frame: pl.DataFrame) -> pl.DataFrame:
 
 def write_table(path: Path, table: pl.DataFrame, entries: Sequence[dict]) -> None:
     """Write ``table`` (float64 columns stored as float32) with its provenance ``entries``,
-    atomically."""
+    each file atomically: in one file, or in parts of consecutive rows when one file would be
+    over ``PART_BYTES`` (the other form, if any, removed after)."""
     meta = {_META: json.dumps({"format": FORMAT, "sessions": list(entries)})}
-    atomic_write(path, lambda p: _stored(table).write_parquet(p, metadata=meta))
+    stored = _stored(table)
+    buffer = io.BytesIO()
+    stored.write_parquet(buffer, metadata=meta)
+    path, folder = Path(path), parts_folder(path)
+    old = [f for f in stored_files(path) if f != path] if not path.is_file() else [path]
+    if buffer.tell() <= PART_BYTES:
+        atomic_write(path, lambda p: p.write_bytes(buffer.getvalue()))
+        written = [path]
+    else:
+        count = math.ceil(buffer.tell() / (0.8 * PART_BYTES))
+        size = math.ceil(stored.height / count)
+        folder.mkdir(parents=True, exist_ok=True)
+        written = []
+        for i in range(count):
+            part = folder / f"part-{i:03d}.parquet"
+            atomic_write(part, lambda p, i=i: stored.slice(i * size, size).write_parquet(
+                p, metadata=meta))
+            written.append(part)
+    for stale in set(old) - set(written):
+        stale.unlink()
+    if folder.is_dir() and not any(folder.iterdir()):
+        folder.rmdir()
 
 
 def save_table(path: Path, table: pl.DataFrame | None, rows: list[dict], key: Sequence[str],
@@ -156,7 +207,7 @@ def migrate(run_dir, entry: dict | None = None) -> list[Path]:
         parts[EVALUATION] = legacy.filter(~pl.col("baseline"))
         if legacy["baseline"].any():  # the new code writes both tables in the new format
             parts[BASELINE] = legacy.filter(pl.col("baseline"))
-    if not is_current(run_dir / DEVELOPMENT) and (run_dir / DEVELOPMENT).is_file():
+    if not is_current(run_dir / DEVELOPMENT) and exists(run_dir / DEVELOPMENT):
         parts[DEVELOPMENT] = read_table(run_dir / DEVELOPMENT)
     for name, table in parts.items():
         write_table(run_dir / name, quantised(table).with_columns(

@@ -220,7 +220,7 @@ def load_evaluation(run_dir, baseline: bool | None = False) -> pl.DataFrame:
     ``baseline`` False, the default), the random baseline's (``baseline.parquet``; True) or
     both (None). Stored float32 measures read as float64 (``results``)."""
     run_dir = Path(run_dir)
-    if not (run_dir / TABLE).is_file():
+    if not results.exists(run_dir / TABLE):
         raise RunError(f"{run_dir / TABLE}: no post-evaluation yet; run "
                        f"'dart-reach evaluate {run_dir}'")
     parts = [t for t in (results.read_table(run_dir / TABLE),
@@ -278,7 +278,7 @@ def _evaluate(run: RunDirectory, senses, robots, record, workers, ray_address, p
                          f"got {robots}")
     if baseline < 0:
         raise ValueError(f"baseline must be 0 or more random genomes, got {baseline}")
-    table = load_evaluation(run.out, baseline=None) if (run.out / TABLE).exists() else None
+    table = load_evaluation(run.out, baseline=None) if results.exists(run.out / TABLE) else None
     done = set() if table is None else set(
         table.filter(pl.col("measures_version") >= MEASURES_VERSION).select(_KEY).iter_rows())
     tables = {flag: None if table is None else table.filter(pl.col("baseline") == flag)

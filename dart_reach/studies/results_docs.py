@@ -166,7 +166,7 @@ def spreads_summary(run_dirs) -> pl.DataFrame:
 def replications_text(by_budget: pl.DataFrame) -> str:
     """What more replications decided at the same budget (``budgets.replications_decide``):
     the count of the paper's claims per outcome, and the claims whose verdict changed."""
-    decide = budgets.replications_decide(by_budget.filter(~pl.col("own")))
+    decide = budgets.replications_decide(findings.reading(by_budget))
     if decide.height == 0:
         return (f"Not yet: `{TEN}` is training. Once it is post-evaluated, this section "
                 "sets its verdicts beside `replication-50`'s claim by claim.")
@@ -193,7 +193,7 @@ def plain_values(by_budget: pl.DataFrame, run: str = TEN) -> dict[str, str]:
     underpowered) and of those not run (no data: a condition the run did not train, or a
     table not committed); ``plain_names``: one sentence naming the decided ones, for the
     README."""
-    rows = by_budget.filter((pl.col("runs") == run) & ~pl.col("own"))
+    rows = findings.reading(by_budget.filter(pl.col("runs") == run))
     if rows.filter(pl.col("verdict") != verdicts.NOT_RUN).height == 0:
         text = f"Not yet: `{run}` has not been post-evaluated."
         return {"plain": text, "plain_names": text}
@@ -231,14 +231,19 @@ def plain_values(by_budget: pl.DataFrame, run: str = TEN) -> dict[str, str]:
     return {"plain": "\n".join(lines), "plain_names": sentence}
 
 
-def _pre_replications(table: pl.DataFrame | None) -> tuple[str, str]:
-    """A run's pre-reachers replication by replication (``report.replication_table``) and
-    how many of its replications had no robot babble in any trial."""
+def _pre_replications(table: pl.DataFrame | None) -> tuple[str, str, str]:
+    """A run's pre-reachers replication by replication (``report.replication_table``), how
+    many of its replications had no robot babble in any trial, and the mean fitness of those
+    still replications beside the babbling ones'."""
     if table is None:
-        return "not post-evaluated yet", "not post-evaluated yet"
+        return ("not post-evaluated yet",) * 3
     pre = report.replication_table(table, "pre")
-    still = int((pre["babbling rate"] == 0).sum())
-    return markdown_table(pre), f"{still} of {pre.height}"
+    is_still = pre["babbling rate"] == 0
+    fit = {name: pre.filter(rows)["fitness"] for name, rows in
+           (("still", is_still), ("babbling", ~is_still))}
+    fitness = "; ".join(f"{name} {budgets.number_text(float(f.mean()))} ({f.len()})"
+                        if f.len() else f"{name}: none" for name, f in fit.items())
+    return markdown_table(pre), f"{int(is_still.sum())} of {pre.height}", fitness
 
 
 def replication_values(recordings: Path) -> dict[str, str]:
@@ -249,29 +254,31 @@ def replication_values(recordings: Path) -> dict[str, str]:
     and per run ``<run>.measures`` (means over robots beside the random baseline) and
     ``<run>.status`` (training, ``dart-reach status --markdown``)."""
     dirs = [recordings / name for name in REPLICATIONS]
-    judged = [d for d in dirs if (d / results.EVALUATION).is_file()]
+    judged = [d for d in dirs if results.exists(d / results.EVALUATION)]
     by_budget = budgets.findings_by_budget(judged)
     values = {"sections": markdown_table(report.section_counts(by_budget)),
               "claims": markdown_table(budgets.side_by_side(by_budget)),
               "by_replications": replications_text(by_budget),
               **plain_values(by_budget)}
-    rows, own, verdict_counts = [], [], {}
+    rows, infants, own, verdict_counts = [], [], [], {}
     for block in by_budget.partition_by("scene", "generations_per_phase", "replications",
                                         maintain_order=True):
         budget = budgets.Budget(*block.select("scene", "generations_per_phase",
                                               "replications").row(0))
-        for target, is_own in ((rows, False), (own, True)):
+        for target, who in ((rows, findings.ROBOTS), (infants, findings.INFANTS),
+                            (own, findings.OWN)):
             target.append({"budget": budget.label, "runs": block["runs"][0],
-                           **findings.summary(block, is_own)})
+                           **findings.summary(block, who)})
         paper = rows[-1]
         verdict_counts[block["runs"][0]] = (
-            "not judged yet" if paper[verdicts.NOT_RUN] == block.filter(~pl.col("own")).height
+            "not judged yet" if paper[verdicts.NOT_RUN] == findings.reading(block).height
             else f"{paper[verdicts.REPRODUCED]} of the paper's claims reproduced "
                  f"({paper['reproduced (Holm)']} after Holm), "
                  f"{paper[verdicts.CONTRADICTED]} contradicted, "
                  f"{paper[verdicts.INCONCLUSIVE]} inconclusive, "
                  f"{paper[verdicts.UNDERPOWERED]} underpowered, {paper[verdicts.NOT_RUN]} not run")
     values["counts"] = markdown_table(pl.DataFrame(rows))
+    values["infant_counts"] = markdown_table(pl.DataFrame(infants))
     values["own_counts"] = markdown_table(pl.DataFrame(own))
     described = []
     for d in dirs:
@@ -288,7 +295,8 @@ def replication_values(recordings: Path) -> dict[str, str]:
         values[f"{d.name}.measures"] = "not post-evaluated yet" if table is None else \
             markdown_table(report.baseline_table(
                 table, results.read_table(d / results.BASELINE)))
-        values[f"{d.name}.pre"], values[f"{d.name}.pre_still"] = _pre_replications(table)
+        (values[f"{d.name}.pre"], values[f"{d.name}.pre_still"],
+         values[f"{d.name}.pre_fitness"]) = _pre_replications(table)
         status = run.status().with_columns(
             pl.format("{} / {}", "generations", "of").alias("generations")).drop("of")
         values[f"{d.name}.status"] = markdown_table(status)
@@ -395,7 +403,7 @@ def findings_frames(root: Path) -> dict[Path, pl.DataFrame]:
     out = {}
     for name in REPLICATIONS:
         run = root / "recordings" / name
-        if (run / results.EVALUATION).is_file():
+        if results.exists(run / results.EVALUATION):
             out[run / "findings.parquet"] = budgets.findings_by_budget([run])
     return out
 

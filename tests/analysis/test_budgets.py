@@ -61,8 +61,15 @@ def test_the_budget_is_the_scene_the_generations_per_phase_and_the_replications(
 
 
 # ------------------------------------------------------------------------------ movement
+#: The kinds whose effect is theta: a case's effect e stands for theta = 0.5 + e.
+THETA = (Kind.DIRECTIONAL, Kind.NEVER)
+
+
 def _rows(budget: int, specs: dict, scene: str = "near", replications: int = 4) -> list[dict]:
-    """Findings rows of one budget: {claim: (kind, sign, effect, low, high)}."""
+    """Findings rows of one budget: {claim: (kind, sign, effect, low, high)} (directional
+    and never: effect and interval as theta - 0.5)."""
+    specs = {c: (k, s, *(x + 0.5 * (k in THETA) for x in (e, lo, hi)))
+             for c, (k, s, e, lo, hi) in specs.items()}
     return [{"scene": scene, "generations_per_phase": budget, "replications": replications,
              "runs": f"r{budget}",
              "sign": sign, "claim": claim, "section": "S", "kind": kind.value,
@@ -158,7 +165,7 @@ def test_side_by_side_has_one_row_per_claim_and_the_movement():
                                for c in ("effect [CI]", "verdict", "robots as units")],
                              "as the budget grows"]
     row = {r["claim"]: r for r in table.iter_rows(named=True)}
-    assert row["up, intervals apart"]["50 gen/phase: effect [CI]"] == "0.5 [0.3, 0.7]"
+    assert row["up, intervals apart"]["50 gen/phase: effect [CI]"] == "1 [0.8, 1.2]"
     assert row["W falls"]["10 gen/phase: effect [CI]"] == "0.8"
     assert row["W falls"]["as the budget grows"] == bd.NO_INTERVAL
     assert row["only at 50"]["10 gen/phase: verdict"] == vd.NOT_RUN
@@ -200,7 +207,7 @@ def test_more_replications_are_a_series_of_their_own():
     assert {"10 gen/phase x 4: verdict", "50 gen/phase x 4: verdict",
             "50 gen/phase x 10: verdict", "as the budget grows (near, 4 replications)"
             } <= set(table.columns)
-    assert table["50 gen/phase x 10: effect [CI]"][0] == "0.1 [0, 0.2]"
+    assert table["50 gen/phase x 10: effect [CI]"][0] == "0.6 [0.5, 0.7]"
 
 
 def test_what_more_replications_decided():

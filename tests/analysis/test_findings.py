@@ -7,6 +7,7 @@ from __future__ import annotations
 
 import numpy as np
 import polars as pl
+import pytest
 
 from dart_reach.analysis import findings as fd
 from dart_reach.analysis import verdicts as vd
@@ -200,11 +201,19 @@ def test_holm_family_is_the_papers_claims_and_the_summary_counts_it():
     trials = _trials({"pre": {"grasp": 0.05, "straightness": 0.3},
                       "gross": {"grasp": 0.9, "straightness": 0.7}})
     found = fd.findings(trials)
-    assert found.filter(pl.col("own"))["p_holm"].is_nan().all()
-    headline = found.filter(~pl.col("own") & pl.col("p").is_not_nan())
+    assert found.filter(pl.col("own") | pl.col("infants"))["p_holm"].is_nan().all()
+    headline = fd.reading(found).filter(pl.col("p").is_not_nan())
     assert (headline["p_holm"] >= headline["p"]).all()
     counts = fd.summary(found)
     assert counts[vd.REPRODUCED] >= counts["reproduced (Holm)"] >= 1
-    assert sum(counts[v] for v in vd.VERDICTS) == found.filter(~pl.col("own")).height
-    assert sum(fd.summary(found, own=True)[v] for v in vd.VERDICTS) == \
-        found.filter(pl.col("own")).height
+    assert sum(counts[v] for v in vd.VERDICTS) == found.filter(
+        ~pl.col("own") & ~pl.col("infants")).height
+    for who, rows in ((fd.OWN, found.filter(pl.col("own"))),
+                      (fd.INFANTS, found.filter(~pl.col("own") & pl.col("infants")))):
+        assert rows.height > 0 and sum(fd.summary(found, who)[v] for v in vd.VERDICTS) \
+            == rows.height
+    assert set(fd.reading(found, fd.INFANTS)["claim"]) == {
+        "T2 reach onset", "T6 anticipatory grasp", "T7 smoother reach (infants)",
+        "V1 motor suppression at the start of gross"}
+    with pytest.raises(ValueError, match="reading"):
+        fd.reading(found, "robots")

@@ -81,3 +81,42 @@ def test_a_table_of_the_older_format_loses_nothing(trained, tmp_path):
     assert results.sessions(migrated / results.BASELINE) == [dict(entry, rows=3 * 45)]
     assert load_evaluation(migrated, None).drop("session").equals(every)
     assert results.migrate(migrated, entry) == []  # current: left alone
+
+
+def test_a_large_table_is_stored_in_parts_and_read_as_one(tmp_path, monkeypatch):
+    """Over PART_BYTES a table is written in parts (each at most PART_BYTES), read back as the
+    one table it is with its provenance; written again small, it is one file and the parts go;
+    and the committed tables are each under 5 MB (a tracked file's limit)."""
+    import numpy as np
+
+    rng = np.random.default_rng(0)
+    table = pl.DataFrame({"notation": np.repeat(["pre", "gross", "fine"], 20_000),
+                          "trial": np.arange(60_000),
+                          "speed": rng.normal(size=60_000)})
+    path = tmp_path / results.DEVELOPMENT
+    entry = {"command": "test", "rows": table.height}
+    monkeypatch.setattr(results, "PART_BYTES", 200_000)
+    results.write_table(path, table, [entry])
+    parts = results.stored_files(path)
+    assert not path.exists() and len(parts) >= 2
+    assert all(p.parent == results.parts_folder(path) and p.stat().st_size <= 200_000
+               for p in parts)
+    assert results.exists(path) and results.is_current(path)
+    assert results.read_table(path).equals(results.quantised(table))
+    assert results.sessions(path) == [entry]
+    monkeypatch.setattr(results, "PART_BYTES", 50_000_000)
+    results.write_table(path, table.head(10), [entry])
+    assert results.stored_files(path) == [path] and not results.parts_folder(path).exists()
+    assert results.read_table(path).equals(results.quantised(table.head(10)))
+    assert results.read_table(tmp_path / "none.parquet") is None
+    assert not results.exists(tmp_path / "none.parquet")
+
+
+def test_every_committed_table_file_is_under_5_mb():
+    from pathlib import Path
+
+    recordings = Path(__file__).resolve().parents[2] / "recordings"
+    files = list(recordings.glob("**/*.parquet"))
+    assert files
+    assert max(f.stat().st_size for f in files) < 5_000_000, \
+        [f for f in files if f.stat().st_size >= 5_000_000]

@@ -9,7 +9,7 @@ import polars as pl
 from matplotlib.figure import Figure
 from matplotlib.lines import Line2D
 
-from .. import budgets, verdicts
+from .. import budgets, findings, verdicts
 
 #: Colours of the verdicts (as the report's table).
 VERDICT_COLOURS = {verdicts.REPRODUCED: "#2ca02c", verdicts.CONTRADICTED: "#d62728",
@@ -26,7 +26,8 @@ def forest_figure(by_budget: pl.DataFrame, own: bool = False) -> Figure:
     paper's way. The marker's colour is the verdict, its shape the budget; a claim without a
     bounded interval at a budget (Friedman's W, an underpowered or unrun rule) has no marker
     there."""
-    scored = budgets.toward_paper(by_budget).filter(pl.col("own") == own)
+    scored = budgets.toward_paper(by_budget)
+    scored = findings.reading(scored, findings.OWN if own else findings.ROBOTS)
     claims = scored["claim"].unique(maintain_order=True).to_list()
     labels = sorted(scored.select("generations_per_phase", "replications", "scene")
                     .unique().rows())
