@@ -19,6 +19,8 @@ from __future__ import annotations
 
 import polars as pl
 
+from . import stats
+
 #: A replication babbling in fewer than this share of its trials is still.
 STILL_SHARE = 0.05
 STILL, BABBLING = "still", "babbling"
@@ -80,8 +82,9 @@ def by_strategy(table: pl.DataFrame) -> pl.DataFrame:
     """Per strategy (``with_strategy``'s table): its replications, robots and trials, and
     the mean of each factor of the fitness over its trials; still first."""
     reps = table.group_by("strategy").agg(pl.col("replication").n_unique().alias("replications"))
-    return _means(table, ["strategy"]).join(reps, on="strategy").select(
-        "strategy", "replications", "robots", "trials", *COLUMNS)
+    return (_means(table, ["strategy"]).join(reps, on="strategy")
+            .select("strategy", "replications", "robots", "trials", *COLUMNS)
+            .sort("strategy", descending=True))
 
 
 def by_sector(table: pl.DataFrame) -> pl.DataFrame:
@@ -104,3 +107,23 @@ def headed(table: pl.DataFrame) -> pl.DataFrame:
     """``table`` with the factors' columns under their headings (``COLUMNS``)."""
     return table.rename({k: v for k, v in COLUMNS.items() if k in table.columns})
 
+
+
+def compare(per_replication: pl.DataFrame, columns=("fitness", "touch_share", "touch_level",
+                                                    "scoring_share", "scoring_level",
+                                                    "sight_share", "sight_level",
+                                                    "contact_after_first")) -> pl.DataFrame:
+    """Still against babbling with the replication as the unit (``by_replication``'s
+    table): per factor, each strategy's median over its replications, the ratio still /
+    babbling of the medians and the two-sided Mann-Whitney p (``stats.mann_whitney``)."""
+    rows = []
+    for column in columns:
+        test = stats.mann_whitney(per_replication, column, "strategy", order=[STILL, BABBLING])
+        medians = {s: per_replication.filter(pl.col("strategy") == s)[column].median()
+                   for s in (STILL, BABBLING)}
+        rows.append({"factor": COLUMNS[column], "still": medians[STILL],
+                     "babbling": medians[BABBLING],
+                     "still / babbling": medians[STILL] / medians[BABBLING]
+                     if medians[BABBLING] else float("nan"),
+                     "p": float(test["p"][0])})
+    return pl.DataFrame(rows)
