@@ -33,9 +33,11 @@ RUN = "replication-50x10"
 TABLE = "fitness-terms.parquet"
 
 
-def robot_trials(run: RunDirectory, robot: robots.ShippedRobot) -> list[dict]:
+def robot_trials(run: RunDirectory, robot: robots.ShippedRobot,
+                 positions: int | None = None) -> list[dict]:
     """One row per systematic trial of a shipped robot under normal senses, run as the
-    post-evaluation runs it (``systematic.run_robot``): who, where, ``fitness_terms``."""
+    post-evaluation runs it (``systematic.run_robot``): who, where, ``fitness_terms``;
+    ``positions``: only the first so many of the 45 (a check)."""
     phase_key = next(p.key for c, p in run.unique_phases()
                      if c.name == robot.condition and p.name == robot.phase)
     job = stored_robot_job(run, phase_key, "normal", robot.replication, robot.rank)
@@ -45,7 +47,7 @@ def robot_trials(run: RunDirectory, robot: robots.ShippedRobot) -> list[dict]:
     runner = worker_trial(job.world, job.trial)
     network = network_for(decode(job.genome, as_groups(job.phase.free_groups)), job.trial)
     rows = []
-    for k, position in enumerate(runner.world.systematic_points()):
+    for k, position in enumerate(runner.world.systematic_points()[:positions]):
         sector = k // POINTS_PER_SECTOR
         data = runner.run(network, sector, position)
         rows.append({"phase": robot.phase, "replication": robot.replication, "rank": robot.rank,
@@ -81,6 +83,17 @@ def _number(value) -> str:
     return f"{value:.3g}" if value is not None and np.isfinite(value) else "–"
 
 
+def _sectors(by_sector: pl.DataFrame) -> dict[str, str]:
+    """``sectors.still_ahead`` / ``sectors.babbling_ahead``: the sectors in which each
+    strategy's mean fitness is the higher, as a list ("none" when none)."""
+    wide = by_sector.pivot("strategy", index="sector", values="fitness").sort("sector")
+    out = {}
+    for s, other in ((stillness.STILL, stillness.BABBLING), (stillness.BABBLING, stillness.STILL)):
+        ahead = wide.filter(pl.col(s) > pl.col(other))["sector"].to_list()
+        out[f"sectors.{s}_ahead"] = ", ".join(map(str, ahead)) or "none"
+    return out
+
+
 def values(recordings: Path, markdown_table) -> dict[str, str]:
     """The values of docs/results/templates/stillness.md: the tables (``by_strategy``,
     ``by_sector``, ``by_replication``, through ``markdown_table``), the rule's threshold and
@@ -101,6 +114,18 @@ def values(recordings: Path, markdown_table) -> dict[str, str]:
                                           "fitness", "sight_share", "touch_share",
                                           "touch_level", "touched", "touches",
                                           "contact_after_first")))}
+    compared = stillness.compare(t["by_replication"])
+    out["compare"] = markdown_table(compared)
+    p = dict(zip(compared["factor"], compared["p"]))
+    out["p.fitness"] = _number(p["fitness"])
+    out["p.touch_share"] = _number(p["steps in touch"])
+    out["p.touch_level"] = _number(p["p_touch in touch"])
+    out.update(_sectors(t["by_sector"]))
+    per = {r["strategy"]: r for r in t["by_strategy"].iter_rows(named=True)}
+    still, babbling = per[stillness.STILL], per[stillness.BABBLING]
+    out["ratio.touch_share"] = f"{still['touch_share'] / babbling['touch_share']:.1f}"
+    out["ratio.touch_level"] = f"{babbling['touch_level'] / still['touch_level']:.1f}"
+    out["ratio.bout"] = f"{still['contact_bout_s'] / babbling['contact_bout_s']:.1f}"
     for row in t["by_strategy"].iter_rows(named=True):
         s = row["strategy"]
         for column in stillness.COLUMNS:
