@@ -108,7 +108,8 @@ def values(recordings: Path, markdown_table) -> dict[str, str]:
            "by_sector": markdown_table(stillness.headed(
                t["by_sector"].select("strategy", "sector", "trials", "touched", "touch_share",
                                      "touch_level", "sight_level", "scoring_share",
-                                     "contact_after_first", "fitness"))),
+                                     "touches", "contact_after_first", "contact_bout_s",
+                                     "fitness"))),
            "by_replication": markdown_table(stillness.headed(
                t["by_replication"].select("replication", "strategy", "babbling_share",
                                           "fitness", "sight_share", "touch_share",

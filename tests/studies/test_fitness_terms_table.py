@@ -9,6 +9,7 @@ import polars as pl
 import pytest
 
 from dart_reach import robots
+from dart_reach.evolution.provenance import simd
 from dart_reach.evolution.rundir import RunDirectory
 from dart_reach.measures.fitness import TERMS
 from dart_reach.postevaluation import results
@@ -41,7 +42,12 @@ def test_its_fitness_is_the_committed_post_evaluation():
 
 
 def test_a_robot_run_again_gives_its_rows():
-    """The still robot of replication 9 (rank 1) on its first sector's 5 positions."""
+    """The still robot of replication 9 (rank 1) on its first sector's 5 positions. Bit for
+    bit only at the numpy dispatch level the table was written at (docs/guides/runs.md,
+    "Results"): elsewhere the trials may part, and the check is skipped."""
+    written = {s.get("simd") for s in results.sessions(RUN_DIR / stillness.TABLE)}
+    if written != {simd()}:
+        pytest.skip(f"table written at numpy's {written}, this process runs at {simd()}")
     run = RunDirectory.open(RUN_DIR)
     robot = next(r for r in robots.robots("pre", run=stillness.RUN)
                  if (r.replication, r.rank) == (9, 1))
