@@ -10,9 +10,8 @@ The rule (``STILL_SHARE``): a replication is *still* when fewer than 1 in 20 of 
 pre-reaching robots' post-evaluation trials under normal senses babble (``babbling``, the
 measure of IV-A-1 in ``measures.kinematics``), *babbling* otherwise. Populations are one kind
 or the other: a babbling one babbles in a large share of its trials (random networks already
-do in some: docs/results/replication.md), a still one in none; the 5 % margin lets a still
-population have a stray trial (11 of its 225) without changing kind, and no population of
-the committed runs lies near it.
+do in some: docs/results/replication.md), a still one in none; the margin lets a still
+population have a stray babbling trial without changing kind.
 """
 
 from __future__ import annotations
@@ -88,8 +87,8 @@ def by_strategy(table: pl.DataFrame) -> pl.DataFrame:
 
 
 def by_sector(table: pl.DataFrame) -> pl.DataFrame:
-    """Per strategy and sector (1-9 as in the paper, here 0-8): the factors' means over the
-    strategy's trials in the sector."""
+    """Per strategy and sector (0-8, ``World.sector_point``'s numbering): the factors' means
+    over the strategy's trials in the sector."""
     return _means(table, ["strategy", "sector"]).select("strategy", "sector", "trials", *COLUMNS)
 
 
@@ -106,7 +105,6 @@ def by_replication(table: pl.DataFrame, strategy: pl.DataFrame) -> pl.DataFrame:
 def headed(table: pl.DataFrame) -> pl.DataFrame:
     """``table`` with the factors' columns under their headings (``COLUMNS``)."""
     return table.rename({k: v for k, v in COLUMNS.items() if k in table.columns})
-
 
 
 def compare(per_replication: pl.DataFrame, columns=("fitness", "touch_share", "touch_level",

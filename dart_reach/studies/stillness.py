@@ -13,13 +13,14 @@ committed table and the run's evaluation.parquet (``values``; ``make results``).
 from __future__ import annotations
 
 import argparse
+import math
 from pathlib import Path
 
 import numpy as np
 import polars as pl
 
 from .. import robots
-from ..analysis import stillness
+from ..analysis import budgets, stillness
 from ..evolution.backends import worker_trial
 from ..evolution.genome import as_groups, decode
 from ..evolution.rundir import RunDirectory
@@ -101,9 +102,17 @@ def values(recordings: Path, markdown_table) -> dict[str, str]:
     factor's mean over the strategy's trials (``stillness.COLUMNS``), with ``.segments`` (the
     inner faces touching when in touch) and ``.replications``."""
     t = tables(recordings)
+    run = RunDirectory.open(recordings / RUN)
+    robots_per = t["trials"].select("replication", "rank").unique().group_by("replication").len()
+    evaluated = t["strategy"]["trials"].max() // t["trials"].group_by(
+        "replication", "rank").len()["len"].max()
     out = {"run": RUN, "still_share": f"{stillness.STILL_SHARE:.0%}".replace("%", " %"),
            "trials_per_robot": str(t["trials"].group_by("replication", "rank").len()["len"]
                                    .max()),
+           "replications": str(t["strategy"].height), "steps": str(run.settings.steps),
+           "generations": str(budgets.generations_per_phase(run)[0]),
+           "robots_per_replication": str(robots_per["len"].max()),
+           "evaluated_robots": str(evaluated),
            "by_strategy": markdown_table(stillness.headed(t["by_strategy"])),
            "by_sector": markdown_table(stillness.headed(
                t["by_sector"].select("strategy", "sector", "trials", "touched", "touch_share",
@@ -118,6 +127,9 @@ def values(recordings: Path, markdown_table) -> dict[str, str]:
     compared = stillness.compare(t["by_replication"])
     out["compare"] = markdown_table(compared)
     p = dict(zip(compared["factor"], compared["p"]))
+    counts = [t["strategy"].filter(pl.col("strategy") == s).height
+              for s in (stillness.STILL, stillness.BABBLING)]
+    out["p.smallest"] = _number(2 / math.comb(sum(counts), counts[0]))
     out["p.fitness"] = _number(p["fitness"])
     out["p.touch_share"] = _number(p["steps in touch"])
     out["p.touch_level"] = _number(p["p_touch in touch"])
