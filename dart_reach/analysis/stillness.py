@@ -125,3 +125,27 @@ def compare(per_replication: pl.DataFrame, columns=("fitness", "touch_share", "t
                      if medians[BABBLING] else float("nan"),
                      "p": float(test["p"][0])})
     return pl.DataFrame(rows)
+
+
+#: What the results page says in words of the two strategies (docs/results/stillness.md, "In
+#: plain words"): a still robot is in touch on more steps, for longer touches and more of the
+#: time after its first touch; a babbling robot touches with more faces, in more trials; on
+#: most scoring steps of both, touch sets the score.
+STATED = (
+    ("a still robot is in touch on more steps", "touch_share", STILL),
+    ("its touches last longer", "contact_bout_s", STILL),
+    ("it is in touch more of the time after its first touch", "contact_after_first", STILL),
+    ("a babbling robot touches with more faces", "touch_level", BABBLING),
+    ("a babbling robot touches the ball in more trials", "touched", BABBLING),
+)
+
+
+def contradicted(still: dict, babbling: dict) -> list[str]:
+    """Which of the page's statements (``STATED``, and that p_touch is the smaller term on
+    most scoring steps of both) the strategies' means (``by_strategy``'s rows) contradict."""
+    rows = {STILL: still, BABBLING: babbling}
+    wrong = [text for text, column, larger in STATED
+             if not rows[larger][column] > rows[BABBLING if larger == STILL else STILL][column]]
+    wrong += [f"touch sets the score on most of the {s} robots' scoring steps"
+              for s, row in rows.items() if not row["touch_limits"] > 0.5]
+    return wrong

@@ -25,7 +25,7 @@ from ..evolution.backends import worker_trial
 from ..evolution.genome import as_groups, decode
 from ..evolution.rundir import RunDirectory
 from ..measures.fitness import trial_fitness_terms
-from ..model.task import network_for
+from ..model.task import N_SEGMENTS, network_for
 from ..model.world import POINTS_PER_SECTOR
 from ..postevaluation import results
 from ..postevaluation.systematic import stored_robot_job
@@ -136,6 +136,10 @@ def values(recordings: Path, markdown_table) -> dict[str, str]:
     out.update(_sectors(t["by_sector"]))
     per = {r["strategy"]: r for r in t["by_strategy"].iter_rows(named=True)}
     still, babbling = per[stillness.STILL], per[stillness.BABBLING]
+    wrong = stillness.contradicted(still, babbling)
+    if wrong:
+        raise ValueError(f"docs/results/templates/stillness.md states what the data no longer "
+                         f"say: {'; '.join(wrong)}")
     out["ratio.touch_share"] = f"{still['touch_share'] / babbling['touch_share']:.1f}"
     out["ratio.touch_level"] = f"{babbling['touch_level'] / still['touch_level']:.1f}"
     out["ratio.bout"] = f"{still['contact_bout_s'] / babbling['contact_bout_s']:.1f}"
@@ -146,7 +150,7 @@ def values(recordings: Path, markdown_table) -> dict[str, str]:
         for column in ("sight_share", "touch_share", "scoring_share", "touched",
                        "contact_after_first", "touch_limits"):
             out[f"{s}.{column}_pc"] = f"{row[column]:.0%}".replace("%", " %")
-        out[f"{s}.segments"] = f"{row['touch_level'] * 16:.1f}"
+        out[f"{s}.segments"] = f"{row['touch_level'] * N_SEGMENTS:.1f}"
         reps = t["strategy"].filter(pl.col("strategy") == s)["replication"].to_list()
         out[f"{s}.replications"] = ", ".join(map(str, reps))
         out[f"{s}.count"] = str(len(reps))

@@ -84,3 +84,16 @@ def test_strategies_compared_with_the_replication_as_the_unit():
     assert fit["p"] == pytest.approx(0.1)  # exact: 2 of the 20 splits are as extreme
     assert touch["p"] == pytest.approx(1.0) and touch["still / babbling"] == 1.0
     assert fit["factor"] == "fitness" and touch["factor"] == "steps in touch"
+
+
+def test_the_page_s_statements_are_checked_against_the_means():
+    still = {"touch_share": 0.2, "contact_bout_s": 4.0, "contact_after_first": 0.5,
+             "touch_level": 0.1, "touched": 0.4, "touch_limits": 0.99}
+    babbling = {"touch_share": 0.1, "contact_bout_s": 1.0, "contact_after_first": 0.2,
+                "touch_level": 0.2, "touched": 0.7, "touch_limits": 0.9}
+    assert stillness.contradicted(still, babbling) == []
+    assert stillness.contradicted(still | {"touch_share": 0.1}, babbling) == [
+        "a still robot is in touch on more steps"]
+    assert stillness.contradicted(still, babbling | {"touch_level": 0.05, "touch_limits": 0.4}) \
+        == ["a babbling robot touches with more faces",
+            "touch sets the score on most of the babbling robots' scoring steps"]
