@@ -26,7 +26,7 @@ import numpy as np
 
 import polars as pl
 
-from . import scene_study
+from . import scene_study, stillness
 from ..analysis import budgets, calibration, findings, report, verdicts
 from ..evolution import cost
 from ..evolution.conditions import list_conditions
@@ -349,10 +349,16 @@ def cost_values(recordings: Path) -> dict[str, str]:
             "fig10.efficiency": f"{RAY_EFFICIENCY[0]:g}–{RAY_EFFICIENCY[1]:g}"}
 
 
+def stillness_values(recordings: Path) -> dict[str, str]:
+    """The values of docs/results/templates/stillness.md (``stillness.values``)."""
+    return stillness.values(recordings, markdown_table)
+
+
 #: Each doc rendered from a template: its name and the function of the recordings directory
 #: giving its values.
 DOCS: dict[str, Callable[[Path], dict[str, str]]] = {"scene-study.md": scene_study_values,
-                                                    "replication.md": replication_values}
+                                                    "replication.md": replication_values,
+                                                    "stillness.md": stillness_values}
 #: Each doc that is a table alone: its path under docs/results and the function of the
 #: recordings directory giving its text.
 TABLES: dict[str, Callable[[Path], str]] = {

@@ -1,0 +1,151 @@
+"""Why stillness pays (issue 48, point 4): Eq. 5's fitness taken apart per strategy.
+
+At 50 generations per phase some pre-reaching populations babble and some hold the hand
+still; ``strategies`` tells them apart from the post-evaluation table by a rule fixed before
+their fitness was compared, and ``by_strategy``, ``by_sector`` and ``by_replication`` average
+the per-trial factors of the fitness (``measures.fitness.fitness_terms``: one row per trial of
+a table such as ``studies.stillness``'s) over each strategy's trials.
+
+The rule (``STILL_SHARE``): a replication is *still* when fewer than 1 in 20 of its
+pre-reaching robots' post-evaluation trials under normal senses babble (``babbling``, the
+measure of IV-A-1 in ``measures.kinematics``), *babbling* otherwise. Populations are one kind
+or the other: a babbling one babbles in a large share of its trials (random networks already
+do in some: docs/results/replication.md), a still one in none; the margin lets a still
+population have a stray babbling trial without changing kind.
+"""
+
+from __future__ import annotations
+
+import polars as pl
+
+from . import stats
+
+#: A replication babbling in fewer than this share of its trials is still.
+STILL_SHARE = 0.05
+STILL, BABBLING = "still", "babbling"
+#: The columns ``by_strategy`` and the others average, with their headings.
+COLUMNS = {
+    "fitness": "fitness",
+    "sight_share": "steps in sight",
+    "sight_level": "p_sight in sight",
+    "touch_share": "steps in touch",
+    "touch_level": "p_touch in touch",
+    "scoring_share": "steps scoring",
+    "scoring_level": "p_multimodal scoring",
+    "touch_limits": "touch the min",
+    "touched": "trials with a touch",
+    "touches": "touches per trial",
+    "contact_after_first": "in touch after 1st",
+    "contact_bout_s": "touch length (s)",
+}
+
+
+def strategies(evaluation: pl.DataFrame, phase: str = "pre", senses: str = "normal",
+               still_share: float = STILL_SHARE) -> pl.DataFrame:
+    """Per replication of ``phase`` in a post-evaluation table (trained robots, not the
+    baseline): ``trials``, ``babbling_share`` (the share of its trials under ``senses`` that
+    babble) and ``strategy``: ``STILL`` below ``still_share``, else ``BABBLING``."""
+    rows = evaluation.filter((pl.col("phase") == phase) & (pl.col("senses") == senses))
+    if "baseline" in rows.columns:
+        rows = rows.filter(~pl.col("baseline"))
+    return (rows.group_by("replication")
+            .agg(pl.len().alias("trials"),
+                 pl.col("babbling").cast(pl.Float64).mean().alias("babbling_share"))
+            .with_columns(pl.when(pl.col("babbling_share") < still_share).then(pl.lit(STILL))
+                          .otherwise(pl.lit(BABBLING)).alias("strategy"))
+            .sort("replication"))
+
+
+def with_strategy(terms: pl.DataFrame, strategy: pl.DataFrame) -> pl.DataFrame:
+    """``terms`` (one row per trial, with ``replication``) with its replication's strategy
+    and ``touched`` (1.0 when the trial has a touch); every trial's replication must have
+    one."""
+    out = terms.join(strategy.select("replication", "strategy"), on="replication", how="left")
+    if out["strategy"].null_count():
+        missing = sorted(set(out.filter(pl.col("strategy").is_null())["replication"]))
+        raise ValueError(f"no strategy for replication(s) {missing}")
+    return out.with_columns((pl.col("touches") > 0).cast(pl.Float64).alias("touched"))
+
+
+def _means(table: pl.DataFrame, by: list[str]) -> pl.DataFrame:
+    """Mean of each of ``COLUMNS`` over the trials of each group of ``by`` (a level or a
+    duration over the trials that have one), with the group's robots and trials."""
+    return (table.group_by(by)
+            .agg(pl.struct("replication", "rank").n_unique().alias("robots"),
+                 pl.len().alias("trials"),
+                 *[pl.col(c).fill_nan(None).mean().alias(c) for c in COLUMNS])
+            .sort(by, descending=[c == "strategy" for c in by]))
+
+
+def by_strategy(table: pl.DataFrame) -> pl.DataFrame:
+    """Per strategy (``with_strategy``'s table): its replications, robots and trials, and
+    the mean of each factor of the fitness over its trials; still first."""
+    reps = table.group_by("strategy").agg(pl.col("replication").n_unique().alias("replications"))
+    return (_means(table, ["strategy"]).join(reps, on="strategy")
+            .select("strategy", "replications", "robots", "trials", *COLUMNS)
+            .sort("strategy", descending=True))
+
+
+def by_sector(table: pl.DataFrame) -> pl.DataFrame:
+    """Per strategy and sector (0-8, ``World.sector_point``'s numbering): the factors' means
+    over the strategy's trials in the sector."""
+    return _means(table, ["strategy", "sector"]).select("strategy", "sector", "trials", *COLUMNS)
+
+
+def by_replication(table: pl.DataFrame, strategy: pl.DataFrame) -> pl.DataFrame:
+    """Per replication: its strategy, babbling share (``strategies``) and the factors' means
+    over its robots' trials."""
+    return (_means(table, ["replication"]).drop("strategy", strict=False)
+            .join(strategy.select("replication", "babbling_share", "strategy"),
+                  on="replication")
+            .select("replication", "strategy", "babbling_share", "robots", "trials", *COLUMNS)
+            .sort("replication"))
+
+
+def headed(table: pl.DataFrame) -> pl.DataFrame:
+    """``table`` with the factors' columns under their headings (``COLUMNS``)."""
+    return table.rename({k: v for k, v in COLUMNS.items() if k in table.columns})
+
+
+def compare(per_replication: pl.DataFrame, columns=("fitness", "touch_share", "touch_level",
+                                                    "scoring_share", "scoring_level",
+                                                    "sight_share", "sight_level",
+                                                    "contact_after_first")) -> pl.DataFrame:
+    """Still against babbling with the replication as the unit (``by_replication``'s
+    table): per factor, each strategy's median over its replications, the ratio still /
+    babbling of the medians and the two-sided Mann-Whitney p (``stats.mann_whitney``)."""
+    rows = []
+    for column in columns:
+        test = stats.mann_whitney(per_replication, column, "strategy", order=[STILL, BABBLING])
+        medians = {s: per_replication.filter(pl.col("strategy") == s)[column].median()
+                   for s in (STILL, BABBLING)}
+        rows.append({"factor": COLUMNS[column], "still": medians[STILL],
+                     "babbling": medians[BABBLING],
+                     "still / babbling": medians[STILL] / medians[BABBLING]
+                     if medians[BABBLING] else float("nan"),
+                     "p": float(test["p"][0])})
+    return pl.DataFrame(rows)
+
+
+#: What the results page says in words of the two strategies (docs/results/stillness.md, "In
+#: plain words"): a still robot is in touch on more steps, for longer touches and more of the
+#: time after its first touch; a babbling robot touches with more faces, in more trials; on
+#: most scoring steps of both, touch sets the score.
+STATED = (
+    ("a still robot is in touch on more steps", "touch_share", STILL),
+    ("its touches last longer", "contact_bout_s", STILL),
+    ("it is in touch more of the time after its first touch", "contact_after_first", STILL),
+    ("a babbling robot touches with more faces", "touch_level", BABBLING),
+    ("a babbling robot touches the ball in more trials", "touched", BABBLING),
+)
+
+
+def contradicted(still: dict, babbling: dict) -> list[str]:
+    """Which of the page's statements (``STATED``, and that p_touch is the smaller term on
+    most scoring steps of both) the strategies' means (``by_strategy``'s rows) contradict."""
+    rows = {STILL: still, BABBLING: babbling}
+    wrong = [text for text, column, larger in STATED
+             if not rows[larger][column] > rows[BABBLING if larger == STILL else STILL][column]]
+    wrong += [f"touch sets the score on most of the {s} robots' scoring steps"
+              for s, row in rows.items() if not row["touch_limits"] > 0.5]
+    return wrong

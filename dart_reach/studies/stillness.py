@@ -1,0 +1,176 @@
+"""Why stillness pays (issue 48, point 4): the shipped pre-reachers' trials run again, their
+fitness taken apart (Eq. 5), and the values of docs/results/stillness.md.
+
+``python -m dart_reach.studies.stillness [ROOT]`` runs the 45 systematic trials (normal
+senses) of every shipped pre-reaching robot of ``RUN`` (the best 2 of each of its 10
+replications: ``robots.robots("pre", run=RUN)``) in this one process and writes one row per
+trial with ``measures.fitness.fitness_terms`` to ``recordings/RUN/TABLE``, stored as the
+post-evaluation's tables are (``postevaluation.results``: zstd, float32, the session that
+wrote it). 900 trials, a few minutes on one core. The docs are then rendered from that
+committed table and the run's evaluation.parquet (``values``; ``make results``).
+"""
+
+from __future__ import annotations
+
+import argparse
+import math
+from pathlib import Path
+
+import numpy as np
+import polars as pl
+
+from .. import robots
+from ..analysis import budgets, stillness
+from ..evolution.backends import worker_trial
+from ..evolution.genome import as_groups, decode
+from ..evolution.rundir import RunDirectory
+from ..measures.fitness import trial_fitness_terms
+from ..model.task import N_SEGMENTS, network_for
+from ..model.world import POINTS_PER_SECTOR
+from ..postevaluation import results
+from ..postevaluation.systematic import stored_robot_job
+
+RUN = "replication-50x10"
+TABLE = "fitness-terms.parquet"
+
+
+def robot_trials(run: RunDirectory, robot: robots.ShippedRobot,
+                 positions: int | None = None) -> list[dict]:
+    """One row per systematic trial of a shipped robot under normal senses, run as the
+    post-evaluation runs it (``systematic.run_robot``): who, where, ``fitness_terms``;
+    ``positions``: only the first so many of the 45 (a check)."""
+    phase_key = next(p.key for c, p in run.unique_phases()
+                     if c.name == robot.condition and p.name == robot.phase)
+    job = stored_robot_job(run, phase_key, "normal", robot.replication, robot.rank)
+    if not np.array_equal(job.genome, robot.genome):
+        raise ValueError(f"{robot.describe()}: not the genome of {run.out.name}'s final "
+                         f"population at that replication and rank")
+    runner = worker_trial(job.world, job.trial)
+    network = network_for(decode(job.genome, as_groups(job.phase.free_groups)), job.trial)
+    rows = []
+    for k, position in enumerate(runner.world.systematic_points()[:positions]):
+        sector = k // POINTS_PER_SECTOR
+        data = runner.run(network, sector, position)
+        rows.append({"phase": robot.phase, "replication": robot.replication, "rank": robot.rank,
+                     "trial": k, "sector": sector,
+                     **trial_fitness_terms(data, job.world.control_dt)})
+    return rows
+
+
+def build(root: Path, run_name: str = RUN, progress=print) -> pl.DataFrame:
+    """Every shipped pre-reacher of ``run_name``'s trials (``robot_trials``), one table."""
+    run = RunDirectory.open(root / "recordings" / run_name)
+    shipped = sorted(robots.robots("pre", run=run_name), key=lambda r: (r.replication, r.rank))
+    rows = []
+    for i, robot in enumerate(shipped):
+        rows += robot_trials(run, robot)
+        progress(f"{i + 1}/{len(shipped)} {robot.describe()}")
+    return pl.DataFrame(rows)
+
+
+def tables(recordings: Path, run_name: str = RUN) -> dict[str, pl.DataFrame]:
+    """``strategy`` (per replication, from the run's evaluation.parquet), ``trials`` (the
+    committed per-trial terms with their strategy) and the three summaries."""
+    run_dir = recordings / run_name
+    strategy = stillness.strategies(results.read_table(run_dir / results.EVALUATION))
+    trials = stillness.with_strategy(results.read_table(run_dir / TABLE), strategy)
+    return {"strategy": strategy, "trials": trials,
+            "by_strategy": stillness.by_strategy(trials),
+            "by_sector": stillness.by_sector(trials),
+            "by_replication": stillness.by_replication(trials, strategy)}
+
+
+def _number(value) -> str:
+    return f"{value:.3g}" if value is not None and np.isfinite(value) else "–"
+
+
+def _sectors(by_sector: pl.DataFrame) -> dict[str, str]:
+    """``sectors.still_ahead`` / ``sectors.babbling_ahead``: the sectors in which each
+    strategy's mean fitness is the higher, as a list ("none" when none)."""
+    wide = by_sector.pivot("strategy", index="sector", values="fitness").sort("sector")
+    out = {}
+    for s, other in ((stillness.STILL, stillness.BABBLING), (stillness.BABBLING, stillness.STILL)):
+        ahead = wide.filter(pl.col(s) > pl.col(other))["sector"].to_list()
+        out[f"sectors.{s}_ahead"] = ", ".join(map(str, ahead)) or "none"
+    return out
+
+
+def values(recordings: Path, markdown_table) -> dict[str, str]:
+    """The values of docs/results/templates/stillness.md: the tables (``by_strategy``,
+    ``by_sector``, ``by_replication``, through ``markdown_table``), the rule's threshold and
+    the replications of each strategy, and ``<strategy>.<factor>`` for the prose: each
+    factor's mean over the strategy's trials (``stillness.COLUMNS``), with ``.segments`` (the
+    inner faces touching when in touch) and ``.replications``."""
+    t = tables(recordings)
+    run = RunDirectory.open(recordings / RUN)
+    robots_per = t["trials"].select("replication", "rank").unique().group_by("replication").len()
+    evaluated = t["strategy"]["trials"].max() // t["trials"].group_by(
+        "replication", "rank").len()["len"].max()
+    out = {"run": RUN, "still_share": f"{stillness.STILL_SHARE:.0%}".replace("%", " %"),
+           "trials_per_robot": str(t["trials"].group_by("replication", "rank").len()["len"]
+                                   .max()),
+           "replications": str(t["strategy"].height), "steps": str(run.settings.steps),
+           "generations": str(budgets.generations_per_phase(run)[0]),
+           "robots_per_replication": str(robots_per["len"].max()),
+           "evaluated_robots": str(evaluated),
+           "by_strategy": markdown_table(stillness.headed(t["by_strategy"])),
+           "by_sector": markdown_table(stillness.headed(
+               t["by_sector"].select("strategy", "sector", "trials", "touched", "touch_share",
+                                     "touch_level", "sight_level", "scoring_share",
+                                     "touches", "contact_after_first", "contact_bout_s",
+                                     "fitness"))),
+           "by_replication": markdown_table(stillness.headed(
+               t["by_replication"].select("replication", "strategy", "babbling_share",
+                                          "fitness", "sight_share", "touch_share",
+                                          "touch_level", "touched", "touches",
+                                          "contact_after_first")))}
+    compared = stillness.compare(t["by_replication"])
+    out["compare"] = markdown_table(compared)
+    p = dict(zip(compared["factor"], compared["p"]))
+    counts = [t["strategy"].filter(pl.col("strategy") == s).height
+              for s in (stillness.STILL, stillness.BABBLING)]
+    out["p.smallest"] = _number(2 / math.comb(sum(counts), counts[0]))
+    out["p.fitness"] = _number(p["fitness"])
+    out["p.touch_share"] = _number(p["steps in touch"])
+    out["p.touch_level"] = _number(p["p_touch in touch"])
+    out.update(_sectors(t["by_sector"]))
+    per = {r["strategy"]: r for r in t["by_strategy"].iter_rows(named=True)}
+    still, babbling = per[stillness.STILL], per[stillness.BABBLING]
+    wrong = stillness.contradicted(still, babbling)
+    if wrong:
+        raise ValueError(f"docs/results/templates/stillness.md states what the data no longer "
+                         f"say: {'; '.join(wrong)}")
+    out["ratio.touch_share"] = f"{still['touch_share'] / babbling['touch_share']:.1f}"
+    out["ratio.touch_level"] = f"{babbling['touch_level'] / still['touch_level']:.1f}"
+    out["ratio.bout"] = f"{still['contact_bout_s'] / babbling['contact_bout_s']:.1f}"
+    for row in t["by_strategy"].iter_rows(named=True):
+        s = row["strategy"]
+        for column in stillness.COLUMNS:
+            out[f"{s}.{column}"] = _number(row[column])
+        for column in ("sight_share", "touch_share", "scoring_share", "touched",
+                       "contact_after_first", "touch_limits"):
+            out[f"{s}.{column}_pc"] = f"{row[column]:.0%}".replace("%", " %")
+        out[f"{s}.segments"] = f"{row['touch_level'] * N_SEGMENTS:.1f}"
+        reps = t["strategy"].filter(pl.col("strategy") == s)["replication"].to_list()
+        out[f"{s}.replications"] = ", ".join(map(str, reps))
+        out[f"{s}.count"] = str(len(reps))
+    return out
+
+
+def main(argv=None) -> int:
+    parser = argparse.ArgumentParser(prog="python -m dart_reach.studies.stillness",
+                                     description=f"run {RUN}'s shipped pre-reachers again and "
+                                                 f"write recordings/{RUN}/{TABLE}")
+    parser.add_argument("root", nargs="?", type=Path, default=Path("."),
+                        help="the repository (default: the current directory)")
+    args = parser.parse_args(argv)
+    entry = results.session()
+    table = build(args.root)
+    entry["rows"] = table.height
+    results.write_table(args.root / "recordings" / RUN / TABLE, table, [entry])
+    print(f"wrote recordings/{RUN}/{TABLE}: {table.height} trials")
+    return 0
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())

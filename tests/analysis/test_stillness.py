@@ -1,0 +1,99 @@
+"""Still and babbling populations (``analysis.stillness``) on small tables worked by hand."""
+
+from __future__ import annotations
+
+import math
+
+import polars as pl
+import pytest
+
+from dart_reach.analysis import stillness
+from dart_reach.measures.fitness import TERMS
+
+
+def evaluation(shares: dict[int, tuple[int, int]]) -> pl.DataFrame:
+    """Pre-reachers' normal trials: per replication (babbling trials, trials); plus rows the
+    rule must ignore (another phase, other senses, the baseline) that all babble."""
+    rows = []
+    for r, (babbling, n) in shares.items():
+        rows += [{"phase": "pre", "senses": "normal", "baseline": False, "replication": r,
+                  "babbling": i < babbling} for i in range(n)]
+        rows += [{"phase": p, "senses": s, "baseline": b, "replication": r, "babbling": True}
+                 for p, s, b in (("gross", "normal", False), ("pre", "no-ball", False),
+                                 ("pre", "normal", True))] * 10
+    return pl.DataFrame(rows)
+
+
+def test_the_rule_splits_at_one_trial_in_twenty():
+    found = stillness.strategies(evaluation({0: (0, 40), 1: (1, 40), 2: (2, 40), 3: (30, 40)}))
+    assert found["babbling_share"].to_list() == pytest.approx([0, 1 / 40, 2 / 40, 30 / 40])
+    assert found["strategy"].to_list() == ["still", "still", "babbling", "babbling"]
+    assert found["trials"].to_list() == [40] * 4
+    assert stillness.strategies(evaluation({0: (1, 40)}), still_share=0.02)["strategy"][0] \
+        == "babbling"
+
+
+def terms(replication: int, rank: int, sector: int, fitness: float, touches: int,
+          sight_level: float = math.nan) -> dict:
+    row = dict.fromkeys(TERMS, 0.5)
+    return row | {"replication": replication, "rank": rank, "sector": sector,
+                  "fitness": fitness, "touches": float(touches), "sight_level": sight_level}
+
+
+def test_the_means_per_strategy_sector_and_replication():
+    table = pl.DataFrame([terms(0, 0, 0, 0.02, 1, 0.4), terms(0, 1, 1, 0.0, 0),
+                          terms(1, 0, 0, 0.01, 3, 0.2), terms(1, 0, 1, 0.03, 5, 0.3),
+                          terms(2, 0, 0, 0.05, 2, 0.6)])
+    strategy = pl.DataFrame({"replication": [0, 1, 2], "babbling_share": [0.0, 0.5, 0.4],
+                             "strategy": ["still", "babbling", "babbling"]})
+    trials = stillness.with_strategy(table, strategy)
+    assert trials["touched"].to_list() == [1.0, 0.0, 1.0, 1.0, 1.0]
+    per = stillness.by_strategy(trials)
+    assert per["strategy"].to_list() == ["still", "babbling"]
+    still, babbling = per.rows(named=True)
+    assert (still["replications"], still["robots"], still["trials"]) == (1, 2, 2)
+    assert (babbling["replications"], babbling["robots"], babbling["trials"]) == (2, 2, 3)
+    assert still["fitness"] == pytest.approx(0.01)
+    assert babbling["touches"] == pytest.approx(10 / 3)
+    assert still["sight_level"] == pytest.approx(0.4)  # the trial without one is left out
+    assert still["touched"] == pytest.approx(0.5)
+    sector = stillness.by_sector(trials).filter(pl.col("sector") == 0)
+    assert sector["strategy"].to_list() == ["still", "babbling"]
+    assert sector["fitness"].to_list() == pytest.approx([0.02, 0.03])
+    rep = stillness.by_replication(trials, strategy)
+    assert rep["replication"].to_list() == [0, 1, 2]
+    assert rep["fitness"].to_list() == pytest.approx([0.01, 0.02, 0.05])
+    assert rep["babbling_share"].to_list() == [0.0, 0.5, 0.4]
+    assert "steps in sight" in stillness.headed(per).columns
+
+
+def test_a_trial_without_a_strategy_is_refused():
+    table = pl.DataFrame([terms(0, 0, 0, 0.02, 1), terms(5, 0, 0, 0.02, 1)])
+    strategy = pl.DataFrame({"replication": [0], "babbling_share": [0.0], "strategy": ["still"]})
+    with pytest.raises(ValueError, match=r"replication\(s\) \[5\]"):
+        stillness.with_strategy(table, strategy)
+
+
+def test_strategies_compared_with_the_replication_as_the_unit():
+    per = pl.DataFrame({"strategy": ["still"] * 3 + ["babbling"] * 3,
+                        "fitness": [1.0, 2.0, 3.0, 4.0, 5.0, 6.0],
+                        "touch_share": [0.5, 0.6, 0.7, 0.5, 0.6, 0.7]})
+    table = stillness.compare(per, ("fitness", "touch_share"))
+    fit, touch = table.rows(named=True)
+    assert (fit["still"], fit["babbling"], fit["still / babbling"]) == (2.0, 5.0, 0.4)
+    assert fit["p"] == pytest.approx(0.1)  # exact: 2 of the 20 splits are as extreme
+    assert touch["p"] == pytest.approx(1.0) and touch["still / babbling"] == 1.0
+    assert fit["factor"] == "fitness" and touch["factor"] == "steps in touch"
+
+
+def test_the_page_s_statements_are_checked_against_the_means():
+    still = {"touch_share": 0.2, "contact_bout_s": 4.0, "contact_after_first": 0.5,
+             "touch_level": 0.1, "touched": 0.4, "touch_limits": 0.99}
+    babbling = {"touch_share": 0.1, "contact_bout_s": 1.0, "contact_after_first": 0.2,
+                "touch_level": 0.2, "touched": 0.7, "touch_limits": 0.9}
+    assert stillness.contradicted(still, babbling) == []
+    assert stillness.contradicted(still | {"touch_share": 0.1}, babbling) == [
+        "a still robot is in touch on more steps"]
+    assert stillness.contradicted(still, babbling | {"touch_level": 0.05, "touch_limits": 0.4}) \
+        == ["a babbling robot touches with more faces",
+            "touch sets the score on most of the babbling robots' scoring steps"]
