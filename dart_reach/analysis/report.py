@@ -12,7 +12,10 @@ Runs trained at different budgets (scene, generations per phase: ``budgets``) ar
 apart: the findings of each budget, and, when there are several, the claims side by side with
 how each moves as the budget grows and the figure of their effects against the budget.
 
-Every number in it is computed from the run directories when the report is built.
+Every number in it is computed from the run directories when the report is built; the runs
+are only read. The trials Figs. 6 and 8 draw that have no recording are run again and recorded
+in a folder beside the report (``recordings_dir``: ``<name>-recordings/<run>/`` for
+``<name>.html``), kept there for the next build.
 """
 
 from __future__ import annotations
@@ -378,9 +381,21 @@ def _findings_body(blocks: list, by_budget: pl.DataFrame) -> str:
 
 
 # ------------------------------------------------------------------------------ the report
+def recordings_dir(out: Path, run_dirs: Sequence[Path]) -> dict[Path, Path]:
+    """Where the report ``out`` keeps the trials it records again, per run: beside it, in
+    ``<name>-recordings/<run name>/`` (a run's position in ``run_dirs`` added where two runs
+    share a name)."""
+    out = Path(out)
+    names = [d.name for d in run_dirs]
+    base = out.parent / f"{out.stem}-recordings"
+    return {d: base / (d.name if names.count(d.name) == 1 else f"{d.name}-{i}")
+            for i, d in enumerate(run_dirs)}
+
+
 def build(run_dirs: Sequence, out=None, findings_out=None) -> Path:
     """Write the report of ``run_dirs`` to ``out`` (default ``<first run>/report.html``) and
-    return its path. Runs without a post-evaluation get provenance and training only, and
+    return its path. The runs are only read: the trials that Figs. 6 and 8 draw and that have
+    no recording are recorded again in ``recordings_dir`` beside ``out``. Runs without a post-evaluation get provenance and training only, and
     their claims are "not run". ``findings_out``: also write the findings the report shows,
     every claim at every budget (``budgets.findings_by_budget``'s frame), to this parquet
     file, a new one."""
@@ -452,8 +467,10 @@ def build(run_dirs: Sequence, out=None, findings_out=None) -> Path:
                                  + "<p>Means over robots (a robot: its mean over its trials, "
                                    "normal senses); <i>random</i>: random genomes of the phase "
                                    "under the same senses.</p>", "baseline"))
+        caches = recordings_dir(out, run_dirs)
         sections.append(_section("Figures 5-9 (standard condition)",
-                                 "".join(_run_figures(d) for d in evaluated), "figures"))
+                                 "".join(_run_figures(d, caches[d]) for d in evaluated),
+                                 "figures"))
         sections.append(_section("Figure 10 (conditions)", _fig10(table), "fig10"))
         sections.append(_section("Statistics", "".join(_run_statistics(d) for d in evaluated),
                                  "statistics"))
@@ -488,17 +505,17 @@ def _check_findings_out(path: Path) -> None:
                          cli=f"--findings {path}: no such directory {path.parent}")
 
 
-def _run_figures(run_dir: Path) -> str:
+def _run_figures(run_dir: Path, cache: Path) -> str:
     table, phases = condition_trials(run_dir)
     parts = [f"<h3>{html.escape(run_dir.name)}</h3>",
              "<h4>Fig. 5: performance</h4>", _try(figures.fig5_performance, table, phases),
              "<h4>Fig. 6: distances and movement variability</h4>",
-             _try(figures.fig6_distances_variability, table, run_dir, phases),
+             _try(figures.fig6_distances_variability, table, run_dir, phases, cache=cache),
              "<h4>Fig. 7: success per sector</h4>",
              _try(figures.fig7_sector_maps, table, phases,
                   sectors=sector_config(run_dir)),
              "<h4>Fig. 8: hand trajectories and babbling</h4>",
-             _try(figures.fig8_trajectories, table, run_dir, phases),
+             _try(figures.fig8_trajectories, table, run_dir, phases, cache=cache),
              _try(figures.fig8_babbling, table, phases),
              "<h4>Fig. 9: sensory deprivation</h4>",
              _try(figures.fig9_sensory_deprivation, table, phases),

@@ -12,6 +12,7 @@ import re
 import shutil
 import subprocess
 import sys
+from pathlib import Path
 
 import polars as pl
 from polars.testing import assert_frame_equal
@@ -24,6 +25,8 @@ from dart_reach.postevaluation.systematic import SENSES, evaluate_run
 from dart_reach.evolution.settings import Settings
 from dart_reach.evolution.trainer import train
 from dart_reach.model.scenes import DEFAULT_SCENE
+
+ROOT = Path(__file__).resolve().parents[2]
 
 
 @pytest.fixture(scope="module")
@@ -102,6 +105,37 @@ def test_cli_writes_the_report_and_never_overwrites_a_foreign_file(tiny_run, tmp
     r = cli(str(tiny_run), "--findings", str(mine))
     assert r.returncode == 2 and r.stderr.count("\n") == 1 and "mine.parquet exists" in r.stderr
     assert foreign.read_text() == "<p>my notes</p>" and mine.read_bytes() == b"my table"
+
+
+def _contents(directory: Path) -> dict:
+    """Every file and folder under ``directory`` with its bytes (folders: None)."""
+    return {p.relative_to(directory): (p.read_bytes() if p.is_file() else None)
+            for p in sorted(directory.rglob("*"))}
+
+
+def test_the_report_leaves_the_runs_it_reads_untouched(tmp_path):
+    """Committed results hold no recording: the trials of Figs. 6 and 8 are recorded again,
+    beside the report, never in the run (byte for byte the same after the report)."""
+    run = tmp_path / "runs" / "near"
+    shutil.copytree(ROOT / "recordings" / "scene-study" / "near", run)
+    before = _contents(run)
+    (tmp_path / "out").mkdir()
+    r = subprocess.run([sys.executable, "-m", "dart_reach.cli", "report", str(run), "--out",
+                        str(tmp_path / "out" / "r.html")], capture_output=True, text=True,
+                       timeout=600)
+    assert r.returncode == 0, r.stderr
+    assert _contents(run) == before
+    made = sorted((tmp_path / "out" / "r-recordings" / "near").rglob("*.rrd"))
+    assert made and all(p.stat().st_size > 0 for p in made)
+    assert (tmp_path / "out" / "r-recordings" / "near" / "evaluation" / "trial.rbl").is_file()
+    text = (tmp_path / "out" / "r.html").read_text()
+    assert "Fig. 8" in text and "no recording" not in text
+    assert report.recordings_dir(tmp_path / "r.html", [run, tmp_path / "near"]) == {
+        run: tmp_path / "r-recordings" / "near-0",
+        tmp_path / "near": tmp_path / "r-recordings" / "near-1"}
+    help_text = subprocess.run([sys.executable, "-m", "dart_reach.cli", "report", "--help"],
+                               capture_output=True, text=True).stdout
+    assert "The runs are only read" in " ".join(help_text.split())
 
 
 def test_report_reads_at_100_percent_and_states_its_corrections(tiny_run, tmp_path):
