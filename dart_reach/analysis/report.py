@@ -32,7 +32,7 @@ from string import Template
 
 import polars as pl
 
-from . import budgets, figures, findings, summaries, verdicts
+from . import budgets, counts, figures, findings, summaries, verdicts
 from ..errors import UsageError
 from ..postevaluation import snapshots as development
 from ..postevaluation.systematic import run_phases
@@ -295,39 +295,39 @@ def _counts(found: pl.DataFrame) -> str:
             f'<p class="counts">The project\'s own claims: {line(True)}</p>')
 
 
-def section_counts(by_budget: pl.DataFrame) -> pl.DataFrame:
-    """The paper's claims by section of the paper (the section's first part, e.g. "IV-A-2")
-    and budget: how many got each verdict, the replication as the unit, and how many decided
-    ones survive Holm's adjustment within the budget."""
-    several = by_budget["replications"].n_unique() > 1
-    head = by_budget.filter(~pl.col("own")).with_columns(
-        pl.col("section").str.split(",").list.first().str.split(":").list.first()
-        .str.strip_chars().alias("part"),
-        (pl.format("{} gen/phase x {}", "generations_per_phase", "replications") if several
-         else pl.format("{} gen/phase", "generations_per_phase")).alias("budget"))
-    holm = (((pl.col("verdict") == verdicts.REPRODUCED) & (pl.col("p_holm") < verdicts.ALPHA))
-            | ((pl.col("verdict") == verdicts.CONTRADICTED)
-               & (pl.col("p_holm_against") < verdicts.ALPHA)))
-    return (head.group_by("part", "budget", maintain_order=True)
-            .agg(pl.len().alias("claims"),
-                 *[(pl.col("verdict") == v).sum().alias(v) for v in verdicts.VERDICTS],
-                 holm.sum().alias("decided after Holm"))
-            .rename({"part": "section"}))
-
-
 def summary_html(by_budget: pl.DataFrame) -> str:
-    """The first screen: the counts per section at each budget, the forest of every claim's
-    effect, and what each kind of test is (said once, not in every row)."""
+    """The first screen: the answer (the paper's claims by verdict at each budget, with
+    totals; by section folded under it), then the forest of every claim's effect grouped by
+    section, the claims no budget ran apart, and what each kind of test is."""
+    answer = counts.budget_counts(by_budget)
+    n = by_budget.filter(~pl.col("own"))["claim"].n_unique()
+    never = counts.never_run(by_budget)
     tests = pl.DataFrame({"kind": list(findings.TESTS), "test": list(findings.TESTS.values())})
-    return ("<p>The paper's claims, the replication as the unit of every verdict (the paper's "
-            "own analysis, robots as units, is a column of the tables below, never counted "
-            "here); the project's own claims are counted apart in each budget's table.</p>"
-            + table_html(section_counts(by_budget), "counts")
+    verdict_cell = (lambda column, value: column.split()[0]
+                    if column in verdicts.VERDICTS and value else "")
+    return (f"<p class='answer'>The paper's {n} claims at each budget, the replication as "
+            "the unit of every verdict (the project's own claims are counted apart, in each "
+            "budget's findings):</p>"
+            + table_html(answer, "counts answer", cell_class=verdict_cell)
+            + "<p><i>Not run</i>: no data for them at that budget. <i>Decided after "
+              "Holm</i>: the reproduced and contradicted claims that stay below p = 0.05 once "
+              "Holm's method corrects for the number of claims tested at the budget. "
+            + VERDICTS_NOTE + "</p>"
+            + "<details><summary>The same by section of the paper</summary>"
+            + table_html(counts.section_counts(by_budget), "counts", cell_class=verdict_cell)
+            + "</details>"
             + _try(figures.forest_figure, by_budget)
             + "<p>Every claim's effect with its replication-level interval, on a scale where "
-              "the paper's direction is right; each row is scaled to its own largest end, so "
-              "rows in different units share the axis.</p>"
-            + table_html(tests, "tests"))
+              "the paper's direction is right, grouped by section of the paper; each row is "
+              "scaled to its own largest end, so rows in different units share the axis. A "
+              "claim without a bounded interval (a test of several groups, an underpowered "
+              "rule) has its marker in the column <i>no interval</i>; one not run at a "
+              "budget has no marker there.</p>"
+            + ("" if never.is_empty() else
+               f"<details><summary>{never.height} claims not run at any budget (left out of "
+               "the figure)</summary>" + table_html(never) + "</details>")
+            + "<details><summary>The tests of each kind of claim</summary>"
+            + table_html(tests, "tests") + "</details>")
 
 
 def _verdict_class(column: str, value) -> str:

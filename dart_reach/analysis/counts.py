@@ -1,0 +1,70 @@
+"""The answer in numbers, for the report's first screen: the paper's claims by verdict at each
+budget (``budget_counts``) and by section of the paper (``section_counts``), the
+replication as the unit, with how many decided ones survive Holm's adjustment; and the claims
+that no budget ran (``never_run``).
+
+Every function takes the frame of ``budgets.findings_by_budget`` (one row per claim and
+budget) and counts the paper's claims only: the project's own claims (``own``) are counted
+apart, in each budget's findings table.
+"""
+
+from __future__ import annotations
+
+import polars as pl
+
+from . import verdicts
+
+
+def section_part(column: str = "section") -> pl.Expr:
+    """A claim's section of the paper: the first part of its ``section`` ("IV-A-2, Fig. 5"
+    and "IV-A-2: controls" are "IV-A-2")."""
+    return (pl.col(column).str.split(",").list.first().str.split(":").list.first()
+            .str.strip_chars())
+
+
+def budget_label(by_budget: pl.DataFrame) -> pl.Expr:
+    """A budget in words: generations per phase, and the replications and the scene when the
+    frame's budgets differ in them."""
+    parts = [pl.format("{} gen/phase", "generations_per_phase")]
+    if by_budget["replications"].n_unique() > 1:
+        parts.append(pl.format(" x {} replications", "replications"))
+    if by_budget["scene"].n_unique() > 1:
+        parts.append(pl.format(", {}", "scene"))
+    return pl.concat_str(parts)
+
+
+def _counted(by_budget: pl.DataFrame, by: list[str]) -> pl.DataFrame:
+    head = by_budget.filter(~pl.col("own")).with_columns(
+        section_part().alias("section"), budget_label(by_budget).alias("budget"))
+    holm = (((pl.col("verdict") == verdicts.REPRODUCED) & (pl.col("p_holm") < verdicts.ALPHA))
+            | ((pl.col("verdict") == verdicts.CONTRADICTED)
+               & (pl.col("p_holm_against") < verdicts.ALPHA)))
+    return (head.group_by(*by, maintain_order=True)
+            .agg(pl.len().alias("claims"),
+                 *[(pl.col("verdict") == v).sum().alias(v) for v in verdicts.VERDICTS],
+                 holm.sum().alias("decided after Holm")))
+
+
+def budget_counts(by_budget: pl.DataFrame) -> pl.DataFrame:
+    """One row per budget (scene, then generations per phase, then replications): its runs,
+    how many of the paper's claims it tested, how many got each verdict (they sum to
+    ``claims``), and how many decided ones survive Holm's adjustment within the budget."""
+    ordered = by_budget.sort("scene", "generations_per_phase", "replications",
+                             maintain_order=True)
+    return _counted(ordered, ["budget", "runs"])
+
+
+def section_counts(by_budget: pl.DataFrame) -> pl.DataFrame:
+    """The paper's claims by section of the paper (``section_part``) and budget: how many
+    got each verdict and how many decided ones survive Holm's adjustment."""
+    return _counted(by_budget, ["section", "budget"])
+
+
+def never_run(by_budget: pl.DataFrame, own: bool = False) -> pl.DataFrame:
+    """The claims (``claim``, ``section``, ``note``) that no budget of the frame ran: not run
+    at every budget (no data for them)."""
+    claims = by_budget.filter(pl.col("own") == own)
+    return (claims.group_by("claim", maintain_order=True)
+            .agg(pl.col("section").first(), pl.col("note").first(),
+                 (pl.col("verdict") == verdicts.NOT_RUN).all().alias("none"))
+            .filter("none").drop("none"))
