@@ -23,11 +23,11 @@ def section_part(column: str = "section") -> pl.Expr:
 
 
 def budget_label(by_budget: pl.DataFrame) -> pl.Expr:
-    """A budget in words: generations per phase, and the replications and the scene when the
-    frame's budgets differ in them."""
+    """A budget in a few characters: "50 gen/phase", with " x 10" (replications) when the
+    frame's budgets differ in replications and ", <scene>" when they differ in scene."""
     parts = [pl.format("{} gen/phase", "generations_per_phase")]
     if by_budget["replications"].n_unique() > 1:
-        parts.append(pl.format(" x {} replications", "replications"))
+        parts.append(pl.format(" x {}", "replications"))
     if by_budget["scene"].n_unique() > 1:
         parts.append(pl.format(", {}", "scene"))
     return pl.concat_str(parts)

@@ -36,6 +36,7 @@ from . import budgets, counts, figures, findings, summaries, verdicts
 from ..errors import UsageError
 from ..postevaluation import snapshots as development
 from ..postevaluation.systematic import run_phases
+from .counts import section_counts  # noqa: F401 - the report's counts, as results_docs reads them
 from .stats import fig9_statistics, fig10_statistics, phase_statistics
 from .tables import condition_trials, sector_config
 from ..evolution.rundir import RunDirectory, RunError
@@ -305,7 +306,8 @@ def summary_html(by_budget: pl.DataFrame) -> str:
     tests = pl.DataFrame({"kind": list(findings.TESTS), "test": list(findings.TESTS.values())})
     verdict_cell = (lambda column, value: column.split()[0]
                     if column in verdicts.VERDICTS and value else "")
-    return (f"<p class='answer'>The paper's {n} claims at each budget, the replication as "
+    return (f"<p class='answer'>The paper's {n} claims at each budget (generations per phase "
+            "x replications), the replication as "
             "the unit of every verdict (the project's own claims are counted apart, in each "
             "budget's findings):</p>"
             + table_html(answer, "counts answer", cell_class=verdict_cell)
@@ -314,7 +316,7 @@ def summary_html(by_budget: pl.DataFrame) -> str:
               "Holm's method corrects for the number of claims tested at the budget. "
             + VERDICTS_NOTE + "</p>"
             + "<details><summary>The same by section of the paper</summary>"
-            + table_html(counts.section_counts(by_budget), "counts", cell_class=verdict_cell)
+            + table_html(section_counts(by_budget), "counts", cell_class=verdict_cell)
             + "</details>"
             + _try(figures.forest_figure, by_budget)
             + "<p>Every claim's effect with its replication-level interval, on a scale where "
