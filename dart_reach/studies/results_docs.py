@@ -231,6 +231,21 @@ def plain_values(by_budget: pl.DataFrame, run: str = TEN) -> dict[str, str]:
     return {"plain": "\n".join(lines), "plain_names": sentence}
 
 
+#: Where the README's table of verdicts links: every claim at every budget.
+CLAIMS_LINK = "docs/results/replication.md#every-claim-at-every-budget"
+
+
+def readme_row(paper: dict, budget: budgets.Budget) -> dict[str, str]:
+    """The README's row of a budget: its runs (linked to every claim at every budget) and the
+    paper's claims by verdict (``findings.summary``), the decided ones with how many survive
+    Holm's adjustment."""
+    return {"run": f"[`{paper['runs']}`]({CLAIMS_LINK})",
+            "generations per phase x replications":
+                f"{budget.generations_per_phase} x {budget.replications}",
+            **{v: (f"{paper[v]} ({paper[f'{v} (Holm)']} after Holm)" if f"{v} (Holm)" in paper
+                   else str(paper[v])) for v in verdicts.VERDICTS}}
+
+
 def _pre_replications(table: pl.DataFrame | None) -> tuple[str, str]:
     """A run's pre-reachers replication by replication (``report.replication_table``) and
     how many of its replications had no robot babble in any trial."""
@@ -255,7 +270,7 @@ def replication_values(recordings: Path) -> dict[str, str]:
               "claims": markdown_table(budgets.side_by_side(by_budget)),
               "by_replications": replications_text(by_budget),
               **plain_values(by_budget)}
-    rows, own, verdict_counts = [], [], {}
+    rows, own, verdict_counts, answer = [], [], {}, []
     for block in by_budget.partition_by("scene", "generations_per_phase", "replications",
                                         maintain_order=True):
         budget = budgets.Budget(*block.select("scene", "generations_per_phase",
@@ -264,6 +279,7 @@ def replication_values(recordings: Path) -> dict[str, str]:
             target.append({"budget": budget.label, "runs": block["runs"][0],
                            **findings.summary(block, is_own)})
         paper = rows[-1]
+        answer.append(readme_row(paper, budget))
         verdict_counts[block["runs"][0]] = (
             "not judged yet" if paper[verdicts.NOT_RUN] == block.filter(~pl.col("own")).height
             else f"{paper[verdicts.REPRODUCED]} of the paper's claims reproduced "
@@ -272,6 +288,7 @@ def replication_values(recordings: Path) -> dict[str, str]:
                  f"{paper[verdicts.INCONCLUSIVE]} inconclusive, "
                  f"{paper[verdicts.UNDERPOWERED]} underpowered, {paper[verdicts.NOT_RUN]} not run")
     values["counts"] = markdown_table(pl.DataFrame(rows))
+    values["answer"] = markdown_table(pl.DataFrame(answer))
     values["own_counts"] = markdown_table(pl.DataFrame(own))
     described = []
     for d in dirs:
