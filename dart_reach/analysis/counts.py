@@ -33,9 +33,9 @@ def budget_label(by_budget: pl.DataFrame) -> pl.Expr:
     return pl.concat_str(parts)
 
 
-def _counted(by_budget: pl.DataFrame, by: list[str]) -> pl.DataFrame:
+def _counted(by_budget: pl.DataFrame, by: list[str], label: pl.Expr) -> pl.DataFrame:
     head = by_budget.filter(~pl.col("own")).with_columns(
-        section_part().alias("section"), budget_label(by_budget).alias("budget"))
+        section_part().alias("section"), label.alias("budget"))
     holm = (((pl.col("verdict") == verdicts.REPRODUCED) & (pl.col("p_holm") < verdicts.ALPHA))
             | ((pl.col("verdict") == verdicts.CONTRADICTED)
                & (pl.col("p_holm_against") < verdicts.ALPHA)))
@@ -46,18 +46,23 @@ def _counted(by_budget: pl.DataFrame, by: list[str]) -> pl.DataFrame:
 
 
 def budget_counts(by_budget: pl.DataFrame) -> pl.DataFrame:
-    """One row per budget (scene, then generations per phase, then replications): its runs,
-    how many of the paper's claims it tested, how many got each verdict (they sum to
-    ``claims``), and how many decided ones survive Holm's adjustment within the budget."""
+    """One row per budget (scene, then generations per phase, then replications), named in
+    full ("50 gen/phase x 10 replications", the scene added when the budgets differ in it):
+    its runs, how many of the paper's claims it tested, how many got each verdict (they sum
+    to ``claims``), and how many decided ones survive Holm's adjustment within the budget."""
     ordered = by_budget.sort("scene", "generations_per_phase", "replications",
                              maintain_order=True)
-    return _counted(ordered, ["budget", "runs"])
+    label = pl.format("{} gen/phase x {} replications", "generations_per_phase",
+                      "replications")
+    if by_budget["scene"].n_unique() > 1:
+        label = pl.concat_str([label, pl.format(", {}", "scene")])
+    return _counted(ordered, ["budget", "runs"], label)
 
 
 def section_counts(by_budget: pl.DataFrame) -> pl.DataFrame:
     """The paper's claims by section of the paper (``section_part``) and budget: how many
     got each verdict and how many decided ones survive Holm's adjustment."""
-    return _counted(by_budget, ["section", "budget"])
+    return _counted(by_budget, ["section", "budget"], budget_label(by_budget))
 
 
 def never_run(by_budget: pl.DataFrame, own: bool = False) -> pl.DataFrame:

@@ -306,8 +306,7 @@ def summary_html(by_budget: pl.DataFrame) -> str:
     tests = pl.DataFrame({"kind": list(findings.TESTS), "test": list(findings.TESTS.values())})
     verdict_cell = (lambda column, value: column.split()[0]
                     if column in verdicts.VERDICTS and value else "")
-    return (f"<p class='answer'>The paper's {n} claims at each budget (generations per phase "
-            "x replications), the replication as "
+    return (f"<p class='answer'>The paper's {n} claims at each budget, the replication as "
             "the unit of every verdict (the project's own claims are counted apart, in each "
             "budget's findings):</p>"
             + table_html(answer, "counts answer", cell_class=verdict_cell)

@@ -262,7 +262,8 @@ def test_the_summary_opens_on_the_counts_per_budget_then_a_forest_by_section():
     assert row["decided after Holm"] == 1
     assert by_section["claims"].sum() == 10  # the project's own claim is not counted
     answer = counts.budget_counts(frame)
-    assert answer["budget"].to_list() == ["10 gen/phase", "50 gen/phase"]
+    assert answer["budget"].to_list() == ["10 gen/phase x 4 replications",
+                                          "50 gen/phase x 4 replications"]
     assert answer["runs"].to_list() == ["r10", "r50"] and (answer["claims"] == 5).all()
     assert (answer.select(list(verdicts.VERDICTS)).sum_horizontal() == answer["claims"]).all()
     assert answer[verdicts.NOT_RUN].to_list() == [1, 1]
