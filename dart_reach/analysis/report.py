@@ -396,10 +396,10 @@ def recordings_dir(out: Path, run_dirs: Sequence[Path]) -> dict[Path, Path]:
 def build(run_dirs: Sequence, out=None, findings_out=None) -> Path:
     """Write the report of ``run_dirs`` to ``out`` (default ``<first run>/report.html``) and
     return its path. The runs are only read: the trials that Figs. 6 and 8 draw and that have
-    no recording are recorded again in ``recordings_dir`` beside ``out``. Runs without a post-evaluation get provenance and training only, and
-    their claims are "not run". ``findings_out``: also write the findings the report shows,
-    every claim at every budget (``budgets.findings_by_budget``'s frame), to this parquet
-    file, a new one."""
+    no recording are recorded again in ``recordings_dir`` beside ``out``. Runs without a
+    post-evaluation get provenance and training only, and their claims are "not run".
+    ``findings_out``: also write the findings the report shows, every claim at every budget
+    (``budgets.findings_by_budget``'s frame), to this parquet file, a new one."""
     run_dirs = [Path(d) for d in run_dirs]
     if not run_dirs:
         raise ValueError("the report needs at least one run directory")
