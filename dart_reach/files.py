@@ -56,6 +56,25 @@ def _naming(exc: OSError, path: Path) -> OSError:
     return OSError(code, f"cannot write: {exc.strerror or exc}", str(path))
 
 
+def check_new_file(path, suffix: str, what: str, option: str = "out") -> Path:
+    """Refuse, before any work, a path where a new file of ``what`` (``"a CSV table"``) could
+    not be written: a name not ending in ``suffix``, an existing file (nothing is ever
+    overwritten), a missing or read-only directory. The errors name the argument ``option``
+    (a library argument, or a command line option beginning with ``--``)."""
+    path = Path(path)
+    name = f"{option} {path}" if option.startswith("--") else f"{option}={str(path)!r}"
+    if path.suffix.lower() != suffix:
+        raise ValueError(f"{name}: {what} is a {suffix} file; give a name ending in {suffix}")
+    if path.exists() or path.is_symlink():
+        raise FileExistsError(f"{name}: the file exists; choose another (nothing is "
+                              f"overwritten)")
+    if not path.parent.is_dir():
+        raise FileNotFoundError(f"{name}: no such directory {path.parent}; create it first")
+    if not os.access(path.parent, os.W_OK | os.X_OK):
+        raise PermissionError(f"{name}: the directory {path.parent} is not writable")
+    return path
+
+
 def remove_temporaries(directory: Path) -> list[Path]:
     """Delete the temporary files ``atomic_write`` leaves when its process is killed
     mid-write (``.<name>.<random>.tmp``), anywhere under ``directory``. Call it only while

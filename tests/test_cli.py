@@ -6,7 +6,9 @@ missing directory, a resume with another budget); the size of a long run before 
 from __future__ import annotations
 
 import argparse
+import os
 import re
+import select
 import subprocess
 import sys
 from pathlib import Path
@@ -23,8 +25,38 @@ TINY = ["--replications", "1", "--trials", "1", "--steps", "2", "--workers", "1"
 
 
 def _cli(*args, timeout=300):
+    """The command line as a script runs it: stdin is not a terminal."""
     return subprocess.run([sys.executable, "-m", "dart_reach.cli", *map(str, args)],
-                          capture_output=True, text=True, timeout=timeout)
+                          capture_output=True, text=True, timeout=timeout,
+                          stdin=subprocess.DEVNULL)
+
+
+def _in_terminal(*args, answer: str | None = None, timeout=300) -> tuple[int, str]:
+    """The command line run by a person at a terminal (a real pseudo-terminal as its stdin,
+    stdout and stderr): its exit code and what the terminal showed; ``answer`` is typed when
+    it asks [y/N]."""
+    master, slave = os.openpty()
+    proc = subprocess.Popen([sys.executable, "-m", "dart_reach.cli", *map(str, args)],
+                            stdin=slave, stdout=slave, stderr=slave, close_fds=True)
+    os.close(slave)
+    shown = b""
+    try:
+        while select.select([master], [], [], timeout)[0]:
+            try:
+                chunk = os.read(master, 4096)
+            except OSError:  # EIO: the process ended and closed the terminal
+                break
+            if not chunk:
+                break
+            shown += chunk
+            if answer is not None and b"[y/N]" in shown:
+                os.write(master, answer.encode() + b"\n")
+                answer = None
+        return proc.wait(timeout=timeout), shown.decode(errors="replace")
+    finally:
+        if proc.poll() is None:
+            proc.kill()
+        os.close(master)
 
 
 def _commands() -> dict[str, argparse.ArgumentParser]:
@@ -142,9 +174,36 @@ def test_a_long_run_says_its_size_and_cost_before_starting(tmp_path):
     assert "15,000 replication-generations" in result.stderr
     assert f"{low:,.0f}-{high:,.0f} core-hours" in result.stderr
     assert "--generations" in result.stderr
+    assert "[y/N]" not in result.stderr  # a script is not asked
     small = _cli("train", "standard", "--generations", "1", "--replications", "1",
                  "--trials", "1", "--steps", "2", "--workers", "1", "--out", out)
     assert "replication-generations" not in small.stderr
+
+
+def test_a_run_over_an_hour_asks_a_person_at_the_terminal_first(tmp_path):
+    # the default budget, days on one worker: asked; "n" starts nothing
+    out = tmp_path / "run"
+    code, shown = _in_terminal("train", "standard", "--workers", "1", "--out", out, answer="n")
+    assert code == 1 and "start it? [y/N]" in shown and "not started" in shown, shown
+    assert not out.exists()
+    # "y" starts it (here it stops at once on a directory that holds something else), as
+    # --yes does without asking
+    busy = tmp_path / "busy"
+    busy.mkdir()
+    (busy / "something").write_text("x")
+    code, shown = _in_terminal("train", "standard", "--workers", "1", "--out", busy, answer="y")
+    assert code == 2 and "not empty" in shown, shown
+    code, shown = _in_terminal("train", "standard", "--workers", "1", "--out", busy, "--yes")
+    assert code == 2 and "not empty" in shown and "[y/N]" not in shown, shown
+    # a small run is not asked
+    code, shown = _in_terminal("train", "standard", "--generations", "1", *TINY, "--out", busy)
+    assert code == 2 and "[y/N]" not in shown, shown
+
+
+def test_a_json_file_that_is_not_a_runs_manifest_says_so(tmp_path):
+    (tmp_path / "manifest.json").write_text('{"name": "my notes", "version": 3}')
+    _one_line_exit_2(_cli("status", tmp_path), "manifest.json: not a run's manifest")
+    assert "incompatible" not in _cli("status", tmp_path).stderr
 
 
 def test_status_says_where_training_stands(tmp_path):

@@ -17,7 +17,9 @@ import nbclient
 import nbformat
 import polars as pl
 import pytest
+from matplotlib.backends.backend_agg import FigureCanvasAgg
 from matplotlib.figure import Figure
+from matplotlib.text import Text
 
 from dart_reach.analysis import figures, stats, summaries, tables
 from dart_reach.evolution.conditions import load_condition, scaled
@@ -171,6 +173,36 @@ def test_figures_survive_missing_and_degenerate_data(tiny_run, table):
     assert st["pairs"]["p"].to_list() == [1.0, 1.0, 1.0]  # all zero: no difference
     _render(figures.fig10_conditions(reps))
     _render(figures.fig10_conditions(reps.filter(pl.col("group") == "pre")))
+
+
+def test_fig10s_titles_neither_overlap_nor_leave_the_figure():
+    """Fig. 10 of the committed runs (18 groups with long names, as in the report and the
+    notebook): every title and label is inside the figure and no two titles overlap."""
+    runs = [NOTEBOOKS_DIR.parent / "recordings" / r
+            for r in ("replication-50", "replication-10", "replication-50x10")]
+    reps = summaries.replication_performance(tables.load_runs(runs), by=("group",))
+    fig = figures.fig10_conditions(reps)
+    fig.set_dpi(100)  # the report's resolution
+    canvas = FigureCanvasAgg(fig)
+    canvas.draw()
+    renderer = canvas.get_renderer()
+    page = fig.bbox
+    ticks = {id(t) for ax in fig.axes for t in ax.get_xticklabels() + ax.get_yticklabels()}
+    texts = [t for t in fig.findobj(Text) if t.get_text() and t.get_visible()
+             and id(t) not in ticks]  # titles, axis labels
+    boxes = [(t.get_text(), t.get_window_extent(renderer)) for t in texts]
+    assert len(boxes) >= 4  # the figure's title, the box plots' and the matrix's, the y label
+    for i, (text, a) in enumerate(boxes):
+        assert page.x0 <= a.x0 and a.x1 <= page.x1 and page.y0 <= a.y0 and a.y1 <= page.y1, text
+        for other, b in boxes[i + 1:]:
+            assert not a.overlaps(b), (text, other)
+    labels = [t for ax in fig.axes for t in ax.get_xticklabels() + ax.get_yticklabels()
+              if t.get_text()]
+    assert len(labels) >= 3 * 18
+    for t in labels:
+        box = t.get_window_extent(renderer)
+        assert page.x0 - 1 <= box.x0 and box.x1 <= page.x1 + 1 and page.y0 - 1 <= box.y0, (
+            t.get_text())
 
 
 # ------------------------------------------------------------------------------ notebooks

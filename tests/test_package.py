@@ -1,7 +1,7 @@
 """The package as a user installs it: the wheel holds the code's licence, the robot model's
 CC BY-SA licence text beside the URDF, py.typed and the shipped robots; its metadata has an
 SPDX licence, authors, classifiers and the supported Pythons; setuptools builds it without a
-deprecation warning. CITATION.cff cites the paper."""
+deprecation or package-discovery warning. CITATION.cff cites the paper."""
 
 from __future__ import annotations
 
@@ -19,6 +19,9 @@ def test_the_wheel_ships_both_licences_typing_and_the_robots(tmp_path):
                             timeout=600)
     assert result.returncode == 0, result.stderr
     assert "Deprecat" not in result.stdout + result.stderr
+    # every package and data directory declared: no "Package would be ignored" warnings
+    assert "absent from the `packages` configuration" not in result.stdout + result.stderr
+    assert "Warning" not in result.stdout + result.stderr
     wheel = next(tmp_path.glob("dart_reach-*.whl"))
     with zipfile.ZipFile(wheel) as z:
         names = set(z.namelist())

@@ -12,7 +12,10 @@ Runs trained at different budgets (scene, generations per phase: ``budgets``) ar
 apart: the findings of each budget, and, when there are several, the claims side by side with
 how each moves as the budget grows and the figure of their effects against the budget.
 
-Every number in it is computed from the run directories when the report is built.
+Every number in it is computed from the run directories when the report is built; the runs
+are only read. The trials Figs. 6 and 8 draw that have no recording are run again and recorded
+in a folder beside the report (``recordings_dir``: ``<name>-recordings/<run>/`` for
+``<name>.html``), kept there for the next build.
 """
 
 from __future__ import annotations
@@ -29,11 +32,12 @@ from string import Template
 
 import polars as pl
 
-from . import budgets, figures, findings, summaries, verdicts
+from . import budgets, counts, figures, findings, summaries, verdicts
 from ..errors import UsageError
 from ..postevaluation import results
 from ..postevaluation import snapshots as development
 from ..postevaluation.systematic import run_phases
+from .counts import section_counts  # noqa: F401 - the report's counts, as results_docs reads them
 from .stats import fig9_statistics, fig10_statistics, phase_statistics
 from .tables import condition_trials, sector_config
 from ..evolution.rundir import RunDirectory, RunError
@@ -301,39 +305,39 @@ def _counts(found: pl.DataFrame) -> str:
             f'<p class="counts">The project\'s own claims: {line(findings.OWN)}</p>')
 
 
-def section_counts(by_budget: pl.DataFrame) -> pl.DataFrame:
-    """The paper's claims by section of the paper (the section's first part, e.g. "IV-A-2")
-    and budget: how many got each verdict, the replication as the unit, and how many decided
-    ones survive Holm's adjustment within the budget."""
-    several = by_budget["replications"].n_unique() > 1
-    head = findings.reading(by_budget).with_columns(
-        pl.col("section").str.split(",").list.first().str.split(":").list.first()
-        .str.strip_chars().alias("part"),
-        (pl.format("{} gen/phase x {}", "generations_per_phase", "replications") if several
-         else pl.format("{} gen/phase", "generations_per_phase")).alias("budget"))
-    holm = (((pl.col("verdict") == verdicts.REPRODUCED) & (pl.col("p_holm") < verdicts.ALPHA))
-            | ((pl.col("verdict") == verdicts.CONTRADICTED)
-               & (pl.col("p_holm_against") < verdicts.ALPHA)))
-    return (head.group_by("part", "budget", maintain_order=True)
-            .agg(pl.len().alias("claims"),
-                 *[(pl.col("verdict") == v).sum().alias(v) for v in verdicts.VERDICTS],
-                 holm.sum().alias("decided after Holm"))
-            .rename({"part": "section"}))
-
-
 def summary_html(by_budget: pl.DataFrame) -> str:
-    """The first screen: the counts per section at each budget, the forest of every claim's
-    effect, and what each kind of test is (said once, not in every row)."""
+    """The first screen: the answer (the paper's claims by verdict at each budget, with
+    totals; by section folded under it), then the forest of every claim's effect grouped by
+    section, the claims no budget ran apart, and what each kind of test is."""
+    answer = counts.budget_counts(by_budget)
+    n = by_budget.filter(~pl.col("own"))["claim"].n_unique()
+    never = counts.never_run(by_budget)
     tests = pl.DataFrame({"kind": list(findings.TESTS), "test": list(findings.TESTS.values())})
-    return ("<p>The paper's claims, the replication as the unit of every verdict (the paper's "
-            "own analysis, robots as units, is a column of the tables below, never counted "
-            "here); the project's own claims are counted apart in each budget's table.</p>"
-            + table_html(section_counts(by_budget), "counts")
+    verdict_cell = (lambda column, value: column.split()[0]
+                    if column in verdicts.VERDICTS and value else "")
+    return (f"<p class='answer'>The paper's {n} claims at each budget, the replication as "
+            "the unit of every verdict (the project's own claims are counted apart, in each "
+            "budget's findings):</p>"
+            + table_html(answer, "counts answer", cell_class=verdict_cell)
+            + "<p><i>Not run</i>: no data for them at that budget. <i>Decided after "
+              "Holm</i>: the reproduced and contradicted claims that stay below p = 0.05 once "
+              "Holm's method corrects for the number of claims tested at the budget. "
+            + VERDICTS_NOTE + "</p>"
+            + "<details><summary>The same by section of the paper</summary>"
+            + table_html(section_counts(by_budget), "counts", cell_class=verdict_cell)
+            + "</details>"
             + _try(figures.forest_figure, by_budget)
             + "<p>Every claim's effect with its replication-level interval, on a scale where "
-              "the paper's direction is right; each row is scaled to its own largest end, so "
-              "rows in different units share the axis.</p>"
-            + table_html(tests, "tests"))
+              "the paper's direction is right, grouped by section of the paper; each row is "
+              "scaled to its own largest end, so rows in different units share the axis. A "
+              "claim without a bounded interval (a test of several groups, an underpowered "
+              "rule) has its marker in the column <i>no interval</i>; one not run at a "
+              "budget has no marker there.</p>"
+            + ("" if never.is_empty() else
+               f"<details><summary>{never.height} claims not run at any budget (left out of "
+               "the figure)</summary>" + table_html(never) + "</details>")
+            + "<details><summary>The tests of each kind of claim</summary>"
+            + table_html(tests, "tests") + "</details>")
 
 
 def _verdict_class(column: str, value) -> str:
@@ -387,12 +391,24 @@ def _findings_body(blocks: list, by_budget: pl.DataFrame) -> str:
 
 
 # ------------------------------------------------------------------------------ the report
+def recordings_dir(out: Path, run_dirs: Sequence[Path]) -> dict[Path, Path]:
+    """Where the report ``out`` keeps the trials it records again, per run: beside it, in
+    ``<name>-recordings/<run name>/`` (a run's position in ``run_dirs`` added where two runs
+    share a name)."""
+    out = Path(out)
+    names = [d.name for d in run_dirs]
+    base = out.parent / f"{out.stem}-recordings"
+    return {d: base / (d.name if names.count(d.name) == 1 else f"{d.name}-{i}")
+            for i, d in enumerate(run_dirs)}
+
+
 def build(run_dirs: Sequence, out=None, findings_out=None) -> Path:
     """Write the report of ``run_dirs`` to ``out`` (default ``<first run>/report.html``) and
-    return its path. Runs without a post-evaluation get provenance and training only, and
-    their claims are "not run". ``findings_out``: also write the findings the report shows,
-    every claim at every budget (``budgets.findings_by_budget``'s frame), to this parquet
-    file, a new one."""
+    return its path. The runs are only read: the trials that Figs. 6 and 8 draw and that have
+    no recording are recorded again in ``recordings_dir`` beside ``out``. Runs without a
+    post-evaluation get provenance and training only, and their claims are "not run".
+    ``findings_out``: also write the findings the report shows, every claim at every budget
+    (``budgets.findings_by_budget``'s frame), to this parquet file, a new one."""
     run_dirs = [Path(d) for d in run_dirs]
     if not run_dirs:
         raise ValueError("the report needs at least one run directory")
@@ -461,8 +477,10 @@ def build(run_dirs: Sequence, out=None, findings_out=None) -> Path:
                                  + "<p>Means over robots (a robot: its mean over its trials, "
                                    "normal senses); <i>random</i>: random genomes of the phase "
                                    "under the same senses.</p>", "baseline"))
+        caches = recordings_dir(out, run_dirs)
         sections.append(_section("Figures 5-9 (standard condition)",
-                                 "".join(_run_figures(d) for d in evaluated), "figures"))
+                                 "".join(_run_figures(d, caches[d]) for d in evaluated),
+                                 "figures"))
         sections.append(_section("Figure 10 (conditions)", _fig10(table), "fig10"))
         sections.append(_section("Statistics", "".join(_run_statistics(d) for d in evaluated),
                                  "statistics"))
@@ -497,17 +515,17 @@ def _check_findings_out(path: Path) -> None:
                          cli=f"--findings {path}: no such directory {path.parent}")
 
 
-def _run_figures(run_dir: Path) -> str:
+def _run_figures(run_dir: Path, cache: Path) -> str:
     table, phases = condition_trials(run_dir)
     parts = [f"<h3>{html.escape(run_dir.name)}</h3>",
              "<h4>Fig. 5: performance</h4>", _try(figures.fig5_performance, table, phases),
              "<h4>Fig. 6: distances and movement variability</h4>",
-             _try(figures.fig6_distances_variability, table, run_dir, phases),
+             _try(figures.fig6_distances_variability, table, run_dir, phases, cache=cache),
              "<h4>Fig. 7: success per sector</h4>",
              _try(figures.fig7_sector_maps, table, phases,
                   sectors=sector_config(run_dir)),
              "<h4>Fig. 8: hand trajectories and babbling</h4>",
-             _try(figures.fig8_trajectories, table, run_dir, phases),
+             _try(figures.fig8_trajectories, table, run_dir, phases, cache=cache),
              _try(figures.fig8_babbling, table, phases),
              "<h4>Fig. 9: sensory deprivation</h4>",
              _try(figures.fig9_sensory_deprivation, table, phases),

@@ -12,6 +12,11 @@ from .arguments import command
 def register_report(subparsers) -> None:
     p = command(subparsers, "report", "one self-contained HTML file: the paper's findings "
                                       "tested against runs, provenance, training, Figs. 5-10")
+    p.epilog = ("The runs are only read (but for the report itself with the default --out). "
+                "Trials that Figs. 6 and 8 draw and that have no "
+                "recording (committed results hold none) are run again and recorded beside "
+                "the report, in NAME-recordings/ for NAME.html (about 0.4 MB a trial), and "
+                "reused by the next build.")
     p.add_argument("run_dirs", type=Path, nargs="+", metavar="RUN_DIR",
                    help="post-evaluated run directories (dart-reach evaluate)")
     p.add_argument("--out", type=Path, default=None, metavar="FILE.html",

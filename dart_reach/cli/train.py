@@ -34,6 +34,9 @@ def register_train(subparsers) -> None:
     add_scene(p)
     add_workers(p)
     p.add_argument("--resume", action="store_true", help="continue the run in --out")
+    p.add_argument("--yes", action="store_true",
+                   help="start a run estimated at over an hour without asking (the question is "
+                        "asked only when stdin is a terminal; scripts are never asked)")
     p.add_argument("--record-every", type=non_negative, default=100, metavar="K",
                    help="record one trial of each replication's best individual every K "
                         "generations and at the end of each phase (default 100; 0 = never)")
@@ -59,7 +62,10 @@ def cmd_train(args) -> int:
                         seed=args.seed, world=world)
     out = args.out or Path("recordings") / f"{'+'.join(c.name for c in conditions)}-s{args.seed}"
     if not args.resume:
-        announce_cost(conditions, settings, None if args.ray else args.workers or cores())
+        hours = announce_cost(conditions, settings, None if args.ray else args.workers or cores())
+        if hours > ASK_HOURS and not args.yes and sys.stdin.isatty() and not _agreed():
+            print("not started", file=sys.stderr)
+            return 1
     try:
         with training_bar() as bar:
             run = train(conditions, settings, out, workers=args.workers, ray_address=args.ray,
@@ -84,17 +90,28 @@ def cmd_train(args) -> int:
 
 #: Core-hours from which ``train`` announces the size of a run before starting it.
 LONG_RUN_CORE_HOURS = 1.0
+#: Hours (wall time on the local workers, core-hours on a cluster) from which ``train`` asks
+#: a person at the terminal before it starts (``--yes`` skips the question).
+ASK_HOURS = 1.0
 
 
-def announce_cost(conditions, settings, workers: int | None) -> None:
+def _agreed() -> bool:
+    """The person at the terminal's answer to: start this long run?"""
+    print("start it? [y/N] ", end="", file=sys.stderr, flush=True)
+    return sys.stdin.readline().strip().lower() in ("y", "yes")
+
+
+def announce_cost(conditions, settings, workers: int | None) -> float:
     """Before a long run: its size, the core-hours it will take and how to make it smaller
-    (stderr); the progress bar's ETA takes over once generations finish."""
+    (stderr); the progress bar's ETA takes over once generations finish. Returns the upper
+    estimate in hours: of wall time on ``workers`` local workers, of core-hours on a cluster
+    (``workers`` None)."""
     from ..evolution.cost import GENERATION_CORE_S, cost_estimate
 
     est = cost_estimate(conditions, settings)
     low, high = est.core_hours
     if high < LONG_RUN_CORE_HOURS:
-        return
+        return high / (workers or 1)
     wall = (f", {low / workers:,.0f}-{high / workers:,.0f} h on {workers} worker"
             f"{'s' if workers > 1 else ''}") if workers else ""
     lo_s, hi_s = GENERATION_CORE_S
@@ -108,6 +125,7 @@ def announce_cost(conditions, settings, workers: int | None) -> None:
           f"--replications 2 --trials 6, a few minutes on 2 cores). The progress bar's ETA "
           f"follows.",
           file=sys.stderr)
+    return high / (workers or 1)
 
 
 def register_status(subparsers) -> None:

@@ -64,6 +64,9 @@ def read_manifest(path: Path) -> dict:
         raise RunError(f"{path}: unreadable manifest ({exc})") from None
     if not isinstance(m, dict):
         raise RunError(f"{path}: malformed manifest (a JSON {type(m).__name__}, not an object)")
+    if not {"format", "conditions", "settings"} <= m.keys():
+        raise RunError(f"{path}: not a run's manifest (a run's manifest.json, written by "
+                       f"'dart-reach train', holds its format, conditions and settings)")
     if m.get("format") != MANIFEST_FORMAT:
         raise RunError(f"{path}: written by an incompatible version (format "
                        f"{m.get('format')}, this version reads {MANIFEST_FORMAT})")

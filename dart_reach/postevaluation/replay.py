@@ -19,22 +19,25 @@ from ..model.world import POINTS_PER_SECTOR
 from ..recording.rrd import write_blueprint, write_rrd
 
 
-def recording(run_dir, row: dict) -> Path:
+def recording(run_dir, row: dict, cache=None) -> Path:
     """The .rrd file of the post-evaluation trial of ``row`` (a row of the evaluation table,
     or of the baseline's): its recording when it exists, else the trial run again and recorded
-    at its standard path under ``run_dir``."""
+    at its standard path under ``cache`` (a directory; default ``run_dir``: then the run keeps
+    it, beside the post-evaluation's own recordings). With a ``cache``, nothing is written
+    under ``run_dir``."""
     run_dir = Path(run_dir)
+    cache = run_dir if cache is None else Path(cache)
     if row.get("recording") and (run_dir / row["recording"]).is_file():
         return run_dir / row["recording"]
     run = RunDirectory.open(run_dir)
     job = stored_robot_job(run, row["phase_key"], row["senses"], row["replication"],
                            row["rank"], baseline=bool(row.get("baseline")),
                            positions=(row["trial"],), record=True)
-    path = run_dir / job.recording_path(row["trial"], row["trial"] // POINTS_PER_SECTOR)
+    path = cache / job.recording_path(row["trial"], row["trial"] // POINTS_PER_SECTOR)
     if path.is_file():  # made again before
         return path
     _, (content,) = run_robot(job)
     write_rrd(path, content)
-    if not (run_dir / BLUEPRINT).exists():
-        write_blueprint(run_dir / BLUEPRINT)
+    if not (cache / BLUEPRINT).exists():
+        write_blueprint(cache / BLUEPRINT)
     return path

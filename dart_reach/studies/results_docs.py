@@ -231,6 +231,21 @@ def plain_values(by_budget: pl.DataFrame, run: str = TEN) -> dict[str, str]:
     return {"plain": "\n".join(lines), "plain_names": sentence}
 
 
+#: Where the README's table of verdicts links: every claim at every budget.
+CLAIMS_LINK = "docs/results/replication.md#every-claim-at-every-budget"
+
+
+def readme_row(paper: dict, budget: budgets.Budget) -> dict[str, str]:
+    """The README's row of a budget: its runs (linked to every claim at every budget) and the
+    paper's claims by verdict (``findings.summary``), the decided ones with how many survive
+    Holm's adjustment."""
+    return {"run": f"[`{paper['runs']}`]({CLAIMS_LINK})",
+            "generations per phase x replications":
+                f"{budget.generations_per_phase} x {budget.replications}",
+            **{v: (f"{paper[v]} ({paper[f'{v} (Holm)']} after Holm)" if f"{v} (Holm)" in paper
+                   else str(paper[v])) for v in verdicts.VERDICTS}}
+
+
 def _pre_replications(table: pl.DataFrame | None) -> tuple[str, str, str]:
     """A run's pre-reachers replication by replication (``report.replication_table``), how
     many of its replications had no robot babble in any trial, and the mean fitness of those
@@ -249,7 +264,8 @@ def _pre_replications(table: pl.DataFrame | None) -> tuple[str, str, str]:
 def replication_values(recordings: Path) -> dict[str, str]:
     """The values of docs/results/templates/replication.md: ``runs`` (what each run is and
     where it stands), ``counts`` (the paper's claims by verdict at each budget, the replication
-    as the unit, raw and Holm-surviving; ``own_counts`` the project's own), ``sections`` (by
+    as the unit, raw and Holm-surviving; ``own_counts`` the project's own; ``answer`` the
+    README's, ``readme_row``), ``sections`` (by
     section of the paper), ``claims`` (every claim side by side, ``budgets.side_by_side``),
     and per run ``<run>.measures`` (means over robots beside the random baseline) and
     ``<run>.status`` (training, ``dart-reach status --markdown``)."""
@@ -260,7 +276,7 @@ def replication_values(recordings: Path) -> dict[str, str]:
               "claims": markdown_table(budgets.side_by_side(by_budget)),
               "by_replications": replications_text(by_budget),
               **plain_values(by_budget)}
-    rows, infants, own, verdict_counts = [], [], [], {}
+    rows, infants, own, answer = [], [], [], []
     for block in by_budget.partition_by("scene", "generations_per_phase", "replications",
                                         maintain_order=True):
         budget = budgets.Budget(*block.select("scene", "generations_per_phase",
@@ -270,27 +286,22 @@ def replication_values(recordings: Path) -> dict[str, str]:
             target.append({"budget": budget.label, "runs": block["runs"][0],
                            **findings.summary(block, who)})
         paper = rows[-1]
-        verdict_counts[block["runs"][0]] = (
-            "not judged yet" if paper[verdicts.NOT_RUN] == findings.reading(block).height
-            else f"{paper[verdicts.REPRODUCED]} of the paper's claims reproduced "
-                 f"({paper['reproduced (Holm)']} after Holm), "
-                 f"{paper[verdicts.CONTRADICTED]} contradicted, "
-                 f"{paper[verdicts.INCONCLUSIVE]} inconclusive, "
-                 f"{paper[verdicts.UNDERPOWERED]} underpowered, {paper[verdicts.NOT_RUN]} not run")
+        answer.append(readme_row(paper, budget))
     values["counts"] = markdown_table(pl.DataFrame(rows))
     values["infant_counts"] = markdown_table(pl.DataFrame(infants))
+    values["answer"] = markdown_table(pl.DataFrame(answer))
     values["own_counts"] = markdown_table(pl.DataFrame(own))
     described = []
     for d in dirs:
         run = RunDirectory.open(d)
         manifest = json.loads((d / "manifest.json").read_text())
         described.append({
-            "name": d.name, "run": f"`{d.name}`", "conditions": ", ".join(c.name for c in run.conditions),
+            "run": f"`{d.name}`", "conditions": ", ".join(c.name for c in run.conditions),
             "generations per phase": budgets.generations_per_phase(run)[0],
             "replications": run.settings.replications, "seed": run.settings.seed,
             "scene": scene_of(run.settings.world.sectors) or "custom",
             "created": manifest["created"][:10], "training": _training(run),
-            "post-evaluation": _post_evaluation(d), "finished": not run.unfinished()})
+            "post-evaluation": _post_evaluation(d)})
         table = results.read_table(d / results.EVALUATION)
         values[f"{d.name}.measures"] = "not post-evaluated yet" if table is None else \
             markdown_table(report.baseline_table(
@@ -301,14 +312,8 @@ def replication_values(recordings: Path) -> dict[str, str]:
             pl.format("{} / {}", "generations", "of").alias("generations")).drop("of")
         values[f"{d.name}.status"] = markdown_table(status)
         values[f"{d.name}.training"] = _training(run)
-    values["runs"] = markdown_table(pl.DataFrame(described).drop("name", "finished"))
+    values["runs"] = markdown_table(pl.DataFrame(described))
     values["spreads"] = markdown_table(spreads_summary(dirs))
-    values["overview"] = markdown_table(pl.DataFrame([
-        {"run": r["run"], "budget (generations per phase)":
-         f"{r['generations per phase']}, {r['conditions']}", "replications": r["replications"],
-         "state": f"trained; {verdict_counts.get(r['name'], 'not judged yet')}" if r["finished"]
-         else f"training: {r['training']}"}
-        for r in described]))
     return values
 
 

@@ -9,6 +9,7 @@ plus the recording.
 from __future__ import annotations
 
 import os
+import shlex
 import subprocess
 import sys
 from dataclasses import dataclass, field, replace
@@ -31,6 +32,10 @@ from .headless import rerun_binary
 
 #: Phases of the standard condition in developmental order.
 PHASES = ("pre", "gross", "fine")
+#: The budget advised for training a robot to watch when none ships: ``make demo``'s, a few
+#: minutes on 2 cores (the condition's own budget is 500 generations per phase x 10
+#: replications, days).
+SMALL_TRAINING = ("--generations", "3", "--replications", "2", "--trials", "6")
 
 
 @dataclass(frozen=True)
@@ -47,7 +52,9 @@ class Watched:
 
     @property
     def open_command(self) -> list[str]:
-        return ["rerun", str(self.recording), str(self.layout)]
+        """The viewer on the files, through this Python (``python -m rerun``): it runs
+        whether or not its virtual environment is active."""
+        return [sys.executable, "-m", "rerun", str(self.recording), str(self.layout)]
 
 
 def display_available(environ=None) -> bool:
@@ -96,6 +103,12 @@ def _shipped(phase, condition, replication, rank, shipped=None) -> _Choice:
                 wanted = [r for r in wanted if r.phase == name]
                 break
     if not wanted:
+        names = [p.name for p in load_condition(condition).phases]
+        if phase is not None and phase not in names:
+            raise UsageError(f"phase={phase!r}: {condition} has no phase {phase!r} (its "
+                             f"phases: {', '.join(names)})",
+                             cli=f"{phase}: {condition} has no phase {phase!r} (its phases: "
+                                 f"{', '.join(names)})")
         files = index()
         runs = sorted({r["run"] for r in files if r["run"] is not None})
         if shipped is not None and shipped not in runs:
@@ -106,11 +119,16 @@ def _shipped(phase, condition, replication, rank, shipped=None) -> _Choice:
                                   if shipped is None or r["run"] == shipped}))
         asked = (f"{condition}/{phase}" if phase else condition) + (
             f" in shipped run {shipped!r}" if shipped else "")
+        out = f"recordings/{condition}-small"
+        train = ["dart-reach", "train", condition, *SMALL_TRAINING, "--out", out]
+        again = ["dart-reach", "watch", *([phase] if phase else []), "--condition", condition,
+                 "--run", out]
         raise UsageError(
-            f"no shipped robot of {asked}: only {ships} ships; train one "
-            f"(dart_reach.train) and watch it with run=RUN_DIR",
-            cli=f"no shipped robot of {asked}: only {ships} ships; train one "
-                f"(dart-reach train {condition}) and watch it with --run RUN_DIR")
+            f"no shipped robot of {asked}: only {ships} ships; train one at a small budget "
+            f"(dart_reach.train, as in make demo) and watch it with run=RUN_DIR",
+            cli=f"no shipped robot of {asked}: only {ships} ships; train one at a small "
+                f"budget (a few minutes on 2 cores): {shlex.join(train)}, then watch it: "
+                f"{shlex.join(again)}")
     wanted = _longest_trained(wanted)
     if replication is not None:
         have = sorted({r.replication for r in wanted})

@@ -12,18 +12,21 @@ import re
 import shutil
 import subprocess
 import sys
+from pathlib import Path
 
 import polars as pl
 from polars.testing import assert_frame_equal
 import pytest
 
-from dart_reach.analysis import budgets, findings, report, tables, verdicts
+from dart_reach.analysis import budgets, counts, figures, findings, report, tables, verdicts
 from dart_reach.analysis.claims import CLAIMS
 from dart_reach.evolution.conditions import load_condition, scaled
 from dart_reach.postevaluation.systematic import SENSES, evaluate_run
 from dart_reach.evolution.settings import Settings
 from dart_reach.evolution.trainer import train
 from dart_reach.model.scenes import DEFAULT_SCENE
+
+ROOT = Path(__file__).resolve().parents[2]
 
 
 @pytest.fixture(scope="module")
@@ -102,6 +105,37 @@ def test_cli_writes_the_report_and_never_overwrites_a_foreign_file(tiny_run, tmp
     r = cli(str(tiny_run), "--findings", str(mine))
     assert r.returncode == 2 and r.stderr.count("\n") == 1 and "mine.parquet exists" in r.stderr
     assert foreign.read_text() == "<p>my notes</p>" and mine.read_bytes() == b"my table"
+
+
+def _contents(directory: Path) -> dict:
+    """Every file and folder under ``directory`` with its bytes (folders: None)."""
+    return {p.relative_to(directory): (p.read_bytes() if p.is_file() else None)
+            for p in sorted(directory.rglob("*"))}
+
+
+def test_the_report_leaves_the_runs_it_reads_untouched(tmp_path):
+    """Committed results hold no recording: the trials of Figs. 6 and 8 are recorded again,
+    beside the report, never in the run (byte for byte the same after the report)."""
+    run = tmp_path / "runs" / "near"
+    shutil.copytree(ROOT / "recordings" / "scene-study" / "near", run)
+    before = _contents(run)
+    (tmp_path / "out").mkdir()
+    r = subprocess.run([sys.executable, "-m", "dart_reach.cli", "report", str(run), "--out",
+                        str(tmp_path / "out" / "r.html")], capture_output=True, text=True,
+                       timeout=600)
+    assert r.returncode == 0, r.stderr
+    assert _contents(run) == before
+    made = sorted((tmp_path / "out" / "r-recordings" / "near").rglob("*.rrd"))
+    assert made and all(p.stat().st_size > 0 for p in made)
+    assert (tmp_path / "out" / "r-recordings" / "near" / "evaluation" / "trial.rbl").is_file()
+    text = (tmp_path / "out" / "r.html").read_text()
+    assert "Fig. 8" in text and "no recording" not in text
+    assert report.recordings_dir(tmp_path / "r.html", [run, tmp_path / "near"]) == {
+        run: tmp_path / "r-recordings" / "near-0",
+        tmp_path / "near": tmp_path / "r-recordings" / "near-1"}
+    help_text = subprocess.run([sys.executable, "-m", "dart_reach.cli", "report", "--help"],
+                               capture_output=True, text=True).stdout
+    assert "The runs are only read" in " ".join(help_text.split())
 
 
 def test_report_reads_at_100_percent_and_states_its_corrections(tiny_run, tmp_path):
@@ -200,29 +234,60 @@ def test_a_report_of_two_budgets_sets_them_side_by_side(tiny_run, other_budget, 
     assert "scenes" not in found.split("<table")[0]  # one scene: no notice
 
 
-def test_the_summary_counts_the_papers_claims_per_section_and_draws_the_forest():
-    """The first screen: counts per section and budget of the paper's claims only, with the
-    Holm-surviving ones, and the forest of every claim's effect."""
-    rows = [{"scene": "s", "generations_per_phase": g, "replications": 4, "runs": "r",
-             "sign": 1, "claim": c,
-             "section": sec, "kind": "directional", "own": own, "effect": e,
-             "effect_low": e - 0.1, "effect_high": e + 0.1, "verdict": v,
-             "p_holm": ph, "p_holm_against": 1.0}
+def test_the_summary_opens_on_the_counts_per_budget_then_a_forest_by_section():
+    """The first screen: the paper's claims by verdict at each budget (totals that add up,
+    the project's own claims apart), by section folded, then the forest: one panel per
+    section, labels of 10 points, a marker for every claim that was run (one without an
+    interval in its own column), the claims no budget ran left out and listed."""
+    nan = float("nan")
+    rows = [{"scene": "s", "generations_per_phase": g, "replications": 4, "runs": f"r{g}",
+             "sign": 1, "claim": c, "section": sec, "kind": kind, "own": own, "effect": e,
+             "effect_low": e - 0.1 if kind == "directional" else nan,
+             "effect_high": e + 0.1 if kind == "directional" else nan, "verdict": v,
+             "p_holm": ph, "p_holm_against": 1.0, "note": ""}
             for g in (10, 50)
-            for c, sec, own, e, v, ph in (
-                ("a", "IV-A-2, Fig. 5", False, 0.3, verdicts.REPRODUCED, 0.01),
-                ("b", "IV-A-2, Fig. 6", False, 0.3, verdicts.REPRODUCED, 0.2),
-                ("c", "IV-C: controls", False, 0.0, verdicts.INCONCLUSIVE, 0.9),
-                ("d", "IV-A-2", True, 0.5, verdicts.REPRODUCED, float("nan")))]
+            for c, sec, kind, own, e, v, ph in (
+                ("a", "IV-A-2, Fig. 5", "directional", False, 0.3, verdicts.REPRODUCED, 0.01),
+                ("b", "IV-A-2, Fig. 6", "directional", False, 0.3, verdicts.REPRODUCED, 0.2),
+                ("c", "IV-C: controls", "directional", False, 0.0, verdicts.INCONCLUSIVE, 0.9),
+                ("w", "IV-B, Fig. 9", "senses differ", False, 0.9, verdicts.REPRODUCED,
+                 0.01),
+                ("gone", "IV-C", "directional", False, nan, verdicts.NOT_RUN, nan),
+                ("d", "IV-A-2", "directional", True, 0.5, verdicts.REPRODUCED, nan))]
     frame = pl.DataFrame(rows)
-    counts = report.section_counts(frame)
-    row = counts.filter((pl.col("section") == "IV-A-2")
-                        & (pl.col("budget") == "10 gen/phase")).row(0, named=True)
+    by_section = counts.section_counts(frame)
+    row = by_section.filter((pl.col("section") == "IV-A-2")
+                            & (pl.col("budget") == "10 gen/phase")).row(0, named=True)
     assert row["claims"] == 2 and row[verdicts.REPRODUCED] == 2
     assert row["decided after Holm"] == 1
-    assert counts["claims"].sum() == 6  # the project's own claim is not counted
+    assert by_section["claims"].sum() == 10  # the project's own claim is not counted
+    answer = counts.budget_counts(frame)
+    assert answer["budget"].to_list() == ["10 gen/phase x 4 replications",
+                                          "50 gen/phase x 4 replications"]
+    assert answer["runs"].to_list() == ["r10", "r50"] and (answer["claims"] == 5).all()
+    assert (answer.select(list(verdicts.VERDICTS)).sum_horizontal() == answer["claims"]).all()
+    assert answer[verdicts.NOT_RUN].to_list() == [1, 1]
+    assert counts.never_run(frame)["claim"].to_list() == ["gone"]
+
     text = report.summary_html(frame)
     assert text.count("<img") == 1 and "directional" in text
+    assert text.index("counts answer") < text.index("<img")  # the answer first
+    assert "1 claims not run at any budget" in text and "<td>gone</td>" in text
+
+    fig = figures.forest_figure(frame)
+    fig.canvas.draw()
+    panels = {ax.get_title(loc="left"): [t.get_text() for t in ax.get_yticklabels()]
+              for ax in fig.axes}
+    assert panels == {"IV-A-2": ["a", "b"], "IV-C": ["c"], "IV-B": ["w"]}
+    sizes = [t.get_fontsize() for ax in fig.axes
+             for t in ax.get_yticklabels() + ax.get_xticklabels()]
+    assert min(sizes) >= 10
+    for ax in fig.axes:  # one marker per budget for every claim that was run
+        markers = [line for line in ax.get_lines() if line.get_marker() not in ("None", "")]
+        assert len(markers) == 2 * len(panels[ax.get_title(loc="left")])
+    w = next(ax for ax in fig.axes if ax.get_title(loc="left") == "IV-B")
+    xs = {float(line.get_xdata()[0]) for line in w.get_lines() if line.get_marker() != "None"}
+    assert xs == {figures.forest.NO_INTERVAL_X}  # Kendall's W: no interval, still a marker
 
 
 def test_a_replication_is_the_mean_of_its_robots_means():

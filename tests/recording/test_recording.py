@@ -11,6 +11,7 @@ import polars as pl
 import pytest
 from scipy.spatial.transform import Rotation
 
+from dart_reach import save_series
 from dart_reach.measures import metrics
 from dart_reach.recording import rrd as rec
 from dart_reach.model.ctrnn import Network, random_params
@@ -149,15 +150,60 @@ def test_damaged_files_are_named_with_their_problem(tmp_path, world, trial):
     assert cli.stderr.count("\n") == 1 and "half.rrd: truncated" in cli.stderr
 
 
-def test_cli_read_saves_the_series_as_parquet_without_overwriting(tmp_path, world, trial):
+def _read_cli(*args):
+    return subprocess.run([sys.executable, "-m", "dart_reach.cli", "read", *map(str, args)],
+                          capture_output=True, text=True)
+
+
+def test_cli_read_saves_the_series_as_csv_and_parquet_without_overwriting(tmp_path, world,
+                                                                          trial):
     path = _write(tmp_path, world, trial)
-    out = tmp_path / "t.parquet"
-    cli = [sys.executable, "-m", "dart_reach.cli", "read", str(path), "--parquet", str(out)]
-    result = subprocess.run(cli, capture_output=True, text=True)
+    csv, parquet = tmp_path / "t.csv", tmp_path / "t.parquet"
+    result = _read_cli(path, "--csv", csv, "--parquet", parquet)
     assert result.returncode == 0, result.stderr
     assert "senses: no-touch" in result.stdout and "40 rows" in result.stdout
-    assert pl.read_parquet(out).equals(rec.read_rrd(path))
-    saved = out.read_bytes()
-    again = subprocess.run(cli, capture_output=True, text=True)
-    assert again.returncode == 2 and "t.parquet exists" in again.stderr
-    assert out.read_bytes() == saved
+    table = rec.read_rrd(path)
+    assert pl.read_parquet(parquet).equals(table)
+    from_csv = pl.read_csv(csv)
+    assert from_csv.columns == table.columns and from_csv.height == 40  # one row per step
+    assert from_csv.columns[:2] == ["step", "sim_time"]
+    assert "robot/positions/hand/x" in from_csv.columns
+    assert np.allclose(from_csv.drop("step").to_numpy(), table.drop("step").to_numpy(),
+                       rtol=1e-6, equal_nan=True)
+    saved = csv.read_bytes()
+    again = _read_cli(path, "--csv", csv)
+    assert again.returncode == 2 and again.stderr.count("\n") == 1
+    assert "t.csv: the file exists" in again.stderr
+    assert again.stdout == ""  # refused before the recording is read
+    assert csv.read_bytes() == saved
+
+
+def test_cli_read_refuses_a_table_it_could_not_write_before_any_work(tmp_path, world, trial):
+    path = _write(tmp_path, world, trial)
+    for args, message in (
+            (["--parquet", tmp_path / "x.csv"], "--parquet " + str(tmp_path / "x.csv") + ": a "
+                                                "parquet table is a .parquet file"),
+            (["--csv", tmp_path / "x.parquet"], "give a name ending in .csv"),
+            (["--csv", tmp_path / "x"], "give a name ending in .csv"),
+            (["--csv", tmp_path / "nowhere" / "x.csv"], "no such directory"),
+            (["--csv", path.with_suffix(".rrd") / "x.csv"], "no such directory")):
+        result = _read_cli(path, *args)
+        assert result.returncode == 2 and result.stderr.count("\n") == 1, result.stderr
+        assert message in result.stderr and result.stdout == ""
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["t.rrd"]  # nothing written
+
+
+def test_save_series_from_python_chooses_the_format_by_suffix(tmp_path, world, trial):
+    path = _write(tmp_path, world, trial)
+    out = save_series(path, tmp_path / "t.csv")
+    assert out == tmp_path / "t.csv" and pl.read_csv(out).height == 40
+    assert save_series(path, tmp_path / "t.parquet").suffix == ".parquet"
+    assert pl.read_parquet(tmp_path / "t.parquet").equals(rec.read_rrd(path))
+    with pytest.raises(FileExistsError, match="t.csv"):
+        save_series(path, out)
+    with pytest.raises(ValueError, match=r"out='.*t\.txt': give a name ending in \.csv or "
+                                         r"\.parquet"):
+        save_series(path, tmp_path / "t.txt")
+    with pytest.raises(rec.RecordingError, match="no such recording"):
+        save_series(tmp_path / "missing.rrd", tmp_path / "m.csv")
+    assert not (tmp_path / "m.csv").exists()

@@ -10,6 +10,7 @@ from pathlib import Path
 import polars as pl
 import pytest
 
+from dart_reach.analysis.budgets import Budget
 from dart_reach.postevaluation import results
 from dart_reach.studies import results_docs
 
@@ -108,3 +109,27 @@ def test_the_plain_words_name_every_claim_by_its_verdict():
     assert "reproduced 2 of the paper's claims (A; F), contradicted 1 (B)" in values["plain_names"]
     assert "Not yet" in results_docs.plain_values(
         frame.with_columns(pl.lit("not run").alias("verdict")), "ten")["plain"]
+
+
+def test_the_readme_shows_the_verdicts_as_a_small_table_and_says_what_they_mean():
+    """The README's results: one row per budget linking to every claim, the codes, Holm and
+    underpowered against inconclusive explained, no claim named inline; the README short."""
+    text = (ROOT / "README.md").read_text(encoding="utf-8")
+    part = text.split(results_docs.BEGIN.format("readme-results.md"))[1].split(
+        results_docs.END)[0]
+    rows = [line for line in part.splitlines() if line.startswith(f"| [`")]
+    assert rows and all(f"]({results_docs.CLAIMS_LINK})" in row for row in rows)
+    assert (ROOT / results_docs.CLAIMS_LINK.split("#")[0]).is_file()
+    assert "## Every claim at every budget" in (ROOT / "docs/results/replication.md").read_text()
+    for words in ("Claim codes", "Holm's method", "Underpowered or inconclusive"):
+        assert words in part, words
+    assert "reach up" not in part and "F4 senses differ" not in part  # no claim listed inline
+    assert len(text.splitlines()) <= 160
+    budget = Budget("s", 50, 10)
+    paper = {"runs": "r", "reproduced": 23, "reproduced (Holm)": 11, "contradicted": 3,
+             "contradicted (Holm)": 1, "inconclusive": 30, "underpowered": 0, "not run": 30}
+    assert results_docs.readme_row(paper, budget) == {
+        "run": f"[`r`]({results_docs.CLAIMS_LINK})",
+        "generations per phase x replications": "50 x 10",
+        "reproduced": "23 (11 after Holm)", "contradicted": "3 (1 after Holm)",
+        "inconclusive": "30", "underpowered": "0", "not run": "30"}

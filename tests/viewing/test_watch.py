@@ -6,6 +6,8 @@ from __future__ import annotations
 
 import dataclasses
 import json
+import re
+import shlex
 import subprocess
 import sys
 import time
@@ -30,7 +32,8 @@ def _cli(*args):
 
     environ = {k: v for k, v in os.environ.items() if k not in ("DISPLAY", "WAYLAND_DISPLAY")}
     return subprocess.run([sys.executable, "-m", "dart_reach.cli", *map(str, args)],
-                          capture_output=True, text=True, timeout=300, env=environ)
+                          capture_output=True, text=True, timeout=300, env=environ,
+                          stdin=subprocess.DEVNULL)
 
 
 def test_shipped_robots_keep_their_provenance():
@@ -220,12 +223,42 @@ def test_the_learning_checks_robots_ship_as_the_standard_conditions(tmp_path):
 def test_cli_watch_without_a_display_writes_and_says_how_to_open(tmp_path):
     result = _cli("watch", "pre", "--out", tmp_path / "w.rrd")
     assert result.returncode == 0, result.stderr
-    assert f"rerun {tmp_path / 'w.rrd'} {tmp_path / 'w.rbl'}" in result.stdout
     assert "shipped robot standard/pre" in result.stdout
+    line = result.stdout.splitlines()[-1]
+    command = shlex.split(line)
+    assert command[-2:] == [str(tmp_path / "w.rrd"), str(tmp_path / "w.rbl")]
+    # the command runs without the virtual environment on the PATH (here: asked its version)
+    bare = {"PATH": "/usr/bin:/bin", "HOME": str(tmp_path)}
+    version = subprocess.run([*command[:-2], "--version"], capture_output=True, text=True,
+                             env=bare, cwd=tmp_path, timeout=60)
+    assert version.returncode == 0 and "rerun" in version.stdout, version.stderr
     result = _cli("watch", "gross", "--condition", "pre-star", "--out", tmp_path / "f.rrd")
     assert result.returncode == 2 and result.stderr.count("\n") == 1
-    assert "no shipped robot of pre-star/gross: only " in result.stderr
-    assert "standard/pre" in result.stderr and "--run" in result.stderr
+    assert "gross: pre-star has no phase 'gross' (its phases: pre-star)" in result.stderr
+    result = _cli("watch", "medium", "--out", tmp_path / "f.rrd")
+    assert result.returncode == 2 and result.stderr.count("\n") == 1
+    assert "standard has no phase 'medium' (its phases: pre, gross, fine)" in result.stderr
+    assert not (tmp_path / "f.rrd").exists()
+
+
+def test_a_robot_that_does_not_ship_advises_a_small_training(tmp_path):
+    result = _cli("watch", "--condition", "fine-hat", "--shipped", "replication-50",
+                  "--out", tmp_path / "f.rrd")
+    assert result.returncode == 2 and result.stderr.count("\n") == 1
+    assert "no shipped robot of fine-hat in shipped run 'replication-50'" in result.stderr
+    advice = re.search(r"(dart-reach train [^,]+), then watch it: (dart-reach watch .+)$",
+                       result.stderr.strip())
+    assert advice and "--run recordings/fine-hat-small" in advice[2], result.stderr
+    train = shlex.split(advice[1])
+    assert train[-2:] == ["--out", "recordings/fine-hat-small"]
+    # the advised run is small: train announces no cost (under a core-hour) and asks nothing;
+    # here it stops at once on a directory that holds something else
+    busy = tmp_path / "busy"
+    busy.mkdir()
+    (busy / "x").write_text("x")
+    small = _cli(*train[1:-2], "--workers", "1", "--out", busy)
+    assert small.returncode == 2 and "not empty" in small.stderr, small.stderr
+    assert "core-hours" not in small.stderr
     assert not (tmp_path / "f.rrd").exists()
 
 

@@ -25,7 +25,9 @@ def fig10_conditions(replications: pl.DataFrame, order: Sequence[str] | None = N
     only). See ``fig10_statistics``."""
     groups = group_order(replications, order)
     st = fig10_statistics(replications, groups, value, alpha)
-    fig = Figure(figsize=(12, 5.2), layout="constrained")
+    # room for the matrix's labels: a square of one row per group beside the box plots
+    fig = Figure(figsize=(12 + 0.1 * len(groups), max(5.2, 3.0 + 0.3 * len(groups))),
+                 layout="constrained")
     grid = fig.add_gridspec(1, 2, width_ratios=[1.5, 1])
     ax = fig.add_subplot(grid[0, 0])
     units = replications.with_columns(pl.col("group").cast(pl.Utf8))
@@ -43,16 +45,15 @@ def fig10_conditions(replications: pl.DataFrame, order: Sequence[str] | None = N
             ax.hlines(np.median(x), i + 0.75, i + 1.25, color="#d62728", linewidth=1.5)
         ax.plot(i + 1 + rng.uniform(-0.12, 0.12, len(x)), x, "o", color="#1f77b4",
                 markersize=5, alpha=0.8)
-    ax.set_xticks(range(1, len(groups) + 1), groups, rotation=45 if len(groups) > 5 else 0,
-                  ha="right" if len(groups) > 5 else "center")
+    counts = {r["group"]: r["replications"] for r in st["summary"].iter_rows(named=True)}
+    ax.set_xticks(range(1, len(groups) + 1), [f"{g} (n={counts.get(g, 0)})" for g in groups],
+                  rotation=45 if len(groups) > 5 else 0,
+                  ha="right" if len(groups) > 5 else "center", rotation_mode="anchor")
     ax.set_xlim(0.4, len(groups) + 0.6)
     ax.set_ylabel(f"{value} per replication\n(post-evaluation, best robot)")
     ax.grid(axis="y", alpha=0.3)
-    counts = {r["group"]: r["replications"] for r in st["summary"].iter_rows(named=True)}
-    ax.set_title("replications per group: " + ", ".join(f"{g} {counts.get(g, 0)}"
-                                                        for g in groups)
-                 + f"\nbox plots for {BOX_MIN} or more replications; red line: median",
-                 fontsize=9)
+    ax.set_title(f"n: replications per group; a box plot from {BOX_MIN} replications; red "
+                 f"line: median", fontsize=9, loc="left")
     draw_matrix(fig.add_subplot(grid[0, 1]), st, alpha)
     fig.suptitle("Fig. 10 - performance of every phase and condition", fontsize=10)
     return fig

@@ -53,14 +53,16 @@ VIEWS = {
 
 def fig6_distances_variability(table: pl.DataFrame, run_dir, phases: Sequence[str] | None = None,
                                senses: str = "normal", phase: str = "pre",
-                               trials: Sequence[int] = SECTOR_CENTRE_TRIALS) -> Figure:
+                               trials: Sequence[int] = SECTOR_CENTRE_TRIALS,
+                               cache=None) -> Figure:
     """Fig. 6. Top: hand-shoulder and hand-ball distance (m) over ``trials`` (default the centre
     of each of the 9 sectors) of the best recorded robot of ``phase`` (the best robot of the
     best replication at the end of pre-reaching), read from its recordings, one after the other;
     dotted lines mark the start of each trial (posture reset). Bottom: movement variability
     (s.d. over time of the joint encoders) of elbow, shoulder and trunk per phase, and beyond
     the paper the elbow freezing (s.d. of the hand-shoulder distance): mean $\\pm$ s.e.m. over
-    robots."""
+    robots. Trials without a recording are run again and recorded under ``cache`` (default
+    ``run_dir``; ``replay.recording``)."""
     phases = phase_list(table, phases)
     fig = Figure(figsize=(11, 6.8), layout="constrained")
     grid = fig.add_gridspec(2, 4, height_ratios=[1.1, 1])
@@ -73,7 +75,7 @@ def fig6_distances_variability(table: pl.DataFrame, run_dir, phases: Sequence[st
         r = by_trial.get(k)
         if r is None:
             continue
-        rec = read_rrd(replay.recording(run_dir, r))
+        rec = read_rrd(replay.recording(run_dir, r, cache))
         t = rec["sim_time"].to_numpy()
         hand = positions(rec, "hand")
         d_shoulder = metrics.hand_shoulder_distance(hand, positions(rec, "shoulder"))
@@ -222,14 +224,16 @@ def _project(points: np.ndarray, view: str) -> tuple[np.ndarray, np.ndarray]:
 
 def fig8_trajectories(table: pl.DataFrame, run_dir, phases: Sequence[str] | None = None,
                       senses: Sequence[str] = TESTS, trial: int = FIG8_TRIAL,
-                      view: str = "front", radius: float | None = None) -> Figure:
+                      view: str = "front", radius: float | None = None,
+                      cache=None) -> Figure:
     """Fig. 8: the hand's path (palm point) in one trial (default the centre of sector 4) of the
     best recorded robot of each phase (columns) under each sensory condition (rows), read from
     the recordings, projected on a plane: ``view`` "front" (as seen from behind the robot),
     "side" (forward to the right) or "top". The path's colour is time; o marks the start, x the
     end; the red disc is the ball at the start (its path in red), + the shoulder. The row of
     the ball-absent test (no-ball, section IV-A-1) draws a dashed circle where the ball would
-    hang. All panels share one scale."""
+    hang. All panels share one scale. Trials without a recording are run again and recorded
+    under ``cache`` (default ``run_dir``; ``replay.recording``)."""
     if view not in VIEWS:
         raise ValueError(f"view must be one of {', '.join(VIEWS)}, got {view!r}")
     phases = phase_list(table, phases)
@@ -244,7 +248,7 @@ def fig8_trajectories(table: pl.DataFrame, run_dir, phases: Sequence[str] | None
         for j, p in enumerate(phases):
             robot = recorded_robot(table, p, s).filter(pl.col("trial") == trial)
             if robot.height:
-                rec = read_rrd(replay.recording(run_dir, robot.row(0, named=True)))
+                rec = read_rrd(replay.recording(run_dir, robot.row(0, named=True), cache))
                 paths[i, j] = (rec["sim_time"].to_numpy(), positions(rec, "hand"),
                                positions(rec, "ball"), positions(rec, "shoulder"),
                                robot.row(0, named=True))

@@ -90,9 +90,8 @@ def draw_matrix(ax, st: dict, alpha: float) -> None:
     ax.grid(which="minor", color="0.5", linewidth=0.5)
     ax.tick_params(which="minor", length=0)
     tested = int(st["pairs"]["p"].is_not_nan().sum()) if st["pairs"].height else 0
-    ax.set_title(f"Mann-Whitney, two-tailed, {tested} pairs\nblack: p < {alpha:g} after Holm's "
-                 f"correction;\ngrey: p < {alpha:g} uncorrected only (the paper's test)",
-                 fontsize=9)
+    ax.set_title(f"Mann-Whitney, two-tailed, {tested} pairs\nblack: p < {alpha:g} after Holm\n"
+                 f"grey: p < {alpha:g} uncorrected only", fontsize=9)
     if n < 2:
         ax.text(0.5, 0.5, "fewer than 2 groups", transform=ax.transAxes, ha="center",
                 va="center", fontsize=9, color="0.4")
