@@ -120,6 +120,9 @@ def scene_study_values(recordings: Path) -> dict[str, str]:
 TEN = "replication-50x10"
 #: The replication runs of docs/results/replication.md, smallest budget first.
 REPLICATIONS = ("replication-10", "replication-50", TEN)
+#: The paper's full budget (issue 48): the standard condition, 500 generations per phase, 10
+#: replications; trained over many sessions.
+FULL = "standard-500x10"
 
 
 def _training(run: RunDirectory) -> str:
@@ -341,7 +344,8 @@ def cost_values(recordings: Path) -> dict[str, str]:
     q1, median = np.quantile(per["core_s"].drop_nans().to_numpy(), [0.25, 0.5])
     fig10 = cost.cost_estimate(list(list_conditions()), Settings()).replication_generations
     hours = [fig10 * c / 3600 for c in (q1, median)]
-    return {"cost": markdown_table(table),
+    full = full_values(recordings / FULL, (q1, median))
+    return {"cost": markdown_table(table), **full,
             "ten.replication_generations": f"{per.height * ten.settings.replications:,}",
             "ten.wall_h": number(float(per["wall_s"].sum()) / 3600),
             "ten.sessions": str(len(sessions)), "ten.resumes": str(max(len(sessions) - 1, 0)),
@@ -352,6 +356,35 @@ def cost_values(recordings: Path) -> dict[str, str]:
                                     f"{hours[1] / (CLUSTER_CORES * RAY_EFFICIENCY[0]):.0f}"),
             "fig10.cores": str(CLUSTER_CORES),
             "fig10.efficiency": f"{RAY_EFFICIENCY[0]:g}–{RAY_EFFICIENCY[1]:g}"}
+
+
+def full_values(directory: Path, quiet: tuple[float, float]) -> dict[str, str]:
+    """``full.*`` of docs/results/templates/benchmarks-cost.md, the full-budget run where it
+    is: its replication-generations done of all, its sessions (revision, the generation it
+    started from, workers), the quartiles of its core-seconds per replication-generation and
+    the rest of the campaign at the median (core-hours; hours on the run's last workers) and
+    at ``quiet``, the core-seconds (low, high) of a run on cores it had mostly to itself."""
+    keys = ("full.done", "full.sessions", "full.q1", "full.median", "full.rest_core_h",
+            "full.rest_h", "full.workers", "full.rest_quiet_h")
+    if not (directory / "manifest.json").is_file():
+        return dict.fromkeys(keys, "not started")
+    run = RunDirectory.open(directory)
+    status = run.status()
+    done, total = int(status["generations"].sum()), int(status["of"].sum())
+    sessions = json.loads((directory / "manifest.json").read_text())["sessions"]
+    rows = [{"session": i, "started": s["started"][:16].replace("T", " "),
+             "revision": (s.get("git_revision") or "?")[:7],
+             "from generation (pre)": s.get("generations_done", {}).get("standard/pre", 0),
+             "workers": s.get("workers")} for i, s in enumerate(sessions)]
+    per = cost.core_seconds(run)["core_s"].drop_nans().to_numpy()
+    q1, median = np.quantile(per, [0.25, 0.5]) if per.size else (np.nan, np.nan)
+    workers = sessions[-1].get("workers") or 1
+    rest = (total - done) * median / 3600
+    return {"full.done": f"{done:,} of {total:,}", "full.sessions": markdown_table(
+        pl.DataFrame(rows)), "full.q1": number(q1), "full.median": number(median),
+        "full.rest_core_h": f"{rest:,.0f}", "full.rest_h": f"{rest / workers:,.0f}",
+        "full.workers": str(workers), "full.rest_quiet_h": "–".join(
+            f"{(total - done) * c / 3600 / workers:,.0f}" for c in quiet)}
 
 
 def stillness_values(recordings: Path) -> dict[str, str]:
