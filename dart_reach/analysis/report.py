@@ -310,14 +310,14 @@ def summary_html(by_budget: pl.DataFrame) -> str:
     totals; by section folded under it), then the forest of every claim's effect grouped by
     section, the claims no budget ran apart, and what each kind of test is."""
     answer = counts.budget_counts(by_budget)
-    n = by_budget.filter(~pl.col("own"))["claim"].n_unique()
+    n = findings.reading(by_budget)["claim"].n_unique()
     never = counts.never_run(by_budget)
     tests = pl.DataFrame({"kind": list(findings.TESTS), "test": list(findings.TESTS.values())})
     verdict_cell = (lambda column, value: column.split()[0]
                     if column in verdicts.VERDICTS and value else "")
-    return (f"<p class='answer'>The paper's {n} claims at each budget, the replication as "
-            "the unit of every verdict (the project's own claims are counted apart, in each "
-            "budget's findings):</p>"
+    return (f"<p class='answer'>The paper's {n} claims of its robots at each budget, the "
+            "replication as the unit of every verdict (its claims of infants and the "
+            "project's own are counted apart, in each budget's findings):</p>"
             + table_html(answer, "counts answer", cell_class=verdict_cell)
             + "<p><i>Not run</i>: no data for them at that budget. <i>Decided after "
               "Holm</i>: the reproduced and contradicted claims that stay below p = 0.05 once "
