@@ -341,7 +341,7 @@ class World:
         the gravity compensation. Values outside [-1, 1] are clipped. Computed on Python
         floats: the same IEEE operations in the same order as on numpy arrays, for a third
         of the cost on 14 values."""
-        t = (targets if type(targets) is np.ndarray else np.asarray(targets, dtype=float))
+        t = targets if type(targets) is np.ndarray else np.asarray(targets, dtype=float)
         if t.shape != (N_MOTORS,):
             raise ValueError(f"expected {N_MOTORS} motor targets, got shape {t.shape}")
         q_des = [clip(v * h + m, lo, hi) for v, h, m, lo, hi in
