@@ -493,14 +493,15 @@ def markdown(table: pl.DataFrame) -> str:
     return "\n".join(lines) + "\n"
 
 
-#: The calibration table as committed data (``python -m dart_reach.analysis.calibration``
-#: writes it; docs/results/calibration.md shows it, tests/analysis/test_calibration.py checks
-#: it and recomputes parts of it).
-TABLE = Path(__file__).resolve().parents[2] / "docs" / "results" / "calibration.parquet"
+#: The calibration table, a compact result committed beside the runs' (``python -m
+#: dart_reach.analysis.calibration`` writes it; docs/results/calibration.md shows it,
+#: tests/analysis/test_calibration.py checks it and recomputes parts of it).
+TABLE = Path(__file__).resolve().parents[2] / "recordings" / "calibration" / "calibration.parquet"
 
 
 if __name__ == "__main__":  # the table of docs/results/calibration.md
     table = calibrate()
+    TABLE.parent.mkdir(parents=True, exist_ok=True)
     table.write_parquet(TABLE)
     print(markdown(table))
     for nest in NESTINGS:
