@@ -177,7 +177,7 @@ class Trial:
         cam = w.camera_pose()
         R, origin = cam[:3, :3], cam[:3, 3]
         ball_cam = (ball - origin) @ R  # R^T (p - o)
-        sensors.proprioception(q, self._proprio_lower, None, out=self._x_proprio,
+        sensors.proprioception(q, self._proprio_lower, w.motor_limit_upper, out=self._x_proprio,
                                span=self._proprio_span)
         touching = contacts.tolist()
         if self._no_touch:
