@@ -26,6 +26,18 @@ def int_at_least(minimum: int):
 positive, non_negative = int_at_least(1), int_at_least(0)
 
 
+def generations(text: str) -> tuple[int, ...]:
+    """An argparse type: generations, comma-separated positive integers ("50,100")."""
+    try:
+        values = tuple(sorted({positive(g.strip()) for g in text.split(",")}))
+    except argparse.ArgumentTypeError:
+        values = ()
+    if not values:
+        raise argparse.ArgumentTypeError(f"expected generations separated by commas (e.g. "
+                                         f"50,100), got {text!r}")
+    return values
+
+
 def cores() -> int:
     """The cores this process may run on (its CPU affinity where the system tells it)."""
     try:

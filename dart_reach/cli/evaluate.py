@@ -8,7 +8,7 @@ import sys
 from pathlib import Path
 
 from ..progress import evaluation_bar
-from .arguments import add_workers, command, non_negative, positive
+from .arguments import add_workers, command, generations, non_negative, positive
 from .stopping import checked, interrupted
 
 
@@ -17,9 +17,9 @@ def register_evaluate(subparsers) -> None:
                                         "positions (section IV)")
     p.add_argument("run_dir", type=Path, metavar="RUN_DIR", help="a run directory of 'train'")
     p.add_argument("--sensors", default="normal",
-                   choices=("normal", "no-touch", "no-sight", "nothing", "no-ball", "all"),
-                   help="sensory condition(s) of Fig. 9, or no-ball: the ball-absent test of "
-                        "section IV-A-1 (default normal; all = the five)")
+                   help="sensory condition(s) of Fig. 9 (normal, no-touch, no-sight, "
+                        "nothing) or no-ball, the ball-absent test of section IV-A-1; several "
+                        "separated by commas; all = the five (default normal)")
     p.add_argument("--robots", type=positive, default=5,
                    help="best robots of each replication to test (default 5)")
     p.add_argument("--record", default="best",
@@ -33,10 +33,16 @@ def register_evaluate(subparsers) -> None:
                    help="also post-evaluate the best N robots of each replication of every "
                         "snapshot (train --snapshot-every): the measures' course over "
                         "generations, in development.parquet (default 0: not)")
+    p.add_argument("--development-sensors", default="normal", metavar="SENSES",
+                   help="the conditions the snapshots are evaluated under, as --sensors "
+                        "(default normal)")
+    p.add_argument("--snapshots", type=generations, metavar="G,G,...",
+                   help="with --development: only the snapshots of these generations "
+                        "(default: all)")
     p.add_argument("--finished-only", action="store_true",
-                   help="evaluate the phases that have finished training in a run that has "
-                        "not (on a copy of a run still training: it holds the lock); "
-                        "not with --development")
+                   help="evaluate what a run still training has finished (on a copy of its "
+                        "directory: the training holds the lock): its finished phases, and "
+                        "with --development the snapshots saved so far")
     add_workers(p)
     p.set_defaults(func=cmd_evaluate)
 
@@ -45,17 +51,22 @@ def cmd_evaluate(args) -> int:
     import polars as pl
 
     from ..postevaluation.results import BASELINE
-    from ..postevaluation.systematic import BLUEPRINT, RECORDINGS, TABLE, evaluate_run, parse_senses
+    from ..postevaluation.systematic import (BLUEPRINT, RECORDINGS, TABLE, evaluate_run,
+                                             finished_phases, parse_senses)
 
     senses = parse_senses(args.sensors)
-    if args.finished_only and args.development:
-        raise ValueError("--development needs the whole run trained: not with --finished-only")
+    development_senses = parse_senses(args.development_sensors)
+    if args.snapshots and not args.development:
+        raise ValueError("--snapshots chooses the snapshots of --development: give "
+                         "--development N too")
     try:
         with evaluation_bar() as bar:
-            table = evaluate_run(args.run_dir, senses=senses, robots=args.robots,
-                                 record=args.record, workers=args.workers, ray_address=args.ray,
-                                 progress=checked(bar), baseline=args.baseline,
-                                 finished_only=args.finished_only)
+            table = (pl.DataFrame() if args.development and args.finished_only
+                     and not finished_phases(args.run_dir) else
+                     evaluate_run(args.run_dir, senses=senses, robots=args.robots,
+                                  record=args.record, workers=args.workers,
+                                  ray_address=args.ray, progress=checked(bar),
+                                  baseline=args.baseline, finished_only=args.finished_only))
     except KeyboardInterrupt as exc:
         # every robot whose trials were collected is saved, reported or not: a stop signal can
         # land between a robot's trials and its progress line
@@ -65,17 +76,20 @@ def cmd_evaluate(args) -> int:
               f"again to evaluate the rest", file=sys.stderr)
         return interrupted(exc)
     out = Path(args.run_dir)
-    trained = table.filter(~pl.col("baseline")).height if table.height else 0
-    print(f"\n{trained} trials in {out / TABLE}"
-          + (f", {table.height - trained} in {out / BASELINE}" if table.height > trained else ""),
-          file=sys.stderr)
+    if table.height:
+        trained = table.filter(~pl.col("baseline")).height
+        print(f"\n{trained} trials in {out / TABLE}"
+              + (f", {table.height - trained} in {out / BASELINE}" if table.height > trained
+                 else ""), file=sys.stderr)
     if args.development:
         from ..postevaluation.snapshots import TABLE as DEVELOPMENT, measure_snapshots
 
         with evaluation_bar() as bar:
             dev = measure_snapshots(args.run_dir, robots=args.development,
                                     workers=args.workers, ray_address=args.ray,
-                                    progress=checked(bar))
+                                    progress=checked(bar), senses=development_senses,
+                                    generations=args.snapshots,
+                                    finished_only=args.finished_only)
         print(f"{dev.height} trials of the snapshots' best robots in {out / DEVELOPMENT}",
               file=sys.stderr)
     recorded = table.filter(table["recording"].is_not_null())["recording"] if table.height else []

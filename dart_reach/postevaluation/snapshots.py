@@ -9,8 +9,11 @@ developmental process", IV-C) cannot be judged from final populations. Two sourc
 - **snapshots** (``RunDirectory.snapshots``, ``train --snapshot-every``): the best robots of
   every replication after generations 1, 2, 5, 10, every K and the last of each phase.
   ``measure_snapshots`` post-evaluates the best ``robots`` of each on the 45 systematic
-  positions (normal senses), every measure of ``metrics.trial_metrics``, into
-  ``development.parquet`` (one row per trial; resumable: what is there is kept).
+  positions (normal senses, and the other conditions of ``systematic.TESTS`` where asked:
+  the ball-absent test of a pre-reaching claim), every measure of
+  ``metrics.trial_metrics``, into ``development.parquet`` (one row per trial; resumable:
+  what is there is kept), all snapshots or chosen generations, of a finished run or of one
+  still training (the snapshots saved so far).
 - **recordings** (``train --record-every``): one trial of each replication's best individual
   every K generations, at a random position. ``recorded_development`` measures them; it is
   all a run made before snapshots has. One trial per point, touches on inner faces only
@@ -46,7 +49,7 @@ from ..model.task import Senses, TrialData
 from ..recording.rrd import read_properties, read_rrd
 
 TABLE = results.DEVELOPMENT
-_KEY = ("phase_key", "generation", "replication", "rank")
+_KEY = ("phase_key", "senses", "generation", "replication", "rank")
 
 #: The measures whose course the report draws (column, label): performance, movement
 #: amplitude (motor suppression), babbling, the joints' use (freezing), the arm's lever, the
@@ -74,45 +77,63 @@ def _offsets(run: RunDirectory) -> dict[str, tuple[str, int, str]]:
     return out
 
 
-def load_development(run_dir) -> pl.DataFrame | None:
-    """``development.parquet`` of a run, or None when there is none."""
-    return results.read_table(Path(run_dir) / TABLE)
+def load_development(run_dir, senses: str | None = "normal") -> pl.DataFrame | None:
+    """``development.parquet`` of a run, the trials under ``senses`` (default normal, what the
+    course and the developmental claims read; None: every condition), or None when there is
+    none."""
+    table = results.read_table(Path(run_dir) / TABLE)
+    if table is None or senses is None:
+        return table
+    return table.filter(pl.col("senses") == senses)
 
 
 def measure_snapshots(run_dir, robots: int = 1, workers: int | None = None,
                       ray_address: str | None = None,
                       progress: Callable[[EvaluationProgress], None] | None = None,
-                      save_every_s: float = 10.0) -> pl.DataFrame:
+                      save_every_s: float = 10.0, senses: Sequence[str] = ("normal",),
+                      generations: Sequence[int] | None = None, finished_only: bool = False
+                      ) -> pl.DataFrame:
     """Post-evaluate the best ``robots`` (<= the snapshots' 5) of every replication of every
-    snapshot of a finished run on the 45 systematic positions, normal senses, and return
-    ``development.parquet`` (written in the run). Columns: condition (the first that trains
-    the phase), phase, phase_key, notation, replication, rank, generation, offset
-    (generations of the condition's earlier phases), lifetime_fitness, trial, sector,
-    ball_x/y/z, every measure of ``metrics.trial_metrics`` and measures_version. Snapshots
-    already evaluated are kept. ``progress`` is told a ``systematic.EvaluationProgress``
-    (robots done of those left, with an ETA) after each robot."""
-    run = open_finished(run_dir)
+    snapshot of a finished run on the 45 systematic positions under each of ``senses``
+    (``systematic.TESTS``: normal, the deprivations, no-ball), and return the whole
+    ``development.parquet`` (written in the run). ``generations``: only the snapshots of these
+    generations (None: all). ``finished_only``: the snapshots a run still training has saved
+    so far (on a copy of its directory: the training holds the run's lock). Columns:
+    condition (the first that trains the phase), phase, phase_key, notation, replication,
+    rank, generation, offset (generations of the condition's earlier phases),
+    lifetime_fitness, senses, trial, sector, ball_x/y/z, every measure of
+    ``metrics.trial_metrics`` and measures_version. Snapshots already evaluated are kept.
+    ``progress`` is told a ``systematic.EvaluationProgress`` (robots done of those left, with
+    an ETA) after each robot."""
+    run = RunDirectory.open(run_dir) if finished_only else open_finished(run_dir)
     if robots < 1:
         raise ValueError(f"robots must be at least 1, got {robots}")
+    senses = tuple(Senses(s) for s in senses)
+    wanted = None if generations is None else set(generations)
     with DirectoryLock(run.out):
         remove_temporaries(run.out)
         path = run.out / TABLE
-        table = load_development(run.out)
+        table = load_development(run.out, senses=None)
         done = set() if table is None else set(table.select(_KEY).iter_rows())
         offsets = _offsets(run)
         jobs, extra = [], []
         for condition, phase in run.unique_phases():
-            trial = replace(trial_config(phase, run.settings), senses=Senses.NORMAL)
+            base = trial_config(phase, run.settings)
             for generation, genomes, fitness in run.snapshots(phase):
-                for r in range(genomes.shape[0]):
-                    for i in range(min(robots, genomes.shape[1])):
-                        if (phase.key, generation, r, i) in done:
-                            continue
-                        jobs.append(RobotJob(condition.name, phase, run.phase_dir(phase).name, r,
-                                             i, float(fitness[r, i]), genomes[r, i], trial,
-                                             run.settings.world, False))
-                        extra.append({"generation": generation,
-                                      "offset": offsets[phase.key][1]})
+                if wanted is not None and generation not in wanted:
+                    continue
+                for s in senses:
+                    trial = replace(base, senses=s)
+                    for r in range(genomes.shape[0]):
+                        for i in range(min(robots, genomes.shape[1])):
+                            if (phase.key, s.value, generation, r, i) in done:
+                                continue
+                            jobs.append(RobotJob(condition.name, phase,
+                                                 run.phase_dir(phase).name, r, i,
+                                                 float(fitness[r, i]), genomes[r, i], trial,
+                                                 run.settings.world, False))
+                            extra.append({"generation": generation,
+                                          "offset": offsets[phase.key][1]})
         if not jobs:
             return table if table is not None else pl.DataFrame()
         entry = results.session()
@@ -129,7 +150,7 @@ def measure_snapshots(run_dir, robots: int = 1, workers: int | None = None,
                 if progress:
                     progress(EvaluationProgress(n, len(jobs), time.monotonic() - t0,
                                                 f"{job.phase.name} @{more['generation']}",
-                                                "development"))
+                                                job.trial.senses.value))
         finally:
             backend.close()
             if rows:

@@ -187,14 +187,22 @@ class EvaluationProgress:
 
 
 def parse_senses(text: str) -> tuple[str, ...]:
-    """``"all"`` (every condition: the four of Fig. 9 and the ball-absent test) or one
-    condition's name, as a tuple of names."""
+    """``"all"`` (every condition: the four of Fig. 9 and the ball-absent test) or condition
+    names separated by commas ("normal,no-ball"), as a tuple of names."""
     if text == "all":
         return TESTS
-    if text not in TESTS:
-        raise ValueError(f"unknown sensory condition {text!r}: expected one of "
-                         f"{', '.join(TESTS)} or all")
-    return (text,)
+    names = tuple(dict.fromkeys(n.strip() for n in text.split(",")))
+    unknown = [n for n in names if n not in TESTS]
+    if unknown:
+        raise ValueError(f"unknown sensory condition {unknown[0]!r}: expected one of "
+                         f"{', '.join(TESTS)}, several separated by commas, or all")
+    return names
+
+
+def finished_phases(run_dir) -> int:
+    """How many of a run's phases have finished training (hold their final population)."""
+    run = RunDirectory.open(run_dir)
+    return sum(run.final_path(p).exists() for _, p in run.unique_phases())
 
 
 def open_finished(run_dir, finished_only: bool | None = None) -> RunDirectory:

@@ -115,3 +115,86 @@ def test_the_report_draws_the_course_of_every_measure(runs, tmp_path):
     assert "Development over generations: post-evaluation of the snapshots" in text
     part = text[text.index("Development over generations"):]
     assert len(re.findall(r'src="data:image/png;base64,', part)) >= len(dev.MEASURES)
+
+
+def _trained_copy(run, out):
+    """A copy of a run's training alone (the manifest, its statistics and phases), without
+    what the other tests evaluated in it."""
+    import shutil
+
+    out.mkdir()
+    for name in ("manifest.json", "generations.parquet"):
+        shutil.copy(run / name, out / name)
+    shutil.copytree(run / "phases", out / "phases")
+    return out
+
+
+def _cli(*args):
+    import subprocess
+    import sys
+
+    return subprocess.run([sys.executable, "-m", "dart_reach.cli", *map(str, args)],
+                          capture_output=True, text=True, timeout=600)
+
+
+def test_chosen_snapshots_under_chosen_senses(runs, tmp_path):
+    """``generations`` picks snapshots, ``senses`` the conditions; the course and the
+    developmental claims read the normal trials (``load_development``'s default) whatever
+    else the table holds, and a condition added later adds only its rows."""
+    _, _, snap = runs
+    out = _trained_copy(snap.out, tmp_path / "run")
+    table = dev.measure_snapshots(out, robots=1, workers=1, senses=("normal", "no-ball"),
+                                  generations=(2,))
+    assert set(table["generation"]) == {2} and set(table["senses"]) == {"normal", "no-ball"}
+    assert table.height == 2 * 3 * 2 * 45  # senses x phases x replications x positions
+    absent = table.filter(pl.col("senses") == "no-ball")
+    assert not absent["reached"].any()  # no ball, nothing reached
+    normal = dev.load_development(out)
+    assert set(normal["senses"]) == {"normal"} and normal.height == table.height // 2
+    assert dev.load_development(out, senses=None).height == table.height
+    course = dev.course(normal)
+    assert course.height == 3 * 2 and set(course["robots"]) == {1}
+    whole = dev.measure_snapshots(out, robots=1, workers=1)  # the other snapshots, normal
+    assert whole.height == table.height + 3 * 2 * 45
+    assert whole.filter(pl.col("generation") == 2).drop("session").sort(
+        "senses", "phase", "replication", "trial").equals(
+        table.drop("session").sort("senses", "phase", "replication", "trial"))
+
+
+def test_the_snapshots_of_a_run_still_training(runs, tmp_path):
+    """--finished-only --development: the snapshots saved so far in a run no phase of which
+    has finished (on a copy: the training holds the lock), their rows those of the finished
+    run; without the option the run is refused in one line; bad choices are one line too."""
+    import shutil
+
+    _, _, snap = runs
+    part = _trained_copy(snap.out, tmp_path / "part")
+    for f in (part / "phases").glob("*/final.npz"):
+        f.unlink()
+    for f in (part / "phases").glob("gross-*/snapshots/gen0002.npz"):
+        f.unlink()  # gross is at generation 1, fine not begun
+    shutil.rmtree(next((part / "phases").glob("fine-*")))
+    args = ("--development", "1", "--workers", "1", "--record", "none")
+    refused = _cli("evaluate", part, *args)
+    assert refused.returncode == 2 and "unfinished run" in refused.stderr, refused.stderr
+    for bad, says in ((("--snapshots", "1"), "give --development"),
+                      (("--development", "1", "--snapshots", "0"), "generations"),
+                      (("--development", "1", "--development-sensors", "normal,dark"),
+                       "unknown sensory condition 'dark'")):
+        result = _cli("evaluate", part, "--finished-only", *bad)
+        assert result.returncode == 2 and result.stderr.count("\n") == 1, result.stderr
+        assert says in result.stderr, result.stderr
+    done = _cli("evaluate", part, "--finished-only", *args, "--development-sensors",
+                "normal,no-ball")
+    assert done.returncode == 0, done.stderr
+    assert not (part / "evaluation.parquet").exists()  # no phase finished: nothing else
+    table = dev.load_development(part, senses=None)
+    seen = set(table.select("phase", "generation", "senses").unique().iter_rows())
+    assert seen == {(p, g, s) for p, g in (("pre", 1), ("pre", 2), ("gross", 1))
+                    for s in ("normal", "no-ball")}
+    full = dev.measure_snapshots(snap.out, robots=1, workers=1).filter(pl.col("rank") == 0)
+    key = ("phase", "generation", "replication", "trial")
+    mine = table.filter(pl.col("senses") == "normal").drop("session").sort(key)
+    assert mine.equals(full.join(mine.select("phase", "generation").unique(),
+                                 on=["phase", "generation"]).drop("session").sort(key)
+                       .select(mine.columns))

@@ -195,8 +195,6 @@ def test_the_finished_phases_of_an_unfinished_run_and_later_the_rest(trained, tm
     kept = fine.read_bytes()
     fine.unlink()
     _one_line_error(_cli("evaluate", part, *args), "unfinished run", "--finished-only")
-    _one_line_error(_cli("evaluate", part, "--finished-only", "--development", "1", *args),
-                    "not with --finished-only")
     done = _cli("evaluate", part, "--finished-only", *args)
     assert done.returncode == 0, done.stderr
     table = load_evaluation(part, None)
