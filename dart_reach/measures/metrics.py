@@ -29,6 +29,7 @@ import numpy as np
 
 from . import contacts as touches
 from . import kinematics
+from .fitness import contact_after_first
 from .contacts import PALM, first_grasp, first_touch, grasped, reached  # noqa: F401
 from ..model.ctrnn import MOTOR_NAMES
 from .kinematics import REST_TOLERANCE, hand_periodicity, path_length, points  # noqa: F401
@@ -170,7 +171,9 @@ def trial_metrics(data, dt: float = DT, ball_radius: float = BALL_RADIUS,
     - reach and grasp (IV-A): reached (any face of the hand touches the ball, the paper's
       reach), reached_inner (an inner face: the touch sensors' definition), grasped (palm and
       a finger on their inner faces at one step), first_touch_s (any face),
-      first_touch_inner_s, first_grasp_s (NaN if none), touches (touch onsets, any face);
+      first_touch_inner_s, first_grasp_s (NaN if none), touches (touch onsets, any face),
+      contact_after_first (the share of the steps from the first inner-face touch on in
+      which an inner face touches: a hand resting on the ball near 1; NaN without a touch);
     - the reach (Fig. 5; up to the first touch on any face): movement_onset_s, speed (mean
       from t = 0), speed_peak, speed_final (the final approach), straightness (initial
       distance to the ball's surface over the path), straightness_centre (to its centre, the
@@ -218,6 +221,7 @@ def trial_metrics(data, dt: float = DT, ball_radius: float = BALL_RADIUS,
         "first_touch_inner_s": seconds(inner),
         "first_grasp_s": seconds(grasp),
         "touches": len(touches.touch_onsets(any_face)),
+        "contact_after_first": contact_after_first(contacts),
         "movement_onset_s": seconds(onset),
         "speed": kinematics.reaching_speed(hand, touch, dt),
         "speed_peak": kinematics.peak_speed(hand, touch, dt),

@@ -235,7 +235,8 @@ def test_trial_metrics_uses_only_the_steps_run():
     r = m.trial_metrics(d, dt=0.1)
     assert set(r) == {
         "sector", "fitness", "reached", "reached_inner", "grasped", "first_touch_s",
-        "first_touch_inner_s", "first_grasp_s", "touches", "movement_onset_s", "speed",
+        "first_touch_inner_s", "first_grasp_s", "touches", "contact_after_first",
+        "movement_onset_s", "speed",
         "speed_peak", "speed_final", "straightness", "straightness_centre",
         "straightness_onset", "movement_units", "var_elbow", "var_shoulder", "var_trunk",
         "var_elbow_before", "var_shoulder_before", "var_trunk_before", "var_elbow_norm",
@@ -245,6 +246,9 @@ def test_trial_metrics_uses_only_the_steps_run():
         "anticipatory_grasp", "grasp_lead_s", "palm_up_swipe", "swipes", "diverged",
         "steps_run"}
     assert r["sector"] == 5 and r["steps_run"] == 30 and r["diverged"] is True
+    from dart_reach.measures.fitness import contact_after_first
+
+    assert r["contact_after_first"] == contact_after_first(d.contacts[:30])  # inner faces
     assert r["fitness"] == 0.0  # diverged
     assert r["reached"] is True and r["grasped"] is True
     assert r["first_touch_s"] == pytest.approx(0.8)
