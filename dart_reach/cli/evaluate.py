@@ -41,8 +41,9 @@ def register_evaluate(subparsers) -> None:
                         "(default: all)")
     p.add_argument("--finished-only", action="store_true",
                    help="evaluate what a run still training has finished (on a copy of its "
-                        "directory: the training holds the lock): its finished phases, and "
-                        "with --development the snapshots saved so far")
+                        "directory: the training holds the lock): its finished phases, the "
+                        "random genomes of --baseline, and with --development the snapshots "
+                        "saved so far")
     add_workers(p)
     p.set_defaults(func=cmd_evaluate)
 
@@ -62,7 +63,7 @@ def cmd_evaluate(args) -> int:
     try:
         with evaluation_bar() as bar:
             table = (pl.DataFrame() if args.development and args.finished_only
-                     and not finished_phases(args.run_dir) else
+                     and not args.baseline and not finished_phases(args.run_dir) else
                      evaluate_run(args.run_dir, senses=senses, robots=args.robots,
                                   record=args.record, workers=args.workers,
                                   ray_address=args.ray, progress=checked(bar),

@@ -228,7 +228,8 @@ def load_evaluation(run_dir, baseline: bool | None = False) -> pl.DataFrame:
     ``baseline`` False, the default), the random baseline's (``baseline.parquet``; True) or
     both (None). Stored float32 measures read as float64 (``results``)."""
     run_dir = Path(run_dir)
-    if not results.exists(run_dir / TABLE):
+    if not results.exists(run_dir / TABLE) and not (
+            baseline is not False and results.exists(run_dir / results.BASELINE)):
         raise RunError(f"{run_dir / TABLE}: no post-evaluation yet; run "
                        f"'dart-reach evaluate {run_dir}'")
     parts = [t for t in (results.read_table(run_dir / TABLE),
@@ -263,9 +264,11 @@ def evaluate_run(run_dir, senses: Iterable[str] = ("normal",), robots: int = 5,
     a progress bar (plain lines where the output is not a terminal), False nothing, a
     callable is told each ``EvaluationProgress``. ``finished_only``: evaluate the phases that
     have finished training in a run that has not (a look at a long run part-way, on a copy of
-    its directory: the training holds the run's lock). Its ``evaluation.parquet``, copied into
+    its directory: the training holds the run's lock), and the random genomes of every phase
+    (they need no training). Its ``evaluation.parquet``, copied into
     the run once it has finished, is kept: evaluating the run then adds only the rest."""
-    run = open_finished(run_dir, finished_only)
+    run = (RunDirectory.open(run_dir) if finished_only and baseline
+           else open_finished(run_dir, finished_only))
     bar = evaluation_bar() if progress is True else None
     try:
         with DirectoryLock(run.out):
@@ -286,17 +289,19 @@ def _evaluate(run: RunDirectory, senses, robots, record, workers, ray_address, p
                          f"got {robots}")
     if baseline < 0:
         raise ValueError(f"baseline must be 0 or more random genomes, got {baseline}")
-    table = load_evaluation(run.out, baseline=None) if results.exists(run.out / TABLE) else None
+    table = (load_evaluation(run.out, baseline=None) if results.exists(run.out / TABLE)
+             or results.exists(run.out / results.BASELINE) else None)
     done = set() if table is None else set(
         table.filter(pl.col("measures_version") >= MEASURES_VERSION).select(_KEY).iter_rows())
     tables = {flag: None if table is None else table.filter(pl.col("baseline") == flag)
               for flag in (False, True)}
     jobs = []
     for condition, phase in run.unique_phases():
-        if not run.final_path(phase).exists():
-            continue  # not trained to the end (finished_only)
-        genomes, fitness = run.load_final(phase)
-        best_replication = int(np.argmax(fitness[:, 0]))
+        if run.final_path(phase).exists():
+            genomes, fitness = run.load_final(phase)
+            best_replication = int(np.argmax(fitness[:, 0]))
+        else:  # not trained to the end (finished_only): its random genomes alone
+            genomes, fitness, best_replication = np.zeros((0, 0, 0)), None, -1
         base = trial_config(phase, run.settings)
         chance = baseline_genomes(run.settings, phase, baseline)
         for s in senses:

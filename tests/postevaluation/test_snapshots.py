@@ -12,7 +12,7 @@ import pytest
 
 from dart_reach.postevaluation import snapshots as dev
 from dart_reach.evolution.conditions import load_condition, scaled
-from dart_reach.postevaluation.systematic import evaluate_run
+from dart_reach.postevaluation.systematic import evaluate_run, load_evaluation
 from dart_reach.evolution.settings import Settings, snapshot_due
 from dart_reach.evolution.trainer import train
 from dart_reach.measures.metrics import trial_metrics
@@ -164,7 +164,8 @@ def test_chosen_snapshots_under_chosen_senses(runs, tmp_path):
 def test_the_snapshots_of_a_run_still_training(runs, tmp_path):
     """--finished-only --development: the snapshots saved so far in a run no phase of which
     has finished (on a copy: the training holds the lock), their rows those of the finished
-    run; without the option the run is refused in one line; bad choices are one line too."""
+    run, and --baseline's random genomes; without the option the run is refused in one line;
+    bad choices are one line too."""
     import shutil
 
     _, _, snap = runs
@@ -185,9 +186,19 @@ def test_the_snapshots_of_a_run_still_training(runs, tmp_path):
         assert result.returncode == 2 and result.stderr.count("\n") == 1, result.stderr
         assert says in result.stderr, result.stderr
     done = _cli("evaluate", part, "--finished-only", *args, "--development-sensors",
-                "normal,no-ball")
+                "normal,no-ball", "--baseline", "1")
     assert done.returncode == 0, done.stderr
-    assert not (part / "evaluation.parquet").exists()  # no phase finished: nothing else
+    assert not (part / "evaluation.parquet").exists()  # no phase finished: no trained robot
+    chance = load_evaluation(part, baseline=True)  # random genomes need no training
+    assert sorted(set(chance["phase"])) == ["fine", "gross", "pre"]
+    assert chance.height == 3 * 45 and set(chance["senses"]) == {"normal"}
+    more = _cli("evaluate", part, "--finished-only", "--baseline", "2", "--workers", "1",
+                "--development", "1", "--snapshots", "1")
+    assert more.returncode == 0, more.stderr
+    again = load_evaluation(part, baseline=True)
+    assert again.height == 2 * chance.height  # the first genome's rows kept, not redone
+    assert again.filter(pl.col("replication") == 0).drop("session").sort("phase", "trial").equals(
+        chance.drop("session").sort("phase", "trial"))
     table = dev.load_development(part, senses=None)
     seen = set(table.select("phase", "generation", "senses").unique().iter_rows())
     assert seen == {(p, g, s) for p, g in (("pre", 1), ("pre", 2), ("gross", 1))

@@ -198,8 +198,12 @@ def test_the_finished_phases_of_an_unfinished_run_and_later_the_rest(trained, tm
     done = _cli("evaluate", part, "--finished-only", *args)
     assert done.returncode == 0, done.stderr
     table = load_evaluation(part, None)
-    assert sorted(set(table["phase"])) == ["gross", "pre"]
-    assert table.height == 2 * (len(SENSES) + 1) * (2 + 1) * TRIALS  # phases, senses + no-ball
+    evolved = table.filter(~pl.col("baseline"))
+    assert sorted(set(evolved["phase"])) == ["gross", "pre"]
+    assert evolved.height == 2 * (len(SENSES) + 1) * 2 * TRIALS  # phases, senses + no-ball
+    chance = table.filter(pl.col("baseline"))  # random genomes need no training: every phase
+    assert sorted(set(chance["phase"])) == ["fine", "gross", "pre"]
+    assert chance.height == 3 * (len(SENSES) + 1) * TRIALS
     fine.write_bytes(kept)  # the run finishes
     assert _cli("evaluate", part, *args).returncode == 0
     key = ("phase", "senses", "baseline", "replication", "rank", "trial")
