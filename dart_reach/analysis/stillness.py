@@ -41,19 +41,21 @@ COLUMNS = {
 
 
 def strategies(evaluation: pl.DataFrame, phase: str = "pre", senses: str = "normal",
-               still_share: float = STILL_SHARE) -> pl.DataFrame:
+               still_share: float = STILL_SHARE, by: tuple[str, ...] = ("replication",)
+               ) -> pl.DataFrame:
     """Per replication of ``phase`` in a post-evaluation table (trained robots, not the
-    baseline): ``trials``, ``babbling_share`` (the share of its trials under ``senses`` that
-    babble) and ``strategy``: ``STILL`` below ``still_share``, else ``BABBLING``."""
+    baseline; ``by``: per replication and generation of a development table, say):
+    ``trials``, ``babbling_share`` (the share of its trials under ``senses`` that babble) and
+    ``strategy``: ``STILL`` below ``still_share``, else ``BABBLING``."""
     rows = evaluation.filter((pl.col("phase") == phase) & (pl.col("senses") == senses))
     if "baseline" in rows.columns:
         rows = rows.filter(~pl.col("baseline"))
-    return (rows.group_by("replication")
+    return (rows.group_by(*by)
             .agg(pl.len().alias("trials"),
                  pl.col("babbling").cast(pl.Float64).mean().alias("babbling_share"))
             .with_columns(pl.when(pl.col("babbling_share") < still_share).then(pl.lit(STILL))
                           .otherwise(pl.lit(BABBLING)).alias("strategy"))
-            .sort("replication"))
+            .sort(*by))
 
 
 def with_strategy(terms: pl.DataFrame, strategy: pl.DataFrame) -> pl.DataFrame:

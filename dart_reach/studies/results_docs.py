@@ -392,11 +392,106 @@ def stillness_values(recordings: Path) -> dict[str, str]:
     return stillness.values(recordings, markdown_table)
 
 
+def _outcome(babbling: int, still: int) -> str:
+    if not still:
+        return f"babbling has taken over (all {babbling} populations babble)"
+    if not babbling:
+        return f"stillness has taken over (all {still} populations are still)"
+    return f"both persist ({babbling} populations babble, {still} are still)"
+
+
+def _kinds(table: pl.DataFrame) -> tuple[int, int]:
+    """(babbling, still) populations of a table with a ``strategy`` column."""
+    return tuple(table.filter(pl.col("strategy") == k).height
+                 for k in (stillness.BABBLING, stillness.STILL))
+
+
+def course_values(recordings: Path) -> dict[str, str]:
+    """The values of docs/results/templates/pre-reaching-course.md: the full-budget run's
+    pre-reaching snapshots (``strategy_course``), where training stands, the strategies per
+    replication and snapshot, their changes, the course of the measures, generation 50
+    beside ``TEN``'s populations and the claims of pre-reachers at ``strategy_course.JUDGED``."""
+    from ..analysis import strategy_course as sc
+    from ..postevaluation.snapshots import load_development
+    from ..postevaluation.systematic import load_evaluation
+
+    directory = recordings / FULL
+    run = RunDirectory.open(directory)
+    pre = run.status().filter(pl.col("phase") == "pre")
+    trained = int(pre["generations"].min())
+    out = {"run": FULL, "training": _training(run), "pre_trained": str(trained),
+           "pre_of": str(int(pre["of"].max())), "still_share": f"{stillness.STILL_SHARE:.0%}"
+           .replace("%", " %"), "judged": ", ".join(map(str, sc.JUDGED)), "ten": TEN}
+    development = load_development(directory, senses=None)
+    if development is None or not development.filter(pl.col("phase") == "pre").height:
+        raise ValueError(f"{directory}: no pre-reaching snapshot post-evaluated (dart-reach "
+                         f"evaluate COPY --finished-only --development 5)")
+    course = sc.course(development)
+    conditions = (development.filter(pl.col("phase") == "pre").group_by("generation")
+                  .agg(pl.col("senses").unique().sort()).sort("generation"))
+    out["evaluated"] = "; ".join(
+        f"{g} ({', '.join(s)})" for g, s in conditions.iter_rows())
+    generations = course["generation"].unique().sort().to_list()
+    last = generations[-1]
+    out["last"] = str(last)
+    matrix = (course.with_columns(
+        (pl.col("strategy").str.slice(0, 1).str.to_uppercase() + pl.lit(" ")
+         + (pl.col("babbling_share") * 100).round(0).cast(pl.Int64).cast(pl.Utf8)
+         + pl.lit(" %")).alias("cell"))
+        .pivot(on="generation", index="replication", values="cell", sort_columns=True)
+        .sort("replication"))
+    out["matrix"] = markdown_table(matrix.rename({str(g): f"gen {g}" for g in generations}))
+    out["switches"] = markdown_table(sc.switches(course))
+    medians = (course.group_by("generation")
+               .agg((pl.col("strategy") == stillness.BABBLING).sum().alias("babbling"),
+                    (pl.col("strategy") == stillness.STILL).sum().alias("still"),
+                    *[pl.col(m).median() for m in sc.MEASURES])
+               .sort("generation").rename(sc.MEASURES))
+    out["medians"] = markdown_table(medians)
+    babbling, still = _kinds(course.filter(pl.col("generation") == last))
+    out["outcome"] = _outcome(babbling, still)
+    turns = sc.switches(course)
+    out["changed"] = str(int((turns["changes"] > 0).sum()))
+    out["came_back"] = str(int(turns["came_back"].sum()))
+    ten = recordings / TEN
+    if 50 in generations and results.exists(ten / results.EVALUATION):
+        side = sc.at_budget(course, 50, load_evaluation(ten), (f"{FULL} @50", TEN))
+        out["at50"] = markdown_table(side)
+        full50, other = (side.filter(pl.col("run") == r) for r in side["run"].unique(
+            maintain_order=True))
+        b, s_ = _kinds(side)
+        out["at50_summary"] = (f"of the {side.height} populations trained for 50 generations, "
+                               f"{b} babble and {s_} are still ({_kinds(full50)[1]} of "
+                               f"{full50.height} in this run, {_kinds(other)[1]} of "
+                               f"{other.height} in {TEN})")
+    else:
+        out["at50"] = "(generation 50 not yet post-evaluated)"
+        out["at50_summary"] = "generation 50 is not yet post-evaluated"
+    baseline = (load_evaluation(directory, baseline=True)
+                if results.exists(directory / results.BASELINE) else None)
+    found = sc.judged(development, baseline)
+    claims = [c.id for c in sc.claims_of_pre()]
+    grid = pl.DataFrame({"claim": claims})
+    for g in sc.JUDGED:
+        at = found.filter(pl.col("generation") == g)
+        if at.height:
+            cells = {r["claim"]: r["verdict"] + (f" (p {budgets.number_text(r['p'])})"
+                                                 if r["p"] == r["p"] else "")
+                     for r in at.iter_rows(named=True)}
+        else:
+            cells = dict.fromkeys(claims, "not yet trained" if g > trained
+                                  else "not yet evaluated")
+        grid = grid.with_columns(pl.Series(f"gen {g}", [cells[c] for c in claims]))
+    out["claims"] = markdown_table(grid)
+    return out
+
+
 #: Each doc rendered from a template: its name and the function of the recordings directory
 #: giving its values.
 DOCS: dict[str, Callable[[Path], dict[str, str]]] = {"scene-study.md": scene_study_values,
                                                     "replication.md": replication_values,
-                                                    "stillness.md": stillness_values}
+                                                    "stillness.md": stillness_values,
+                                                    "pre-reaching-course.md": course_values}
 #: Each doc that is a table alone: its path under docs/results and the function of the
 #: recordings directory giving its text.
 TABLES: dict[str, Callable[[Path], str]] = {

@@ -1,0 +1,150 @@
+"""The course of the two pre-reaching strategies over generations (issue 48, point 3).
+
+At 50 generations per phase half of the pre-reaching populations babble and half hold the hand
+still on the ball (docs/results/stillness.md). The full-budget run (500 generations per phase)
+keeps the best 5 robots of every replication at generations 1, 2, 5, 10 and every 10th; their
+post-evaluation (``evaluate --finished-only --development 5``: the 45 systematic positions,
+normal senses, and the ball absent at the generations judged) is the development table this
+module reads:
+
+- ``course``: per replication and snapshot, the means of ``MEASURES`` over the best robots'
+  trials and the population's strategy by ``stillness.strategies``'s rule (fixed at 50
+  generations, before the full-budget run was looked at: still when fewer than 5 % of the
+  trials babble);
+- ``switches``: per replication, when the strategy changed and whether it came back;
+- ``claims_of_pre`` and ``judged``: the claims of section IV-A-1 about pre-reachers alone
+  (F1, A1, A3, D2, T1, V3: those whose groups are pre-reachers and random networks) judged on
+  the snapshot of a generation as if it were the phase's end, the replication as the unit,
+  one Holm family per generation;
+- ``at_budget``: a generation of the full run beside another run's final pre-reachers at the
+  same number of generations (generation 50 beside ``replication-50x10``: twenty populations
+  at that budget).
+"""
+
+from __future__ import annotations
+
+from typing import Sequence
+
+import polars as pl
+
+from . import findings, stillness
+from .claims import CLAIMS, Claim, Kind
+
+#: The generations at which the pre-reaching claims are judged (issue 48).
+JUDGED = (50, 100, 150, 200, 250)
+#: The measures followed (column: heading): booleans are rates; ``contact_after_first`` is
+#: the mean over the trials with a touch.
+MEASURES = {"babbling": "babbling rate", "hand_path": "hand path (m)",
+            "reached": "reach rate", "grasped": "grasp rate",
+            "contact_after_first": "in touch after 1st", "fitness": "fitness"}
+_GROUPS = {"", "pre", "random pre"}
+
+
+def course(development: pl.DataFrame, phase: str = "pre",
+           still_share: float = stillness.STILL_SHARE) -> pl.DataFrame:
+    """Per (replication, generation) of ``phase`` in a development table
+    (``snapshots.load_development(run, senses=None)`` or its normal trials): ``robots``,
+    ``trials`` and the mean of each of ``MEASURES`` over the normal trials of the snapshot's
+    robots (NaN where no trial has one), ``lifetime_fitness`` (the best robot's), the
+    ``babbling_share`` and the ``strategy`` (``stillness.strategies``). Sorted by
+    replication and generation."""
+    rows = development.filter((pl.col("phase") == phase) & (pl.col("senses") == "normal"))
+    present = [m for m in MEASURES if m in rows.columns]
+    means = (rows.group_by("replication", "generation")
+             .agg(pl.struct("rank").n_unique().alias("robots"),
+                  *[pl.col(m).cast(pl.Float64).fill_nan(None).mean() for m in present],
+                  pl.col("lifetime_fitness").filter(pl.col("rank") == 0).first()))
+    kinds = stillness.strategies(rows, phase, still_share=still_share,
+                                 by=("replication", "generation"))
+    out = means.join(kinds, on=["replication", "generation"])
+    missing = [pl.lit(float("nan")).alias(m) for m in MEASURES if m not in present]
+    return (out.with_columns(*[pl.col(m).fill_null(float("nan")) for m in present], *missing)
+            .select("replication", "generation", "robots", "trials", *MEASURES,
+                    "lifetime_fitness", "babbling_share", "strategy")
+            .sort("replication", "generation"))
+
+
+def switches(course_table: pl.DataFrame) -> pl.DataFrame:
+    """Per replication of ``course``'s table: its strategy at the first and at the last
+    snapshot, ``changes`` (how many times it changed between consecutive snapshots),
+    ``changed_at`` (the generations of the first snapshot after each change, as text),
+    ``came_back`` (it returned to a strategy it had left) and ``last_change`` (the generation
+    of the last change; null without one)."""
+    rows = []
+    for (replication,), sub in course_table.sort("generation").group_by(
+            "replication", maintain_order=True):
+        kinds, generations = sub["strategy"].to_list(), sub["generation"].to_list()
+        at = [g for g, k, before in zip(generations[1:], kinds[1:], kinds) if k != before]
+        left: set[str] = set()
+        came_back = False
+        for k, before in zip(kinds[1:], kinds):
+            if k != before:
+                left.add(before)
+                came_back |= k in left
+        rows.append({"replication": replication, "first": kinds[0], "last": kinds[-1],
+                     "generations": f"{generations[0]}-{generations[-1]}",
+                     "changes": len(at), "changed_at": ", ".join(map(str, at)) or "-",
+                     "came_back": came_back, "last_change": at[-1] if at else None})
+    return pl.DataFrame(rows, schema={"replication": pl.Int64, "first": pl.Utf8,
+                                      "last": pl.Utf8, "generations": pl.Utf8,
+                                      "changes": pl.Int64, "changed_at": pl.Utf8,
+                                      "came_back": pl.Boolean, "last_change": pl.Int64})
+
+
+def _of_pre(c: Claim) -> bool:
+    if c.own or c.infants:
+        return False
+    if c.source == "development":  # a course within pre-reaching (V3), not across phases
+        return c.kind is not Kind.NEVER and {g.split("@")[0] for g in (c.a, c.b)} == {"pre"}
+    return c.unit == "robots" and {c.a, c.b} <= _GROUPS and "pre" in (c.a, c.b)
+
+
+def claims_of_pre(claims: Sequence[Claim] = CLAIMS) -> tuple[Claim, ...]:
+    """The paper's claims of its robots (not ``own``, not ``infants``) about pre-reachers
+    alone: a post-evaluation claim on robots whose groups are pre-reachers and random
+    networks, and a course within pre-reaching (V3: babbling appears)."""
+    return tuple(c for c in claims if _of_pre(c))
+
+
+def judged(development: pl.DataFrame, baseline: pl.DataFrame | None,
+           generations: Sequence[int] = JUDGED, phase: str = "pre") -> pl.DataFrame:
+    """``claims_of_pre`` judged at each of ``generations`` that the development table holds
+    (``findings.findings``, one Holm family per generation): the snapshot's robots and
+    trials, every condition it was evaluated under, stand for the phase's final
+    post-evaluation, and V3 compares the first and last tenth of the snapshots up to that
+    generation. ``baseline``: the random networks' trials (``load_evaluation(run,
+    baseline=True)``). ``findings.SCHEMA``'s columns with ``generation`` first; empty when no
+    generation is there."""
+    rows = development.filter(pl.col("phase") == phase)
+    claims = claims_of_pre()
+    frames = []
+    for g in generations:
+        at = rows.filter(pl.col("generation") == g)
+        if not at.height:
+            continue
+        upto = rows.filter((pl.col("generation") <= g) & (pl.col("senses") == "normal"))
+        found = findings.findings(at, baseline, claims, development=upto)
+        frames.append(found.with_columns(pl.lit(g).alias("generation")))
+    if not frames:
+        return pl.DataFrame(schema={"generation": pl.Int32, **findings.SCHEMA})
+    return pl.concat(frames).select("generation", *findings.SCHEMA)
+
+
+def at_budget(course_table: pl.DataFrame, generation: int, evaluation: pl.DataFrame,
+              labels: tuple[str, str]) -> pl.DataFrame:
+    """The populations at ``generation`` of the full run (``course``'s table) beside another
+    run's final pre-reachers trained for that many generations (its ``evaluation``, the
+    trained robots' trials): per population, ``run`` (``labels``: the full run's, the
+    other's), replication, babbling_share, strategy and the means of ``MEASURES``."""
+    full = (course_table.filter(pl.col("generation") == generation)
+            .select("replication", "babbling_share", "strategy", *MEASURES)
+            .with_columns(pl.lit(labels[0]).alias("run")))
+    other_rows = evaluation.filter((pl.col("phase") == "pre") & (pl.col("senses") == "normal"))
+    if "baseline" in other_rows.columns:
+        other_rows = other_rows.filter(~pl.col("baseline"))
+    other = course(other_rows.with_columns(pl.lit(generation).alias("generation"),
+                                           pl.lit(float("nan")).alias("lifetime_fitness")))
+    other = (other.select("replication", "babbling_share", "strategy", *MEASURES)
+             .with_columns(pl.lit(labels[1]).alias("run")))
+    return pl.concat([full, other]).select("run", "replication", "babbling_share",
+                                           "strategy", *MEASURES)

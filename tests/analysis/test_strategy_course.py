@@ -1,0 +1,90 @@
+"""The course of the two pre-reaching strategies (``analysis/strategy_course.py``, issue 48):
+strategies per snapshot by the stillness rule, their changes, the claims of pre-reachers
+judged per generation."""
+
+from __future__ import annotations
+
+import math
+
+import polars as pl
+import pytest
+
+from dart_reach.analysis import strategy_course as sc
+from dart_reach.analysis.stillness import BABBLING, STILL, STILL_SHARE
+
+
+def _development(babbling_by: dict[tuple[int, int], float], trials: int = 20) -> pl.DataFrame:
+    """Two robots per (replication, generation), ``trials`` normal trials each, a share
+    ``babbling_by[(replication, generation)]`` of which babble; each measure from the
+    trial's index so that the means are known; rank 0's lifetime fitness = generation / 100."""
+    rows = []
+    for (r, g), share in babbling_by.items():
+        n = round(share * 2 * trials)
+        for rank in (0, 1):
+            for k in range(trials):
+                i = rank * trials + k
+                rows.append({"phase": "pre", "notation": "pre", "senses": "normal",
+                             "replication": r, "rank": rank, "generation": g, "trial": k,
+                             "lifetime_fitness": g / 100 if rank == 0 else -1.0,
+                             "babbling": i < n, "hand_path": float(rank), "reached": k % 2 == 0,
+                             "grasped": False, "fitness": 0.01 * rank,
+                             "contact_after_first": 0.5 if k % 2 == 0 else math.nan})
+            rows.append(dict(rows[-1], senses="no-ball", babbling=True, hand_path=99.0))
+    return pl.DataFrame(rows)
+
+
+def test_a_populations_strategy_at_each_snapshot_and_its_measures():
+    dev = _development({(0, 1): 0.5, (0, 10): 0.0, (0, 20): 0.4, (1, 1): 0.02, (1, 10): 0.0})
+    c = sc.course(dev)
+    assert c.select("replication", "generation").rows() == [(0, 1), (0, 10), (0, 20),
+                                                           (1, 1), (1, 10)]
+    assert c["strategy"].to_list() == [BABBLING, STILL, BABBLING, STILL, STILL]
+    assert c["babbling_share"].to_list() == pytest.approx([0.5, 0.0, 0.4, 0.025, 0.0])
+    assert 0.025 < STILL_SHARE  # one babbling trial in 40 is still still
+    row = c.row(0, named=True)  # normal trials only: the no-ball rows change nothing
+    assert row["robots"] == 2 and row["trials"] == 40
+    assert row["babbling"] == pytest.approx(0.5) and row["hand_path"] == pytest.approx(0.5)
+    assert row["reached"] == pytest.approx(0.5) and row["grasped"] == 0.0
+    assert row["contact_after_first"] == pytest.approx(0.5)  # trials with a touch only
+    assert row["fitness"] == pytest.approx(0.005) and row["lifetime_fitness"] == 0.01
+
+
+def test_changes_of_strategy_and_coming_back():
+    dev = _development({(0, 1): 0.5, (0, 10): 0.0, (0, 20): 0.4, (0, 30): 0.3,
+                        (1, 1): 0.0, (1, 10): 0.0, (2, 1): 0.6, (2, 10): 0.0, (2, 20): 0.0})
+    turns = sc.switches(sc.course(dev))
+    rows = {r["replication"]: r for r in turns.iter_rows(named=True)}
+    assert rows[0] == {"replication": 0, "first": BABBLING, "last": BABBLING,
+                       "generations": "1-30", "changes": 2, "changed_at": "10, 20",
+                       "came_back": True, "last_change": 20}
+    assert rows[1]["changes"] == 0 and rows[1]["changed_at"] == "-" and not rows[1]["came_back"]
+    assert rows[1]["last_change"] is None
+    assert rows[2]["changes"] == 1 and rows[2]["last"] == STILL and not rows[2]["came_back"]
+
+
+def test_the_claims_of_pre_reachers_alone():
+    ids = [c.id for c in sc.claims_of_pre()]
+    assert "F1 reach about half" in ids and "T1 arm orienting" in ids
+    assert "V3 babbling appears in pre" in ids
+    assert {i for i in ids if i.startswith("A1")} and {i for i in ids if i.startswith("A3")}
+    for other in ("F1 hand-shoulder constant vs fine", "V1 motor suppression at the start of "
+                  "gross", "F2 grasp up", "T4 babbling reduced in gross"):
+        assert other not in ids  # they need another phase
+    assert all(not c.own and not c.infants for c in sc.claims_of_pre())
+
+
+def test_claims_are_judged_at_the_generations_there_and_on_their_conditions():
+    """Each judged generation is one family on its own snapshot: a condition evaluated there
+    (no-ball) is judged, one that is not (no-sight) is not run; a generation without a
+    snapshot gives no row; the verdicts differ where the snapshots do."""
+    shares = {(r, g): (0.6 if g == 50 else 0.0) for r in range(8) for g in (1, 2, 5, 50, 100)}
+    dev = _development(shares)
+    dev = dev.with_columns(pl.lit(0).alias("sector"))
+    found = sc.judged(dev, None, generations=(50, 100, 150))
+    assert found["generation"].unique().sort().to_list() == [50, 100]
+    per = {(r["generation"], r["claim"]): r for r in found.iter_rows(named=True)}
+    assert per[(50, "A3 no sight, pre: babbling same")]["verdict"] == "not run"
+    assert per[(50, "A1 ball absent, pre: babbling same")]["verdict"] != "not run"
+    # V3: babbling at the end of the snapshots up to 50 (generation 50) above the start's
+    assert per[(50, "V3 babbling appears in pre")]["verdict"] == "reproduced"
+    assert per[(100, "V3 babbling appears in pre")]["verdict"] != "reproduced"
