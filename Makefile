@@ -6,7 +6,7 @@ VENV := .venv
 BIN := $(VENV)/bin
 
 .PHONY: demo test bench skeleton clean notebooks screenshots scene-study pythons replication-50 replication-50x10 \
-	replication-10 replication-report results full-budget
+	replication-10 replication-report results full-budget full-budget-snapshots
 
 $(BIN)/python:
 	$(PY) -m venv $(VENV)
@@ -125,6 +125,27 @@ full-budget: $(VENV)/.installed
 	$(BIN)/dart-reach train standard --generations 500 --replications 10 --seed 2016 \
 		--snapshot-every 10 --record-every 25 --out $(FULL) \
 		$$(test -f $(FULL)/manifest.json && echo --resume)
+
+# Its pre-reaching snapshots post-evaluated while it trains (issue 48; docs/results/
+# pre-reaching-course.md): on a copy of the compact state in FULL_FROM (default the tracked one;
+# the training holds its own directory's lock), every snapshot's best 5 under normal senses and
+# 10 random genomes, every condition at the generations the claims are judged; only what is
+# missing is evaluated. The tables come back into $(FULL); then `make results`.
+FULL_FROM ?= $(FULL)
+FULL_COPY := $(or $(TMPDIR),/tmp)/dart-reach-full-budget-copy
+JUDGED := 50,100,150,200,250
+full-budget-snapshots: $(VENV)/.installed
+	rm -rf $(FULL_COPY) && mkdir -p $(FULL_COPY)
+	cp -r $(FULL_FROM)/manifest.json $(FULL_FROM)/generations.parquet $(FULL_FROM)/phases \
+		$(FULL_COPY)/
+	for t in development development.parquet baseline.parquet; do \
+		if [ -e $(FULL)/$$t ]; then cp -r $(FULL)/$$t $(FULL_COPY)/; fi; done
+	$(BIN)/dart-reach evaluate $(FULL_COPY) --finished-only --development 5 --baseline 10
+	$(BIN)/dart-reach evaluate $(FULL_COPY) --finished-only --development 5 \
+		--development-sensors all --snapshots $(JUDGED)
+	rm -rf $(FULL)/development $(FULL)/development.parquet
+	for t in development development.parquet baseline.parquet; do \
+		if [ -e $(FULL_COPY)/$$t ]; then cp -r $(FULL_COPY)/$$t $(FULL)/; fi; done
 
 # The post-evaluation of the three runs (best 5 robots of every replication under the four
 # senses and with the ball absent, 10 random genomes per phase, every snapshot's best 5) and the

@@ -402,8 +402,9 @@ def _outcome(babbling: int, still: int) -> str:
 
 def _kinds(table: pl.DataFrame) -> tuple[int, int]:
     """(babbling, still) populations of a table with a ``strategy`` column."""
-    return tuple(table.filter(pl.col("strategy") == k).height
-                 for k in (stillness.BABBLING, stillness.STILL))
+    from ..analysis.stillness import BABBLING, STILL
+
+    return tuple(table.filter(pl.col("strategy") == k).height for k in (BABBLING, STILL))
 
 
 def course_values(recordings: Path) -> dict[str, str]:
@@ -412,6 +413,7 @@ def course_values(recordings: Path) -> dict[str, str]:
     replication and snapshot, their changes, the course of the measures, generation 50
     beside ``TEN``'s populations and the claims of pre-reachers at ``strategy_course.JUDGED``."""
     from ..analysis import strategy_course as sc
+    from ..analysis.stillness import BABBLING, STILL, STILL_SHARE
     from ..postevaluation.snapshots import load_development
     from ..postevaluation.systematic import load_evaluation
 
@@ -420,8 +422,9 @@ def course_values(recordings: Path) -> dict[str, str]:
     pre = run.status().filter(pl.col("phase") == "pre")
     trained = int(pre["generations"].min())
     out = {"run": FULL, "training": _training(run), "pre_trained": str(trained),
-           "pre_of": str(int(pre["of"].max())), "still_share": f"{stillness.STILL_SHARE:.0%}"
-           .replace("%", " %"), "judged": ", ".join(map(str, sc.JUDGED)), "ten": TEN}
+           "pre_of": str(int(pre["of"].max())), "still_share": f"{STILL_SHARE:.0%}"
+           .replace("%", " %"), "judged": ", ".join(map(str, sc.JUDGED)), "ten": TEN,
+           "judged_list": ",".join(map(str, sc.JUDGED))}
     development = load_development(directory, senses=None)
     if development is None or not development.filter(pl.col("phase") == "pre").height:
         raise ValueError(f"{directory}: no pre-reaching snapshot post-evaluated (dart-reach "
@@ -438,13 +441,14 @@ def course_values(recordings: Path) -> dict[str, str]:
         (pl.col("strategy").str.slice(0, 1).str.to_uppercase() + pl.lit(" ")
          + (pl.col("babbling_share") * 100).round(0).cast(pl.Int64).cast(pl.Utf8)
          + pl.lit(" %")).alias("cell"))
-        .pivot(on="generation", index="replication", values="cell", sort_columns=True)
-        .sort("replication"))
-    out["matrix"] = markdown_table(matrix.rename({str(g): f"gen {g}" for g in generations}))
+        .pivot(on="replication", index="generation", values="cell", sort_columns=True)
+        .sort("generation"))
+    out["matrix"] = markdown_table(matrix.rename(
+        {c: f"rep {c}" for c in matrix.columns if c != "generation"}))
     out["switches"] = markdown_table(sc.switches(course))
     medians = (course.group_by("generation")
-               .agg((pl.col("strategy") == stillness.BABBLING).sum().alias("babbling"),
-                    (pl.col("strategy") == stillness.STILL).sum().alias("still"),
+               .agg((pl.col("strategy") == BABBLING).sum().alias("babbling populations"),
+                    (pl.col("strategy") == STILL).sum().alias("still populations"),
                     *[pl.col(m).median() for m in sc.MEASURES])
                .sort("generation").rename(sc.MEASURES))
     out["medians"] = markdown_table(medians)
@@ -472,16 +476,17 @@ def course_values(recordings: Path) -> dict[str, str]:
     found = sc.judged(development, baseline)
     claims = [c.id for c in sc.claims_of_pre()]
     grid = pl.DataFrame({"claim": claims})
-    for g in sc.JUDGED:
-        at = found.filter(pl.col("generation") == g)
-        if at.height:
-            cells = {r["claim"]: r["verdict"] + (f" (p {budgets.number_text(r['p'])})"
-                                                 if r["p"] == r["p"] else "")
-                     for r in at.iter_rows(named=True)}
-        else:
-            cells = dict.fromkeys(claims, "not yet trained" if g > trained
-                                  else "not yet evaluated")
+    for g in found["generation"].unique().sort().to_list():
+        cells = {r["claim"]: r["verdict"] + (f" (p {budgets.number_text(r['p'])})"
+                                             if r["p"] == r["p"] else "")
+                 for r in found.filter(pl.col("generation") == g).iter_rows(named=True)}
         grid = grid.with_columns(pl.Series(f"gen {g}", [cells[c] for c in claims]))
+    waiting = [g for g in sc.JUDGED if g not in set(found["generation"])]
+    out["claims_waiting"] = ("" if not waiting else "Not yet judged: generation(s) "
+                             + ", ".join(f"{g} ({'not yet trained' if g > trained else 'not yet evaluated'})"
+                                         for g in waiting) + ". ")
+    if grid.width == 1:
+        grid = grid.with_columns(pl.lit("–").alias("verdict"))
     out["claims"] = markdown_table(grid)
     return out
 

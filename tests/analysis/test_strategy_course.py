@@ -88,3 +88,11 @@ def test_claims_are_judged_at_the_generations_there_and_on_their_conditions():
     # V3: babbling at the end of the snapshots up to 50 (generation 50) above the start's
     assert per[(50, "V3 babbling appears in pre")]["verdict"] == "reproduced"
     assert per[(100, "V3 babbling appears in pre")]["verdict"] != "reproduced"
+
+
+def test_the_makefile_evaluates_the_generations_judged():
+    from pathlib import Path
+
+    makefile = (Path(__file__).parents[2] / "Makefile").read_text()
+    line = next(x for x in makefile.splitlines() if x.startswith("JUDGED :="))
+    assert line.split(":=")[1].strip() == ",".join(map(str, sc.JUDGED))
