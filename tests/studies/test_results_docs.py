@@ -20,7 +20,8 @@ ROOT = Path(__file__).resolve().parents[2]
 def test_every_committed_results_doc_is_its_rendering():
     docs = results_docs.generate(ROOT)
     assert {ROOT / "docs/results/scene-study.md", ROOT / "docs/results/replication.md",
-            ROOT / "docs/results/stillness.md", ROOT / "README.md"} <= set(docs)
+            ROOT / "docs/results/stillness.md", ROOT / "docs/results/pre-reaching-course.md",
+            ROOT / "README.md"} <= set(docs)
     stale = [str(p.relative_to(ROOT)) for p, text in docs.items()
              if p.read_text(encoding="utf-8") != text]
     assert not stale, f"run 'make results': {stale} differ from their rendering"
@@ -133,3 +134,17 @@ def test_the_readme_shows_the_verdicts_as_a_small_table_and_says_what_they_mean(
         "generations per phase x replications": "50 x 10",
         "reproduced": "23 (11 after Holm)", "contradicted": "3 (1 after Holm)",
         "inconclusive": "30", "underpowered": "0", "not run": "30"}
+
+
+def test_the_course_page_says_which_strategy_has_taken_over():
+    assert results_docs._outcome(10, 0) == "babbling has taken over (all 10 populations babble)"
+    assert results_docs._outcome(0, 10) == ("stillness has taken over (all 10 populations are "
+                                            "still)")
+    assert results_docs._outcome(4, 6) == "both persist (4 populations babble, 6 are still)"
+    values = results_docs.course_values(ROOT / "recordings")
+    rows = [r for r in values["matrix"].splitlines()[2:]]
+    last = rows[-1].split(" | ")
+    assert last[0].strip("| ") == values["last"]
+    babbling = sum(c.strip(" |").startswith("B") for c in last[1:])
+    still = sum(c.strip(" |").startswith("S") for c in last[1:])
+    assert values["outcome"] == results_docs._outcome(babbling, still)
