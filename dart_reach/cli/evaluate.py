@@ -55,8 +55,14 @@ def cmd_evaluate(args) -> int:
     from ..postevaluation.systematic import (BLUEPRINT, RECORDINGS, TABLE, evaluate_run,
                                              finished_phases, parse_senses)
 
-    senses = parse_senses(args.sensors)
-    development_senses = parse_senses(args.development_sensors)
+    def senses_of(option: str, text: str) -> tuple[str, ...]:
+        try:
+            return parse_senses(text)
+        except ValueError as exc:
+            raise ValueError(f"{option}: {exc}") from None
+
+    senses = senses_of("--sensors", args.sensors)
+    development_senses = senses_of("--development-sensors", args.development_sensors)
     if args.snapshots and not args.development:
         raise ValueError("--snapshots chooses the snapshots of --development: give "
                          "--development N too")

@@ -80,24 +80,34 @@ def _evaluation_status(run: RunDirectory, table: pl.DataFrame, name: str) -> Tab
 
 
 def _development_status(run: RunDirectory, table: pl.DataFrame) -> TableStatus:
+    """Complete when every snapshot the table holds (phase, generation, condition) holds the
+    best robots of every replication, each on every position: a table may hold chosen
+    snapshots (``evaluate --snapshots``) or those a run still training has saved, never part
+    of one."""
     robots = int(table["rank"].max()) + 1
-    have = _robots(table, ["phase_key", "generation", "replication", "rank"])
+    have = _robots(table, ["phase_key", "senses", "generation", "replication", "rank"])
+    shapes = {(p.key, g): (p.name, genomes.shape[:2]) for _, p in run.unique_phases()
+              for g, genomes, _ in run.snapshots(p)}
+    held = sorted({k[:3] for k in have})
     expected = found = 0
     missing = []
-    for _, phase in _finished(run):
-        gaps = 0
-        for generation, genomes, _ in run.snapshots(phase):
-            for r in range(genomes.shape[0]):
-                for i in range(min(robots, genomes.shape[1])):
-                    expected += 1
-                    ok = have.get((phase.key, generation, r, i)) == POSITIONS
-                    found += ok
-                    gaps += not ok
+    for key, senses, generation in held:
+        if (key, generation) not in shapes:
+            missing.append(f"phase {key} @{generation}: no such snapshot in the run")
+            continue
+        name, (replications, best) = shapes[(key, generation)]
+        gaps = sum(have.get((key, senses, generation, r, i)) != POSITIONS
+                   for r in range(replications) for i in range(min(robots, best)))
+        expected += replications * min(robots, best)
+        found += replications * min(robots, best) - gaps
         if gaps:
-            missing.append(f"{phase.name}: {gaps} snapshot robots missing")
+            missing.append(f"{name} @{generation} ({senses}): {gaps} snapshot robots missing")
+    snapshots = len({(k, g) for k, _, g in held})
+    conditions = sorted({s for _, s, _ in held})
     return TableStatus(results.DEVELOPMENT, table.height,
                        f"{found} of {expected} snapshot robots (the best {robots} of each "
-                       f"replication)", not missing, tuple(missing),
+                       f"replication) in {snapshots} of the run's {len(shapes)} snapshots "
+                       f"({', '.join(conditions)})", not missing, tuple(missing),
                        tuple(results.sessions(run.out / results.DEVELOPMENT)))
 
 

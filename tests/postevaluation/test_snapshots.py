@@ -154,6 +154,17 @@ def test_chosen_snapshots_under_chosen_senses(runs, tmp_path):
     assert dev.load_development(out, senses=None).height == table.height
     course = dev.course(normal)
     assert course.height == 3 * 2 and set(course["robots"]) == {1}
+    from dart_reach.postevaluation import checks, results
+
+    status = next(s for s in checks.table_status(out) if s.name == dev.TABLE)
+    assert status.complete and "in 3 of the run's 6 snapshots (no-ball, normal)" in status.summary
+    part = table.filter(~((pl.col("phase") == "pre") & (pl.col("replication") == 1)
+                          & (pl.col("senses") == "no-ball")))
+    results.write_table(out / dev.TABLE, part, results.sessions(out / dev.TABLE))
+    status = next(s for s in checks.table_status(out) if s.name == dev.TABLE)
+    assert not status.complete and status.missing == ("pre @2 (no-ball): 1 snapshot robots "
+                                                      "missing",)
+    results.write_table(out / dev.TABLE, table, results.sessions(out / dev.TABLE))
     whole = dev.measure_snapshots(out, robots=1, workers=1)  # the other snapshots, normal
     assert whole.height == table.height + 3 * 2 * 45
     assert whole.filter(pl.col("generation") == 2).drop("session").sort(
