@@ -85,9 +85,9 @@ def cmd_evaluate(args) -> int:
     out = Path(args.run_dir)
     if table.height:
         trained = table.filter(~pl.col("baseline")).height
-        print(f"\n{trained} trials in {out / TABLE}"
-              + (f", {table.height - trained} in {out / BASELINE}" if table.height > trained
-                 else ""), file=sys.stderr)
+        saved = [f"{n} trials in {out / name}" for n, name in
+                 ((trained, TABLE), (table.height - trained, BASELINE)) if n]
+        print("\n" + ", ".join(saved), file=sys.stderr)
     if args.development:
         from ..postevaluation.snapshots import TABLE as DEVELOPMENT, measure_snapshots
 
