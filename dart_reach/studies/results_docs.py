@@ -445,7 +445,8 @@ def course_values(recordings: Path) -> dict[str, str]:
         .sort("generation"))
     out["matrix"] = markdown_table(matrix.rename(
         {c: f"rep {c}" for c in matrix.columns if c != "generation"}))
-    out["switches"] = markdown_table(sc.switches(course))
+    turns = sc.switches(course)
+    out["switches"] = markdown_table(turns)
     medians = (course.group_by("generation")
                .agg((pl.col("strategy") == BABBLING).sum().alias("babbling populations"),
                     (pl.col("strategy") == STILL).sum().alias("still populations"),
@@ -454,7 +455,6 @@ def course_values(recordings: Path) -> dict[str, str]:
     out["medians"] = markdown_table(medians)
     babbling, still = _kinds(course.filter(pl.col("generation") == last))
     out["outcome"] = _outcome(babbling, still)
-    turns = sc.switches(course)
     out["changed"] = str(int((turns["changes"] > 0).sum()))
     out["came_back"] = str(int(turns["came_back"].sum()))
     ten = recordings / TEN
@@ -482,9 +482,9 @@ def course_values(recordings: Path) -> dict[str, str]:
                  for r in found.filter(pl.col("generation") == g).iter_rows(named=True)}
         grid = grid.with_columns(pl.Series(f"gen {g}", [cells[c] for c in claims]))
     waiting = [g for g in sc.JUDGED if g not in set(found["generation"])]
+    why = {g: "not yet trained" if g > trained else "not yet evaluated" for g in waiting}
     out["claims_waiting"] = ("" if not waiting else "Not yet judged: generation(s) "
-                             + ", ".join(f"{g} ({'not yet trained' if g > trained else 'not yet evaluated'})"
-                                         for g in waiting) + ". ")
+                             + ", ".join(f"{g} ({why[g]})" for g in waiting) + ". ")
     if grid.width == 1:
         grid = grid.with_columns(pl.lit("–").alias("verdict"))
     out["claims"] = markdown_table(grid)

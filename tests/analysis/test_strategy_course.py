@@ -96,3 +96,21 @@ def test_the_makefile_evaluates_the_generations_judged():
     makefile = (Path(__file__).parents[2] / "Makefile").read_text()
     line = next(x for x in makefile.splitlines() if x.startswith("JUDGED :="))
     assert line.split(":=")[1].strip() == ",".join(map(str, sc.JUDGED))
+
+
+def test_a_generation_beside_another_runs_final_populations():
+    """Generation 50 of the full run beside a 50-generation run's final pre-reachers: each
+    population once, its strategy by the same rule; the other run's baseline and other
+    phases and conditions left out."""
+    full = sc.course(_development({(0, 50): 0.5, (1, 50): 0.0, (0, 40): 0.0}))
+    other = _development({(0, 50): 0.0, (1, 50): 0.0, (2, 50): 0.3}).drop("generation")
+    other = pl.concat([other.with_columns(pl.lit(False).alias("baseline")),
+                       other.with_columns(pl.lit(True).alias("baseline"), babbling=True),
+                       other.with_columns(pl.lit(False).alias("baseline"), phase=pl.lit("gross"),
+                                          babbling=True)])
+    side = sc.at_budget(full, 50, other, ("full @50", "other"))
+    assert side.select("run", "replication", "strategy").rows() == [
+        ("full @50", 0, BABBLING), ("full @50", 1, STILL),
+        ("other", 0, STILL), ("other", 1, STILL), ("other", 2, BABBLING)]
+    assert side.filter(pl.col("run") == "other")["babbling_share"].to_list() == pytest.approx(
+        [0.0, 0.0, 0.3])
