@@ -28,12 +28,16 @@ import polars as pl
 
 from . import scene_study, stillness
 from ..analysis import budgets, calibration, findings, report, verdicts
+from ..analysis import strategy_course as sc
+from ..analysis.stillness import BABBLING, STILL, STILL_SHARE
 from ..evolution import cost
 from ..evolution.conditions import list_conditions
 from ..evolution.rundir import RunDirectory
 from ..evolution.settings import Settings
 from ..model.scenes import scene_of
 from ..postevaluation import checks, results
+from ..postevaluation.snapshots import load_development
+from ..postevaluation.systematic import load_evaluation
 
 TEMPLATES = Path("docs/results/templates")
 OUT = Path("docs/results")
@@ -402,8 +406,6 @@ def _outcome(babbling: int, still: int) -> str:
 
 def _kinds(table: pl.DataFrame) -> tuple[int, int]:
     """(babbling, still) populations of a table with a ``strategy`` column."""
-    from ..analysis.stillness import BABBLING, STILL
-
     return tuple(table.filter(pl.col("strategy") == k).height for k in (BABBLING, STILL))
 
 
@@ -412,11 +414,6 @@ def course_values(recordings: Path) -> dict[str, str]:
     pre-reaching snapshots (``strategy_course``), where training stands, the strategies per
     replication and snapshot, their changes, the course of the measures, generation 50
     beside ``TEN``'s populations and the claims of pre-reachers at ``strategy_course.JUDGED``."""
-    from ..analysis import strategy_course as sc
-    from ..analysis.stillness import BABBLING, STILL, STILL_SHARE
-    from ..postevaluation.snapshots import load_development
-    from ..postevaluation.systematic import load_evaluation
-
     directory = recordings / FULL
     run = RunDirectory.open(directory)
     pre = run.status().filter(pl.col("phase") == "pre")
