@@ -28,6 +28,7 @@ from typing import Sequence
 import polars as pl
 
 from . import findings, stillness
+from ..postevaluation import snapshots
 from .claims import CLAIMS, Claim, Kind
 
 #: The generations at which the pre-reaching claims are judged (issue 48).
@@ -44,24 +45,23 @@ def course(development: pl.DataFrame, phase: str = "pre",
            still_share: float = stillness.STILL_SHARE) -> pl.DataFrame:
     """Per (replication, generation) of ``phase`` in a development table
     (``snapshots.load_development(run, senses=None)`` or its normal trials): ``robots``,
-    ``trials`` and the mean of each of ``MEASURES`` over the normal trials of the snapshot's
-    robots (NaN where no trial has one), ``lifetime_fitness`` (the best robot's), the
-    ``babbling_share`` and the ``strategy`` (``stillness.strategies``). Sorted by
-    replication and generation."""
+    ``trials``, each of ``MEASURES`` as ``snapshots.course`` gives it (each robot's mean over
+    its normal trials, then the mean over the robots; NaN where none has one),
+    ``lifetime_fitness`` (the best robot's), the ``babbling_share`` and the ``strategy``
+    (``stillness.strategies``). Sorted by replication and generation."""
     rows = development.filter((pl.col("phase") == phase) & (pl.col("senses") == "normal"))
-    present = [m for m in MEASURES if m in rows.columns]
-    means = (rows.group_by("replication", "generation")
-             .agg(pl.struct("rank").n_unique().alias("robots"),
-                  *[pl.col(m).cast(pl.Float64).fill_nan(None).mean() for m in present],
-                  pl.col("lifetime_fitness").filter(pl.col("rank") == 0).first()))
-    kinds = stillness.strategies(rows, phase, still_share=still_share,
-                                 by=("replication", "generation"))
-    out = means.join(kinds, on=["replication", "generation"])
-    missing = [pl.lit(float("nan")).alias(m) for m in MEASURES if m not in present]
-    return (out.with_columns(*[pl.col(m).fill_null(float("nan")) for m in present], *missing)
-            .select("replication", "generation", "robots", "trials", *MEASURES,
-                    "lifetime_fitness", "babbling_share", "strategy")
-            .sort("replication", "generation"))
+    keys = ["replication", "generation"]
+    means = snapshots.course(rows, tuple(MEASURES)).select(
+        *keys, "robots", *[m for m in MEASURES if m in rows.columns])
+    best = (rows.filter(pl.col("rank") == 0).group_by(keys)
+            .agg(pl.col("lifetime_fitness").first()))
+    kinds = stillness.strategies(rows, phase, still_share=still_share, by=tuple(keys))
+    out = means.join(best, on=keys).join(kinds, on=keys)
+    missing = [pl.lit(float("nan")).alias(m) for m in MEASURES if m not in out.columns]
+    return (out.with_columns(*missing)
+            .select(*keys, "robots", "trials", *MEASURES, "lifetime_fitness",
+                    "babbling_share", "strategy")
+            .sort(keys))
 
 
 def switches(course_table: pl.DataFrame) -> pl.DataFrame:
@@ -143,6 +143,7 @@ def at_budget(course_table: pl.DataFrame, generation: int, evaluation: pl.DataFr
     if "baseline" in other_rows.columns:
         other_rows = other_rows.filter(~pl.col("baseline"))
     other = course(other_rows.with_columns(pl.lit(generation).alias("generation"),
+                                           pl.lit(0).alias("offset"),
                                            pl.lit(float("nan")).alias("lifetime_fitness")))
     other = (other.select("replication", "babbling_share", "strategy", *MEASURES)
              .with_columns(pl.lit(labels[1]).alias("run")))

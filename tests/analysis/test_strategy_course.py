@@ -23,7 +23,8 @@ def _development(babbling_by: dict[tuple[int, int], float], trials: int = 20) ->
         for rank in (0, 1):
             for k in range(trials):
                 i = rank * trials + k
-                rows.append({"phase": "pre", "notation": "pre", "senses": "normal",
+                rows.append({"condition": "standard", "offset": 0,
+                             "phase": "pre", "notation": "pre", "senses": "normal",
                              "replication": r, "rank": rank, "generation": g, "trial": k,
                              "lifetime_fitness": g / 100 if rank == 0 else -1.0,
                              "babbling": i < n, "hand_path": float(rank), "reached": k % 2 == 0,
