@@ -16,6 +16,7 @@ writes nothing and exits 1 naming the files that differ from their rendering.
 from __future__ import annotations
 
 import argparse
+import io
 import json
 import re
 import sys
@@ -28,6 +29,7 @@ import polars as pl
 
 from . import scene_study, stillness
 from ..analysis import budgets, calibration, findings, report, verdicts
+from ..analysis.figures import strategy_figure
 from ..analysis import strategy_course as sc
 from ..analysis.stillness import BABBLING, STILL, STILL_SHARE
 from ..evolution import cost
@@ -494,6 +496,21 @@ DOCS: dict[str, Callable[[Path], dict[str, str]]] = {"scene-study.md": scene_stu
                                                     "replication.md": replication_values,
                                                     "stillness.md": stillness_values,
                                                     "pre-reaching-course.md": course_values}
+def course_figure(recordings: Path) -> bytes:
+    """docs/results/pre-reaching-course.png: the full-budget run's pre-reaching strategies over
+    its post-evaluated snapshots (``figures.strategy_figure``), as PNG bytes (no software
+    version written, so that the same data on the same matplotlib give the same bytes)."""
+    course = sc.course(load_development(recordings / FULL))
+    buffer = io.BytesIO()
+    strategy_figure(course, STILL_SHARE).savefig(buffer, format="png", dpi=90,
+                                                 metadata={"Software": None})
+    return buffer.getvalue()
+
+
+#: Each figure of the results docs: its path under docs/results and the function of the
+#: recordings directory giving its PNG bytes. Written by ``main``; not part of ``--check`` (a
+#: figure's bytes depend on matplotlib's version; its data are the doc's tables).
+FIGURES: dict[str, Callable[[Path], bytes]] = {"pre-reaching-course.png": course_figure}
 #: Each doc that is a table alone: its path under docs/results and the function of the
 #: recordings directory giving its text.
 TABLES: dict[str, Callable[[Path], str]] = {
@@ -584,6 +601,11 @@ def main(argv=None) -> int:
         else:
             p.write_text(docs[p], encoding="utf-8")
         print(f"wrote {p}")
+    for name, figure in FIGURES.items():
+        path, png = args.root / OUT / name, figure(args.root / "recordings")
+        if not path.is_file() or path.read_bytes() != png:
+            path.write_bytes(png)
+            print(f"wrote {path}")
     return 0
 
 

@@ -10,6 +10,7 @@ import polars as pl
 import pytest
 
 from dart_reach.analysis import strategy_course as sc
+from dart_reach.analysis.figures import STRATEGY_PANELS, strategy_figure
 from dart_reach.analysis.stillness import BABBLING, STILL, STILL_SHARE
 
 
@@ -115,3 +116,22 @@ def test_a_generation_beside_another_runs_final_populations():
         ("other", 0, STILL), ("other", 1, STILL), ("other", 2, BABBLING)]
     assert side.filter(pl.col("run") == "other")["babbling_share"].to_list() == pytest.approx(
         [0.0, 0.0, 0.3])
+
+
+def test_the_figure_draws_each_population_with_its_strategy():
+    c = sc.course(_development({(0, 1): 0.5, (0, 10): 0.0, (0, 20): 0.4,
+                                (1, 1): 0.02, (1, 10): 0.3}))
+    fig = strategy_figure(c, STILL_SHARE)
+    for ax, column in zip(fig.axes, STRATEGY_PANELS):
+        lines = {line.get_label(): line for line in ax.get_lines()}
+        for r in (0, 1):
+            mine = c.filter(pl.col("replication") == r)
+            x, y = lines[f"rep {r}"].get_data()
+            assert list(x) == mine["generation"].to_list()
+            assert list(y) == pytest.approx(mine[column].to_list())
+        # per replication: the babbling snapshots filled, the still ones open
+        filled = [pc.get_offsets().tolist() for pc in ax.collections[0::2]]
+        hollow = [pc.get_offsets().tolist() for pc in ax.collections[1::2]]
+        assert [len(f) for f in filled] == [2, 1] and [len(h) for h in hollow] == [1, 1]
+        assert hollow[0][0][0] == 10 and hollow[1][0][0] == 1
+    assert fig.axes[0].get_lines()[-1].get_ydata()[0] == STILL_SHARE

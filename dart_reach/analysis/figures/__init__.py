@@ -27,7 +27,8 @@ in a notebook, or ``fig.savefig(path)``).
   phase) of one or several runs (``tables.load_runs``) as box plots, and their pairwise
   Mann-Whitney comparisons;
 - ``development_figure`` (``development``, not a paper figure): a measure over the
-  generations of a condition's phases;
+  generations of a condition's phases; ``strategy_figure`` (``development``): the
+  pre-reaching strategies of every replication over the snapshots (``strategy_course``);
 - ``budget_figure`` (``budget``, not a paper figure): each claim's effect against the
   generations per phase of runs trained at several budgets (``budgets.findings_by_budget``);
 - ``forest_figure`` (``forest``, not a paper figure): every claim's effect with its
@@ -48,7 +49,7 @@ from __future__ import annotations
 
 from .budget import MOVEMENT_COLOURS, budget_figure
 from .conditions import BOX_MIN, fig10_conditions
-from .development import development_figure
+from .development import STRATEGY_PANELS, development_figure, strategy_figure
 from .forest import VERDICT_COLOURS, forest_figure
 from .performance import (BEHAVIOUR_MEASURES, FIG5_MEASURES, fig5_performance,
                           fig9_sensory_deprivation, table1_behaviours)
@@ -61,7 +62,7 @@ from .training import training_curves
 __all__ = ["training_curves", "fig5_performance", "fig6_distances_variability",
            "fig7_sector_maps", "fig7_reach_regression", "fig8_trajectories", "fig8_babbling",
            "fig9_sensory_deprivation", "table1_behaviours", "fig10_conditions",
-           "development_figure", "budget_figure", "forest_figure", "VERDICT_COLOURS",
+           "development_figure", "strategy_figure", "STRATEGY_PANELS", "budget_figure", "forest_figure", "VERDICT_COLOURS",
            "SENSES_COLOURS", "FIG5_MEASURES", "FIG6_MEASURES", "BABBLING_MEASURES",
            "BEHAVIOUR_MEASURES", "SECTOR_CENTRE_TRIALS", "FIG8_TRIAL", "VIEWS", "BOX_MIN",
            "MOVEMENT_COLOURS"]
