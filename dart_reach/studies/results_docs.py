@@ -16,72 +16,28 @@ writes nothing and exits 1 naming the files that differ from their rendering.
 from __future__ import annotations
 
 import argparse
-import io
 import json
-import re
 import sys
 from pathlib import Path
-from typing import Callable, Mapping
+from typing import Callable
 
 import numpy as np
 
 import polars as pl
 
-from . import scene_study, stillness
+from . import course_page, scene_study, stillness
+from .doc_text import (FULL, REPLICATIONS, TEN, markdown_table, number, render,
+                       training_text)
 from ..analysis import budgets, calibration, findings, report, verdicts
-from ..analysis.figures import strategy_figure
-from ..analysis import strategy_course as sc
-from ..analysis.stillness import BABBLING, STILL, STILL_SHARE
 from ..evolution import cost
 from ..evolution.conditions import list_conditions
 from ..evolution.rundir import RunDirectory
 from ..evolution.settings import Settings
 from ..model.scenes import scene_of
 from ..postevaluation import checks, results
-from ..postevaluation.snapshots import load_development
-from ..postevaluation.systematic import load_evaluation
 
 TEMPLATES = Path("docs/results/templates")
 OUT = Path("docs/results")
-_PLACEHOLDER = re.compile(r"\{\{\s*([A-Za-z0-9_.\-]+)\s*\}\}")
-#: Rates are shown in per cent; other measures with 3 significant digits.
-_RATES = ("reached", "grasped", "babbling", "babbling_no_ball", "reach_low", "reach_high")
-
-
-def render(template: str, values: Mapping[str, str], name: str = "template") -> str:
-    """``template`` with every ``{{ key }}`` replaced by ``values[key]``; ``KeyError`` naming
-    every placeholder that has no value."""
-    unknown = sorted({m.group(1) for m in _PLACEHOLDER.finditer(template)} - set(values))
-    if unknown:
-        raise KeyError(f"{name}: no value for {', '.join(unknown)}")
-    return _PLACEHOLDER.sub(lambda m: values[m.group(1)], template)
-
-
-def number(value: float, measure: str = "") -> str:
-    """A value as the docs show it: a rate in whole per cent, else 3 significant digits; a
-    missing value as an en dash."""
-    if value is None or not np.isfinite(value):
-        return "–"
-    if measure in _RATES:
-        return f"{value:.0%}".replace("%", " %")
-    return f"{value:.3g}"
-
-
-def markdown_table(table: pl.DataFrame) -> str:
-    """``table`` as a markdown table: floats to 3 significant digits (``budgets.number_text``),
-    booleans as yes/no, nulls as an en dash."""
-    def cell(value) -> str:
-        if value is None:
-            return "–"
-        if isinstance(value, bool):
-            return "yes" if value else "no"
-        if isinstance(value, float):
-            return budgets.number_text(value)
-        return str(value).replace("|", "\\|")
-
-    lines = ["| " + " | ".join(table.columns) + " |", "|" + "---|" * table.width]
-    lines += ["| " + " | ".join(cell(v) for v in row) + " |" for row in table.iter_rows()]
-    return "\n".join(lines)
 
 
 def provenance(run_dirs) -> dict[str, str]:
@@ -120,25 +76,6 @@ def scene_study_values(recordings: Path) -> dict[str, str]:
         wall = run.status().unique(["condition", "phase"])["wall_h"].sum()
         values[f"{scene}.wall_h"] = f"{wall:.1f}"
     return values
-
-
-#: The ten-replication run (issue 32).
-TEN = "replication-50x10"
-#: The replication runs of docs/results/replication.md, smallest budget first.
-REPLICATIONS = ("replication-10", "replication-50", TEN)
-#: The paper's full budget (issue 48): the standard condition, 500 generations per phase, 10
-#: replications; trained over many sessions.
-FULL = "standard-500x10"
-
-
-def _training(run: RunDirectory) -> str:
-    table = run.status()
-    done, total = int(table["generations"].sum()), int(table["of"].sum())
-    wall = table.unique(["condition", "phase"])["wall_h"].sum()
-    sessions = json.loads((run.out / "manifest.json").read_text()).get("sessions", [])
-    revisions = sorted({str(s.get("git_revision"))[:7] for s in sessions})
-    return (f"{done:,} of {total:,} replication-generations, {wall:.1f} h of wall time in "
-            f"{len(sessions)} session(s) at {', '.join(revisions)}")
 
 
 def _post_evaluation(run_dir: Path) -> str:
@@ -309,7 +246,7 @@ def replication_values(recordings: Path) -> dict[str, str]:
             "generations per phase": budgets.generations_per_phase(run)[0],
             "replications": run.settings.replications, "seed": run.settings.seed,
             "scene": scene_of(run.settings.world.sectors) or "custom",
-            "created": manifest["created"][:10], "training": _training(run),
+            "created": manifest["created"][:10], "training": training_text(run),
             "post-evaluation": _post_evaluation(d)})
         table = results.read_table(d / results.EVALUATION)
         values[f"{d.name}.measures"] = "not post-evaluated yet" if table is None else \
@@ -320,7 +257,7 @@ def replication_values(recordings: Path) -> dict[str, str]:
         status = run.status().with_columns(
             pl.format("{} / {}", "generations", "of").alias("generations")).drop("of")
         values[f"{d.name}.status"] = markdown_table(status)
-        values[f"{d.name}.training"] = _training(run)
+        values[f"{d.name}.training"] = training_text(run)
     values["runs"] = markdown_table(pl.DataFrame(described))
     values["spreads"] = markdown_table(spreads_summary(dirs))
     return values
@@ -398,119 +335,18 @@ def stillness_values(recordings: Path) -> dict[str, str]:
     return stillness.values(recordings, markdown_table)
 
 
-def _outcome(babbling: int, still: int) -> str:
-    if not still:
-        return f"babbling has taken over (all {babbling} populations babble)"
-    if not babbling:
-        return f"stillness has taken over (all {still} populations are still)"
-    return f"both persist ({babbling} populations babble, {still} are still)"
-
-
-def _kinds(table: pl.DataFrame) -> tuple[int, int]:
-    """(babbling, still) populations of a table with a ``strategy`` column."""
-    return tuple(table.filter(pl.col("strategy") == k).height for k in (BABBLING, STILL))
-
-
-def course_values(recordings: Path) -> dict[str, str]:
-    """The values of docs/results/templates/pre-reaching-course.md: the full-budget run's
-    pre-reaching snapshots (``strategy_course``), where training stands, the strategies per
-    replication and snapshot, their changes, the course of the measures, generation 50
-    beside ``TEN``'s populations and the claims of pre-reachers at ``strategy_course.JUDGED``."""
-    directory = recordings / FULL
-    run = RunDirectory.open(directory)
-    pre = run.status().filter(pl.col("phase") == "pre")
-    trained = int(pre["generations"].min())
-    out = {"run": FULL, "training": _training(run), "pre_trained": str(trained),
-           "pre_of": str(int(pre["of"].max())), "still_share": f"{STILL_SHARE:.0%}"
-           .replace("%", " %"), "judged": ", ".join(map(str, sc.JUDGED)), "ten": TEN,
-           "judged_list": ",".join(map(str, sc.JUDGED))}
-    development = load_development(directory, senses=None)
-    if development is None or not development.filter(pl.col("phase") == "pre").height:
-        raise ValueError(f"{directory}: no pre-reaching snapshot post-evaluated (dart-reach "
-                         f"evaluate COPY --finished-only --development 5)")
-    course = sc.course(development)
-    conditions = (development.filter(pl.col("phase") == "pre").group_by("generation")
-                  .agg(pl.col("senses").unique().sort()).sort("generation"))
-    out["evaluated"] = "; ".join(
-        f"{g} ({', '.join(s)})" for g, s in conditions.iter_rows())
-    generations = course["generation"].unique().sort().to_list()
-    last = generations[-1]
-    out["last"] = str(last)
-    matrix = (course.with_columns(
-        (pl.col("strategy").str.slice(0, 1).str.to_uppercase() + pl.lit(" ")
-         + (pl.col("babbling_share") * 100).round(0).cast(pl.Int64).cast(pl.Utf8)
-         + pl.lit(" %")).alias("cell"))
-        .pivot(on="replication", index="generation", values="cell", sort_columns=True)
-        .sort("generation"))
-    out["matrix"] = markdown_table(matrix.rename(
-        {c: f"rep {c}" for c in matrix.columns if c != "generation"}))
-    turns = sc.switches(course)
-    out["switches"] = markdown_table(turns)
-    medians = (course.group_by("generation")
-               .agg((pl.col("strategy") == BABBLING).sum().alias("babbling populations"),
-                    (pl.col("strategy") == STILL).sum().alias("still populations"),
-                    *[pl.col(m).median() for m in sc.MEASURES])
-               .sort("generation").rename(sc.MEASURES))
-    out["medians"] = markdown_table(medians)
-    babbling, still = _kinds(course.filter(pl.col("generation") == last))
-    out["outcome"] = _outcome(babbling, still)
-    out["changed"] = str(int((turns["changes"] > 0).sum()))
-    out["came_back"] = str(int(turns["came_back"].sum()))
-    ten = recordings / TEN
-    if 50 in generations and results.exists(ten / results.EVALUATION):
-        side = sc.at_budget(course, 50, load_evaluation(ten), (f"{FULL} @50", TEN))
-        out["at50"] = markdown_table(side)
-        full50, other = (side.filter(pl.col("run") == r) for r in side["run"].unique(
-            maintain_order=True))
-        b, s_ = _kinds(side)
-        out["at50_summary"] = (f"of the {side.height} populations trained for 50 generations, "
-                               f"{b} babble and {s_} are still ({_kinds(full50)[1]} of "
-                               f"{full50.height} in this run, {_kinds(other)[1]} of "
-                               f"{other.height} in {TEN})")
-    else:
-        out["at50"] = "(generation 50 not yet post-evaluated)"
-        out["at50_summary"] = "generation 50 is not yet post-evaluated"
-    baseline = (load_evaluation(directory, baseline=True)
-                if results.exists(directory / results.BASELINE) else None)
-    found = sc.judged(development, baseline)
-    claims = [c.id for c in sc.claims_of_pre()]
-    grid = pl.DataFrame({"claim": claims})
-    for g in found["generation"].unique().sort().to_list():
-        cells = {r["claim"]: r["verdict"] + (f" (p {budgets.number_text(r['p'])})"
-                                             if r["p"] == r["p"] else "")
-                 for r in found.filter(pl.col("generation") == g).iter_rows(named=True)}
-        grid = grid.with_columns(pl.Series(f"gen {g}", [cells[c] for c in claims]))
-    waiting = [g for g in sc.JUDGED if g not in set(found["generation"])]
-    why = {g: "not yet trained" if g > trained else "not yet evaluated" for g in waiting}
-    out["claims_waiting"] = ("" if not waiting else "Not yet judged: generation(s) "
-                             + ", ".join(f"{g} ({why[g]})" for g in waiting) + ". ")
-    if grid.width == 1:
-        grid = grid.with_columns(pl.lit("–").alias("verdict"))
-    out["claims"] = markdown_table(grid)
-    return out
-
-
 #: Each doc rendered from a template: its name and the function of the recordings directory
 #: giving its values.
 DOCS: dict[str, Callable[[Path], dict[str, str]]] = {"scene-study.md": scene_study_values,
                                                     "replication.md": replication_values,
                                                     "stillness.md": stillness_values,
-                                                    "pre-reaching-course.md": course_values}
-def course_figure(recordings: Path) -> bytes:
-    """docs/results/pre-reaching-course.png: the full-budget run's pre-reaching strategies over
-    its post-evaluated snapshots (``figures.strategy_figure``), as PNG bytes (no software
-    version written, so that the same data on the same matplotlib give the same bytes)."""
-    course = sc.course(load_development(recordings / FULL))
-    buffer = io.BytesIO()
-    strategy_figure(course, STILL_SHARE).savefig(buffer, format="png", dpi=90,
-                                                 metadata={"Software": None})
-    return buffer.getvalue()
+                                                    "pre-reaching-course.md": course_page.values}
 
 
 #: Each figure of the results docs: its path under docs/results and the function of the
 #: recordings directory giving its PNG bytes. Written by ``main``; not part of ``--check`` (a
 #: figure's bytes depend on matplotlib's version; its data are the doc's tables).
-FIGURES: dict[str, Callable[[Path], bytes]] = {"pre-reaching-course.png": course_figure}
+FIGURES: dict[str, Callable[[Path], bytes]] = {"pre-reaching-course.png": course_page.figure}
 #: Each doc that is a table alone: its path under docs/results and the function of the
 #: recordings directory giving its text.
 TABLES: dict[str, Callable[[Path], str]] = {

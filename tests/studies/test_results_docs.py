@@ -12,7 +12,7 @@ import pytest
 
 from dart_reach.analysis.budgets import Budget
 from dart_reach.postevaluation import results
-from dart_reach.studies import results_docs
+from dart_reach.studies import course_page, results_docs
 
 ROOT = Path(__file__).resolve().parents[2]
 
@@ -57,7 +57,7 @@ def test_a_change_in_the_data_changes_the_doc(tmp_path, capsys):
         ROOT / results_docs.OUT / "scene-study.md").read_text()
     assert results_docs.main([str(tmp_path), "--check"]) == 0
     figure = tmp_path / results_docs.OUT / "pre-reaching-course.png"  # written beside the docs
-    assert figure.read_bytes() == results_docs.course_figure(tmp_path / "recordings")
+    assert figure.read_bytes() == course_page.figure(tmp_path / "recordings")
     assert figure.read_bytes().startswith(b"\x89PNG")
 
 
@@ -140,14 +140,14 @@ def test_the_readme_shows_the_verdicts_as_a_small_table_and_says_what_they_mean(
 
 
 def test_the_course_page_says_which_strategy_has_taken_over():
-    assert results_docs._outcome(10, 0) == "babbling has taken over (all 10 populations babble)"
-    assert results_docs._outcome(0, 10) == ("stillness has taken over (all 10 populations are "
+    assert course_page.outcome(10, 0) == "babbling has taken over (all 10 populations babble)"
+    assert course_page.outcome(0, 10) == ("stillness has taken over (all 10 populations are "
                                             "still)")
-    assert results_docs._outcome(4, 6) == "both persist (4 populations babble, 6 are still)"
-    values = results_docs.course_values(ROOT / "recordings")
+    assert course_page.outcome(4, 6) == "both persist (4 populations babble, 6 are still)"
+    values = course_page.values(ROOT / "recordings")
     rows = [r for r in values["matrix"].splitlines()[2:]]
     last = rows[-1].split(" | ")
     assert last[0].strip("| ") == values["last"]
     babbling = sum(c.strip(" |").startswith("B") for c in last[1:])
     still = sum(c.strip(" |").startswith("S") for c in last[1:])
-    assert values["outcome"] == results_docs._outcome(babbling, still)
+    assert values["outcome"] == course_page.outcome(babbling, still)

@@ -1,0 +1,131 @@
+"""docs/results/pre-reaching-course.md and its figure, from the full-budget run's committed
+pre-reaching snapshots (issue 48; ``analysis.strategy_course``): where its training stands,
+the strategy of every population at every snapshot, when they changed, the course of the
+measures, generation 50 beside ``TEN``'s final pre-reachers and the claims of pre-reachers
+judged at ``strategy_course.JUDGED``. Rendered by ``results_docs``."""
+
+from __future__ import annotations
+
+import io
+from pathlib import Path
+
+import polars as pl
+
+from ..analysis import budgets
+from ..analysis import strategy_course as sc
+from ..analysis.figures import strategy_figure
+from ..analysis.stillness import BABBLING, STILL, STILL_SHARE
+from ..evolution.rundir import RunDirectory
+from ..postevaluation import results
+from ..postevaluation.snapshots import load_development
+from ..postevaluation.systematic import load_evaluation
+from .doc_text import FULL, TEN, markdown_table, training_text
+
+
+def outcome(babbling: int, still: int) -> str:
+    """What the populations' strategies say in plain words: which has taken over, or both."""
+    if not still:
+        return f"babbling has taken over (all {babbling} populations babble)"
+    if not babbling:
+        return f"stillness has taken over (all {still} populations are still)"
+    return f"both persist ({babbling} populations babble, {still} are still)"
+
+
+def kinds(table: pl.DataFrame) -> tuple[int, int]:
+    """(babbling, still) populations of a table with a ``strategy`` column."""
+    return tuple(table.filter(pl.col("strategy") == k).height for k in (BABBLING, STILL))
+
+
+def values(recordings: Path) -> dict[str, str]:
+    """The values of docs/results/templates/pre-reaching-course.md: the full-budget run's
+    pre-reaching snapshots (``strategy_course``), where training stands, the strategies per
+    replication and snapshot, their changes, the course of the measures, generation 50
+    beside ``TEN``'s populations and the claims of pre-reachers at ``strategy_course.JUDGED``."""
+    directory = recordings / FULL
+    run = RunDirectory.open(directory)
+    pre = run.status().filter(pl.col("phase") == "pre")
+    trained = int(pre["generations"].min())
+    out = {"run": FULL, "training": training_text(run), "pre_trained": str(trained),
+           "pre_of": str(int(pre["of"].max())), "still_share": f"{STILL_SHARE:.0%}"
+           .replace("%", " %"), "judged": ", ".join(map(str, sc.JUDGED)), "ten": TEN,
+           "judged_list": ",".join(map(str, sc.JUDGED))}
+    development = load_development(directory, senses=None)
+    if development is None or not development.filter(pl.col("phase") == "pre").height:
+        raise ValueError(f"{directory}: no pre-reaching snapshot post-evaluated (dart-reach "
+                         f"evaluate COPY --finished-only --development 5)")
+    course = sc.course(development)
+    conditions = (development.filter(pl.col("phase") == "pre").group_by("generation")
+                  .agg(pl.col("senses").unique().sort()).sort("generation"))
+    out["evaluated"] = "; ".join(
+        f"{g} ({', '.join(s)})" for g, s in conditions.iter_rows())
+    generations = course["generation"].unique().sort().to_list()
+    last = generations[-1]
+    out["last"] = str(last)
+    matrix = (course.with_columns(
+        (pl.col("strategy").str.slice(0, 1).str.to_uppercase() + pl.lit(" ")
+         + (pl.col("babbling_share") * 100).round(0).cast(pl.Int64).cast(pl.Utf8)
+         + pl.lit(" %")).alias("cell"))
+        .pivot(on="replication", index="generation", values="cell", sort_columns=True)
+        .sort("generation"))
+    out["matrix"] = markdown_table(matrix.rename(
+        {c: f"rep {c}" for c in matrix.columns if c != "generation"}))
+    turns = sc.switches(course)
+    out["switches"] = markdown_table(turns)
+    medians = (course.group_by("generation")
+               .agg((pl.col("strategy") == BABBLING).sum().alias("babbling populations"),
+                    (pl.col("strategy") == STILL).sum().alias("still populations"),
+                    *[pl.col(m).median() for m in sc.MEASURES])
+               .sort("generation").rename(sc.MEASURES))
+    out["medians"] = markdown_table(medians)
+    babbling, still = kinds(course.filter(pl.col("generation") == last))
+    out["outcome"] = outcome(babbling, still)
+    out["changed"] = str(int((turns["changes"] > 0).sum()))
+    out["came_back"] = str(int(turns["came_back"].sum()))
+    ten = recordings / TEN
+    if 50 in generations and results.exists(ten / results.EVALUATION):
+        side = sc.at_budget(course, 50, load_evaluation(ten), (f"{FULL} @50", TEN))
+        out["at50"] = markdown_table(side)
+        full50, other = (side.filter(pl.col("run") == r) for r in side["run"].unique(
+            maintain_order=True))
+        b, s_ = kinds(side)
+        out["at50_summary"] = (f"of the {side.height} populations trained for 50 generations, "
+                               f"{b} babble and {s_} are still ({kinds(full50)[1]} of "
+                               f"{full50.height} in this run, {kinds(other)[1]} of "
+                               f"{other.height} in {TEN})")
+        if other["contact_after_first"].is_nan().all():
+            out["at50_summary"] += (f"; {TEN}'s evaluation table predates the measure "
+                                    f"contact_after_first (–)")
+    else:
+        out["at50"] = "(generation 50 not yet post-evaluated)"
+        out["at50_summary"] = "generation 50 is not yet post-evaluated"
+    baseline = (load_evaluation(directory, baseline=True)
+                if results.exists(directory / results.BASELINE) else None)
+    found = sc.judged(development, baseline)
+    claims = [c.id for c in sc.claims_of_pre()]
+    grid = pl.DataFrame({"claim": claims})
+    for g in found["generation"].unique().sort().to_list():
+        cells = {r["claim"]: f"{r['verdict']}: "
+                 + budgets.effect_text(r["effect"], r["effect_low"], r["effect_high"])
+                 + (f", p {budgets.number_text(r['p'])}" if r["p"] == r["p"] else "")
+                 + (f" ({r['note']})" if r["note"] else "")
+                 for r in found.filter(pl.col("generation") == g).iter_rows(named=True)}
+        grid = grid.with_columns(pl.Series(f"gen {g}", [cells[c] for c in claims]))
+    waiting = [g for g in sc.JUDGED if g not in set(found["generation"])]
+    why = {g: "not yet trained" if g > trained else "not yet evaluated" for g in waiting}
+    out["claims_waiting"] = ("" if not waiting else "Not yet judged: generation(s) "
+                             + ", ".join(f"{g} ({why[g]})" for g in waiting) + ". ")
+    if grid.width == 1:
+        grid = grid.with_columns(pl.lit("–").alias("verdict"))
+    out["claims"] = markdown_table(grid)
+    return out
+
+
+def figure(recordings: Path) -> bytes:
+    """docs/results/pre-reaching-course.png: the full-budget run's pre-reaching strategies over
+    its post-evaluated snapshots (``figures.strategy_figure``), as PNG bytes (no software
+    version written, so that the same data on the same matplotlib give the same bytes)."""
+    course = sc.course(load_development(recordings / FULL))
+    buffer = io.BytesIO()
+    strategy_figure(course, STILL_SHARE).savefig(buffer, format="png", dpi=90,
+                                                 metadata={"Software": None})
+    return buffer.getvalue()

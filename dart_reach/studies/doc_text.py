@@ -1,0 +1,75 @@
+"""What the generated results docs share (``results_docs``, ``course_page``): the committed
+runs they read, the placeholders of their templates and how their numbers and tables are
+written."""
+
+from __future__ import annotations
+
+import json
+import re
+from typing import Mapping
+
+import numpy as np
+import polars as pl
+
+from ..analysis import budgets
+from ..evolution.rundir import RunDirectory
+
+#: The ten-replication run (issue 32).
+TEN = "replication-50x10"
+#: The replication runs of docs/results/replication.md, smallest budget first.
+REPLICATIONS = ("replication-10", "replication-50", TEN)
+#: The paper's full budget (issue 48): the standard condition, 500 generations per phase, 10
+#: replications; trained over many sessions.
+FULL = "standard-500x10"
+
+_PLACEHOLDER = re.compile(r"\{\{\s*([A-Za-z0-9_.\-]+)\s*\}\}")
+#: Rates are shown in per cent; other measures with 3 significant digits.
+_RATES = ("reached", "grasped", "babbling", "babbling_no_ball", "reach_low", "reach_high")
+
+
+def render(template: str, values: Mapping[str, str], name: str = "template") -> str:
+    """``template`` with every ``{{ key }}`` replaced by ``values[key]``; ``KeyError`` naming
+    every placeholder that has no value."""
+    unknown = sorted({m.group(1) for m in _PLACEHOLDER.finditer(template)} - set(values))
+    if unknown:
+        raise KeyError(f"{name}: no value for {', '.join(unknown)}")
+    return _PLACEHOLDER.sub(lambda m: values[m.group(1)], template)
+
+
+def number(value: float, measure: str = "") -> str:
+    """A value as the docs show it: a rate in whole per cent, else 3 significant digits; a
+    missing value as an en dash."""
+    if value is None or not np.isfinite(value):
+        return "–"
+    if measure in _RATES:
+        return f"{value:.0%}".replace("%", " %")
+    return f"{value:.3g}"
+
+
+def markdown_table(table: pl.DataFrame) -> str:
+    """``table`` as a markdown table: floats to 3 significant digits (``budgets.number_text``),
+    booleans as yes/no, nulls as an en dash."""
+    def cell(value) -> str:
+        if value is None:
+            return "–"
+        if isinstance(value, bool):
+            return "yes" if value else "no"
+        if isinstance(value, float):
+            return budgets.number_text(value)
+        return str(value).replace("|", "\\|")
+
+    lines = ["| " + " | ".join(table.columns) + " |", "|" + "---|" * table.width]
+    lines += ["| " + " | ".join(cell(v) for v in row) + " |" for row in table.iter_rows()]
+    return "\n".join(lines)
+
+
+def training_text(run: RunDirectory) -> str:
+    """Where a run's training stands: replication-generations done of all, wall time,
+    sessions and the revisions that trained it (its manifest)."""
+    table = run.status()
+    done, total = int(table["generations"].sum()), int(table["of"].sum())
+    wall = table.unique(["condition", "phase"])["wall_h"].sum()
+    sessions = json.loads((run.out / "manifest.json").read_text()).get("sessions", [])
+    revisions = sorted({str(s.get("git_revision"))[:7] for s in sessions})
+    return (f"{done:,} of {total:,} replication-generations, {wall:.1f} h of wall time in "
+            f"{len(sessions)} session(s) at {', '.join(revisions)}")
