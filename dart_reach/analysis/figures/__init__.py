@@ -62,7 +62,8 @@ from .training import training_curves
 __all__ = ["training_curves", "fig5_performance", "fig6_distances_variability",
            "fig7_sector_maps", "fig7_reach_regression", "fig8_trajectories", "fig8_babbling",
            "fig9_sensory_deprivation", "table1_behaviours", "fig10_conditions",
-           "development_figure", "strategy_figure", "STRATEGY_PANELS", "budget_figure", "forest_figure", "VERDICT_COLOURS",
+           "development_figure", "strategy_figure", "STRATEGY_PANELS", "budget_figure",
+           "forest_figure", "VERDICT_COLOURS",
            "SENSES_COLOURS", "FIG5_MEASURES", "FIG6_MEASURES", "BABBLING_MEASURES",
            "BEHAVIOUR_MEASURES", "SECTOR_CENTRE_TRIALS", "FIG8_TRIAL", "VIEWS", "BOX_MIN",
            "MOVEMENT_COLOURS"]

@@ -7,6 +7,8 @@ import polars as pl
 from matplotlib import colormaps
 from matplotlib.figure import Figure
 
+from ..stillness import STILL
+
 
 def development_figure(course_table: pl.DataFrame, measure: str, label: str | None = None,
                        condition: str | None = None) -> Figure:
@@ -65,7 +67,7 @@ def strategy_figure(course_table: pl.DataFrame, still_share: float) -> Figure:
             colour = cmap(i % 10)
             ax.plot(line["generation"], line[column], color=colour, linewidth=0.9, alpha=0.7,
                     label=f"rep {r}")
-            still = (line["strategy"] == "still").to_numpy()
+            still = (line["strategy"] == STILL).to_numpy()
             x, y = line["generation"].to_numpy(), line[column].to_numpy()
             ax.scatter(x[~still], y[~still], color=colour, s=14, zorder=3)
             ax.scatter(x[still], y[still], facecolor="white", edgecolor=colour, s=14,
