@@ -53,6 +53,7 @@ import numpy as np
 import polars as pl
 import rerun as rr
 import rerun.blueprint as rrb
+from rerun import bindings as rerun_bindings
 from rerun.chunk import RrdReader
 
 from ..measures import metrics
@@ -360,12 +361,17 @@ def trial_rrd(data: TrialData, info: TrialInfo, model: RobotModel, dt: float = 0
     instead (``write_blueprint``). ``measures``: the trial's ``metrics.trial_metrics`` if
     already computed; the recording's property ``trial`` holds those of ``MEASURES`` beside the
     trial's ``TrialInfo``."""
+    return _encoded(info.name(), lambda rec: _send_trial(rec, data, info, model, dt, blueprint,
+                                                         measures))
+
+
+def _send_trial(rec: rr.RecordingStream, data: TrialData, info: TrialInfo, model: RobotModel,
+                dt: float, blueprint: bool, measures: dict | None) -> None:
+    """Send one trial to ``rec`` (``trial_rrd``)."""
     T = data.steps_run
     steps = np.arange(T)
-    rec = rr.RecordingStream(APP_ID, recording_id=info.name(), send_properties=False)
-    stream = rec.binary_stream()
     if blueprint:
-        rec.send_blueprint(trial_blueprint())
+        _send_blueprint(rec, trial_blueprint())
     rec.send_recording_name(info.name())
     measures = measures if measures is not None else metrics.trial_metrics(data, dt)
     rec.send_property("trial", rr.AnyValues(layout=LAYOUT, **asdict(info),
@@ -413,9 +419,43 @@ def trial_rrd(data: TrialData, info: TrialInfo, model: RobotModel, dt: float = 0
     rec.log("world/paths", rr.LineStrips3D([data.hand[:T], data.ball[:T]], radii=0.002,
                                            colors=[_HAND_COLOUR, _RED],
                                            labels=["hand path", "ball path"]), static=True)
+
+
+# A rerun 0.41 recording stream keeps its two threads (its batcher and its sink) after every
+# reference to it is gone, until orphaned recordings are cleaned up or it is disconnected.
+# Without the two functions below every recording written left two threads in its process,
+# and every blueprint sent two more (a test worker of the suite was found holding 1,983 of
+# them; a training process gained four a generation). tests/recording/test_recording.py
+# counts them.
+
+def _encoded(recording_id: str, send) -> bytes:
+    """The .rrd bytes of what ``send(rec)`` sends to a new recording ``recording_id``; the
+    recording's threads end with it."""
+    rec = rr.RecordingStream(APP_ID, recording_id=recording_id, send_properties=False)
+    stream = rec.binary_stream()
+    send(rec)
     out = stream.read()
     rec.disconnect()
+    del rec, stream
+    rerun_bindings.flush_and_cleanup_orphaned_recordings()
     return out or b""
+
+
+def _send_blueprint(rec: rr.RecordingStream, blueprint: rrb.Blueprint) -> None:
+    """``rec.send_blueprint(blueprint)`` (active and default), its blueprint stream
+    disconnected once sent: rerun's own builds the blueprint in a stream it never
+    disconnects. Its steps are rerun 0.41's own (``create_in_memory_blueprint``), through
+    the private names they use: the pin on rerun's minor version holds them still."""
+    stream = rr.RecordingStream._from_native(rerun_bindings.new_blueprint(
+        application_id=APP_ID, make_default=False, make_thread_default=False,
+        default_enabled=True))
+    try:
+        stream.set_time("blueprint", sequence=0)
+        blueprint._log_to_stream(stream)
+        rerun_bindings.send_blueprint(stream.memory_recording().storage, True, True,
+                                      recording=rec.to_native())
+    finally:
+        stream.disconnect()
 
 
 def training_rrd(stats: pl.DataFrame, run_name: str) -> bytes:
@@ -425,8 +465,11 @@ def training_rrd(stats: pl.DataFrame, run_name: str) -> bytes:
     (``<condition>/<phase>``), with the series ``best rep<r>``, ``mean rep<r>`` and ``min
     rep<r>`` of each replication: a replication has one colour, its best line is thick, its
     mean thin, its min hidden (shown from the legend)."""
-    rec = rr.RecordingStream(APP_ID, recording_id=f"training {run_name}", send_properties=False)
-    stream = rec.binary_stream()
+    return _encoded(f"training {run_name}", lambda rec: _send_training(rec, stats, run_name))
+
+
+def _send_training(rec: rr.RecordingStream, stats: pl.DataFrame, run_name: str) -> None:
+    """Send a run's fitness statistics to ``rec`` (``training_rrd``)."""
     rec.send_recording_name(f"training {run_name}")
     rec.send_property("run", rr.AnyValues(layout=LAYOUT, run=run_name))
     views = []
@@ -455,11 +498,8 @@ def training_rrd(stats: pl.DataFrame, run_name: str) -> bytes:
             offset += int(p["generation"].max())
             views.append(rrb.TimeSeriesView(name=f"{condition}: {phase}", origin=entity,
                                             plot_legend=rrb.Corner2D.LeftTop))
-    rec.send_blueprint(rrb.Blueprint(rrb.Grid(*views) if views else rrb.Vertical(),
-                                     rrb.TimePanel(timeline="generation")))
-    out = stream.read()
-    rec.disconnect()
-    return out or b""
+    _send_blueprint(rec, rrb.Blueprint(rrb.Grid(*views) if views else rrb.Vertical(),
+                                       rrb.TimePanel(timeline="generation")))
 
 
 def write_blueprint(path: Path) -> Path:
