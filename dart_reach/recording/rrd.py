@@ -61,6 +61,7 @@ from ..model.ctrnn import MOTOR_NAMES, N_HIDDEN, OFFSET, PROPRIO, SIGHT, TOUCH, 
 from ..files import atomic_write
 from ..model.icub import HAND_SEGMENTS
 from ..model.task import Senses, TrialData
+from .quaternion import quaternions
 
 APP_ID = "dart_reach"
 #: Version of the entity layout, in every recording's properties (2: the five signal entities;
@@ -229,45 +230,6 @@ class RobotModel:
         return box[..., :3, 3], quaternions(box[..., :3, :3]), sphere[..., :3, 3]
 
 
-def quaternions(R: np.ndarray) -> np.ndarray:
-    """Unit quaternions (..., 4), xyzw as rerun takes them, of rotation matrices (..., 3, 3).
-
-    Each component's magnitude comes from the diagonal and, relative to w, its sign from the
-    off-diagonal differences. Near half-turns (w small) those differences vanish, and the
-    signs are taken relative to the largest component instead."""
-    R = np.asarray(R, float)
-    m00, m11, m22 = R[..., 0, 0], R[..., 1, 1], R[..., 2, 2]
-    q = np.empty(R.shape[:-2] + (4,))
-    q[..., 0] = np.sqrt(np.maximum(0.0, 1 + m00 - m11 - m22))
-    q[..., 1] = np.sqrt(np.maximum(0.0, 1 - m00 + m11 - m22))
-    q[..., 2] = np.sqrt(np.maximum(0.0, 1 - m00 - m11 + m22))
-    q[..., 3] = np.sqrt(np.maximum(0.0, 1 + m00 + m11 + m22))
-    q *= 0.5
-    diffs = (R[..., 2, 1] - R[..., 1, 2], R[..., 0, 2] - R[..., 2, 0], R[..., 1, 0] - R[..., 0, 1])
-    for i, d in enumerate(diffs):
-        q[..., i] = np.copysign(q[..., i], d)
-    small = q[..., 3] < 0.25
-    if small.any():
-        # sums: 4 x y = m01 + m10, 4 x z = m02 + m20, 4 y z = m12 + m21, 4 w x_i = diff_i
-        Rs, qs = R[small], q[small]
-        k = np.argmax(np.abs(qs[:, :3]), axis=1)
-        rows = np.arange(len(k))
-        big = np.abs(qs[rows, k])
-        sums = {(0, 1): Rs[:, 0, 1] + Rs[:, 1, 0], (0, 2): Rs[:, 0, 2] + Rs[:, 2, 0],
-                (1, 2): Rs[:, 1, 2] + Rs[:, 2, 1]}
-        out = np.empty_like(qs)
-        for j in range(3):
-            other = np.select([k == i for i in range(3)],
-                              [sums[tuple(sorted((i, j)))] if i != j else 4 * big ** 2
-                               for i in range(3)])
-            out[:, j] = other / (4 * big)
-        out[:, 3] = np.select([k == i for i in range(3)],
-                              [Rs[:, 2, 1] - Rs[:, 1, 2], Rs[:, 0, 2] - Rs[:, 2, 0],
-                               Rs[:, 1, 0] - Rs[:, 0, 1]]) / (4 * big)
-        q[small] = out
-    return q
-
-
 # ------------------------------------------------------------------------------ blueprints
 #: Qualitative colours of the lines of one panel (matplotlib's tab10): a panel never shows
 #: more than ten lines, and its lines never share a colour.
@@ -361,8 +323,8 @@ def trial_rrd(data: TrialData, info: TrialInfo, model: RobotModel, dt: float = 0
     instead (``write_blueprint``). ``measures``: the trial's ``metrics.trial_metrics`` if
     already computed; the recording's property ``trial`` holds those of ``MEASURES`` beside the
     trial's ``TrialInfo``."""
-    return _encoded(info.name(), lambda rec: _send_trial(rec, data, info, model, dt, blueprint,
-                                                         measures))
+    return _encoded(info.name(),
+                    lambda rec: _send_trial(rec, data, info, model, dt, blueprint, measures))
 
 
 def _send_trial(rec: rr.RecordingStream, data: TrialData, info: TrialInfo, model: RobotModel,
@@ -421,16 +383,11 @@ def _send_trial(rec: rr.RecordingStream, data: TrialData, info: TrialInfo, model
                                            labels=["hand path", "ball path"]), static=True)
 
 
-# A rerun 0.41 recording stream keeps its two threads (its batcher and its sink) after every
-# reference to it is gone, until orphaned recordings are cleaned up or it is disconnected.
-# Without the two functions below every recording written left two threads in its process,
-# and every blueprint sent two more (a test worker of the suite was found holding 1,983 of
-# them; a training process gained four a generation). tests/recording/test_recording.py
-# counts them.
-
 def _encoded(recording_id: str, send) -> bytes:
-    """The .rrd bytes of what ``send(rec)`` sends to a new recording ``recording_id``; the
-    recording's threads end with it."""
+    """The .rrd bytes of what ``send(rec)`` sends to a new recording ``recording_id``. A rerun
+    0.41 stream keeps its two threads (batcher, sink) until it is disconnected or cleaned up
+    as an orphan: without the clean-up here and ``_send_blueprint`` every recording left two
+    threads in its process and every layout two more (docs/changelog.md, 2026-11-27)."""
     rec = rr.RecordingStream(APP_ID, recording_id=recording_id, send_properties=False)
     stream = rec.binary_stream()
     send(rec)
@@ -442,10 +399,9 @@ def _encoded(recording_id: str, send) -> bytes:
 
 
 def _send_blueprint(rec: rr.RecordingStream, blueprint: rrb.Blueprint) -> None:
-    """``rec.send_blueprint(blueprint)`` (active and default), its blueprint stream
-    disconnected once sent: rerun's own builds the blueprint in a stream it never
-    disconnects. Its steps are rerun 0.41's own (``create_in_memory_blueprint``), through
-    the private names they use: the pin on rerun's minor version holds them still."""
+    """``rec.send_blueprint(blueprint)``, whose blueprint stream is never disconnected, with
+    it disconnected: rerun 0.41's own steps (``create_in_memory_blueprint``) through the
+    private names they use, held still by the pin on rerun's minor version."""
     stream = rr.RecordingStream._from_native(rerun_bindings.new_blueprint(
         application_id=APP_ID, make_default=False, make_thread_default=False,
         default_enabled=True))
@@ -453,7 +409,7 @@ def _send_blueprint(rec: rr.RecordingStream, blueprint: rrb.Blueprint) -> None:
         stream.set_time("blueprint", sequence=0)
         blueprint._log_to_stream(stream)
         rerun_bindings.send_blueprint(stream.memory_recording().storage, True, True,
-                                      recording=rec.to_native())
+                                      recording=rec.to_native())  # active, default
     finally:
         stream.disconnect()
 

@@ -17,6 +17,7 @@ from scipy.spatial.transform import Rotation
 from dart_reach import save_series
 from dart_reach.measures import metrics
 from dart_reach.recording import rrd as rec
+from dart_reach.recording.quaternion import quaternions
 from dart_reach.model.ctrnn import Network, random_params
 from dart_reach.model.task import Trial, TrialConfig
 from dart_reach.model.world import World
@@ -114,7 +115,7 @@ def test_quaternions_match_scipy():
         np.eye(3) * np.pi, np.eye(3) * np.pi / 2, np.zeros((1, 3)), axes * np.pi,
         axes * (np.pi - 1e-9), [[np.pi / np.sqrt(2), -np.pi / np.sqrt(2), 0]]]))
     for r in (rotations, special):
-        q = rec.quaternions(r.as_matrix())
+        q = quaternions(r.as_matrix())
         assert np.allclose(np.abs(np.sum(q * r.as_quat(), axis=-1)), 1.0, atol=1e-12)
 
 
