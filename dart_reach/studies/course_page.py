@@ -19,7 +19,7 @@ from ..evolution.rundir import RunDirectory
 from ..postevaluation import results
 from ..postevaluation.snapshots import load_development
 from ..postevaluation.systematic import load_evaluation
-from .doc_text import FULL, TEN, markdown_table, training_text
+from .doc_text import FULL, TEN, markdown_table, percent, training_text
 
 
 def outcome(babbling: int, still: int) -> str:
@@ -46,8 +46,7 @@ def values(recordings: Path) -> dict[str, str]:
     pre = run.status().filter(pl.col("phase") == "pre")
     trained = int(pre["generations"].min())
     out = {"run": FULL, "training": training_text(run), "pre_trained": str(trained),
-           "pre_of": str(int(pre["of"].max())), "still_share": f"{STILL_SHARE:.0%}"
-           .replace("%", " %"), "judged": ", ".join(map(str, sc.JUDGED)), "ten": TEN,
+           "pre_of": str(int(pre["of"].max())), "still_share": percent(STILL_SHARE), "judged": ", ".join(map(str, sc.JUDGED)), "ten": TEN,
            "judged_list": ",".join(map(str, sc.JUDGED))}
     development = load_development(directory, senses=None)
     if development is None or not development.filter(pl.col("phase") == "pre").height:

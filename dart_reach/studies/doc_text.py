@@ -42,8 +42,13 @@ def number(value: float, measure: str = "") -> str:
     if value is None or not np.isfinite(value):
         return "–"
     if measure in _RATES:
-        return f"{value:.0%}".replace("%", " %")
+        return percent(value)
     return f"{value:.3g}"
+
+
+def percent(value: float) -> str:
+    """A share as the docs show it: whole per cent, with a space before the sign."""
+    return f"{value:.0%}".replace("%", " %")
 
 
 def markdown_table(table: pl.DataFrame) -> str:
