@@ -62,6 +62,35 @@ def simd() -> str:
     return (found or list(umath.__cpu_baseline__) or ["none"])[-1]
 
 
+#: /proc/cpuinfo flags of the vector extensions, widest first, as ``cpu`` names them.
+_VECTOR_FLAGS = (("avx512f", "AVX-512"), ("avx2", "AVX2"), ("avx", "AVX"), ("sse4_2", "SSE4.2"))
+
+
+def cpu(cpuinfo: str | None = None) -> dict:
+    """The processor a session ran on, for the manifest's ``sessions``: its ``model`` and
+    ``mhz`` (the first core's clock, MHz) and its widest ``vector`` extension (whatever the
+    environment lets numpy use) from ``cpuinfo`` (default: /proc/cpuinfo's text; each None
+    where that says nothing, e.g. off Linux). A run's wall times depend on it
+    (docs/results/benchmarks.md, "What a run costs")."""
+    if cpuinfo is None:
+        try:
+            cpuinfo = Path("/proc/cpuinfo").read_text(encoding="utf-8", errors="replace")
+        except OSError:
+            cpuinfo = ""
+    fields: dict[str, str] = {}
+    for line in cpuinfo.splitlines():
+        key, sep, value = line.partition(":")
+        if sep:
+            fields.setdefault(key.strip(), value.strip())
+    flags = set(fields.get("flags", "").split())
+    try:
+        mhz = float(fields["cpu MHz"])
+    except (KeyError, ValueError):
+        mhz = None
+    return {"model": fields.get("model name") or platform.processor() or None, "mhz": mhz,
+            "vector": next((name for flag, name in _VECTOR_FLAGS if flag in flags), None)}
+
+
 def machine() -> dict:
     """Where a run was created (its speed figures depend on it; its bits on ``simd``)."""
     return {"platform": platform.platform(), "processor": platform.machine(),

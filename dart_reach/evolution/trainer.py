@@ -38,7 +38,7 @@ from .conditions import Condition, Phase
 from .ga import (GAState, ask, best_k, generation_stats, init_state, state_to_arrays, tell,
                  transition_population)
 from .genome import as_groups, decode, free_mask, random_genome, release
-from .provenance import git_state, machine, versions
+from .provenance import cpu, git_state, machine, versions
 from .rundir import (STATS_SCHEMA, RunDirectory, RunError, check_same_run, described_run,
                      manifest_of, read_manifest)
 from .settings import (SEED_INIT, SEED_LIFETIME, SEED_MUTATE, SEED_RECORD, SNAPSHOT_ROBOTS,
@@ -117,8 +117,9 @@ class Trainer(RunDirectory):
         """Append to the manifest's ``sessions`` the source this invocation trains with (its
         revision, whether the tree was dirty, the hash of its diff), when and how it started,
         on how many ``workers`` (local processes, or the Ray cluster's CPUs when it started:
-        with the generations' ``wall_s``, the core-seconds a generation took) and the
-        generations committed before it: a run resumed over days records every revision it
+        with the generations' ``wall_s``, the core-seconds a generation took), on which
+        ``cpu`` (``provenance.cpu``; this process's, not a Ray cluster's) and the generations
+        committed before it: a run resumed over days records every revision and machine it
         was trained with."""
         path = self.out / "manifest.json"
         manifest = read_manifest(path)
@@ -127,7 +128,7 @@ class Trainer(RunDirectory):
                 for c, p in self.unique_phases()}
         manifest.setdefault("sessions", []).append(
             {"started": time.strftime("%Y-%m-%dT%H:%M:%S%z"), "command": command,
-             **git_state(), "generations_done": done,
+             **git_state(), "cpu": cpu(), "generations_done": done,
              **({"workers": workers} if workers is not None else {})})
         atomic_write(path, lambda p: p.write_text(json.dumps(manifest, indent=2)))
 

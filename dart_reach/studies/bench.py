@@ -18,14 +18,16 @@ import time
 from importlib import metadata
 from dataclasses import replace
 from pathlib import Path
-from typing import Callable
+from typing import Callable, Sequence
 
 import numpy as np
+import polars as pl
 
 from ..evolution.backends import (Job, LocalRayCluster, PoolBackend, RayBackend, SerialBackend,
                                   peak_rss_mb, worker_trial)
 from ..evolution.conditions import load_condition
 from ..evolution.genome import ParamGroup, as_groups, decode, random_genome
+from ..evolution.rundir import RunDirectory
 from ..evolution.settings import Settings, standard_trial, trial_config
 from ..measures.metrics import trial_metrics
 from ..model.scripted import ScriptedReach
@@ -310,6 +312,53 @@ def parallel(kind: str = "evolved", jobs: int = 40, trials: int = 2, pairs: int 
             * (40 / jobs),
             "worker_peak_rss_mb": worker_mb,
             "parent_peak_rss_mb": resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024}
+
+
+# -------------------------------------------------------------------------------- a run's trials
+def trial_cost(run_dir, generations: Sequence[int]) -> pl.DataFrame:
+    """What the genetic algorithm's trial (``Trial.fitness``, section III-C) costs for a run's
+    own robots on this machine: CPU seconds per trial of each replication's best robot at the
+    first phase's snapshots of ``generations``, and of the whole population at its last
+    committed generation (``robots`` "population"). Whether a run's generations grow dearer
+    as it evolves, apart from the machine. Each robot runs one trial per sector centre (the
+    population: one trial a genome, sectors in turn); the robots of a replication are timed
+    back to back, the generations in alternating order, so that a drift of the machine hits
+    them alike. One row per robots and replication: ``robots`` ("gen G" or "population"),
+    ``replication``, ``trials``, ``cpu_s`` (median CPU seconds a trial)."""
+    run = RunDirectory.open(run_dir)
+    _, phase = run.unique_phases()[0]
+    trial = trial_config(phase, run.settings)
+    runner = worker_trial(run.settings.world, trial)
+    centres = runner.world.systematic_points()[2::5]  # the middle position of each sector
+    snapshots = {g: genomes[:, 0] for g, genomes, _ in run.snapshots(phase) if g in generations}
+    missing = sorted(set(generations) - snapshots.keys())
+    if missing:
+        raise ValueError(f"{run_dir}: no snapshot of generation(s) {missing}")
+    found = run.load_checkpoint(phase)
+    groups = as_groups(phase.free_groups)
+
+    def timed(genome, positions) -> list[float]:
+        network = network_for(decode(genome, groups), trial)
+        out = []
+        for position in positions:
+            t0 = time.process_time()
+            runner.fitness(network, position)
+            out.append(time.process_time() - t0)
+        return out
+
+    rows = []
+    for rep in range(run.settings.replications):
+        order = sorted(snapshots) if rep % 2 == 0 else sorted(snapshots, reverse=True)
+        for g in order:
+            cost = timed(snapshots[g][rep], centres)
+            rows.append({"robots": f"gen {g}", "replication": rep, "trials": len(cost),
+                         "cpu_s": float(np.median(cost))})
+        if found is not None:
+            genomes = found[0][rep].genomes
+            cost = [timed(g, [centres[i % len(centres)]])[0] for i, g in enumerate(genomes)]
+            rows.append({"robots": "population", "replication": rep, "trials": len(cost),
+                         "cpu_s": float(np.median(cost))})
+    return pl.DataFrame(rows)
 
 
 # -------------------------------------------------------------------------------- recording

@@ -301,32 +301,53 @@ def cost_values(recordings: Path) -> dict[str, str]:
             "fig10.efficiency": f"{RAY_EFFICIENCY[0]:g}–{RAY_EFFICIENCY[1]:g}"}
 
 
+def cpu_text(found: dict | None) -> str:
+    """A session's processor (``provenance.cpu``) in a few words, or that it was not recorded
+    (sessions before 2026-11-27)."""
+    if not found:
+        return "not recorded"
+    mhz = f"{found['mhz']:,.0f} MHz" if found.get("mhz") else None
+    return ", ".join(str(v) for v in (found.get("model"), mhz, found.get("vector")) if v)
+
+
 def full_values(directory: Path, quiet: tuple[float, float]) -> dict[str, str]:
     """``full.*`` of docs/results/templates/benchmarks-cost.md, the full-budget run where it
     is: its replication-generations done of all, its sessions (revision, the generation it
-    started from, workers), the quartiles of its core-seconds per replication-generation and
+    started from, workers, processor, the generations each trained and their core-seconds per
+    replication-generation), the quartiles of its core-seconds per replication-generation and
     the rest of the campaign at the median (core-hours; hours on the run's last workers) and
     at ``quiet``, the core-seconds (low, high) of a run on cores it had mostly to itself."""
     keys = ("full.done", "full.sessions", "full.q1", "full.median", "full.rest_core_h",
-            "full.rest_h", "full.workers", "full.rest_quiet_h")
+            "full.rest_h", "full.workers", "full.rest_quiet_h", "full.latest",
+            "full.rest_latest_h")
     if not (directory / "manifest.json").is_file():
         return dict.fromkeys(keys, "not started")
     run = RunDirectory.open(directory)
     status = run.status()
     done, total = int(status["generations"].sum()), int(status["of"].sum())
     sessions = json.loads((directory / "manifest.json").read_text())["sessions"]
+    generations = cost.core_seconds(run)
+    by_session = {r["session"]: r for r in generations.group_by("session").agg(
+        pl.len().alias("n"), pl.col("core_s").drop_nans().min().alias("min"),
+        pl.col("core_s").drop_nans().median().alias("median")).iter_rows(named=True)}
     rows = [{"session": i, "started": s["started"][:16].replace("T", " "),
              "revision": (s.get("git_revision") or "?")[:7],
              "from generation (pre)": s.get("generations_done", {}).get("standard/pre", 0),
-             "workers": s.get("workers")} for i, s in enumerate(sessions)]
-    per = cost.core_seconds(run)["core_s"].drop_nans().to_numpy()
+             "workers": s.get("workers"), "cpu": cpu_text(s.get("cpu")),
+             "generations": by_session.get(i, {}).get("n", 0),
+             "core-s: min": by_session.get(i, {}).get("min"),
+             "median": by_session.get(i, {}).get("median")} for i, s in enumerate(sessions)]
+    per = generations["core_s"].drop_nans().to_numpy()
     q1, median = np.quantile(per, [0.25, 0.5]) if per.size else (np.nan, np.nan)
     workers = sessions[-1].get("workers") or 1
     rest = (total - done) * median / 3600
+    latest = by_session.get(max(by_session, default=-1), {}).get("median")
     return {"full.done": f"{done:,} of {total:,}", "full.sessions": markdown_table(
         pl.DataFrame(rows)), "full.q1": number(q1), "full.median": number(median),
         "full.rest_core_h": f"{rest:,.0f}", "full.rest_h": f"{rest / workers:,.0f}",
-        "full.workers": str(workers), "full.rest_quiet_h": "–".join(
+        "full.workers": str(workers), "full.latest": number(latest),
+        "full.rest_latest_h": f"{(total - done) * latest / 3600 / workers:,.0f}"
+        if latest is not None else "–", "full.rest_quiet_h": "–".join(
             f"{(total - done) * c / 3600 / workers:,.0f}" for c in quiet)}
 
 

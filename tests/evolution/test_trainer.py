@@ -15,6 +15,7 @@ import polars as pl
 import pytest
 
 from dart_reach.evolution.conditions import load_condition, scaled
+from dart_reach.evolution.provenance import cpu
 from dart_reach.evolution.rundir import RunError
 from dart_reach.evolution.settings import Settings
 from dart_reach.evolution.trainer import Trainer, train
@@ -117,6 +118,7 @@ def test_resume_after_sigkill_is_bit_identical(tmp_path):
     assert all(s["git_diff_sha256"] for s in sessions)
     assert sum(sessions[0]["generations_done"].values()) == 0
     assert sessions[1]["generations_done"]["standard/pre"] > 0
+    assert all(s["cpu"] == cpu() for s in sessions)  # the machine each session ran on
 
 
 def test_ctrl_c_stops_cleanly_and_says_how_to_resume(tmp_path):
@@ -274,6 +276,17 @@ def test_trial_by_trial_scheduling_equals_whole_evaluations():
         pool.close()
     assert serial.tolist() == expected and pooled.tolist() == expected
     assert len(set(expected)) > 1
+
+
+def test_the_cpu_of_a_session_is_read_from_cpuinfo():
+    zen4 = ("processor\t: 0\nmodel name\t: AMD EPYC 9R14\ncpu MHz\t\t: 3700.000\n"
+            "flags\t\t: fpu sse4_2 avx avx2 avx512f avx512bw\n\n"
+            "processor\t: 1\nmodel name\t: other\ncpu MHz\t\t: 1.0\n")
+    assert cpu(zen4) == {"model": "AMD EPYC 9R14", "mhz": 3700.0, "vector": "AVX-512"}
+    older = "model name\t: AMD EPYC\ncpu MHz\t: 2445.426\nflags\t: fpu sse4_2 avx avx2\n"
+    assert cpu(older) == {"model": "AMD EPYC", "mhz": 2445.426, "vector": "AVX2"}
+    assert cpu("cpu MHz\t: unknown\n")["mhz"] is None
+    assert cpu("")["vector"] is None
 
 
 def test_manifest_records_whether_the_tree_was_dirty(tmp_path):

@@ -68,3 +68,22 @@ def test_the_environment_figure_times_the_same_trials():
     pytest.importorskip("gymnasium")
     g = bench.gym_env(trials=1)
     assert g["env_steps_per_s"] > 0 and 0 < g["env_over_trial"] < 10
+
+
+def test_a_run_s_trial_cost_times_its_snapshots_and_its_population(tmp_path):
+    import pytest
+
+    from dart_reach.evolution.conditions import load_condition, scaled
+    from dart_reach.evolution.settings import Settings
+    from dart_reach.evolution.trainer import train
+
+    run = train([scaled(load_condition("standard"), 2)],
+                Settings(replications=2, trials=1, steps=4, seed=5), tmp_path / "run",
+                workers=1, progress=False, snapshot_every=1)
+    table = bench.trial_cost(run.out, [1, 2])
+    assert table["robots"].to_list() == ["gen 1", "gen 2", "population",
+                                         "gen 2", "gen 1", "population"]
+    assert table["replication"].to_list() == [0, 0, 0, 1, 1, 1]
+    assert table["trials"].to_list() == [9, 9, 20] * 2 and (table["cpu_s"] > 0).all()
+    with pytest.raises(ValueError, match=r"no snapshot of generation\(s\) \[7\]"):
+        bench.trial_cost(run.out, [1, 7])
