@@ -46,7 +46,8 @@ def values(recordings: Path) -> dict[str, str]:
     pre = run.status().filter(pl.col("phase") == "pre")
     trained = int(pre["generations"].min())
     out = {"run": FULL, "training": training_text(run), "pre_trained": str(trained),
-           "pre_of": str(int(pre["of"].max())), "still_share": percent(STILL_SHARE), "judged": ", ".join(map(str, sc.JUDGED)), "ten": TEN,
+           "pre_of": str(int(pre["of"].max())), "still_share": percent(STILL_SHARE),
+           "judged": ", ".join(map(str, sc.JUDGED)), "ten": TEN,
            "judged_list": ",".join(map(str, sc.JUDGED))}
     development = load_development(directory, senses=None)
     if development is None or not development.filter(pl.col("phase") == "pre").height:
