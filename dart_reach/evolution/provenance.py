@@ -67,11 +67,11 @@ _VECTOR_FLAGS = (("avx512f", "AVX-512"), ("avx2", "AVX2"), ("avx", "AVX"), ("sse
 
 
 def cpu(cpuinfo: str | None = None) -> dict:
-    """The processor a session ran on, for the manifest's ``sessions``: its ``model`` and
-    ``mhz`` (the first core's clock, MHz) and its widest ``vector`` extension (the CPU's,
-    not the level numpy is let use: that is ``simd``) from ``cpuinfo`` (default: /proc/cpuinfo's text; each None
-    where that says nothing, e.g. off Linux). A run's wall times depend on it
-    (docs/results/benchmarks.md, "What a run costs")."""
+    """The processor a session ran on, for the manifest's ``sessions``: its ``model``,
+    ``mhz`` (the first core's clock, MHz) and widest ``vector`` extension (the CPU's, not the
+    level numpy is let use: that is ``simd``), from ``cpuinfo`` (default: /proc/cpuinfo's
+    text; each None where that says nothing, e.g. off Linux). A run's wall times depend on
+    it (docs/results/benchmarks.md, "What a run costs")."""
     if cpuinfo is None:
         try:
             cpuinfo = Path("/proc/cpuinfo").read_text(encoding="utf-8", errors="replace")
