@@ -330,13 +330,13 @@ def full_values(directory: Path, quiet: tuple[float, float]) -> dict[str, str]:
     by_session = {r["session"]: r for r in generations.group_by("session").agg(
         pl.len().alias("n"), pl.col("core_s").drop_nans().min().alias("min"),
         pl.col("core_s").drop_nans().median().alias("median")).iter_rows(named=True)}
+    none = {"n": 0, "min": None, "median": None}
     rows = [{"session": i, "started": s["started"][:16].replace("T", " "),
              "revision": (s.get("git_revision") or "?")[:7],
              "from generation (pre)": s.get("generations_done", {}).get("standard/pre", 0),
              "workers": s.get("workers"), "cpu": cpu_text(s.get("cpu")),
-             "generations": by_session.get(i, {}).get("n", 0),
-             "core-s: min": by_session.get(i, {}).get("min"),
-             "median": by_session.get(i, {}).get("median")} for i, s in enumerate(sessions)]
+             "generations": c["n"], "core-s: min": c["min"], "median": c["median"]}
+            for i, s in enumerate(sessions) for c in [by_session.get(i, none)]]
     per = generations["core_s"].drop_nans().to_numpy()
     q1, median = np.quantile(per, [0.25, 0.5]) if per.size else (np.nan, np.nan)
     workers = sessions[-1].get("workers") or 1
