@@ -19,6 +19,7 @@ from ..evolution.rundir import RunDirectory
 from ..postevaluation import results
 from ..postevaluation.snapshots import load_development
 from ..postevaluation.systematic import load_evaluation
+from . import stillness
 from .doc_text import FULL, TEN, markdown_table, percent, training_text
 
 
@@ -34,6 +35,23 @@ def outcome(babbling: int, still: int) -> str:
 def kinds(table: pl.DataFrame) -> tuple[int, int]:
     """(babbling, still) populations of a table with a ``strategy`` column."""
     return tuple(table.filter(pl.col("strategy") == k).height for k in (BABBLING, STILL))
+
+
+def with_terms(run_dir: Path, evaluation: pl.DataFrame) -> pl.DataFrame:
+    """A run's ``evaluation`` table (``load_evaluation(run_dir)``) as it is, or, when it
+    predates ``contact_after_first``, its pre-reachers' normal trials given that measure from
+    the run's Eq. 5 table (``stillness.TABLE``: the same robots' same trials run again)."""
+    if "contact_after_first" in evaluation.columns:
+        return evaluation
+    keys = ["phase", "replication", "rank", "trial"]
+    terms = results.read_table(run_dir / stillness.TABLE).select(*keys, "contact_after_first")
+    pre = evaluation.filter((pl.col("phase") == "pre") & (pl.col("senses") == "normal")
+                            & ~pl.col("baseline"))
+    joined = pre.join(terms, on=keys, how="left")
+    if joined["contact_after_first"].is_null().any():
+        raise ValueError(f"{run_dir / stillness.TABLE}: not every pre-reacher's trial of "
+                         f"{run_dir / results.EVALUATION} (python -m dart_reach.studies.stillness)")
+    return joined
 
 
 def values(recordings: Path) -> dict[str, str]:
@@ -83,7 +101,9 @@ def values(recordings: Path) -> dict[str, str]:
     out["came_back"] = str(int(turns["came_back"].sum()))
     ten = recordings / TEN
     if 50 in generations and results.exists(ten / results.EVALUATION):
-        side = sc.at_budget(course, 50, load_evaluation(ten), (f"{FULL} @50", TEN))
+        evaluation = load_evaluation(ten)
+        measured = with_terms(ten, evaluation)
+        side = sc.at_budget(course, 50, measured, (f"{FULL} @50", TEN))
         out["at50"] = markdown_table(side)
         full50, other = (side.filter(pl.col("run") == r) for r in side["run"].unique(
             maintain_order=True))
@@ -92,9 +112,11 @@ def values(recordings: Path) -> dict[str, str]:
                                f"{b} babble and {s_} are still ({kinds(full50)[1]} of "
                                f"{full50.height} in this run, {kinds(other)[1]} of "
                                f"{other.height} in {TEN})")
-        if other["contact_after_first"].is_nan().all():
+        if measured is not evaluation:
             out["at50_summary"] += (f"; {TEN}'s evaluation table predates the measure "
-                                    f"contact_after_first (–)")
+                                    f"contact_after_first, which comes from its "
+                                    f"{stillness.TABLE} (the same robots' same trials run "
+                                    f"again)")
     else:
         out["at50"] = "(generation 50 not yet post-evaluated)"
         out["at50_summary"] = "generation 50 is not yet post-evaluated"

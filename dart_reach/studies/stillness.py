@@ -1,13 +1,14 @@
-"""Why stillness pays (issue 48, point 4): the shipped pre-reachers' trials run again, their
-fitness taken apart (Eq. 5), and the values of docs/results/stillness.md.
+"""Why stillness pays (issue 48, point 4): the post-evaluated pre-reachers' trials run again,
+their fitness taken apart (Eq. 5), and the values of docs/results/stillness.md.
 
 ``python -m dart_reach.studies.stillness [ROOT]`` runs the 45 systematic trials (normal
-senses) of every shipped pre-reaching robot of ``RUN`` (the best 2 of each of its 10
-replications: ``robots.robots("pre", run=RUN)``) in this one process and writes one row per
-trial with ``measures.fitness.fitness_terms`` to ``recordings/RUN/TABLE``, stored as the
-post-evaluation's tables are (``postevaluation.results``: zstd, float32, the session that
-wrote it). 900 trials, a few minutes on one core. The docs are then rendered from that
-committed table and the run's evaluation.parquet (``values``; ``make results``).
+senses) of every pre-reaching robot that ``RUN``'s post-evaluation evaluated (the best 5 of
+each of its 10 replications' final populations, the robots of its evaluation.parquet) in this
+one process and writes one row per trial with ``measures.fitness.fitness_terms`` to
+``recordings/RUN/TABLE``, stored as the post-evaluation's tables are
+(``postevaluation.results``: zstd, float32, the session that wrote it). 2,250 trials, about
+six minutes on one core. The docs are then rendered from that committed table and the run's
+evaluation.parquet (``values``; ``make results``).
 """
 
 from __future__ import annotations
@@ -19,7 +20,6 @@ from pathlib import Path
 import numpy as np
 import polars as pl
 
-from .. import robots
 from ..analysis import budgets, stillness
 from ..evolution.backends import worker_trial
 from ..evolution.genome import as_groups, decode
@@ -34,37 +34,44 @@ RUN = "replication-50x10"
 TABLE = "fitness-terms.parquet"
 
 
-def robot_trials(run: RunDirectory, robot: robots.ShippedRobot,
+def robot_trials(run: RunDirectory, replication: int, rank: int,
                  positions: int | None = None) -> list[dict]:
-    """One row per systematic trial of a shipped robot under normal senses, run as the
-    post-evaluation runs it (``systematic.run_robot``): who, where, ``fitness_terms``;
-    ``positions``: only the first so many of the 45 (a check)."""
+    """One row per systematic trial of a pre-reacher of ``run``'s final population (its
+    ``replication`` and ``rank``) under normal senses, run as the post-evaluation runs it
+    (``systematic.run_robot``): who, where, ``fitness_terms``; ``positions``: only the first
+    so many of the 45 (a check)."""
     phase_key = next(p.key for c, p in run.unique_phases()
-                     if c.name == robot.condition and p.name == robot.phase)
-    job = stored_robot_job(run, phase_key, "normal", robot.replication, robot.rank)
-    if not np.array_equal(job.genome, robot.genome):
-        raise ValueError(f"{robot.describe()}: not the genome of {run.out.name}'s final "
-                         f"population at that replication and rank")
+                     if c.name == "standard" and p.name == "pre")
+    job = stored_robot_job(run, phase_key, "normal", replication, rank)
     runner = worker_trial(job.world, job.trial)
     network = network_for(decode(job.genome, as_groups(job.phase.free_groups)), job.trial)
     rows = []
     for k, position in enumerate(runner.world.systematic_points()[:positions]):
         sector = k // POINTS_PER_SECTOR
         data = runner.run(network, sector, position)
-        rows.append({"phase": robot.phase, "replication": robot.replication, "rank": robot.rank,
-                     "trial": k, "sector": sector,
-                     **trial_fitness_terms(data, job.world.control_dt)})
+        rows.append({"phase": "pre", "replication": replication, "rank": rank, "trial": k,
+                     "sector": sector, **trial_fitness_terms(data, job.world.control_dt)})
     return rows
 
 
+def evaluated_pre(run_dir: Path) -> list[tuple[int, int]]:
+    """The (replication, rank) of every trained pre-reacher in ``run_dir``'s
+    evaluation.parquet, sorted."""
+    table = results.read_table(run_dir / results.EVALUATION).filter(
+        (pl.col("phase") == "pre") & (pl.col("senses") == "normal") & ~pl.col("baseline"))
+    return sorted(table.select("replication", "rank").unique().iter_rows())
+
+
 def build(root: Path, run_name: str = RUN, progress=print) -> pl.DataFrame:
-    """Every shipped pre-reacher of ``run_name``'s trials (``robot_trials``), one table."""
-    run = RunDirectory.open(root / "recordings" / run_name)
-    shipped = sorted(robots.robots("pre", run=run_name), key=lambda r: (r.replication, r.rank))
+    """Every post-evaluated pre-reacher of ``run_name`` (``evaluated_pre``): its trials
+    (``robot_trials``), one table."""
+    run_dir = root / "recordings" / run_name
+    run = RunDirectory.open(run_dir)
+    robots_ = evaluated_pre(run_dir)
     rows = []
-    for i, robot in enumerate(shipped):
-        rows += robot_trials(run, robot)
-        progress(f"{i + 1}/{len(shipped)} {robot.describe()}")
+    for i, (replication, rank) in enumerate(robots_):
+        rows += robot_trials(run, replication, rank)
+        progress(f"{i + 1}/{len(robots_)} replication {replication} rank {rank}")
     return pl.DataFrame(rows)
 
 
@@ -159,8 +166,8 @@ def values(recordings: Path, markdown_table) -> dict[str, str]:
 
 def main(argv=None) -> int:
     parser = argparse.ArgumentParser(prog="python -m dart_reach.studies.stillness",
-                                     description=f"run {RUN}'s shipped pre-reachers again and "
-                                                 f"write recordings/{RUN}/{TABLE}")
+                                     description=f"run {RUN}'s post-evaluated pre-reachers "
+                                                 f"again and write recordings/{RUN}/{TABLE}")
     parser.add_argument("root", nargs="?", type=Path, default=Path("."),
                         help="the repository (default: the current directory)")
     args = parser.parse_args(argv)

@@ -1,4 +1,5 @@
-"""The committed table of Eq. 5's factors (``studies.stillness``) is the shipped robots' trials:
+"""The committed table of Eq. 5's factors (``studies.stillness``) is the post-evaluated robots'
+trials:
 its fitness is the committed post-evaluation's, and a robot's trials run again give its rows."""
 
 from __future__ import annotations
@@ -13,7 +14,8 @@ from dart_reach.evolution.provenance import simd
 from dart_reach.evolution.rundir import RunDirectory
 from dart_reach.measures.fitness import TERMS
 from dart_reach.postevaluation import results
-from dart_reach.studies import stillness
+from dart_reach.postevaluation.systematic import load_evaluation
+from dart_reach.studies import course_page, stillness
 
 ROOT = Path(__file__).resolve().parents[2]
 RUN_DIR = ROOT / "recordings" / stillness.RUN
@@ -23,12 +25,15 @@ def committed() -> pl.DataFrame:
     return results.read_table(RUN_DIR / stillness.TABLE)
 
 
-def test_the_table_holds_every_shipped_pre_reacher_on_every_position():
+def test_the_table_holds_every_post_evaluated_pre_reacher_on_every_position():
     table = committed()
-    shipped = {(r.replication, r.rank) for r in robots.robots("pre", run=stillness.RUN)}
-    assert set(table.select("replication", "rank").unique().iter_rows()) == shipped
-    assert table.height == 45 * len(shipped)
+    evaluated = stillness.evaluated_pre(RUN_DIR)
+    assert len(evaluated) == 50  # the best 5 of each of 10 replications
+    assert sorted(table.select("replication", "rank").unique().iter_rows()) == evaluated
+    assert table.height == 45 * len(evaluated)
     assert set(TERMS) <= set(table.columns)
+    shipped = {(r.replication, r.rank) for r in robots.robots("pre", run=stillness.RUN)}
+    assert shipped <= set(evaluated)  # the shipped robots are among them
 
 
 def test_its_fitness_is_the_committed_post_evaluation():
@@ -49,9 +54,7 @@ def test_a_robot_run_again_gives_its_rows():
     if written != {simd()}:
         pytest.skip(f"table written at numpy's {written}, this process runs at {simd()}")
     run = RunDirectory.open(RUN_DIR)
-    robot = next(r for r in robots.robots("pre", run=stillness.RUN)
-                 if (r.replication, r.rank) == (9, 1))
-    again = results.quantised(pl.DataFrame(stillness.robot_trials(run, robot, positions=5)))
+    again = results.quantised(pl.DataFrame(stillness.robot_trials(run, 9, 1, positions=5)))
     stored = committed().filter((pl.col("replication") == 9) & (pl.col("rank") == 1)
                                 & (pl.col("trial") < 5)).sort("trial")
     for term in TERMS:
@@ -68,3 +71,24 @@ def test_the_still_replications_are_those_in_which_no_robot_babbles():
     values = stillness.values(ROOT / "recordings", lambda table: table.write_csv())
     assert values["still.replications"] == ", ".join(map(str, never))
     assert int(values["still.count"]) + int(values["babbling.count"]) == 10
+
+
+def test_the_50_generation_comparison_takes_contact_after_first_from_the_table(tmp_path):
+    """replication-50x10's evaluation predates ``contact_after_first``: the course page's
+    comparison at 50 generations gives its pre-reachers' trials the table's values, and a
+    table missing a robot is an error, not a silent NaN."""
+    evaluation = load_evaluation(RUN_DIR)
+    assert "contact_after_first" not in evaluation.columns
+    measured = course_page.with_terms(RUN_DIR, evaluation)
+    keys = ["replication", "rank", "trial"]
+    joined = measured.join(committed().select(*keys, pl.col("contact_after_first").alias("t")),
+                           on=keys)
+    assert measured.height == joined.height == 45 * 50
+    assert joined["contact_after_first"].equals(joined["t"], null_equal=True)
+    assert measured["contact_after_first"].is_nan().sum() < measured.height  # touches exist
+    short = tmp_path / "run"
+    short.mkdir()
+    results.write_table(short / stillness.TABLE,
+                        committed().filter(pl.col("replication") != 3), [{}])
+    with pytest.raises(ValueError, match="not every pre-reacher's trial"):
+        course_page.with_terms(short, evaluation)
