@@ -1,6 +1,6 @@
 """The committed table of Eq. 5's factors (``studies.stillness``) is the post-evaluated robots'
-trials:
-its fitness is the committed post-evaluation's, and a robot's trials run again give its rows."""
+trials: its fitness is the committed post-evaluation's, and a robot's trials run again give its
+rows."""
 
 from __future__ import annotations
 
