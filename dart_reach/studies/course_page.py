@@ -104,7 +104,7 @@ def values(recordings: Path) -> dict[str, str]:
         evaluation = load_evaluation(ten)
         measured = with_terms(ten, evaluation)
         side = sc.at_budget(course, 50, measured, (f"{FULL} @50", TEN))
-        out["at50"] = markdown_table(side)
+        out["at50"] = markdown_table(side.drop("babbling_share").rename(sc.MEASURES))
         full50, other = (side.filter(pl.col("run") == r) for r in side["run"].unique(
             maintain_order=True))
         b, s_ = kinds(side)
@@ -114,7 +114,8 @@ def values(recordings: Path) -> dict[str, str]:
                                f"{other.height} in {TEN})")
         if measured is not evaluation:
             out["at50_summary"] += (f"; {TEN}'s evaluation table predates the measure "
-                                    f"contact_after_first, which comes from its "
+                                    f"'{sc.MEASURES['contact_after_first']}' "
+                                    f"(contact_after_first), which comes from its "
                                     f"{stillness.TABLE} (the same robots' same trials run "
                                     f"again)")
     else:
