@@ -40,6 +40,14 @@ COLUMNS = {
 }
 
 
+def trained_trials(table: pl.DataFrame, phase: str = "pre", senses: str = "normal"
+                   ) -> pl.DataFrame:
+    """The trials of ``phase`` under ``senses`` in a post-evaluation or development table,
+    the trained robots' only (not the random baseline's, where the table holds it)."""
+    rows = table.filter((pl.col("phase") == phase) & (pl.col("senses") == senses))
+    return rows.filter(~pl.col("baseline")) if "baseline" in rows.columns else rows
+
+
 def strategies(evaluation: pl.DataFrame, phase: str = "pre", senses: str = "normal",
                still_share: float = STILL_SHARE, by: tuple[str, ...] = ("replication",)
                ) -> pl.DataFrame:
@@ -47,10 +55,7 @@ def strategies(evaluation: pl.DataFrame, phase: str = "pre", senses: str = "norm
     baseline; ``by``: per replication and generation of a development table, say):
     ``trials``, ``babbling_share`` (the share of its trials under ``senses`` that babble) and
     ``strategy``: ``STILL`` below ``still_share``, else ``BABBLING``."""
-    rows = evaluation.filter((pl.col("phase") == phase) & (pl.col("senses") == senses))
-    if "baseline" in rows.columns:
-        rows = rows.filter(~pl.col("baseline"))
-    return (rows.group_by(*by)
+    return (trained_trials(evaluation, phase, senses).group_by(*by)
             .agg(pl.len().alias("trials"),
                  pl.col("babbling").cast(pl.Float64).mean().alias("babbling_share"))
             .with_columns(pl.when(pl.col("babbling_share") < still_share).then(pl.lit(STILL))

@@ -139,9 +139,7 @@ def at_budget(course_table: pl.DataFrame, generation: int, evaluation: pl.DataFr
     full = (course_table.filter(pl.col("generation") == generation)
             .select("replication", "babbling_share", "strategy", *MEASURES)
             .with_columns(pl.lit(labels[0]).alias("run")))
-    other_rows = evaluation.filter((pl.col("phase") == "pre") & (pl.col("senses") == "normal"))
-    if "baseline" in other_rows.columns:
-        other_rows = other_rows.filter(~pl.col("baseline"))
+    other_rows = stillness.trained_trials(evaluation)
     other = course(other_rows.with_columns(pl.lit(generation).alias("generation"),
                                            pl.lit(0).alias("offset"),
                                            pl.lit(float("nan")).alias("lifetime_fitness")))

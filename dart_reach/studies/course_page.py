@@ -14,7 +14,7 @@ import polars as pl
 from ..analysis import budgets
 from ..analysis import strategy_course as sc
 from ..analysis.figures import strategy_figure
-from ..analysis.stillness import BABBLING, STILL, STILL_SHARE
+from ..analysis.stillness import BABBLING, STILL, STILL_SHARE, trained_trials
 from ..evolution.rundir import RunDirectory
 from ..postevaluation import results
 from ..postevaluation.snapshots import load_development
@@ -45,9 +45,7 @@ def with_terms(run_dir: Path, evaluation: pl.DataFrame) -> pl.DataFrame:
         return evaluation
     keys = ["phase", "replication", "rank", "trial"]
     terms = results.read_table(run_dir / stillness.TABLE).select(*keys, "contact_after_first")
-    pre = evaluation.filter((pl.col("phase") == "pre") & (pl.col("senses") == "normal")
-                            & ~pl.col("baseline"))
-    joined = pre.join(terms, on=keys, how="left")
+    joined = trained_trials(evaluation).join(terms, on=keys, how="left")
     if joined["contact_after_first"].is_null().any():
         raise ValueError(f"{run_dir / stillness.TABLE}: not every pre-reacher's trial of "
                          f"{run_dir / results.EVALUATION} (python -m dart_reach.studies.stillness)")

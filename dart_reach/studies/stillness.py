@@ -57,8 +57,7 @@ def robot_trials(run: RunDirectory, replication: int, rank: int,
 def evaluated_pre(run_dir: Path) -> list[tuple[int, int]]:
     """The (replication, rank) of every trained pre-reacher in ``run_dir``'s
     evaluation.parquet, sorted."""
-    table = results.read_table(run_dir / results.EVALUATION).filter(
-        (pl.col("phase") == "pre") & (pl.col("senses") == "normal") & ~pl.col("baseline"))
+    table = stillness.trained_trials(results.read_table(run_dir / results.EVALUATION))
     return sorted(table.select("replication", "rank").unique().iter_rows())
 
 
