@@ -15,12 +15,49 @@ from ..analysis import budgets
 from ..analysis import strategy_course as sc
 from ..analysis.figures import strategy_figure
 from ..analysis.stillness import BABBLING, STILL, STILL_SHARE, trained_trials
+from ..evolution import cost
 from ..evolution.rundir import RunDirectory
+from ..evolution.settings import SNAPSHOT_ROBOTS, snapshot_due
 from ..postevaluation import results
 from ..postevaluation.snapshots import load_development
 from ..postevaluation.systematic import load_evaluation
 from . import stillness
 from .doc_text import FULL, TEN, markdown_table, percent, training_text
+
+
+#: CPU-seconds of one post-evaluation trial of a snapshot robot (200 control steps) under
+#: normal senses and under the four other conditions, measured on snapshot 100 on the project's
+#: 2-core machine (AMD EPYC, 2.45 GHz), 2026-11-27: docs/results/templates/
+#: pre-reaching-course.md, "What it costs", says how.
+NORMAL_TRIAL_CPU_S, OTHER_TRIAL_CPU_S = 77.3 / 450, 1_420 / 9_000
+#: The generation this round of the run ends at (issue 48) and the snapshots' spacing.
+ROUND_END, SNAPSHOT_EVERY = 250, 10
+#: Trials of one robot under one sensory condition, and the conditions besides normal senses
+#: at a judged generation (Fig. 9's three and the ball absent).
+POSITIONS, OTHER_CONDITIONS = 45, 4
+
+
+def cost_values(run: RunDirectory, generations: int) -> dict[str, str]:
+    """What post-evaluating the snapshots to ``ROUND_END`` of a pre-reaching phase of
+    ``generations`` (``snapshot_due``) costs beside the training to it: ``snapshots``,
+    ``snapshots_core_h`` (every snapshot under normal senses), ``judged_core_h`` (the other
+    conditions at the judged generations), ``pre_core_s`` (the run's median core-seconds a
+    pre-reaching replication-generation, ``cost.core_seconds``), ``pre_round_core_h`` (the
+    training to ``ROUND_END`` at that median) and ``evaluation_share`` (both evaluations'
+    share of it)."""
+    snapshots = sum(snapshot_due(g, generations, SNAPSHOT_EVERY)
+                    for g in range(1, ROUND_END + 1))
+    robots = SNAPSHOT_ROBOTS * run.settings.replications
+    normal = snapshots * robots * POSITIONS * NORMAL_TRIAL_CPU_S / 3600
+    judged = len(sc.JUDGED) * OTHER_CONDITIONS * robots * POSITIONS * OTHER_TRIAL_CPU_S / 3600
+    per = cost.core_seconds(run).filter(pl.col("phase") == "pre")["core_s"].drop_nans()
+    training = float(per.median()) * ROUND_END * run.settings.replications / 3600
+    return {"normal_trial_cpu_s": f"{NORMAL_TRIAL_CPU_S:.3f}",
+            "other_trial_cpu_s": f"{OTHER_TRIAL_CPU_S:.3f}", "snapshots": str(snapshots),
+            "snapshots_core_h": f"{normal:.1f}",
+            "judged_core_h": f"{judged:.1f}", "pre_core_s": f"{float(per.median()):.0f}",
+            "pre_round_core_h": f"{training:.0f}",
+            "evaluation_share": percent((normal + judged) / training)}
 
 
 def outcome(babbling: int, still: int) -> str:
@@ -64,7 +101,8 @@ def values(recordings: Path) -> dict[str, str]:
     out = {"run": FULL, "training": training_text(run), "pre_trained": str(trained),
            "pre_of": str(int(pre["of"].max())), "still_share": percent(STILL_SHARE),
            "judged": ", ".join(map(str, sc.JUDGED)), "ten": TEN,
-           "judged_list": ",".join(map(str, sc.JUDGED))}
+           "judged_list": ",".join(map(str, sc.JUDGED)),
+           **cost_values(run, int(pre["of"].max()))}
     development = load_development(directory, senses=None)
     if development is None or not development.filter(pl.col("phase") == "pre").height:
         raise ValueError(f"{directory}: no pre-reaching snapshot post-evaluated (dart-reach "

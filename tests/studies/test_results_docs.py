@@ -11,6 +11,8 @@ import polars as pl
 import pytest
 
 from dart_reach.analysis.budgets import Budget
+from dart_reach.evolution.rundir import RunDirectory
+from dart_reach.evolution.settings import snapshot_due
 from dart_reach.postevaluation import results
 from dart_reach.studies import course_page, results_docs
 
@@ -151,3 +153,18 @@ def test_the_course_page_says_which_strategy_has_taken_over():
     babbling = sum(c.strip(" |").startswith("B") for c in last[1:])
     still = sum(c.strip(" |").startswith("S") for c in last[1:])
     assert values["outcome"] == course_page.outcome(babbling, still)
+
+
+def test_the_course_page_costs_the_snapshots_the_run_keeps():
+    """The snapshot rule the cost counts is the one the run followed: its committed snapshots
+    are those ``snapshot_due`` names, and to generation 250 they are 1, 2, 5 and every 10th."""
+    directory = ROOT / "recordings" / "standard-500x10"
+    kept = sorted(int(p.stem.removeprefix("gen"))
+                  for p in directory.glob("phases/pre-*/snapshots/gen*.npz"))
+    assert kept == [g for g in range(1, kept[-1] + 1)
+                    if snapshot_due(g, 500, course_page.SNAPSHOT_EVERY)]
+    values = course_page.cost_values(RunDirectory.open(directory), 500)
+    assert values["snapshots"] == str(len([1, 2, 5, *range(10, 251, 10)]))
+    normal, judged = float(values["snapshots_core_h"]), float(values["judged_core_h"])
+    rates = course_page.OTHER_TRIAL_CPU_S / course_page.NORMAL_TRIAL_CPU_S
+    assert judged == pytest.approx(normal * 5 * 4 / 28 * rates, abs=0.1)
