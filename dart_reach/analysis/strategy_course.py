@@ -16,6 +16,9 @@ module reads:
   (F1, A1, A3, D2, T1, V3: those whose groups are pre-reachers and random networks) judged on
   the snapshot of a generation as if it were the phase's end, the replication as the unit,
   one Holm family per generation;
+- ``verdict_changes`` and ``babbling_by_condition``: which verdicts changed between judged
+  generations, and how much the babbling and the still populations babble under each
+  condition evaluated there;
 - ``at_budget``: a generation of the full run beside another run's final pre-reachers at the
   same number of generations (generation 50 beside ``replication-50x10``: twenty populations
   at that budget).
@@ -147,3 +150,41 @@ def at_budget(course_table: pl.DataFrame, generation: int, evaluation: pl.DataFr
              .with_columns(pl.lit(labels[1]).alias("run")))
     return pl.concat([full, other]).select("run", "replication", "babbling_share",
                                            "strategy", *MEASURES)
+
+
+def verdict_changes(found: pl.DataFrame) -> pl.DataFrame:
+    """The claims whose verdict differs between consecutive judged generations of ``judged``'s
+    table: ``claim``, ``before`` and ``after`` (the generations), ``was`` and ``now`` (the
+    verdicts), in the claims' order within each pair of generations."""
+    generations = found["generation"].unique().sort().to_list()
+    verdict = {(r["generation"], r["claim"]): r["verdict"] for r in found.iter_rows(named=True)}
+    claims = found["claim"].unique(maintain_order=True).to_list()
+    rows = [{"claim": c, "before": a, "after": b, "was": verdict[a, c], "now": verdict[b, c]}
+            for a, b in zip(generations, generations[1:]) for c in claims
+            if (a, c) in verdict and (b, c) in verdict and verdict[a, c] != verdict[b, c]]
+    return pl.DataFrame(rows, schema={"claim": pl.Utf8, "before": pl.Int64, "after": pl.Int64,
+                                      "was": pl.Utf8, "now": pl.Utf8})
+
+
+def babbling_by_condition(development: pl.DataFrame, course_table: pl.DataFrame,
+                          phase: str = "pre") -> pl.DataFrame:
+    """Per generation evaluated under more than normal senses and per condition (``senses``):
+    how much the populations babble, each population's babbling rate being the share of its
+    best robots' trials that babble, grouped by its strategy under normal senses (``course``'s
+    table): ``babbling`` (how many populations babble), ``median`` (of those's rates),
+    ``babbling_low``-``babbling_high`` (their range) and ``still_high`` (the highest rate of
+    the still populations)."""
+    rows = development.filter(pl.col("phase") == phase)
+    several = (rows.group_by("generation").agg(pl.col("senses").n_unique().alias("n"))
+               .filter(pl.col("n") > 1)["generation"])
+    keys = ["replication", "generation"]
+    rates = (rows.filter(pl.col("generation").is_in(several.implode()))
+             .group_by(*keys, "senses").agg(pl.col("babbling").mean().alias("rate"))
+             .join(course_table.select(*keys, "strategy"), on=keys))
+    of = pl.col("strategy") == stillness.BABBLING
+    return (rates.group_by("generation", "senses")
+            .agg(of.sum().alias("babbling"), pl.col("rate").filter(of).median().alias("median"),
+                 pl.col("rate").filter(of).min().alias("babbling_low"),
+                 pl.col("rate").filter(of).max().alias("babbling_high"),
+                 pl.col("rate").filter(~of).max().alias("still_high"))
+            .sort("generation", "senses"))

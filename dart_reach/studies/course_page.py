@@ -176,6 +176,17 @@ def values(recordings: Path) -> dict[str, str]:
     if grid.width == 1:
         grid = grid.with_columns(pl.lit("–").alias("verdict"))
     out["claims"] = markdown_table(grid)
+    changed = sc.verdict_changes(found)
+    out["verdict_changes"] = "; ".join(
+        f"{r['claim']} ({r['before']}: {r['was']}, {r['after']}: {r['now']})"
+        for r in changed.iter_rows(named=True)) or "none"
+    rates = sc.babbling_by_condition(development, course)
+    out["by_condition"] = markdown_table(rates.select(
+        "generation", pl.col("senses").alias("condition"),
+        pl.col("babbling").alias("babbling populations"),
+        pl.col("median").alias("their babbling rate: median"),
+        pl.col("babbling_low").alias("lowest"), pl.col("babbling_high").alias("highest"),
+        pl.col("still_high").alias("still populations: highest rate")))
     return out
 
 

@@ -135,3 +135,29 @@ def test_the_figure_draws_each_population_with_its_strategy():
         assert [len(f) for f in filled] == [2, 1] and [len(h) for h in hollow] == [1, 1]
         assert hollow[0][0][0] == 10 and hollow[1][0][0] == 1
     assert fig.axes[0].get_lines()[-1].get_ydata()[0] == STILL_SHARE
+
+
+def test_the_verdicts_that_changed_between_judged_generations():
+    found = pl.DataFrame({"generation": [50, 50, 100, 100, 150],
+                          "claim": ["a", "b", "a", "b", "b"],
+                          "verdict": ["inconclusive", "reproduced", "contradicted",
+                                      "reproduced", "inconclusive"]})
+    changed = sc.verdict_changes(found)
+    assert changed.rows() == [("a", 50, 100, "inconclusive", "contradicted"),
+                              ("b", 100, 150, "reproduced", "inconclusive")]
+    assert sc.verdict_changes(found.filter(pl.col("generation") == 50)).height == 0
+
+
+def test_babbling_under_each_condition_by_strategy():
+    """Replication 0 babbles under normal senses (half its trials) and in every no-ball trial;
+    replication 1 is still under normal senses and babbles in its no-ball trials too, which
+    shows as the still populations' highest rate; generation 1 has normal senses only."""
+    dev = _development({(0, 50): 0.5, (1, 50): 0.0, (0, 1): 0.5, (1, 1): 0.0})
+    dev = dev.filter((pl.col("generation") == 50) | (pl.col("senses") == "normal"))
+    rates = sc.babbling_by_condition(dev, sc.course(dev))
+    assert rates.select("generation", "senses").rows() == [(50, "no-ball"), (50, "normal")]
+    normal, no_ball = (rates.filter(pl.col("senses") == s).row(0, named=True)
+                       for s in ("normal", "no-ball"))
+    assert normal["babbling"] == 1 and normal["median"] == pytest.approx(0.5)
+    assert normal["still_high"] == 0.0
+    assert no_ball["median"] == 1.0 and no_ball["still_high"] == 1.0
