@@ -171,7 +171,7 @@ def babbling_by_condition(development: pl.DataFrame, course_table: pl.DataFrame,
     """Per generation evaluated under more than normal senses and per condition (``senses``):
     how much the populations babble, each population's babbling rate being the share of its
     best robots' trials that babble, grouped by its strategy under normal senses (``course``'s
-    table): ``babbling`` (how many populations babble), ``median`` (of those's rates),
+    table): ``babbling`` (how many populations babble), ``median`` (of their rates),
     ``babbling_low``-``babbling_high`` (their range) and ``still_high`` (the highest rate of
     the still populations)."""
     rows = development.filter(pl.col("phase") == phase)
@@ -181,10 +181,10 @@ def babbling_by_condition(development: pl.DataFrame, course_table: pl.DataFrame,
     rates = (rows.filter(pl.col("generation").is_in(several.implode()))
              .group_by(*keys, "senses").agg(pl.col("babbling").mean().alias("rate"))
              .join(course_table.select(*keys, "strategy"), on=keys))
-    of = pl.col("strategy") == stillness.BABBLING
+    babbles = pl.col("strategy") == stillness.BABBLING
+    rate = pl.col("rate").filter(babbles)
     return (rates.group_by("generation", "senses")
-            .agg(of.sum().alias("babbling"), pl.col("rate").filter(of).median().alias("median"),
-                 pl.col("rate").filter(of).min().alias("babbling_low"),
-                 pl.col("rate").filter(of).max().alias("babbling_high"),
-                 pl.col("rate").filter(~of).max().alias("still_high"))
+            .agg(babbles.sum().alias("babbling"), rate.median().alias("median"),
+                 rate.min().alias("babbling_low"), rate.max().alias("babbling_high"),
+                 pl.col("rate").filter(~babbles).max().alias("still_high"))
             .sort("generation", "senses"))

@@ -50,12 +50,13 @@ def cost_values(run: RunDirectory, generations: int) -> dict[str, str]:
     robots = SNAPSHOT_ROBOTS * run.settings.replications
     normal = snapshots * robots * POSITIONS * NORMAL_TRIAL_CPU_S / 3600
     judged = len(sc.JUDGED) * OTHER_CONDITIONS * robots * POSITIONS * OTHER_TRIAL_CPU_S / 3600
-    per = cost.core_seconds(run).filter(pl.col("phase") == "pre")["core_s"].drop_nans()
-    training = float(per.median()) * ROUND_END * run.settings.replications / 3600
+    median = float(cost.core_seconds(run).filter(pl.col("phase") == "pre")["core_s"]
+                   .drop_nans().median())
+    training = median * ROUND_END * run.settings.replications / 3600
     return {"normal_trial_cpu_s": f"{NORMAL_TRIAL_CPU_S:.3f}",
             "other_trial_cpu_s": f"{OTHER_TRIAL_CPU_S:.3f}", "snapshots": str(snapshots),
             "snapshots_core_h": f"{normal:.1f}",
-            "judged_core_h": f"{judged:.1f}", "pre_core_s": f"{float(per.median()):.0f}",
+            "judged_core_h": f"{judged:.1f}", "pre_core_s": f"{median:.0f}",
             "pre_round_core_h": f"{training:.0f}",
             "evaluation_share": percent((normal + judged) / training)}
 
