@@ -18,9 +18,10 @@ from ..analysis.stillness import BABBLING, STILL, STILL_SHARE, trained_trials
 from ..evolution import cost
 from ..evolution.rundir import RunDirectory
 from ..evolution.settings import SNAPSHOT_ROBOTS, snapshot_due
+from ..model.world import N_SECTORS, POINTS_PER_SECTOR
 from ..postevaluation import results
 from ..postevaluation.snapshots import load_development
-from ..postevaluation.systematic import load_evaluation
+from ..postevaluation.systematic import TESTS, load_evaluation
 from . import stillness
 from .doc_text import FULL, TEN, markdown_table, percent, training_text
 
@@ -32,9 +33,9 @@ from .doc_text import FULL, TEN, markdown_table, percent, training_text
 NORMAL_TRIAL_CPU_S, OTHER_TRIAL_CPU_S = 77.3 / 450, 1_420 / 9_000
 #: The generation this round of the run ends at (issue 48) and the snapshots' spacing.
 ROUND_END, SNAPSHOT_EVERY = 250, 10
-#: Trials of one robot under one sensory condition, and the conditions besides normal senses
-#: at a judged generation (Fig. 9's three and the ball absent).
-POSITIONS, OTHER_CONDITIONS = 45, 4
+#: Trials of one robot under one sensory condition (the systematic positions), and the
+#: conditions besides normal senses at a judged generation (Fig. 9's three and the ball absent).
+POSITIONS, OTHER_CONDITIONS = N_SECTORS * POINTS_PER_SECTOR, len(TESTS) - 1
 
 
 def cost_values(run: RunDirectory, generations: int) -> dict[str, str]:
