@@ -19,6 +19,8 @@ module reads:
 - ``verdict_changes`` and ``babbling_by_condition``: which verdicts changed between judged
   generations, and how much the babbling and the still populations babble under each
   condition evaluated there;
+- ``fitness_by_strategy`` and ``growth``: whether the two strategies are equally fit at each
+  snapshot, and whether the populations' fitness is still rising;
 - ``at_budget``: a generation of the full run beside another run's final pre-reachers at the
   same number of generations (generation 50 beside ``replication-50x10``: twenty populations
   at that budget).
@@ -26,13 +28,15 @@ module reads:
 
 from __future__ import annotations
 
+import math
 from typing import Sequence
 
 import polars as pl
 
-from . import findings, stillness
+from . import findings, stats, stillness
 from ..postevaluation import snapshots
 from .claims import CLAIMS, Claim, Kind
+from .stillness import BABBLING, STILL
 
 #: The generations at which the pre-reaching claims are judged (issue 48).
 JUDGED = (50, 100, 150, 200, 250)
@@ -181,10 +185,65 @@ def babbling_by_condition(development: pl.DataFrame, course_table: pl.DataFrame,
     rates = (rows.filter(pl.col("generation").is_in(several.implode()))
              .group_by(*keys, "senses").agg(pl.col("babbling").mean().alias("rate"))
              .join(course_table.select(*keys, "strategy"), on=keys))
-    babbles = pl.col("strategy") == stillness.BABBLING
+    babbles = pl.col("strategy") == BABBLING
     rate = pl.col("rate").filter(babbles)
     return (rates.group_by("generation", "senses")
             .agg(babbles.sum().alias("babbling"), rate.median().alias("median"),
                  rate.min().alias("babbling_low"), rate.max().alias("babbling_high"),
                  pl.col("rate").filter(~babbles).max().alias("still_high"))
             .sort("generation", "senses"))
+
+
+def fitness_by_strategy(course_table: pl.DataFrame,
+                        columns: Sequence[str] = ("fitness", "lifetime_fitness")) -> pl.DataFrame:
+    """Are the two strategies equally fit? Per generation of ``course``'s table at which both
+    strategies have a population: how many populations ``babbling`` and ``still``, and per
+    column (``fitness``: the mean over the best robots' post-evaluation trials;
+    ``lifetime_fitness``: the best robot's fitness in training) the median of each strategy's
+    populations (``<column>_babbling``, ``<column>_still``) and the two-sided Mann-Whitney p
+    between them, the replication as the unit (``p_<column>``, ``stats.mann_whitney``);
+    ``smallest_p``, the smallest p those sample sizes allow (2 / C(n, k) without ties), says
+    whether the test could have found a difference."""
+    rows = []
+    for (generation,), at in course_table.group_by("generation", maintain_order=True):
+        n = {s: at.filter(pl.col("strategy") == s).height for s in (BABBLING, STILL)}
+        if not all(n.values()):
+            continue
+        row = {"generation": generation, "babbling": n[BABBLING], "still": n[STILL]}
+        for column in columns:
+            for s in (BABBLING, STILL):
+                row[f"{column}_{s}"] = at.filter(pl.col("strategy") == s)[column].median()
+            test = stats.mann_whitney(at, column, "strategy", order=[BABBLING, STILL])
+            row[f"p_{column}"] = float(test["p"][0])
+        row["smallest_p"] = 2 / math.comb(n[BABBLING] + n[STILL], n[STILL])
+        rows.append(row)
+    keys = ["generation", "babbling", "still"]
+    schema = {**{k: pl.Int64 for k in keys},
+              **{f"{c}_{s}": pl.Float64 for c in columns for s in (BABBLING, STILL)},
+              **{f"p_{c}": pl.Float64 for c in columns}, "smallest_p": pl.Float64}
+    return pl.DataFrame(rows, schema=schema).select(
+        *keys, *[f"{c}_{s}" for c in columns for s in (BABBLING, STILL)],
+        *[f"p_{c}" for c in columns], "smallest_p").sort("generation")
+
+
+def growth(generations: pl.DataFrame, phase: str = "pre", window: int = 10) -> pl.DataFrame:
+    """Is the population's fitness still rising? Per replication of a run's generation table
+    (``generations.parquet``: one row per replication and generation trained, ``mean`` the
+    population's mean fitness), over the last ``window`` generations of ``phase`` and the
+    ``window`` before them: ``last`` (the last generation trained), ``mean_before`` and
+    ``mean_now`` (the means of the population's mean fitness) and ``ratio`` (now / before);
+    issue 48 measured it at 50 generations (41-50 against 31-40). ValueError when fewer than
+    2 × ``window`` generations are trained."""
+    rows = generations.filter(pl.col("phase") == phase)
+    last = rows.group_by("replication").agg(pl.col("generation").max().alias("last"))
+    if not rows.height or int(last["last"].min()) < 2 * window:
+        raise ValueError(f"growth over {window} generations needs {2 * window} generations of "
+                         f"{phase!r} in every replication")
+    ago = pl.col("last") - pl.col("generation")
+    return (rows.join(last, on="replication")
+            .group_by("replication", "last")
+            .agg(pl.col("mean").filter(ago.is_between(window, 2 * window - 1)).mean()
+                 .alias("mean_before"),
+                 pl.col("mean").filter(ago < window).mean().alias("mean_now"))
+            .with_columns((pl.col("mean_now") / pl.col("mean_before")).alias("ratio"))
+            .sort("replication"))

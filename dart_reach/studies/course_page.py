@@ -36,6 +36,10 @@ ROUND_END, SNAPSHOT_EVERY = 250, 10
 #: Trials of one robot under one sensory condition (the systematic positions), and the
 #: conditions besides normal senses at a judged generation (Fig. 9's three and the ball absent).
 POSITIONS, OTHER_CONDITIONS = N_SECTORS * POINTS_PER_SECTOR, len(TESTS) - 1
+#: The fitness columns compared between the strategies (``course``'s: heading), the test's
+#: level, and the generations of each of the two windows over which growth is measured.
+FITNESS = {"fitness": "post-evaluation fitness", "lifetime_fitness": "training's best"}
+ALPHA, GROWTH_WINDOW = 0.05, 10
 
 
 def cost_values(run: RunDirectory, generations: int) -> dict[str, str]:
@@ -91,6 +95,44 @@ def with_terms(run_dir: Path, evaluation: pl.DataFrame) -> pl.DataFrame:
     return joined
 
 
+def fitness_values(course: pl.DataFrame, stats: pl.DataFrame) -> dict[str, str]:
+    """The page's "Are the two strategies equally fit?": the strategies' fitness per snapshot
+    (``strategy_course.fitness_by_strategy``) and the populations' growth over the last 20
+    generations trained (``strategy_course.growth`` on the run's ``stats``), with the
+    strategy of each population at the last snapshot."""
+    fit = sc.fitness_by_strategy(course)
+    tested = fit.filter(pl.col("smallest_p") < ALPHA)
+    said = []
+    for column, heading in FITNESS.items():
+        differ = tested.filter(pl.col(f"p_{column}") < ALPHA)["generation"].to_list()
+        said.append(f"the {heading} differs (p < {ALPHA}) at generation(s) "
+                    f"{', '.join(map(str, differ))}" if differ else
+                    f"the {heading} does not differ at any (p "
+                    f"{budgets.number_text(tested[f'p_{column}'].min())} or more)")
+    summary = (f"of the {tested.height} snapshots where the test could find a difference "
+               f"(smallest possible p below {ALPHA}), " + "; ".join(said))
+    headings = {"babbling": "babbling populations", "still": "still populations",
+                **{f"{c}_{k}": f"{h}: {k}" for c, h in FITNESS.items() for k in (BABBLING, STILL)},
+                **{f"p_{c}": f"{h}: p" for c, h in FITNESS.items()},
+                "smallest_p": "smallest p possible"}
+    rising = sc.growth(stats, window=GROWTH_WINDOW)
+    last = course.filter(pl.col("generation") == course["generation"].max())
+    rising = rising.join(last.select("replication", "strategy"), on="replication", how="left")
+    up = rising.filter(pl.col("ratio") > 1)
+    end = int(rising["last"].min())
+    return {
+        "fitness_summary": summary, "fitness_table": markdown_table(fit.rename(headings)),
+        "growth_window": f"{end - 2 * GROWTH_WINDOW + 1}-{end - GROWTH_WINDOW} and "
+                         f"{end - GROWTH_WINDOW + 1}-{end}",
+        "growth_summary": f"{up.height} of {rising.height} populations' mean fitness rose "
+                          f"(x{rising['ratio'].min():.2f}-{rising['ratio'].max():.2f} over "
+                          f"all {rising.height})",
+        "growth_table": markdown_table(rising.select(
+            "replication", "strategy", pl.col("mean_before").alias("mean fitness before"),
+            pl.col("mean_now").alias("mean fitness now"), pl.col("ratio").alias("now / before"))),
+    }
+
+
 def values(recordings: Path) -> dict[str, str]:
     """The values of docs/results/templates/pre-reaching-course.md: the full-budget run's
     pre-reaching snapshots (``strategy_course``), where training stands, the strategies per
@@ -133,6 +175,7 @@ def values(recordings: Path) -> dict[str, str]:
                     *[pl.col(m).median() for m in sc.MEASURES])
                .sort("generation").rename(sc.MEASURES))
     out["medians"] = markdown_table(medians)
+    out.update(fitness_values(course, run.stats))
     babbling, still = kinds(course.filter(pl.col("generation") == last))
     out["outcome"] = outcome(babbling, still)
     out["changed"] = str(int((turns["changes"] > 0).sum()))

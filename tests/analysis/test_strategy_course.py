@@ -161,3 +161,52 @@ def test_babbling_under_each_condition_by_strategy():
     assert normal["babbling"] == 1 and normal["median"] == pytest.approx(0.5)
     assert normal["still_high"] == 0.0
     assert no_ball["median"] == 1.0 and no_ball["still_high"] == 1.0
+
+
+def _course(rows: list[tuple[int, int, str, float]]) -> pl.DataFrame:
+    """A ``course`` table of (generation, replication, strategy, fitness) rows; the training's
+    best fitness is twice the post-evaluation's."""
+    g, r, s, f = zip(*rows)
+    return pl.DataFrame({"generation": g, "replication": r, "strategy": s, "fitness": f,
+                         "lifetime_fitness": [2 * x for x in f]})
+
+
+def test_whether_the_strategies_are_equally_fit():
+    """At generation 10 every babbling population out-earns every still one (4 against 3: the
+    smallest p there is, 2 / C(7, 3)); at 20 they interleave; at 30 no population is still,
+    so the generation has no row."""
+    rows = ([(10, r, BABBLING, 0.1 + r) for r in range(4)]
+            + [(10, r, STILL, 0.01 * r) for r in range(4, 7)]
+            + [(20, r, BABBLING if r % 2 else STILL, float(r)) for r in range(7)]
+            + [(30, r, BABBLING, 1.0) for r in range(7)])
+    fit = sc.fitness_by_strategy(_course(rows))
+    assert fit["generation"].to_list() == [10, 20]
+    at10, at20 = fit.row(0, named=True), fit.row(1, named=True)
+    assert (at10["babbling"], at10["still"]) == (4, 3)
+    assert at10["smallest_p"] == pytest.approx(2 / 35)
+    assert at10["p_fitness"] == pytest.approx(2 / 35)
+    assert at10["p_lifetime_fitness"] == pytest.approx(2 / 35)
+    assert at10["fitness_babbling"] == pytest.approx(1.6)  # median of 0.1, 1.1, 2.1, 3.1
+    assert at10["fitness_still"] == pytest.approx(0.05)
+    assert at10["lifetime_fitness_still"] == pytest.approx(0.1)
+    assert (at20["babbling"], at20["still"]) == (3, 4)
+    assert at20["p_fitness"] > 0.5  # 1, 3, 5 against 0, 2, 4, 6
+
+
+def test_whether_the_fitness_is_still_rising():
+    """Replication 0's mean fitness doubles from generations 11-20 to 21-30, replication 1's
+    stays; generations 1-10 weigh nothing; fewer than 20 generations cannot say."""
+    def stats(last: int) -> pl.DataFrame:
+        return pl.DataFrame([{"phase": "pre", "replication": r, "generation": g,
+                              "mean": (2.0 if r == 0 and g > last - 10 else 1.0)
+                              * (100.0 if g <= last - 20 else 1.0)}
+                             for r in (0, 1) for g in range(1, last + 1)]
+                            + [{"phase": "gross", "replication": 0, "generation": 1,
+                                "mean": 50.0}])
+    rising = sc.growth(stats(30))
+    assert rising.select("replication", "last").rows() == [(0, 30), (1, 30)]
+    assert rising["mean_before"].to_list() == [1.0, 1.0]
+    assert rising["ratio"].to_list() == [2.0, 1.0]
+    assert sc.growth(stats(20))["ratio"].to_list() == [2.0, 1.0]
+    with pytest.raises(ValueError, match="needs 20 generations"):
+        sc.growth(stats(19))
