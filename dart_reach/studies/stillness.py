@@ -9,12 +9,19 @@ one process and writes one row per trial with ``measures.fitness.fitness_terms``
 (``postevaluation.results``: zstd, float32, the session that wrote it). 2,250 trials, about
 six minutes on one core. The docs are then rendered from that committed table and the run's
 evaluation.parquet (``values``; ``make results``).
+
+``python -m dart_reach.studies.stillness --generation G`` does the same for the snapshot of
+generation G of the full-budget run (``FULL``: the best 5 robots of each replication that its
+development.parquet post-evaluated there), adding its rows to ``recordings/FULL/TABLE``
+(``generation`` in every row; a generation run again replaces its rows): what each strategy
+earns at the paper's budget (``budget_values``).
 """
 
 from __future__ import annotations
 
 import argparse
 import math
+import sys
 from pathlib import Path
 
 import numpy as np
@@ -28,21 +35,28 @@ from ..measures.fitness import trial_fitness_terms
 from ..model.task import N_SEGMENTS, network_for
 from ..model.world import POINTS_PER_SECTOR
 from ..postevaluation import results
+from ..postevaluation.snapshots import load_development
 from ..postevaluation.systematic import stored_robot_job
+from .doc_text import FULL
 
 RUN = "replication-50x10"
 TABLE = "fitness-terms.parquet"
+#: A snapshot's rows in ``FULL``'s table: one robot of one generation.
+SNAPSHOT_KEY = ("generation", "replication", "rank")
+#: The columns of the page's tables at the paper's budget (``stillness.COLUMNS``'s keys).
+BUDGET_COLUMNS = ("fitness", "touch_share", "touch_level", "scoring_share", "touched",
+                  "touches", "contact_after_first", "contact_bout_s")
 
 
 def robot_trials(run: RunDirectory, replication: int, rank: int,
-                 positions: int | None = None) -> list[dict]:
+                 positions: int | None = None, generation: int | None = None) -> list[dict]:
     """One row per systematic trial of a pre-reacher of ``run``'s final population (its
-    ``replication`` and ``rank``) under normal senses, run as the post-evaluation runs it
-    (``systematic.run_robot``): who, where, ``fitness_terms``; ``positions``: only the first
-    so many of the 45 (a check)."""
+    ``replication`` and ``rank``; ``generation``: of that generation's snapshot) under normal
+    senses, run as the post-evaluation runs it (``systematic.run_robot``): who, where,
+    ``fitness_terms``; ``positions``: only the first so many of the 45 (a check)."""
     phase_key = next(p.key for c, p in run.unique_phases()
                      if c.name == "standard" and p.name == "pre")
-    job = stored_robot_job(run, phase_key, "normal", replication, rank)
+    job = stored_robot_job(run, phase_key, "normal", replication, rank, generation=generation)
     runner = worker_trial(job.world, job.trial)
     network = network_for(decode(job.genome, as_groups(job.phase.free_groups)), job.trial)
     rows = []
@@ -61,15 +75,33 @@ def evaluated_pre(run_dir: Path) -> list[tuple[int, int]]:
     return sorted(table.select("replication", "rank").unique().iter_rows())
 
 
-def build(root: Path, run_name: str = RUN, progress=print) -> pl.DataFrame:
-    """Every post-evaluated pre-reacher of ``run_name`` (``evaluated_pre``): its trials
+def snapshot_pre(run_dir: Path, generation: int) -> list[tuple[int, int]]:
+    """The (replication, rank) of every pre-reacher of the snapshot of ``generation`` that
+    ``run_dir``'s development.parquet post-evaluated under normal senses, sorted; ValueError
+    when there is none."""
+    table = load_development(run_dir)
+    rows = (pl.DataFrame() if table is None else
+            table.filter((pl.col("phase") == "pre") & (pl.col("generation") == generation)))
+    if not rows.height:
+        raise ValueError(f"{run_dir}: no pre-reaching snapshot of generation {generation} "
+                         f"post-evaluated (make full-budget-snapshots)")
+    return sorted(rows.select("replication", "rank").unique().iter_rows())
+
+
+def build(root: Path, run_name: str = RUN, progress=print,
+          generation: int | None = None) -> pl.DataFrame:
+    """Every post-evaluated pre-reacher of ``run_name`` (``evaluated_pre``; ``generation``:
+    of that snapshot, ``snapshot_pre``, with ``generation`` in each row): its trials
     (``robot_trials``), one table."""
     run_dir = root / "recordings" / run_name
+    robots_ = (evaluated_pre(run_dir) if generation is None
+               else snapshot_pre(run_dir, generation))
     run = RunDirectory.open(run_dir)
-    robots_ = evaluated_pre(run_dir)
+    more = {} if generation is None else {"generation": generation}
     rows = []
     for i, (replication, rank) in enumerate(robots_):
-        rows += robot_trials(run, replication, rank)
+        rows += [dict(row, **more) for row in robot_trials(run, replication, rank,
+                                                           generation=generation)]
         progress(f"{i + 1}/{len(robots_)} replication {replication} rank {rank}")
     return pl.DataFrame(rows)
 
@@ -160,7 +192,75 @@ def values(recordings: Path, markdown_table) -> dict[str, str]:
         reps = t["strategy"].filter(pl.col("strategy") == s)["replication"].to_list()
         out[f"{s}.replications"] = ", ".join(map(str, reps))
         out[f"{s}.count"] = str(len(reps))
+    out.update(budget_values(recordings, markdown_table))
     return out
+
+
+def budget_tables(recordings: Path) -> dict[int, dict[str, pl.DataFrame]]:
+    """Per snapshot generation in ``FULL``'s Eq. 5 table (``--generation``): ``by_strategy``
+    and ``compare`` (``analysis.stillness``), each population's strategy by the same rule as
+    at 50 generations, from the snapshot's normal trials in development.parquet."""
+    run_dir = recordings / FULL
+    terms = results.read_table(run_dir / TABLE)
+    if terms is None:
+        return {}
+    development = load_development(run_dir)
+    out = {}
+    for generation in terms["generation"].unique().sort().to_list():
+        strategy = stillness.strategies(
+            development.filter(pl.col("generation") == generation))
+        trials = stillness.with_strategy(terms.filter(pl.col("generation") == generation),
+                                         strategy)
+        out[generation] = {"by_strategy": stillness.by_strategy(trials),
+                           "compare": stillness.compare(stillness.by_replication(trials,
+                                                                                strategy))}
+    return out
+
+
+def budget_values(recordings: Path, markdown_table) -> dict[str, str]:
+    """``budget.generations`` and ``budget.body`` of docs/results/templates/stillness.md:
+    ``FULL``'s snapshots taken apart (``budget_tables``): the means per strategy and the
+    replication-as-unit comparison, each with a generation column, and per generation which
+    of the page's statements (``stillness.STATED``) its means contradict."""
+    tables_ = budget_tables(recordings)
+    if not tables_:
+        return {"budget.generations": "none yet",
+                "budget.body": "Nothing taken apart yet: no snapshot's rows in the table."}
+
+    def stacked(name: str) -> pl.DataFrame:
+        return pl.concat([t[name].select(pl.lit(g).alias("generation"), pl.all())
+                          for g, t in tables_.items()])
+
+    by_strategy = stacked("by_strategy").select("generation", "strategy", "replications",
+                                                "robots", "trials", *BUDGET_COLUMNS)
+    stated, smallest = [], []
+    for generation, t in tables_.items():
+        per = {r["strategy"]: r for r in t["by_strategy"].iter_rows(named=True)}
+        counts = [r["replications"] for r in per.values()]
+        smallest.append(f"{_number(2 / math.comb(sum(counts), counts[0]))} at {generation}")
+        if len(per) < 2:
+            stated.append(f"at {generation} only one strategy is there")
+            continue
+        still, babbling = per[stillness.STILL], per[stillness.BABBLING]
+        wrong = stillness.contradicted(still, babbling)
+        p = dict(zip(t["compare"]["factor"], t["compare"]["p"]))
+        stated.append(
+            f"at {generation} " + ("every one holds" if not wrong
+                                   else "these do not: " + "; ".join(wrong))
+            + f" (a still robot is in touch on "
+            f"{still['touch_share'] / babbling['touch_share']:.1f} times as many steps as a "
+            f"babbling one, with {still['touch_level'] / babbling['touch_level']:.2f} times "
+            f"the faces; fitness {_number(still['fitness'])} against "
+            f"{_number(babbling['fitness'])}, p = {_number(p['fitness'])} with the "
+            f"replication as the unit)")
+    body = ("Means over each strategy's trials, as in \"Per strategy\" above:\n\n"
+            + markdown_table(stillness.headed(by_strategy))
+            + "\n\nThe replication as the unit, as in \"The replication as the unit\" above "
+            "(the smallest p the two strategies' numbers of populations allow: "
+            + ", ".join(smallest) + "):\n\n" + markdown_table(stacked("compare"))
+            + "\n\nThe statements of \"In plain words\" (`analysis.stillness.STATED`), "
+            "checked on these means: " + "; ".join(stated) + ".")
+    return {"budget.generations": ", ".join(map(str, tables_)), "budget.body": body}
 
 
 def main(argv=None) -> int:
@@ -169,12 +269,25 @@ def main(argv=None) -> int:
                                                  f"again and write recordings/{RUN}/{TABLE}")
     parser.add_argument("root", nargs="?", type=Path, default=Path("."),
                         help="the repository (default: the current directory)")
+    parser.add_argument("--generation", type=int, default=None,
+                        help=f"the snapshot of this generation of {FULL} instead, added to "
+                             f"recordings/{FULL}/{TABLE}")
     args = parser.parse_args(argv)
     entry = results.session()
-    table = build(args.root)
-    entry["rows"] = table.height
-    results.write_table(args.root / "recordings" / RUN / TABLE, table, [entry])
-    print(f"wrote recordings/{RUN}/{TABLE}: {table.height} trials")
+    name = RUN if args.generation is None else FULL
+    path = args.root / "recordings" / name / TABLE
+    try:
+        table = build(args.root, name, generation=args.generation)
+    except (ValueError, FileNotFoundError) as exc:
+        print(f"error: {exc}", file=sys.stderr)
+        return 2
+    if args.generation is None:
+        entry["rows"] = table.height
+        results.write_table(path, table, [entry])
+    else:
+        results.save_table(path, results.read_table(path), table.to_dicts(), SNAPSHOT_KEY,
+                           entry)
+    print(f"wrote recordings/{name}/{TABLE}: {table.height} trials")
     return 0
 
 

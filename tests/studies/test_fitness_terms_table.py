@@ -14,8 +14,11 @@ from dart_reach.evolution.provenance import simd
 from dart_reach.evolution.rundir import RunDirectory
 from dart_reach.measures.fitness import TERMS
 from dart_reach.postevaluation import results
+from dart_reach.analysis import strategy_course
+from dart_reach.postevaluation.snapshots import load_development
 from dart_reach.postevaluation.systematic import load_evaluation
 from dart_reach.studies import course_page, stillness
+from dart_reach.studies.doc_text import FULL
 
 ROOT = Path(__file__).resolve().parents[2]
 RUN_DIR = ROOT / "recordings" / stillness.RUN
@@ -92,3 +95,32 @@ def test_the_50_generation_comparison_takes_contact_after_first_from_the_table(t
                         committed().filter(pl.col("replication") != 3), [{}])
     with pytest.raises(ValueError, match="not every pre-reacher's trial"):
         course_page.with_terms(short, evaluation)
+
+
+FULL_DIR = ROOT / "recordings" / FULL
+
+
+def test_the_full_runs_table_holds_its_snapshots_robots_with_their_development_fitness():
+    """Each snapshot generation in standard-500x10's table: every robot its development.parquet
+    post-evaluated there, on every position, with the fitness it stored, to the last bit."""
+    table = results.read_table(FULL_DIR / stillness.TABLE)
+    generations = table["generation"].unique().sort().to_list()
+    assert generations and set(generations) <= set(strategy_course.JUDGED)
+    development = load_development(FULL_DIR)
+    keys = ["generation", "replication", "rank", "trial", "sector"]
+    for generation in generations:
+        rows = table.filter(pl.col("generation") == generation)
+        assert (sorted(rows.select("replication", "rank").unique().iter_rows())
+                == stillness.snapshot_pre(FULL_DIR, generation))
+        assert rows.height == 45 * 50
+    joined = table.join(development.select(*keys, pl.col("fitness").alias("evaluated")),
+                        on=keys)
+    assert joined.height == table.height
+    assert (joined["fitness"] == joined["evaluated"]).all()
+    assert set(TERMS) <= set(table.columns)
+
+
+def test_a_snapshot_not_post_evaluated_is_one_line_and_exit_2(capsys):
+    assert stillness.main([str(ROOT), "--generation", "7"]) == 2
+    err = capsys.readouterr().err.strip()
+    assert "\n" not in err and "no pre-reaching snapshot of generation 7" in err
