@@ -130,21 +130,24 @@ full-budget: $(VENV)/.installed
 # pre-reaching-course.md): on a copy of the compact state in FULL_FROM (default the tracked one;
 # the training holds its own directory's lock), every snapshot's best 5 under normal senses and
 # 10 random genomes, every condition at the generations the claims are judged; only what is
-# missing is evaluated. The tables come back into $(FULL); then `make results`.
+# missing is evaluated; the judged snapshots' pre-reachers run again for Eq. 5's terms
+# (docs/results/stillness.md). The tables come back into $(FULL); then `make results`.
 FULL_FROM ?= $(FULL)
+FULL_TABLES := development development.parquet baseline.parquet fitness-terms.parquet
 FULL_COPY := $(or $(TMPDIR),/tmp)/dart-reach-full-budget-copy
 JUDGED := 50,100,150,200,250
 full-budget-snapshots: $(VENV)/.installed
 	rm -rf $(FULL_COPY) && mkdir -p $(FULL_COPY)
 	cp -r $(FULL_FROM)/manifest.json $(FULL_FROM)/generations.parquet $(FULL_FROM)/phases \
 		$(FULL_COPY)/
-	for t in development development.parquet baseline.parquet; do \
+	for t in $(FULL_TABLES); do \
 		if [ -e $(FULL)/$$t ]; then cp -r $(FULL)/$$t $(FULL_COPY)/; fi; done
 	$(BIN)/dart-reach evaluate $(FULL_COPY) --finished-only --development 5 --baseline 10
 	$(BIN)/dart-reach evaluate $(FULL_COPY) --finished-only --development 5 \
 		--development-sensors all --snapshots $(JUDGED)
+	$(BIN)/python -m dart_reach.studies.stillness . --judged --run-dir $(FULL_COPY)
 	rm -rf $(FULL)/development $(FULL)/development.parquet
-	for t in development development.parquet baseline.parquet; do \
+	for t in $(FULL_TABLES); do \
 		if [ -e $(FULL_COPY)/$$t ]; then cp -r $(FULL_COPY)/$$t $(FULL)/; fi; done
 
 # The post-evaluation of the three runs (best 5 robots of every replication under the four

@@ -14,7 +14,9 @@ evaluation.parquet (``values``; ``make results``).
 generation G of the full-budget run (``FULL``: the best 5 robots of each replication that its
 development.parquet post-evaluated there), adding its rows to ``recordings/FULL/TABLE``
 (``generation`` in every row; a generation run again replaces its rows): what each strategy
-earns at the paper's budget (``budget_values``).
+earns at the paper's budget (``budget_values``). ``--judged`` runs every judged generation
+post-evaluated and not yet in the table (``judged_missing``; ``make full-budget-snapshots``
+does, on its copy of the run: ``--run-dir``).
 """
 
 from __future__ import annotations
@@ -28,6 +30,7 @@ import numpy as np
 import polars as pl
 
 from ..analysis import budgets, stillness
+from ..analysis.strategy_course import JUDGED
 from ..evolution.backends import worker_trial
 from ..evolution.genome import as_groups, decode
 from ..evolution.rundir import RunDirectory
@@ -88,12 +91,10 @@ def snapshot_pre(run_dir: Path, generation: int) -> list[tuple[int, int]]:
     return sorted(rows.select("replication", "rank").unique().iter_rows())
 
 
-def build(root: Path, run_name: str = RUN, progress=print,
-          generation: int | None = None) -> pl.DataFrame:
-    """Every post-evaluated pre-reacher of ``run_name`` (``evaluated_pre``; ``generation``:
-    of that snapshot, ``snapshot_pre``, with ``generation`` in each row): its trials
-    (``robot_trials``), one table."""
-    run_dir = root / "recordings" / run_name
+def build(run_dir: Path, progress=print, generation: int | None = None) -> pl.DataFrame:
+    """Every post-evaluated pre-reacher of the run in ``run_dir`` (``evaluated_pre``;
+    ``generation``: of that snapshot, ``snapshot_pre``, with ``generation`` in each row): its
+    trials (``robot_trials``), one table."""
     robots_ = (evaluated_pre(run_dir) if generation is None
                else snapshot_pre(run_dir, generation))
     run = RunDirectory.open(run_dir)
@@ -104,6 +105,17 @@ def build(root: Path, run_name: str = RUN, progress=print,
                                                            generation=generation)]
         progress(f"{i + 1}/{len(robots_)} replication {replication} rank {rank}")
     return pl.DataFrame(rows)
+
+
+def judged_missing(run_dir: Path) -> list[int]:
+    """The generations of ``strategy_course.JUDGED`` whose snapshot ``run_dir``'s
+    development.parquet post-evaluated and its Eq. 5 table does not yet hold, in order."""
+    development = load_development(run_dir)
+    done = results.read_table(run_dir / TABLE)
+    there = (set() if development is None else
+             set(development.filter(pl.col("phase") == "pre")["generation"].unique()))
+    held = set() if done is None else set(done["generation"].unique())
+    return [g for g in JUDGED if g in there and g not in held]
 
 
 def tables(recordings: Path, run_name: str = RUN) -> dict[str, pl.DataFrame]:
@@ -266,28 +278,40 @@ def budget_values(recordings: Path, markdown_table) -> dict[str, str]:
 def main(argv=None) -> int:
     parser = argparse.ArgumentParser(prog="python -m dart_reach.studies.stillness",
                                      description=f"run {RUN}'s post-evaluated pre-reachers "
-                                                 f"again and write recordings/{RUN}/{TABLE}")
+                                                 f"again and write recordings/{RUN}/{TABLE}; "
+                                                 f"with --generation or --judged, {FULL}'s "
+                                                 f"snapshots")
     parser.add_argument("root", nargs="?", type=Path, default=Path("."),
                         help="the repository (default: the current directory)")
-    parser.add_argument("--generation", type=int, default=None,
+    parser.add_argument("--generation", type=int, action="append", default=[],
                         help=f"the snapshot of this generation of {FULL} instead, added to "
-                             f"recordings/{FULL}/{TABLE}")
+                             f"its {TABLE} (repeat for more)")
+    parser.add_argument("--judged", action="store_true",
+                        help="every judged generation (50, 100, ...) post-evaluated in the "
+                             "run's development.parquet and not yet in its table")
+    parser.add_argument("--run-dir", type=Path, default=None,
+                        help=f"the run of the snapshots (default ROOT/recordings/{FULL}; a "
+                             f"copy of a run still training, as make full-budget-snapshots "
+                             f"makes)")
     args = parser.parse_args(argv)
     entry = results.session()
-    name = RUN if args.generation is None else FULL
-    path = args.root / "recordings" / name / TABLE
+    if not (args.generation or args.judged):
+        path = args.root / "recordings" / RUN / TABLE
+        table = build(path.parent)
+        entry["rows"] = table.height
+        results.write_table(path, table, [entry])
+        print(f"wrote {path}: {table.height} trials")
+        return 0
+    run_dir = args.run_dir or args.root / "recordings" / FULL
+    path = run_dir / TABLE
     try:
-        table = build(args.root, name, generation=args.generation)
+        for generation in [*args.generation, *(judged_missing(run_dir) if args.judged else [])]:
+            rows = build(run_dir, generation=generation).to_dicts()
+            results.save_table(path, results.read_table(path), rows, SNAPSHOT_KEY, entry)
+            print(f"wrote {path}: generation {generation}, {len(rows)} trials")
     except (ValueError, FileNotFoundError) as exc:
         print(f"error: {exc}", file=sys.stderr)
         return 2
-    if args.generation is None:
-        entry["rows"] = table.height
-        results.write_table(path, table, [entry])
-    else:
-        results.save_table(path, results.read_table(path), table.to_dicts(), SNAPSHOT_KEY,
-                           entry)
-    print(f"wrote recordings/{name}/{TABLE}: {table.height} trials")
     return 0
 
 

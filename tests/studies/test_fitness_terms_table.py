@@ -4,6 +4,7 @@ rows."""
 
 from __future__ import annotations
 
+import shutil
 from pathlib import Path
 
 import polars as pl
@@ -118,6 +119,17 @@ def test_the_full_runs_table_holds_its_snapshots_robots_with_their_development_f
     assert joined.height == table.height
     assert (joined["fitness"] == joined["evaluated"]).all()
     assert set(TERMS) <= set(table.columns)
+
+
+def test_every_judged_snapshot_post_evaluated_is_taken_apart(tmp_path):
+    """The committed table holds every judged generation the development table has; without
+    the table, those are the generations ``--judged`` would run."""
+    assert stillness.judged_missing(FULL_DIR) == []
+    judged = sorted(set(results.read_table(FULL_DIR / stillness.TABLE)["generation"]))
+    for name in results.stored_files(FULL_DIR / results.DEVELOPMENT):
+        (tmp_path / name.relative_to(FULL_DIR)).parent.mkdir(parents=True, exist_ok=True)
+        shutil.copy(name, tmp_path / name.relative_to(FULL_DIR))
+    assert stillness.judged_missing(tmp_path) == judged
 
 
 def test_a_snapshot_not_post_evaluated_is_one_line_and_exit_2(capsys):
