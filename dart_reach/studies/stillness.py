@@ -210,8 +210,9 @@ def values(recordings: Path, markdown_table) -> dict[str, str]:
 
 def budget_tables(recordings: Path) -> dict[int, dict[str, pl.DataFrame]]:
     """Per snapshot generation in ``FULL``'s Eq. 5 table (``--generation``): ``by_strategy``
-    and ``compare`` (``analysis.stillness``), each population's strategy by the same rule as
-    at 50 generations, from the snapshot's normal trials in development.parquet."""
+    and ``compare`` (``analysis.stillness``; None when one strategy has every population),
+    each population's strategy by the same rule as at 50 generations, from the snapshot's
+    normal trials in development.parquet."""
     run_dir = recordings / FULL
     terms = results.read_table(run_dir / TABLE)
     if terms is None:
@@ -223,9 +224,10 @@ def budget_tables(recordings: Path) -> dict[int, dict[str, pl.DataFrame]]:
             development.filter(pl.col("generation") == generation))
         trials = stillness.with_strategy(terms.filter(pl.col("generation") == generation),
                                          strategy)
+        both = strategy["strategy"].n_unique() == 2
         out[generation] = {"by_strategy": stillness.by_strategy(trials),
-                           "compare": stillness.compare(stillness.by_replication(trials,
-                                                                                strategy))}
+                           "compare": stillness.compare(stillness.by_replication(
+                               trials, strategy)) if both else None}
     return out
 
 
@@ -241,18 +243,19 @@ def budget_values(recordings: Path, markdown_table) -> dict[str, str]:
 
     def stacked(name: str) -> pl.DataFrame:
         return pl.concat([t[name].select(pl.lit(g).alias("generation"), pl.all())
-                          for g, t in tables_.items()])
+                          for g, t in tables_.items() if t[name] is not None])
 
     by_strategy = stacked("by_strategy").select("generation", "strategy", "replications",
                                                 "robots", "trials", *BUDGET_COLUMNS)
     stated, smallest = [], []
     for generation, t in tables_.items():
         per = {r["strategy"]: r for r in t["by_strategy"].iter_rows(named=True)}
+        if t["compare"] is None:
+            stated.append(f"at {generation} all the populations are {next(iter(per))}: "
+                          f"nothing to compare")
+            continue
         counts = [r["replications"] for r in per.values()]
         smallest.append(f"{_number(2 / math.comb(sum(counts), counts[0]))} at {generation}")
-        if len(per) < 2:
-            stated.append(f"at {generation} only one strategy is there")
-            continue
         still, babbling = per[stillness.STILL], per[stillness.BABBLING]
         wrong = stillness.contradicted(still, babbling)
         p = dict(zip(t["compare"]["factor"], t["compare"]["p"]))
@@ -269,7 +272,8 @@ def budget_values(recordings: Path, markdown_table) -> dict[str, str]:
             + markdown_table(stillness.headed(by_strategy))
             + "\n\nThe replication as the unit, as in \"The replication as the unit\" above "
             "(the smallest p the two strategies' numbers of populations allow: "
-            + ", ".join(smallest) + "):\n\n" + markdown_table(stacked("compare"))
+            + (", ".join(smallest) or "none") + "):\n\n"
+            + (markdown_table(stacked("compare")) if smallest else "(none)")
             + "\n\nThe statements of \"In plain words\" (`analysis.stillness.STATED`), "
             "checked on these means: " + "; ".join(stated) + ".")
     return {"budget.generations": ", ".join(map(str, tables_)), "budget.body": body}

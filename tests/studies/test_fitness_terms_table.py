@@ -136,3 +136,24 @@ def test_a_snapshot_not_post_evaluated_is_one_line_and_exit_2(capsys):
     assert stillness.main([str(ROOT), "--generation", "7"]) == 2
     err = capsys.readouterr().err.strip()
     assert "\n" not in err and "no pre-reaching snapshot of generation 7" in err
+
+
+def test_a_snapshot_of_one_strategy_is_said_not_compared(tmp_path):
+    """Generation 100 as committed compares the two strategies; with every population made to
+    babble there is nothing to compare, and the page says so instead of failing."""
+    def md(table):
+        return table.write_csv()
+
+    committed_values = stillness.budget_values(ROOT / "recordings", md)
+    assert "at 100 every one holds" in committed_values["budget.body"]
+    run = tmp_path / FULL
+    run.mkdir()
+    development = load_development(FULL_DIR).filter(pl.col("generation") == 100)
+    results.write_table(run / results.DEVELOPMENT,
+                        development.with_columns(pl.lit(True).alias("babbling")), [{}])
+    terms = results.read_table(FULL_DIR / stillness.TABLE).filter(pl.col("generation") == 100)
+    results.write_table(run / stillness.TABLE, terms, [{}])
+    values = stillness.budget_values(tmp_path, md)
+    assert values["budget.generations"] == "100"
+    assert "at 100 all the populations are babbling: nothing to compare" in values["budget.body"]
+    assert "(none)" in values["budget.body"]
