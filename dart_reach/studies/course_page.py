@@ -31,6 +31,10 @@ from .doc_text import FULL, TEN, markdown_table, percent, training_text
 #: 2-core machine (AMD EPYC, 2.45 GHz), 2026-11-27: docs/results/templates/
 #: pre-reaching-course.md, "What it costs", says how.
 NORMAL_TRIAL_CPU_S, OTHER_TRIAL_CPU_S = 77.3 / 450, 1_420 / 9_000
+#: CPU-seconds of one trial of a judged snapshot's robot run again for Eq. 5's terms
+#: (``studies.stillness --generation 50``: 2,250 trials in 417.5 CPU-seconds, start included,
+#: from /proc/PID/stat, beside the training), same machine, 2026-11-27.
+TERMS_TRIAL_CPU_S = 417.5 / 2_250
 #: The generation this round of the run ends at (issue 48) and the snapshots' spacing.
 ROUND_END, SNAPSHOT_EVERY = 250, 10
 #: Trials of one robot under one sensory condition (the systematic positions), and the
@@ -46,24 +50,27 @@ def cost_values(run: RunDirectory, generations: int) -> dict[str, str]:
     """What post-evaluating the snapshots to ``ROUND_END`` of a pre-reaching phase of
     ``generations`` (``snapshot_due``) costs beside the training to it: ``snapshots``,
     ``snapshots_core_h`` (every snapshot under normal senses), ``judged_core_h`` (the other
-    conditions at the judged generations), ``pre_core_s`` (the run's median core-seconds a
+    conditions at the judged generations), ``terms_core_h`` (their robots run again for Eq.
+    5's terms, ``studies.stillness``), ``pre_core_s`` (the run's median core-seconds a
     pre-reaching replication-generation, ``cost.core_seconds``), ``pre_round_core_h`` (the
-    training to ``ROUND_END`` at that median) and ``evaluation_share`` (both evaluations'
+    training to ``ROUND_END`` at that median) and ``evaluation_share`` (the three's
     share of it)."""
     snapshots = sum(snapshot_due(g, generations, SNAPSHOT_EVERY)
                     for g in range(1, ROUND_END + 1))
     robots = SNAPSHOT_ROBOTS * run.settings.replications
     normal = snapshots * robots * POSITIONS * NORMAL_TRIAL_CPU_S / 3600
     judged = len(sc.JUDGED) * OTHER_CONDITIONS * robots * POSITIONS * OTHER_TRIAL_CPU_S / 3600
+    terms = len(sc.JUDGED) * robots * POSITIONS * TERMS_TRIAL_CPU_S / 3600
     median = float(cost.core_seconds(run).filter(pl.col("phase") == "pre")["core_s"]
                    .drop_nans().median())
     training = median * ROUND_END * run.settings.replications / 3600
     return {"normal_trial_cpu_s": f"{NORMAL_TRIAL_CPU_S:.3f}",
             "other_trial_cpu_s": f"{OTHER_TRIAL_CPU_S:.3f}", "snapshots": str(snapshots),
             "snapshots_core_h": f"{normal:.1f}",
-            "judged_core_h": f"{judged:.1f}", "pre_core_s": f"{median:.0f}",
+            "judged_core_h": f"{judged:.1f}", "terms_trial_cpu_s": f"{TERMS_TRIAL_CPU_S:.3f}",
+            "terms_core_h": f"{terms:.1f}", "pre_core_s": f"{median:.0f}",
             "pre_round_core_h": f"{training:.0f}",
-            "evaluation_share": percent((normal + judged) / training)}
+            "evaluation_share": percent((normal + judged + terms) / training)}
 
 
 def outcome(babbling: int, still: int) -> str:

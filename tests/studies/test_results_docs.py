@@ -168,3 +168,6 @@ def test_the_course_page_costs_the_snapshots_the_run_keeps():
     normal, judged = float(values["snapshots_core_h"]), float(values["judged_core_h"])
     rates = course_page.OTHER_TRIAL_CPU_S / course_page.NORMAL_TRIAL_CPU_S
     assert judged == pytest.approx(normal * 5 * 4 / 28 * rates, abs=0.1)
+    terms = float(values["terms_core_h"])  # the five judged snapshots' robots once more
+    assert terms == pytest.approx(
+        normal * 5 / 28 * course_page.TERMS_TRIAL_CPU_S / course_page.NORMAL_TRIAL_CPU_S, abs=0.1)
