@@ -221,9 +221,7 @@ def fitness_by_strategy(course_table: pl.DataFrame,
     schema = {**{k: pl.Int64 for k in keys},
               **{f"{c}_{s}": pl.Float64 for c in columns for s in (BABBLING, STILL)},
               **{f"p_{c}": pl.Float64 for c in columns}, "smallest_p": pl.Float64}
-    return pl.DataFrame(rows, schema=schema).select(
-        *keys, *[f"{c}_{s}" for c in columns for s in (BABBLING, STILL)],
-        *[f"p_{c}" for c in columns], "smallest_p").sort("generation")
+    return pl.DataFrame(rows, schema=schema).sort("generation")
 
 
 def growth(generations: pl.DataFrame, phase: str = "pre", window: int = 10) -> pl.DataFrame:
