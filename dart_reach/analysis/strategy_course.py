@@ -90,7 +90,7 @@ def switches(course_table: pl.DataFrame) -> pl.DataFrame:
                 came_back |= k in left
         rows.append({"replication": replication, "first": kinds[0], "last": kinds[-1],
                      "generations": f"{generations[0]}-{generations[-1]}",
-                     "changes": len(at), "changed_at": ", ".join(map(str, at)) or "-",
+                     "changes": len(at), "changed_at": ", ".join(map(str, at)) or "–",
                      "came_back": came_back, "last_change": at[-1] if at else None})
     return pl.DataFrame(rows, schema={"replication": pl.Int64, "first": pl.Utf8,
                                       "last": pl.Utf8, "generations": pl.Utf8,

@@ -82,6 +82,23 @@ def outcome(babbling: int, still: int) -> str:
     return f"both persist ({babbling} populations babble, {still} are still)"
 
 
+def settled(turns: pl.DataFrame, generations: list[int]) -> str:
+    """The last change of strategy in plain words, from ``strategy_course.switches``'s table
+    and the snapshots' ``generations`` (ascending): when it came, in which replications, and
+    how many snapshots since found every population where it was."""
+    last = turns["last_change"].max()
+    if last is None:
+        return "No population changed strategy between snapshots."
+    replications = turns.filter(pl.col("last_change") == last)["replication"].sort().to_list()
+    text = (f"The last change came at generation {last} (replication"
+            f"{'s' if len(replications) > 1 else ''} {', '.join(map(str, replications))})")
+    since = [g for g in generations if g > last]
+    if not since:
+        return text + ", the last snapshot."
+    return (text + f"; at the {len(since)} snapshot{'s' if len(since) > 1 else ''} since "
+            f"({since[0]}-{since[-1]}) every population kept its strategy.")
+
+
 def kinds(table: pl.DataFrame) -> tuple[int, int]:
     """(babbling, still) populations of a table with a ``strategy`` column."""
     return tuple(table.filter(pl.col("strategy") == k).height for k in (BABBLING, STILL))
@@ -187,6 +204,7 @@ def values(recordings: Path) -> dict[str, str]:
     out["outcome"] = outcome(babbling, still)
     out["changed"] = str(int((turns["changes"] > 0).sum()))
     out["came_back"] = str(int(turns["came_back"].sum()))
+    out["settled"] = settled(turns, generations)
     ten = recordings / TEN
     if 50 in generations and results.exists(ten / results.EVALUATION):
         evaluation = load_evaluation(ten)

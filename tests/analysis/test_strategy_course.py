@@ -59,7 +59,7 @@ def test_changes_of_strategy_and_coming_back():
     assert rows[0] == {"replication": 0, "first": BABBLING, "last": BABBLING,
                        "generations": "1-30", "changes": 2, "changed_at": "10, 20",
                        "came_back": True, "last_change": 20}
-    assert rows[1]["changes"] == 0 and rows[1]["changed_at"] == "-" and not rows[1]["came_back"]
+    assert rows[1]["changes"] == 0 and rows[1]["changed_at"] == "–" and not rows[1]["came_back"]
     assert rows[1]["last_change"] is None
     assert rows[2]["changes"] == 1 and rows[2]["last"] == STILL and not rows[2]["came_back"]
 

@@ -155,6 +155,18 @@ def test_the_course_page_says_which_strategy_has_taken_over():
     assert values["outcome"] == course_page.outcome(babbling, still)
 
 
+def test_the_course_page_says_when_the_strategies_last_changed():
+    turns = pl.DataFrame({"replication": [0, 1, 2], "last_change": [20, None, 20]},
+                         schema={"replication": pl.Int64, "last_change": pl.Int64})
+    assert course_page.settled(turns, [1, 10, 20, 30, 40]) == (
+        "The last change came at generation 20 (replications 0, 2); at the 2 snapshots since "
+        "(30-40) every population kept its strategy.")
+    assert course_page.settled(turns.head(2), [1, 10, 20]) == (
+        "The last change came at generation 20 (replication 0), the last snapshot.")
+    assert course_page.settled(turns.filter(pl.col("replication") == 1), [1, 10]) == (
+        "No population changed strategy between snapshots.")
+
+
 def test_the_course_page_costs_the_snapshots_the_run_keeps():
     """The snapshot rule the cost counts is the one the run followed: its committed snapshots
     are those ``snapshot_due`` names, and to generation 250 they are 1, 2, 5 and every 10th."""
