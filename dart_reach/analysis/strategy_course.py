@@ -12,6 +12,7 @@ module reads:
   generations, before the full-budget run was looked at: still when fewer than 5 % of the
   trials babble);
 - ``switches``: per replication, when the strategy changed and whether it came back;
+  ``still_by_line``: how many would be still were the rule's line elsewhere;
 - ``claims_of_pre`` and ``judged``: the claims of section IV-A-1 about pre-reachers alone
   (F1, A1, A3, D2, T1, V3: those whose groups are pre-reachers and random networks) judged on
   the snapshot of a generation as if it were the phase's end, the replication as the unit,
@@ -45,6 +46,9 @@ JUDGED = (50, 100, 150, 200, 250)
 MEASURES = {"babbling": "babbling rate", "hand_path": "hand path (m)",
             "reached": "reach rate", "grasped": "grasp rate",
             "contact_after_first": "in touch after 1st", "fitness": "fitness"}
+#: Lines either side of the rule's 5 % at which ``still_by_line`` counts the still
+#: populations: how the count moves with the one lever the rule sets.
+LINES = (0.01, 0.05, 0.10, 0.20)
 _GROUPS = {"", "pre", "random pre"}
 
 
@@ -96,6 +100,17 @@ def switches(course_table: pl.DataFrame) -> pl.DataFrame:
                                       "last": pl.Utf8, "generations": pl.Utf8,
                                       "changes": pl.Int64, "changed_at": pl.Utf8,
                                       "came_back": pl.Boolean, "last_change": pl.Int64})
+
+
+def still_by_line(course_table: pl.DataFrame, lines: Sequence[float] = LINES
+                  ) -> pl.DataFrame:
+    """Per snapshot of ``course``'s table, how many populations would be still were the
+    rule's line (``stillness.STILL_SHARE``) at each of ``lines``: a column ``below L %`` per
+    line counts the replications whose ``babbling_share`` is under it."""
+    return (course_table.group_by("generation")
+            .agg(*[(pl.col("babbling_share") < line).sum().cast(pl.Int64)
+                   .alias(f"below {line * 100:g} %") for line in lines])
+            .sort("generation"))
 
 
 def _of_pre(c: Claim) -> bool:

@@ -191,6 +191,8 @@ def values(recordings: Path) -> dict[str, str]:
         .sort("generation"))
     out["matrix"] = markdown_table(matrix.rename(
         {c: f"rep {c}" for c in matrix.columns if c != "generation"}))
+    out["lines"] = markdown_table(sc.still_by_line(course).rename(
+        {f"below {STILL_SHARE * 100:g} %": f"below {STILL_SHARE * 100:g} % (the rule)"}))
     turns = sc.switches(course)
     out["switches"] = markdown_table(turns)
     medians = (course.group_by("generation")

@@ -64,6 +64,17 @@ def test_changes_of_strategy_and_coming_back():
     assert rows[2]["changes"] == 1 and rows[2]["last"] == STILL and not rows[2]["came_back"]
 
 
+def test_how_many_would_be_still_were_the_line_elsewhere():
+    # 40 trials a (replication, generation): shares 0, 1/40, 3/40, 5/40 and 0.3
+    dev = _development({(0, 1): 0.0, (1, 1): 0.025, (2, 1): 0.075, (3, 1): 0.125, (4, 1): 0.3,
+                        (0, 10): 0.3})
+    lines = sc.still_by_line(sc.course(dev), (0.01, STILL_SHARE, 0.1, 0.2))
+    assert lines.columns == ["generation", "below 1 %", "below 5 %", "below 10 %", "below 20 %"]
+    assert lines.row(0) == (1, 1, 2, 3, 4) and lines.row(1) == (10, 0, 0, 0, 0)
+    rule = sc.course(dev).filter(pl.col("generation") == 1)
+    assert lines["below 5 %"][0] == (rule["strategy"] == STILL).sum()
+
+
 def test_the_claims_of_pre_reachers_alone():
     ids = [c.id for c in sc.claims_of_pre()]
     assert "F1 reach about half" in ids and "T1 arm orienting" in ids
