@@ -13,7 +13,7 @@ import polars as pl
 
 from ..analysis import budgets
 from ..analysis import strategy_course as sc
-from ..analysis.figures import strategy_figure
+from ..analysis.figures import strategy_figure, training_by_strategy
 from ..analysis.stillness import BABBLING, STILL, STILL_SHARE, trained_trials
 from ..evolution import cost
 from ..evolution.rundir import RunDirectory
@@ -262,12 +262,27 @@ def values(recordings: Path) -> dict[str, str]:
     return out
 
 
+def _png(fig) -> bytes:
+    """A figure as PNG bytes, no software version written (the same data on the same
+    matplotlib give the same bytes)."""
+    buffer = io.BytesIO()
+    fig.savefig(buffer, format="png", dpi=90, metadata={"Software": None})
+    return buffer.getvalue()
+
+
 def figure(recordings: Path) -> bytes:
     """docs/results/pre-reaching-course.png: the full-budget run's pre-reaching strategies over
-    its post-evaluated snapshots (``figures.strategy_figure``), as PNG bytes (no software
-    version written, so that the same data on the same matplotlib give the same bytes)."""
-    course = sc.course(load_development(recordings / FULL))
-    buffer = io.BytesIO()
-    strategy_figure(course, STILL_SHARE).savefig(buffer, format="png", dpi=90,
-                                                 metadata={"Software": None})
-    return buffer.getvalue()
+    its post-evaluated snapshots (``figures.strategy_figure``), as PNG bytes."""
+    return _png(strategy_figure(sc.course(load_development(recordings / FULL)), STILL_SHARE))
+
+
+def training_figure(recordings: Path) -> bytes:
+    """docs/results/pre-reaching-training.png: the full-budget run's pre-reaching fitness in
+    training, every generation, each replication marked by its strategy at the last
+    post-evaluated snapshot (``figures.training_by_strategy``), as PNG bytes."""
+    directory = recordings / FULL
+    course = sc.course(load_development(directory))
+    last = course.filter(pl.col("generation") == course["generation"].max())
+    strategies = dict(last.select("replication", "strategy").iter_rows())
+    return _png(training_by_strategy(RunDirectory.open(directory).stats, strategies, STILL,
+                                     window=GROWTH_WINDOW))

@@ -367,7 +367,9 @@ DOCS: dict[str, Callable[[Path], dict[str, str]]] = {"scene-study.md": scene_stu
 #: Each figure of the results docs: its path under docs/results and the function of the
 #: recordings directory giving its PNG bytes. Written by ``main``; not part of ``--check`` (a
 #: figure's bytes depend on matplotlib's version; its data are the doc's tables).
-FIGURES: dict[str, Callable[[Path], bytes]] = {"pre-reaching-course.png": course_page.figure}
+FIGURES: dict[str, Callable[[Path], bytes]] = {
+    "pre-reaching-course.png": course_page.figure,
+    "pre-reaching-training.png": course_page.training_figure}
 #: Each doc that is a table alone: its path under docs/results and the function of the
 #: recordings directory giving its text.
 TABLES: dict[str, Callable[[Path], str]] = {

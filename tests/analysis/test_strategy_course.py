@@ -6,11 +6,13 @@ from __future__ import annotations
 
 import math
 
+import numpy as np
 import polars as pl
 import pytest
 
 from dart_reach.analysis import strategy_course as sc
-from dart_reach.analysis.figures import STRATEGY_PANELS, strategy_figure
+from dart_reach.analysis.figures import (STRATEGY_PANELS, TRAINING_PANELS, strategy_figure,
+                                         training_by_strategy)
 from dart_reach.analysis.stillness import BABBLING, STILL, STILL_SHARE
 
 
@@ -146,6 +148,27 @@ def test_the_figure_draws_each_population_with_its_strategy():
         assert [len(f) for f in filled] == [2, 1] and [len(h) for h in hollow] == [1, 1]
         assert hollow[0][0][0] == 10 and hollow[1][0][0] == 1
     assert fig.axes[0].get_lines()[-1].get_ydata()[0] == STILL_SHARE
+
+
+def test_the_training_figure_draws_running_means_marked_by_strategy():
+    rng = np.random.default_rng(7)
+    stats = pl.DataFrame([{"phase": "pre", "replication": r, "generation": g,
+                           "best": float(rng.random()), "mean": float(rng.random())}
+                          for r in (0, 1) for g in range(1, 16)]
+                         + [{"phase": "gross", "replication": 0, "generation": 1,
+                             "best": 9.0, "mean": 9.0}])
+    fig = training_by_strategy(stats, {0: BABBLING, 1: STILL}, STILL, window=4)
+    for ax, column in zip(fig.axes, TRAINING_PANELS):
+        thick = {line.get_label(): line for line in ax.get_lines()
+                 if not line.get_label().startswith("_")}
+        assert set(thick) == {f"rep 0 ({BABBLING})", f"rep 1 ({STILL})"}
+        for r, label in enumerate(sorted(thick)):
+            raw = stats.filter((pl.col("replication") == r) & (pl.col("phase") == "pre"))
+            x, y = thick[label].get_data()
+            assert list(x) == list(range(4, 16))  # from the window-th generation on
+            assert list(y) == pytest.approx(np.convolve(raw[column], np.ones(4) / 4, "valid"))
+        assert thick[f"rep 0 ({BABBLING})"].get_linestyle() == "-"
+        assert thick[f"rep 1 ({STILL})"].get_linestyle() == "--"
 
 
 def test_the_verdicts_that_changed_between_judged_generations():

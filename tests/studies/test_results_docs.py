@@ -58,9 +58,11 @@ def test_a_change_in_the_data_changes_the_doc(tmp_path, capsys):
     assert (tmp_path / results_docs.OUT / "scene-study.md").read_text() != (
         ROOT / results_docs.OUT / "scene-study.md").read_text()
     assert results_docs.main([str(tmp_path), "--check"]) == 0
-    figure = tmp_path / results_docs.OUT / "pre-reaching-course.png"  # written beside the docs
-    assert figure.read_bytes() == course_page.figure(tmp_path / "recordings")
-    assert figure.read_bytes().startswith(b"\x89PNG")
+    for name, draw in (("pre-reaching-course.png", course_page.figure),
+                       ("pre-reaching-training.png", course_page.training_figure)):
+        figure = tmp_path / results_docs.OUT / name  # written beside the docs
+        assert figure.read_bytes() == draw(tmp_path / "recordings")
+        assert figure.read_bytes().startswith(b"\x89PNG")
 
 
 def test_a_placeholder_without_a_value_is_named():

@@ -7,7 +7,8 @@ Every figure function takes tables (the post-evaluation table of
 in a notebook, or ``fig.savefig(path)``).
 
 - ``training_curves`` (``training``): best and mean fitness per generation (not a paper
-  figure);
+  figure); ``training_by_strategy``: the same per replication of a phase, marked by the
+  population's strategy (``strategy_course``);
 - ``fig5_performance`` (``performance``): % grasped, % reached, reaching speed, straightness
   per phase;
 - ``fig6_distances_variability`` (``space``): hand-shoulder and hand-ball distance over 9
@@ -57,9 +58,9 @@ from .space import (BABBLING_MEASURES, FIG6_MEASURES, FIG8_TRIAL, SECTOR_CENTRE_
                     fig6_distances_variability, fig7_reach_regression, fig7_sector_maps,
                     fig8_babbling, fig8_trajectories)
 from .style import SENSES_COLOURS
-from .training import training_curves
+from .training import TRAINING_PANELS, training_by_strategy, training_curves
 
-__all__ = ["training_curves", "fig5_performance", "fig6_distances_variability",
+__all__ = ["training_curves", "training_by_strategy", "TRAINING_PANELS", "fig5_performance", "fig6_distances_variability",
            "fig7_sector_maps", "fig7_reach_regression", "fig8_trajectories", "fig8_babbling",
            "fig9_sensory_deprivation", "table1_behaviours", "fig10_conditions",
            "development_figure", "strategy_figure", "STRATEGY_PANELS", "budget_figure",

@@ -1,8 +1,9 @@
-"""Training: best and mean fitness per generation (not a paper figure)."""
+"""Training: best and mean fitness per generation (not paper figures)."""
 
 from __future__ import annotations
 
 import polars as pl
+from matplotlib import colormaps
 from matplotlib.figure import Figure
 
 from .style import phase_colours
@@ -55,4 +56,37 @@ def training_curves(stats_table: pl.DataFrame, phases: pl.DataFrame | None = Non
         ax.grid(alpha=0.3)
         if ax.get_legend_handles_labels()[0]:
             ax.legend(fontsize=9, loc="upper left", bbox_to_anchor=(1.01, 1.0))
+    return fig
+
+
+#: The panels of ``training_by_strategy`` (column of ``generations.parquet``: label).
+TRAINING_PANELS = {"mean": "population's mean fitness", "best": "best fitness"}
+
+
+def training_by_strategy(stats_table: pl.DataFrame, strategies: dict[int, str],
+                         still: str, window: int = 10, phase: str = "pre") -> Figure:
+    """The training's fitness of ``phase`` per replication, every generation
+    (``generations.parquet``; not a paper figure): one panel per ``TRAINING_PANELS``, each
+    replication a thin line of the raw values and a thick one of their running mean over
+    ``window`` generations (from the ``window``-th on), solid where ``strategies`` (the
+    replication's strategy at the last snapshot) is not ``still``, dashed where it is;
+    colours as ``strategy_figure``'s."""
+    rows = stats_table.filter(pl.col("phase") == phase).sort("replication", "generation")
+    fig = Figure(figsize=(8.5, 5.2), layout="constrained")
+    axes = fig.subplots(len(TRAINING_PANELS), 1, sharex=True)
+    cmap = colormaps["tab10"]
+    for ax, (column, label) in zip(axes, TRAINING_PANELS.items()):
+        for i, ((r,), line) in enumerate(rows.group_by("replication", maintain_order=True)):
+            colour = cmap(i % 10)
+            ax.plot(line["generation"], line[column], color=colour, linewidth=0.5, alpha=0.25)
+            smooth = line.select("generation", pl.col(column).rolling_mean(window)).drop_nulls()
+            ax.plot(smooth["generation"], smooth[column], color=colour, linewidth=1.4,
+                    linestyle="--" if strategies.get(r) == still else "-",
+                    label=f"rep {r} ({strategies.get(r, 'no snapshot')})")
+        ax.set_ylabel(label)
+        ax.grid(alpha=0.3)
+    axes[-1].set_xlabel(f"generation of {phase}-reaching (thick: running mean over {window}; "
+                        f"dashed: {still} at the last snapshot)")
+    handles, labels = axes[0].get_legend_handles_labels()
+    fig.legend(handles, labels, fontsize=7, loc="outside right upper")
     return fig
