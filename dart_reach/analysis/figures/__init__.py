@@ -60,7 +60,8 @@ from .space import (BABBLING_MEASURES, FIG6_MEASURES, FIG8_TRIAL, SECTOR_CENTRE_
 from .style import SENSES_COLOURS
 from .training import TRAINING_PANELS, training_by_strategy, training_curves
 
-__all__ = ["training_curves", "training_by_strategy", "TRAINING_PANELS", "fig5_performance", "fig6_distances_variability",
+__all__ = ["training_curves", "training_by_strategy", "TRAINING_PANELS", "fig5_performance",
+           "fig6_distances_variability",
            "fig7_sector_maps", "fig7_reach_regression", "fig8_trajectories", "fig8_babbling",
            "fig9_sensory_deprivation", "table1_behaviours", "fig10_conditions",
            "development_figure", "strategy_figure", "STRATEGY_PANELS", "budget_figure",
