@@ -27,12 +27,14 @@ from dart_reach.postevaluation.systematic import SENSES, evaluate_run, load_eval
 from dart_reach.evolution.rundir import RunDirectory
 from dart_reach.evolution.settings import Settings
 from dart_reach.evolution.trainer import train
+from dart_reach.postevaluation.snapshots import load_development
 
 NOTEBOOKS_DIR = Path(__file__).resolve().parents[1] / "notebooks"
 NOTEBOOKS = ("fig5_performance.ipynb", "fig6_distances_variability.ipynb",
              "fig7_sector_maps.ipynb", "fig8_trajectories.ipynb",
              "fig9_sensory_deprivation.ipynb", "fig10_conditions.ipynb")
 ABLATION = "ablation.ipynb"
+STRATEGIES = "strategies.ipynb"  # reads the committed full-budget run, not the tiny one
 PHASES = ["pre", "gross", "fine"]
 
 
@@ -208,9 +210,10 @@ def test_fig10s_titles_neither_overlap_nor_leave_the_figure():
 # ------------------------------------------------------------------------------ notebooks
 
 def test_the_notebooks_are_saved_without_outputs():
-    assert sorted(p.name for p in NOTEBOOKS_DIR.glob("*.ipynb")) == sorted((*NOTEBOOKS, ABLATION))
+    every = (*NOTEBOOKS, ABLATION, STRATEGIES)
+    assert sorted(p.name for p in NOTEBOOKS_DIR.glob("*.ipynb")) == sorted(every)
     assert (NOTEBOOKS_DIR / "README.md").is_file()
-    for name in (*NOTEBOOKS, ABLATION):
+    for name in every:
         nb = nbformat.read(NOTEBOOKS_DIR / name, as_version=4)
         nbformat.validate(nb)
         assert nb.cells[0].cell_type == "markdown" and "Savastano" in nb.cells[0].source
@@ -218,8 +221,8 @@ def test_the_notebooks_are_saved_without_outputs():
         assert all(c.outputs == [] and c.execution_count is None for c in code), name
         params = [c for c in code if "parameters" in c.metadata.get("tags", [])]
         assert len(params) == 1, name
-        env = {"fig10_conditions.ipynb": "DART_REACH_RUNS",
-               ABLATION: "DART_REACH_ABLATION"}.get(name, "DART_REACH_RUN")
+        env = {"fig10_conditions.ipynb": "DART_REACH_RUNS", ABLATION: "DART_REACH_ABLATION",
+               STRATEGIES: "DART_REACH_COURSE_RUN"}.get(name, "DART_REACH_RUN")
         assert f'os.environ.get("{env}"' in params[0].source, name
 
 
@@ -235,7 +238,7 @@ def _literal(node) -> bool:
         return False
 
 
-@pytest.mark.parametrize("name", (*NOTEBOOKS, ABLATION))
+@pytest.mark.parametrize("name", (*NOTEBOOKS, ABLATION, STRATEGIES))
 def test_parameters_in_the_parameters_cell_and_no_unused_import(name):
     """Papermill-style: every setting a reader may change (an upper-case name given a literal)
     is in the parameters cell, so that a cell injected after it overrides it; and every
@@ -325,6 +328,30 @@ def test_the_ablation_notebook_builds_trains_evaluates_and_compares(tmp_path, mo
     table = load_evaluation(out)
     assert table.height == 5 * 2 * 45 and (table["rank"] == 0).all()
     assert (out / "report.html").is_file()
+
+
+def test_the_strategies_notebook_follows_the_committed_full_budget_run(monkeypatch):
+    """notebooks/strategies.ipynb on the run it defaults to, committed with the repository:
+    the course, both figures and Eq. 5's snapshots taken apart, in a real kernel."""
+    monkeypatch.delenv("DART_REACH_COURSE_RUN", raising=False)
+    monkeypatch.setenv("MPLBACKEND", "Agg")
+    nb = nbformat.read(NOTEBOOKS_DIR / STRATEGIES, as_version=4)
+    nb.cells.append(nbformat.v4.new_code_cell(
+        "import json\nprint(json.dumps({'run': str(RUN_DIR), 'rows': course.height, "
+        "'taken_apart': list(taken_apart)}))"))
+    client = nbclient.NotebookClient(nb, timeout=300, kernel_name="python3",
+                                     resources={"metadata": {"path": str(NOTEBOOKS_DIR)}})
+    client.execute()
+    outputs = [o for c in nb.cells if c.cell_type == "code" for o in c.outputs]
+    assert not [o for o in outputs if o.output_type == "error"]
+    assert len([o for o in outputs if "image/png" in o.get("data", {})]) == 2
+    run = NOTEBOOKS_DIR.parent / "recordings" / "standard-500x10"
+    development = load_development(run)
+    last = json.loads(nb.cells[-1].outputs[0]["text"])
+    assert last["run"] == str(run)
+    assert last["rows"] == development.select("replication", "generation").n_unique()
+    terms = pl.read_parquet(run / "fitness-terms.parquet")
+    assert last["taken_apart"] == sorted(terms["generation"].unique().to_list())
 
 
 def test_condition_trials_keeps_same_named_phases_of_other_conditions_apart(tmp_path):

@@ -208,12 +208,11 @@ def values(recordings: Path, markdown_table) -> dict[str, str]:
     return out
 
 
-def budget_tables(recordings: Path) -> dict[int, dict[str, pl.DataFrame]]:
-    """Per snapshot generation in ``FULL``'s Eq. 5 table (``--generation``): ``by_strategy``
-    and ``compare`` (``analysis.stillness``; None when one strategy has every population),
-    each population's strategy by the same rule as at 50 generations, from the snapshot's
-    normal trials in development.parquet."""
-    run_dir = recordings / FULL
+def budget_tables(run_dir: Path) -> dict[int, dict[str, pl.DataFrame]]:
+    """Per snapshot generation in a run's Eq. 5 table (``FULL``'s: ``--generation``):
+    ``by_strategy`` and ``compare`` (``analysis.stillness``; None when one strategy has every
+    population), each population's strategy by the same rule as at 50 generations, from the
+    snapshot's normal trials in development.parquet; empty without the table."""
     terms = results.read_table(run_dir / TABLE)
     if terms is None:
         return {}
@@ -236,7 +235,7 @@ def budget_values(recordings: Path, markdown_table) -> dict[str, str]:
     ``FULL``'s snapshots taken apart (``budget_tables``): the means per strategy and the
     replication-as-unit comparison, each with a generation column, and per generation which
     of the page's statements (``stillness.STATED``) its means contradict."""
-    tables_ = budget_tables(recordings)
+    tables_ = budget_tables(recordings / FULL)
     if not tables_:
         return {"budget.generations": "none yet",
                 "budget.body": "Nothing taken apart yet: no snapshot's rows in the table."}
