@@ -274,24 +274,33 @@ def test_run_paths_resolve_from_the_repository_root(tmp_path, monkeypatch):
     assert tables.repository_path("recordings/x") == tmp_path / "recordings/x"
 
 
+def _execute(nb, last_cell: str, timeout: int = 300) -> tuple[list, dict]:
+    """Run notebook ``nb`` with ``last_cell`` appended (it prints one JSON line) in a real
+    kernel of this environment from notebooks/: every output, none an error, and the JSON."""
+    nb.cells.append(nbformat.v4.new_code_cell(last_cell))
+    client = nbclient.NotebookClient(nb, timeout=timeout, kernel_name="python3",
+                                     resources={"metadata": {"path": str(NOTEBOOKS_DIR)}})
+    client.execute()  # raises CellExecutionError on any error
+    outputs = [o for c in nb.cells if c.cell_type == "code" for o in c.outputs]
+    assert not [o for o in outputs if o.output_type == "error"]
+    return outputs, json.loads(nb.cells[-1].outputs[0]["text"])
+
+
+def _images(outputs: list) -> int:
+    return len([o for o in outputs if "image/png" in o.get("data", {})])
+
+
 @pytest.mark.parametrize("name", NOTEBOOKS)
 def test_notebook_runs(name, tiny_run, monkeypatch):
     monkeypatch.setenv("DART_REACH_RUN", str(tiny_run))
     monkeypatch.setenv("DART_REACH_RUNS", str(tiny_run))
     monkeypatch.setenv("MPLBACKEND", "Agg")  # the notebooks switch to inline themselves
-    nb = nbformat.read(NOTEBOOKS_DIR / name, as_version=4)
-    nb.cells.append(nbformat.v4.new_code_cell(
-        "import json, sys\nprint(json.dumps({'prefix': sys.prefix, 'run': "
-        "[str(d) for d in RUN_DIRS] if 'RUN_DIRS' in globals() else str(RUN_DIR)}))"))
-    client = nbclient.NotebookClient(nb, timeout=300, kernel_name="python3",
-                                     resources={"metadata": {"path": str(NOTEBOOKS_DIR)}})
-    client.execute()  # raises CellExecutionError on any error
-    outputs = [o for c in nb.cells if c.cell_type == "code" for o in c.outputs]
-    assert not [o for o in outputs if o.output_type == "error"]
-    images = [o for o in outputs if "image/png" in o.get("data", {})]
-    assert images, f"{name} shows no image"
+    outputs, last = _execute(nbformat.read(NOTEBOOKS_DIR / name, as_version=4),
+                             "import json, sys\nprint(json.dumps({'prefix': sys.prefix, 'run': "
+                             "[str(d) for d in RUN_DIRS] if 'RUN_DIRS' in globals() "
+                             "else str(RUN_DIR)}))")
+    assert _images(outputs), f"{name} shows no image"
     # the kernel is this environment's Python, and read the run of the environment variable
-    last = json.loads(nb.cells[-1].outputs[0]["text"])
     assert last["prefix"] == sys.prefix
     assert last["run"] in (str(tiny_run), [str(tiny_run)])
 
@@ -307,16 +316,10 @@ def test_the_ablation_notebook_builds_trains_evaluates_and_compares(tmp_path, mo
     params = next(i for i, c in enumerate(nb.cells) if "parameters" in c.metadata.get("tags", []))
     nb.cells.insert(params + 1, nbformat.v4.new_code_cell(
         "GENERATIONS, REPLICATIONS, TRIALS, STEPS = 1, 2, 1, 4"))
-    nb.cells.append(nbformat.v4.new_code_cell(
-        "import json\nprint(json.dumps({'pairs': statistics['pairs'].filter(same_phase)"
-        "[['a', 'b']].rows(), 'groups': statistics['summary']['group'].to_list()}))"))
-    client = nbclient.NotebookClient(nb, timeout=600, kernel_name="python3",
-                                     resources={"metadata": {"path": str(NOTEBOOKS_DIR)}})
-    client.execute()
-    outputs = [o for c in nb.cells if c.cell_type == "code" for o in c.outputs]
-    assert not [o for o in outputs if o.output_type == "error"]
-    assert len([o for o in outputs if "image/png" in o.get("data", {})]) >= 2  # training, Fig. 10
-    last = json.loads(nb.cells[-1].outputs[0]["text"])
+    outputs, last = _execute(nb, "import json\nprint(json.dumps({'pairs': statistics['pairs']"
+                             ".filter(same_phase)[['a', 'b']].rows(), 'groups': "
+                             "statistics['summary']['group'].to_list()}))", timeout=600)
+    assert _images(outputs) >= 2  # training, Fig. 10
     assert last["groups"] == ["pre", "gross", "fine", "gross (no reflexes)",
                               "fine (no reflexes)"]
     assert sorted(map(sorted, last["pairs"])) == [["fine", "fine (no reflexes)"],
@@ -335,19 +338,12 @@ def test_the_strategies_notebook_follows_the_committed_full_budget_run(monkeypat
     the course, both figures and Eq. 5's snapshots taken apart, in a real kernel."""
     monkeypatch.delenv("DART_REACH_COURSE_RUN", raising=False)
     monkeypatch.setenv("MPLBACKEND", "Agg")
-    nb = nbformat.read(NOTEBOOKS_DIR / STRATEGIES, as_version=4)
-    nb.cells.append(nbformat.v4.new_code_cell(
-        "import json\nprint(json.dumps({'run': str(RUN_DIR), 'rows': course.height, "
-        "'taken_apart': list(taken_apart)}))"))
-    client = nbclient.NotebookClient(nb, timeout=300, kernel_name="python3",
-                                     resources={"metadata": {"path": str(NOTEBOOKS_DIR)}})
-    client.execute()
-    outputs = [o for c in nb.cells if c.cell_type == "code" for o in c.outputs]
-    assert not [o for o in outputs if o.output_type == "error"]
-    assert len([o for o in outputs if "image/png" in o.get("data", {})]) == 2
+    outputs, last = _execute(nbformat.read(NOTEBOOKS_DIR / STRATEGIES, as_version=4),
+                             "import json\nprint(json.dumps({'run': str(RUN_DIR), 'rows': "
+                             "course.height, 'taken_apart': list(taken_apart)}))")
+    assert _images(outputs) == 2
     run = NOTEBOOKS_DIR.parent / "recordings" / "standard-500x10"
     development = load_development(run)
-    last = json.loads(nb.cells[-1].outputs[0]["text"])
     assert last["run"] == str(run)
     assert last["rows"] == development.select("replication", "generation").n_unique()
     terms = pl.read_parquet(run / "fitness-terms.parquet")
