@@ -44,6 +44,9 @@ POSITIONS, OTHER_CONDITIONS = N_SECTORS * POINTS_PER_SECTOR, len(TESTS) - 1
 #: level, and the generations of each of the two windows over which growth is measured.
 FITNESS = {"fitness": "post-evaluation fitness", "lifetime_fitness": "training's best"}
 ALPHA, GROWTH_WINDOW = 0.05, 10
+#: A longer window beside the issue's 10 generations: the trend under the generation-to-
+#: generation noise of the population's mean fitness.
+LONG_WINDOW = 50
 
 
 def cost_values(run: RunDirectory, generations: int) -> dict[str, str]:
@@ -122,8 +125,8 @@ def with_terms(run_dir: Path, evaluation: pl.DataFrame) -> pl.DataFrame:
 def fitness_values(course: pl.DataFrame, stats: pl.DataFrame) -> dict[str, str]:
     """The page's "Are the two strategies equally fit?": the strategies' fitness per snapshot
     (``strategy_course.fitness_by_strategy``) and the populations' growth over the last 20
-    generations trained (``strategy_course.growth`` on the run's ``stats``), with the
-    strategy of each population at the last snapshot."""
+    generations trained and over the last 2 x ``LONG_WINDOW`` (``strategy_course.growth`` on
+    the run's ``stats``), with the strategy of each population at the last snapshot."""
     fit = sc.fitness_by_strategy(course)
     tested = fit.filter(pl.col("smallest_p") < ALPHA)
     said = []
@@ -144,16 +147,29 @@ def fitness_values(course: pl.DataFrame, stats: pl.DataFrame) -> dict[str, str]:
     rising = rising.join(last.select("replication", "strategy"), on="replication", how="left")
     up = rising.filter(pl.col("ratio") > 1)
     end = int(rising["last"].min())
+    long_ = f"now / before over {LONG_WINDOW}"
+    if end >= 2 * LONG_WINDOW:
+        longer = sc.growth(stats, window=LONG_WINDOW)
+        rising = rising.join(longer.select("replication", pl.col("ratio").alias(long_)),
+                             on="replication", how="left")
+        long_summary = (f"; over generations {end - 2 * LONG_WINDOW + 1}-{end - LONG_WINDOW} "
+                        f"and {end - LONG_WINDOW + 1}-{end}, {(longer['ratio'] > 1).sum()} of "
+                        f"{longer.height} rose (x{longer['ratio'].min():.2f}-"
+                        f"{longer['ratio'].max():.2f}; column '{long_}')")
+    else:
+        rising = rising.with_columns(pl.lit(None, pl.Float64).alias(long_))
+        long_summary = f"; {2 * LONG_WINDOW} generations are not yet trained for the longer view"
     return {
         "fitness_summary": summary, "fitness_table": markdown_table(fit.rename(headings)),
         "growth_window": f"{end - 2 * GROWTH_WINDOW + 1}-{end - GROWTH_WINDOW} and "
                          f"{end - GROWTH_WINDOW + 1}-{end}",
         "growth_summary": f"{up.height} of {rising.height} populations' mean fitness rose "
                           f"(x{rising['ratio'].min():.2f}-{rising['ratio'].max():.2f} over "
-                          f"all {rising.height})",
+                          f"all {rising.height}){long_summary}",
         "growth_table": markdown_table(rising.select(
             "replication", "strategy", pl.col("mean_before").alias("mean fitness before"),
-            pl.col("mean_now").alias("mean fitness now"), pl.col("ratio").alias("now / before"))),
+            pl.col("mean_now").alias("mean fitness now"), pl.col("ratio").alias("now / before"),
+            long_)),
     }
 
 

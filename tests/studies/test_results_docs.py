@@ -10,10 +10,12 @@ from pathlib import Path
 import polars as pl
 import pytest
 
+from dart_reach.analysis import strategy_course as sc
 from dart_reach.analysis.budgets import Budget
 from dart_reach.evolution.rundir import RunDirectory
 from dart_reach.evolution.settings import snapshot_due
 from dart_reach.postevaluation import results
+from dart_reach.postevaluation.snapshots import load_development
 from dart_reach.studies import course_page, results_docs
 
 ROOT = Path(__file__).resolve().parents[2]
@@ -167,6 +169,21 @@ def test_the_course_page_says_when_the_strategies_last_changed():
         "The last change came at generation 20 (replication 0), the last snapshot.")
     assert course_page.settled(turns.filter(pl.col("replication") == 1), [1, 10]) == (
         "No population changed strategy between snapshots.")
+
+
+def test_the_course_page_gives_the_growth_over_a_longer_window_once_it_is_trained():
+    directory = ROOT / "recordings" / course_page.FULL
+    stats = RunDirectory.open(directory).stats
+    course = sc.course(load_development(directory))
+    long_ = course_page.LONG_WINDOW
+    rows = course_page.fitness_values(course, stats)["growth_table"].splitlines()[2:]
+    longer = sc.growth(stats, window=long_)
+    assert [float(r.strip("| ").split(" | ")[-1]) for r in rows] == pytest.approx(
+        longer["ratio"].to_list(), rel=5e-3)
+    early = course_page.fitness_values(course, stats.filter(pl.col("generation") < 2 * long_))
+    assert f"{2 * long_} generations are not yet trained" in early["growth_summary"]
+    assert all(r.strip("| ").split(" | ")[-1] == "–"
+               for r in early["growth_table"].splitlines()[2:])
 
 
 def test_the_course_page_costs_the_snapshots_the_run_keeps():
