@@ -102,6 +102,12 @@ def switches(course_table: pl.DataFrame) -> pl.DataFrame:
                                       "came_back": pl.Boolean, "last_change": pl.Int64})
 
 
+def last_strategies(course_table: pl.DataFrame) -> pl.DataFrame:
+    """``replication`` and ``strategy`` at the last snapshot of ``course``'s table."""
+    return (course_table.filter(pl.col("generation") == pl.col("generation").max())
+            .select("replication", "strategy"))
+
+
 def still_by_line(course_table: pl.DataFrame, lines: Sequence[float] = LINES
                   ) -> pl.DataFrame:
     """Per snapshot of ``course``'s table, how many populations would be still were the

@@ -143,8 +143,7 @@ def fitness_values(course: pl.DataFrame, stats: pl.DataFrame) -> dict[str, str]:
                 **{f"p_{c}": f"{h}: p" for c, h in FITNESS.items()},
                 "smallest_p": "smallest p possible"}
     rising = sc.growth(stats, window=GROWTH_WINDOW)
-    last = course.filter(pl.col("generation") == course["generation"].max())
-    rising = rising.join(last.select("replication", "strategy"), on="replication", how="left")
+    rising = rising.join(sc.last_strategies(course), on="replication", how="left")
     up = rising.filter(pl.col("ratio") > 1)
     end = int(rising["last"].min())
     long_ = f"now / before over {LONG_WINDOW}"
@@ -298,7 +297,6 @@ def training_figure(recordings: Path) -> bytes:
     post-evaluated snapshot (``figures.training_by_strategy``), as PNG bytes."""
     directory = recordings / FULL
     course = sc.course(load_development(directory))
-    last = course.filter(pl.col("generation") == course["generation"].max())
-    strategies = dict(last.select("replication", "strategy").iter_rows())
+    strategies = dict(sc.last_strategies(course).iter_rows())
     return _png(training_by_strategy(RunDirectory.open(directory).stats, strategies, STILL,
                                      window=GROWTH_WINDOW))
