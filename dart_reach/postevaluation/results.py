@@ -10,12 +10,16 @@ state for the runs the docs cite (docs/guides/runs.md, "Results"):
 
 Storage: zstd parquet, in one file, or where that file would be over ``PART_BYTES`` (a tracked
 file may have at most 5 MB) in parts, ``<name>/part-000.parquet``, ``part-001`` ...
-(consecutive rows, each part with the table's provenance), which ``read_table`` reads as the
-one table they are. Every floating-point measure is stored as float32 (7 significant digits:
-far finer than any measure's meaning; it halves the files) and read back as float64, so a table
-evaluated anywhere and a committed one hold the same numbers to the last bit. Tables written
-before this format (float64; the baseline inside evaluation.parquet) are read as they are and
-rewritten in it the next time rows are added.
+(consecutive rows), which ``read_table`` reads as the one table they are. A part is written
+once and kept as it is while its rows stay the table's: rows added go into new parts (the last
+part joins them while it is small), so a table that grows snapshot by snapshot adds little more
+than its new rows to a repository's history, and rows already saved in a full part are never
+rewritten to add others. The last part holds the provenance of every session; an earlier part,
+that of the sessions up to its own. Every floating-point measure is stored as float32 (7
+significant digits: far finer than any measure's meaning; it halves the files) and read back as
+float64, so a table evaluated anywhere and a committed one hold the same numbers to the last
+bit. Tables written before this format (float64; the baseline inside evaluation.parquet) are
+read as they are and rewritten in it the next time rows are added.
 
 Provenance: the parquet file's key-value metadata ``dart_reach`` holds a JSON object
 ``{"format": FORMAT, "sessions": [...]}``: one entry per session that added rows (``Session``:
@@ -62,7 +66,9 @@ def stored_files(path: str | os.PathLike) -> list[Path]:
     """The files the table at ``path`` is stored in: the file itself, else its parts in order
     (empty: no table)."""
     path = Path(path)
-    return [path] if path.is_file() else sorted(parts_folder(path).glob("part-*.parquet"))
+    if path.is_file():
+        return [path]
+    return sorted(parts_folder(path).glob("part-*.parquet"), key=lambda p: int(p.stem[5:]))
 
 
 def exists(path: str | os.PathLike) -> bool:
@@ -103,25 +109,26 @@ def read_table(path: str | os.PathLike) -> pl.DataFrame | None:
 
 def sessions(path: str | os.PathLike) -> list[dict]:
     """The provenance entries of the table at ``path`` (empty for a table written before
-    provenance was recorded, or none)."""
+    provenance was recorded, or none): those of its file, or of its last part."""
     files = stored_files(path)
     if not files:
         return []
     try:
-        meta = pl.read_parquet_metadata(files[0])
+        meta = pl.read_parquet_metadata(files[-1])
     except Exception as exc:
-        raise RunError(f"{files[0]}: unreadable ({exc})") from None
+        raise RunError(f"{files[-1]}: unreadable ({exc})") from None
     return json.loads(meta[_META])["sessions"] if _META in meta else []
 
 
 def is_current(path: str | os.PathLike) -> bool:
-    """True when the table at ``path`` is stored in the current ``FORMAT``."""
+    """True when the table at ``path`` is stored in the current ``FORMAT`` (every part)."""
     files = stored_files(path)
     try:
-        meta = pl.read_parquet_metadata(files[0])
+        metas = [pl.read_parquet_metadata(f) for f in files]
     except Exception:
         return False
-    return _META in meta and json.loads(meta[_META]).get("format") == FORMAT
+    return bool(metas) and all(_META in m and json.loads(m[_META]).get("format") == FORMAT
+                               for m in metas)
 
 
 def _stored(frame: pl.DataFrame) -> pl.DataFrame:
@@ -134,27 +141,54 @@ def quantised(frame: pl.DataFrame) -> pl.DataFrame:
     return frame.with_columns(pl.col(pl.Float64).cast(pl.Float32).cast(pl.Float64))
 
 
+def _kept_parts(parts: list[Path], stored: pl.DataFrame) -> tuple[list[Path], int]:
+    """The leading ``parts`` whose rows are the first rows of ``stored`` as they are, and how
+    many rows they hold; the last is left out, to be written again with the rows after it,
+    when they hold every row (the new provenance) or when it is under a quarter of
+    ``PART_BYTES`` (so that a table growing a little at a time is not split into as many
+    small parts)."""
+    kept, heights = [], []
+    for part in parts:
+        rows = pl.read_parquet(part)
+        start = sum(heights)
+        if start + rows.height > stored.height or not rows.equals(
+                stored.slice(start, rows.height)):
+            break
+        kept.append(part)
+        heights.append(rows.height)
+    if kept and (sum(heights) == stored.height or kept[-1].stat().st_size < PART_BYTES / 4):
+        kept.pop()
+        heights.pop()
+    return kept, sum(heights)
+
+
 def write_table(path: Path, table: pl.DataFrame, entries: Sequence[dict]) -> None:
     """Write ``table`` (float64 columns stored as float32) with its provenance ``entries``,
     each file atomically: in one file, or in parts of consecutive rows when one file would be
-    over ``PART_BYTES`` (the other form, if any, removed after)."""
+    over ``PART_BYTES``, keeping the parts already stored whose rows are the table's first
+    rows unchanged and writing the rest in new ones (the other form, and parts no longer
+    the table's, removed after)."""
     meta = {_META: json.dumps({"format": FORMAT, "sessions": list(entries)})}
     stored = _stored(table)
     buffer = io.BytesIO()
     stored.write_parquet(buffer, metadata=meta)
     path, folder = Path(path), parts_folder(path)
-    old = [f for f in stored_files(path) if f != path] if not path.is_file() else [path]
+    old = stored_files(path)
     if buffer.tell() <= PART_BYTES:
         atomic_write(path, lambda p: p.write_bytes(buffer.getvalue()))
         written = [path]
     else:
-        count = math.ceil(buffer.tell() / (0.8 * PART_BYTES))
-        size = math.ceil(stored.height / count)
+        written, start = _kept_parts([] if path.is_file() else old, stored)
+        rest = stored.slice(start)
+        rest_buffer = io.BytesIO()
+        rest.write_parquet(rest_buffer)
+        count = math.ceil(rest_buffer.tell() / (0.8 * PART_BYTES))
+        size = math.ceil(rest.height / count)
         folder.mkdir(parents=True, exist_ok=True)
-        written = []
+        first = int(written[-1].stem[5:]) + 1 if written else 0
         for i in range(count):
-            part = folder / f"part-{i:03d}.parquet"
-            atomic_write(part, lambda p, i=i: stored.slice(i * size, size).write_parquet(
+            part = folder / f"part-{first + i:03d}.parquet"
+            atomic_write(part, lambda p, i=i: rest.slice(i * size, size).write_parquet(
                 p, metadata=meta))
             written.append(part)
     for stale in set(old) - set(written):
@@ -183,7 +217,8 @@ def save_table(path: Path, table: pl.DataFrame | None, rows: list[dict], key: Se
                         ).with_columns(pl.lit(index, pl.Int16).alias("session"))
         entries[index]["rows"] = entries[index].get("rows", 0) + new.height
         if table is not None:
-            table = table.join(new.select(key).unique(), on=list(key), how="anti")
+            table = table.with_row_index("_row").join(  # in order: its parts stay
+                new.select(key).unique(), on=list(key), how="anti").sort("_row").drop("_row")
         table = new if table is None else pl.concat([table, new], how="diagonal_relaxed")
     write_table(path, table, entries)
     return table

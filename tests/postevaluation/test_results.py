@@ -112,6 +112,53 @@ def test_a_large_table_is_stored_in_parts_and_read_as_one(tmp_path, monkeypatch)
     assert not results.exists(tmp_path / "none.parquet")
 
 
+def test_a_growing_table_keeps_its_full_parts_and_writes_only_what_is_new(tmp_path, monkeypatch):
+    """A table in parts that grows (a snapshot's trials at a time, through ``save_table``)
+    keeps the parts it has, byte for byte, and writes only its new rows, the last part joining
+    them while it is small; the last part holds every session's provenance; a row replaced in
+    the first part rewrites the parts from there on; read back, it is always the one table."""
+    import numpy as np
+
+    rng = np.random.default_rng(1)
+    monkeypatch.setattr(results, "PART_BYTES", 200_000)
+    path, key = tmp_path / results.DEVELOPMENT, ("generation", "trial")
+
+    def snapshot(generation: int, n: int, start: int = 0) -> list[dict]:
+        return [{"generation": generation, "trial": start + t, "speed": float(x)}
+                for t, x in enumerate(rng.normal(size=n))]
+
+    def stored() -> dict[str, bytes]:
+        return {p.name: p.read_bytes() for p in results.stored_files(path)}
+
+    def entry(n: int) -> dict:
+        return {"pid": n, "started": str(n), "rows": 0}
+
+    everything = snapshot(1, 60_000)
+    table = results.save_table(path, None, everything, key, entry(1))
+    first = stored()
+    assert not path.exists() and len(first) >= 2
+    for n in (2, 3, 4):
+        rows = snapshot(n, 1_000)
+        everything += rows
+        table = results.save_table(path, table, rows, key, entry(n))
+        now = stored()
+        assert {k: v for k, v in now.items() if k in first and k != max(first)} == {
+            k: v for k, v in first.items() if k != max(first)}  # the full parts: untouched
+        assert len(now) <= len(first) + 1  # the small new rows share one part
+        assert results.read_table(path).drop("session").equals(
+            results.quantised(pl.DataFrame(everything)))
+        assert [e["pid"] for e in results.sessions(path)] == list(range(1, n + 1))
+        assert all(p.stat().st_size <= 200_000 for p in results.stored_files(path))
+    again = snapshot(1, 1, start=5)  # trial 5 of generation 1 measured again
+    table = results.save_table(path, table, again, key, entry(5))
+    now = stored()
+    assert now[min(now)] != first[min(first)]  # the first part lost a row: written again
+    assert sorted(now) == [f"part-{i:03d}.parquet" for i in range(len(now))]  # none stale
+    expected = [r for r in everything if (r["generation"], r["trial"]) != (1, 5)] + again
+    assert results.read_table(path).drop("session").equals(
+        results.quantised(pl.DataFrame(expected)))
+
+
 def test_every_committed_table_file_is_under_5_mb():
     from pathlib import Path
 
