@@ -123,7 +123,7 @@ def test_workers_above_the_cores_are_refused():
                          f"{cores()} cores")
 
 
-def test_report_needs_a_post_evaluation_and_an_existing_directory(tmp_path):
+def test_report_needs_a_post_evaluation_and_an_existing_directory(tmp_path, monkeypatch):
     run = tmp_path / "run"
     assert _cli("train", "standard", "--generations", "1", *TINY, "--out", run).returncode == 0
     _one_line_exit_2(_cli("report", run), "not post-evaluated",
@@ -135,6 +135,16 @@ def test_report_needs_a_post_evaluation_and_an_existing_directory(tmp_path):
     _one_line_exit_2(_cli("report", run, "--out", tmp_path / "nowhere" / "r.html"),
                      "no such directory", "--out")
     assert not (tmp_path / "nowhere").exists()
+    # a post-evaluation stored in parts (a large table) is one too
+    from dart_reach.postevaluation import results
+
+    table = run / "evaluation.parquet"
+    frame, entries = results.read_table(table), results.sessions(table)
+    monkeypatch.setattr(results, "PART_BYTES", 1_000)
+    results.write_table(table, frame, entries)
+    assert not table.exists() and len(results.stored_files(table)) >= 2
+    _one_line_exit_2(_cli("report", run, "--out", tmp_path / "nowhere" / "r.html"),
+                     "no such directory", "--out")
     # and a resume with another budget names the setting that differs
     _one_line_exit_2(_cli("train", "standard", "--generations", "1", *TINY[:-6],
                           "--steps", "3", *TINY[-4:], "--out", run, "--resume"),

@@ -51,7 +51,7 @@ def register_evaluate(subparsers) -> None:
 def cmd_evaluate(args) -> int:
     import polars as pl
 
-    from ..postevaluation.results import BASELINE
+    from ..postevaluation.results import BASELINE, rows
     from ..postevaluation.systematic import (BLUEPRINT, RECORDINGS, TABLE, evaluate_run,
                                              finished_phases, parse_senses)
 
@@ -78,7 +78,7 @@ def cmd_evaluate(args) -> int:
         # every robot whose trials were collected is saved, reported or not: a stop signal can
         # land between a robot's trials and its progress line
         path = Path(args.run_dir) / TABLE
-        saved = pl.scan_parquet(path).select(pl.len()).collect().item() if path.is_file() else 0
+        saved = rows(path)
         print(f"\ninterrupted: {saved} trials are saved in {path}; run the same command "
               f"again to evaluate the rest", file=sys.stderr)
         return interrupted(exc)

@@ -30,12 +30,13 @@ def register_report(subparsers) -> None:
 
 def cmd_report(args) -> int:
     from ..analysis import report
+    from ..postevaluation.results import exists
     from ..postevaluation.systematic import TABLE
     from ..evolution.rundir import RunDirectory
 
     for run_dir in args.run_dirs:
         RunDirectory.open(run_dir)  # one clear line for a path that is not a run
-        if not (run_dir / TABLE).is_file():
+        if not exists(run_dir / TABLE):
             raise ValueError(
                 f"{run_dir}: not post-evaluated yet (no {TABLE}), and the report's findings and "
                 f"figures come from the post-evaluation; run first: "

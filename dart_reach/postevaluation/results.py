@@ -76,6 +76,12 @@ def exists(path: str | os.PathLike) -> bool:
     return bool(stored_files(path))
 
 
+def rows(path: str | os.PathLike) -> int:
+    """How many rows the table at ``path`` holds, over its parts (0: no table); read from the
+    files' metadata, not their data."""
+    return sum(pl.scan_parquet(f).select(pl.len()).collect().item() for f in stored_files(path))
+
+
 def session(command: str | None = None) -> dict:
     """This process's provenance entry: ``revision`` (git commit of the package's source, or
     None outside a git tree), ``dirty``, ``version``, ``command`` (default: the command line),

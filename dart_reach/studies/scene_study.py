@@ -26,7 +26,8 @@ from scipy import stats as sps
 from ..analysis import stats, summaries, verdicts
 from ..evolution.rundir import RunDirectory
 from ..model.scenes import scene_of
-from ..postevaluation.systematic import load_evaluation
+from ..postevaluation.results import exists
+from ..postevaluation.systematic import TABLE, load_evaluation
 
 #: F1's measures (column, label): the reach and grasp rates, when the first touch comes, the
 #: arm's extension and lever, the joints' use (normalised by each joint's range), babbling.
@@ -221,7 +222,7 @@ def figure(table: pl.DataFrame, sectors: pl.DataFrame):
 
 def study_runs(study: Path) -> list[Path]:
     """The post-evaluated scene runs in ``study``, by name."""
-    return sorted(d for d in Path(study).iterdir() if (d / "evaluation.parquet").is_file())
+    return sorted(d for d in Path(study).iterdir() if exists(d / TABLE))
 
 
 def tables_text(runs: Sequence[Path]) -> str:

@@ -103,13 +103,14 @@ def test_a_large_table_is_stored_in_parts_and_read_as_one(tmp_path, monkeypatch)
                for p in parts)
     assert results.exists(path) and results.is_current(path)
     assert results.read_table(path).equals(results.quantised(table))
-    assert results.sessions(path) == [entry]
+    assert results.sessions(path) == [entry] and results.rows(path) == table.height
     monkeypatch.setattr(results, "PART_BYTES", 50_000_000)
     results.write_table(path, table.head(10), [entry])
     assert results.stored_files(path) == [path] and not results.parts_folder(path).exists()
     assert results.read_table(path).equals(results.quantised(table.head(10)))
     assert results.read_table(tmp_path / "none.parquet") is None
     assert not results.exists(tmp_path / "none.parquet")
+    assert results.rows(path) == 10 and results.rows(tmp_path / "none.parquet") == 0
 
 
 def test_a_growing_table_keeps_its_full_parts_and_writes_only_what_is_new(tmp_path, monkeypatch):
