@@ -102,6 +102,16 @@ def settled(turns: pl.DataFrame, generations: list[int]) -> str:
             f"({since[0]}-{since[-1]}) every population kept its strategy.")
 
 
+def still_to_know(last: int, of: int) -> str:
+    """When the question is next answered, given the ``last`` snapshot post-evaluated and the
+    phase's ``of`` generations: at ``ROUND_END`` (this round's end, issue 48) and at ``of``,
+    or, past ``ROUND_END``, at ``of`` alone."""
+    if last < ROUND_END:
+        return (f"Whether this holds is known at generation {ROUND_END} (this round's end) "
+                f"and at {of}.")
+    return f"Whether it holds to generation {of} is known when pre-reaching ends there."
+
+
 def kinds(table: pl.DataFrame) -> tuple[int, int]:
     """(babbling, still) populations of a table with a ``strategy`` column."""
     return tuple(table.filter(pl.col("strategy") == k).height for k in (BABBLING, STILL))
@@ -222,6 +232,7 @@ def values(recordings: Path) -> dict[str, str]:
     out["changed"] = str(int((turns["changes"] > 0).sum()))
     out["came_back"] = str(int(turns["came_back"].sum()))
     out["settled"] = settled(turns, generations)
+    out["still_to_know"] = still_to_know(last, int(pre["of"].max()))
     ten = recordings / TEN
     if 50 in generations and results.exists(ten / results.EVALUATION):
         evaluation = load_evaluation(ten)

@@ -171,6 +171,15 @@ def test_the_course_page_says_when_the_strategies_last_changed():
         "No population changed strategy between snapshots.")
 
 
+def test_the_course_page_says_when_the_question_is_next_answered():
+    assert course_page.still_to_know(240, 500) == (
+        "Whether this holds is known at generation 250 (this round's end) and at 500.")
+    assert course_page.still_to_know(250, 500) == (
+        "Whether it holds to generation 500 is known when pre-reaching ends there.")
+    values = course_page.values(ROOT / "recordings")
+    assert values["still_to_know"] == course_page.still_to_know(int(values["last"]), 500)
+
+
 def test_the_course_page_gives_the_growth_over_a_longer_window_once_it_is_trained():
     directory = ROOT / "recordings" / course_page.FULL
     stats = RunDirectory.open(directory).stats
