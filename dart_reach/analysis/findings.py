@@ -275,10 +275,24 @@ def _development(claim: Claim, data: _Data) -> dict:
                             f"{claim.a} {a[claim.measure].mean():.3g}", n)
 
 
+def _pairs(data: _Data, claim: Claim) -> tuple[pl.DataFrame, pl.DataFrame]:
+    """A paired claim's robots of ``claim.b`` (``_Data.drops``) and their replications' means
+    (``ref`` under ``claim.senses``, ``new`` under ``claim.versus``)."""
+    drops = data.drops(claim).filter(pl.col("notation") == claim.b)
+    return drops, replication_means(drops, "ref", "new")
+
+
+def paired_replications(table: pl.DataFrame, claim: Claim) -> pl.DataFrame:
+    """The replications a paired claim (``claim.versus`` set) is judged on: per replication
+    of ``claim.b`` in ``table`` (post-evaluation trials), the mean over its robots of
+    ``claim.measure`` under ``claim.senses`` (``ref``) and under ``claim.versus`` (``new``)."""
+    return _pairs(_Data(table, None, None), claim)[1]
+
+
 def _paired_change(claim: Claim, data: _Data) -> dict:
     if claim.measure not in data.table.columns:
         return _not_run(claim, f"no {claim.measure}")
-    drops = data.drops(claim).filter(pl.col("notation") == claim.b)
+    drops, reps = _pairs(data, claim)
     if drops.height == 0:
         return _not_run(claim, f"no {claim.b} robots under both {claim.senses} and "
                                f"{claim.versus} (evaluate --sensors all)")
@@ -288,7 +302,6 @@ def _paired_change(claim: Claim, data: _Data) -> dict:
     else:
         def judge(ref, new):
             return verdicts.paired_directional(ref, new, claim.sign, claim.level)
-    reps = replication_means(drops, "ref", "new")
     out = judge(reps["ref"].to_numpy(), reps["new"].to_numpy())
     robots_out = judge(drops["ref"].to_numpy(), drops["new"].to_numpy())
     return _row(claim, out, f"{claim.measure}: {claim.senses} {reps['ref'].mean():.3g}, "

@@ -19,7 +19,8 @@ module reads:
   one Holm family per generation;
 - ``verdict_changes`` and ``babbling_by_condition``: which verdicts changed between judged
   generations, and how much the babbling and the still populations babble under each
-  condition evaluated there;
+  condition evaluated there; ``scale_ends``: the replications whose relative change in a
+  "same" claim is at the scale's end (a still population's one babbling trial);
 - ``fitness_by_strategy`` and ``growth``: whether the two strategies are equally fit at each
   snapshot, and whether the populations' fitness is still rising;
 - ``at_budget``: a generation of the full run beside another run's final pre-reachers at the
@@ -32,9 +33,10 @@ from __future__ import annotations
 import math
 from typing import Sequence
 
+import numpy as np
 import polars as pl
 
-from . import findings, stats, stillness
+from . import findings, stats, stillness, verdicts
 from ..postevaluation import snapshots
 from .claims import CLAIMS, Claim, Kind
 from .stillness import BABBLING, STILL
@@ -189,6 +191,38 @@ def verdict_changes(found: pl.DataFrame) -> pl.DataFrame:
             if (a, c) in verdict and (b, c) in verdict and verdict[a, c] != verdict[b, c]]
     return pl.DataFrame(rows, schema={"claim": pl.Utf8, "before": pl.Int64, "after": pl.Int64,
                                       "was": pl.Utf8, "now": pl.Utf8})
+
+
+def scale_ends(development: pl.DataFrame, generations: Sequence[int] = JUDGED,
+               phase: str = "pre") -> pl.DataFrame:
+    """The replications at the end of the scale of a "same" claim of ``claims_of_pre``
+    (``Kind.SAME_PAIRED``: each replication's change relative to its own level,
+    ``verdicts.relative_changes``, from -2 to 2) at each of ``generations`` the development
+    table holds under the claim's two conditions: a value of 0 under one and any other under
+    the other is at +-2 however small it is (one babbling trial of a still population's 225),
+    and one such unit widens the interval of the mean change by itself. ``generation``,
+    ``claim``, ``replication``, ``senses`` and ``reference`` (the claim's first condition and
+    the replication's value there), ``versus`` and ``changed`` (its second)."""
+    rows = development.filter(pl.col("phase") == phase)
+    same = [c for c in claims_of_pre() if c.kind is Kind.SAME_PAIRED]
+    frames = [pl.DataFrame(schema={"generation": pl.Int64, "claim": pl.Utf8,
+                                   "replication": pl.Int64, "senses": pl.Utf8,
+                                   "reference": pl.Float64, "versus": pl.Utf8,
+                                   "changed": pl.Float64})]
+    for g in generations:
+        at = rows.filter(pl.col("generation") == g)
+        senses = set(at["senses"].unique())
+        for claim in same:
+            if not {claim.senses, claim.versus} <= senses or claim.measure not in at.columns:
+                continue
+            pairs = findings.paired_replications(at, claim)
+            ends = np.abs(verdicts.relative_changes(pairs["ref"], pairs["new"])) == 2
+            frames.append(pairs.filter(pl.Series(ends)).select(
+                pl.lit(g, pl.Int64).alias("generation"), pl.lit(claim.id).alias("claim"),
+                pl.col("replication").cast(pl.Int64), pl.lit(claim.senses).alias("senses"),
+                pl.col("ref").alias("reference"), pl.lit(claim.versus).alias("versus"),
+                pl.col("new").alias("changed")))
+    return pl.concat(frames)
 
 
 def babbling_by_condition(development: pl.DataFrame, course_table: pl.DataFrame,

@@ -278,6 +278,10 @@ def values(recordings: Path) -> dict[str, str]:
     out["verdict_changes"] = "; ".join(
         f"{r['claim']} ({r['before']}: {r['was']}, {r['after']}: {r['now']})"
         for r in changed.iter_rows(named=True)) or "none"
+    ends = sc.scale_ends(development)
+    out["scale_ends"] = ("none." if not ends.height else "\n\n" + markdown_table(ends.rename(
+        {"senses": "condition", "reference": "value", "versus": "against",
+         "changed": "value there"})))
     rates = sc.babbling_by_condition(development, course)
     out["by_condition"] = markdown_table(rates.select(
         "generation", pl.col("senses").alias("condition"),
