@@ -6,7 +6,8 @@ VENV := .venv
 BIN := $(VENV)/bin
 
 .PHONY: demo test bench skeleton clean notebooks screenshots scene-study pythons replication-50 replication-50x10 \
-	replication-10 replication-report results full-budget full-budget-snapshots
+	replication-10 replication-report results full-budget full-budget-snapshots \
+	levers-screen levers-train levers-evaluate
 
 $(BIN)/python:
 	$(PY) -m venv $(VENV)
@@ -205,3 +206,30 @@ pythons:
 
 clean:
 	rm -rf $(VENV) $(PYTHONS_DIR) *.egg-info bench.json
+
+# The levers study (docs/results/levers.md, pre-registered): the screen without training (the
+# best 2 robots of each replication of standard-500x10 at generation 250 under each lever: about
+# 10 minutes per arm on 2 cores), then pre-reaching alone, 50 generations x 6 replications per
+# arm, seed 2027 for every arm (resumable: run it again after an interruption; about 9 h per
+# arm on 2 cores), then the snapshots' post-evaluation.
+LEVERS := recordings/levers
+SCREEN_ARMS := today: far:--scene=beyond-arm-length self-collision:--self-collision=on \
+	start-zero:--network-start=zero reflex-evolved:--reflex-inputs=evolved
+levers-screen: $(VENV)/.installed
+	for a in $(SCREEN_ARMS); do \
+		$(BIN)/dart-reach screen $(FULL) --generation 250 --robots 2 --out $(LEVERS)/screen.parquet \
+			--arm $${a%%:*} $$(echo $${a#*:} | tr ',' ' ') || exit $$?; \
+	done
+LEVER_ARMS := far:--scene=beyond-arm-length reflex-evolved:--reflex-inputs=evolved
+levers-train: $(VENV)/.installed
+	for a in $(LEVER_ARMS); do \
+		$(BIN)/dart-reach train docs/learning-check.toml --generations 50 --replications 6 \
+			--seed 2027 --snapshot-every 10 --record-every 0 --out $(LEVERS)/$${a%%:*} \
+			$$(echo $${a#*:} | tr ',' ' ') \
+			$$(test -f $(LEVERS)/$${a%%:*}/manifest.json && echo --resume) || exit $$?; \
+	done
+levers-evaluate: $(VENV)/.installed
+	for a in $(LEVER_ARMS); do \
+		$(BIN)/dart-reach evaluate $(LEVERS)/$${a%%:*} --finished-only --development 5 \
+			--development-sensors normal,no-ball || exit $$?; \
+	done

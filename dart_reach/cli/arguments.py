@@ -120,9 +120,48 @@ def add_scene(p: argparse.ArgumentParser) -> None:
 
 
 def world_config(args, base=None):
-    """``base`` (default ``WorldConfig()``) with the sectors of ``--scene`` if given."""
+    """``base`` (default ``WorldConfig()``) with the sectors of ``--scene`` if given (and
+    ``--self-collision`` where the command has it)."""
+    from dataclasses import replace
+
     from ..model.scenes import load_scene
     from ..model.world import WorldConfig
 
     base = base or WorldConfig()
+    if getattr(args, "self_collision", None) is not None:
+        base = replace(base, self_collision=args.self_collision == "on")
     return base if args.scene is None else load_scene(args.scene).world(base)
+
+
+def add_levers(p: argparse.ArgumentParser) -> None:
+    """The model's levers (docs/model/levers.md) and its version, for a new run."""
+    from ..model.levers import MODEL_VERSIONS, NetworkStart, ReflexInputs, TouchPay
+
+    def choices(kind):
+        return [k.value for k in kind]
+
+    p.add_argument("--reflex-inputs", choices=choices(ReflexInputs), default=None,
+                   help="what drives the reflex motors besides the reflex arcs: 'hand-set' "
+                        "(only the reflex weights) or 'evolved' (every sensor, evolved weights "
+                        "x 0.1, as Fig. 3's caption reads) (default: hand-set)")
+    p.add_argument("--touch-pay", choices=choices(TouchPay), default=None,
+                   help="p_touch of Eq. 5: 'faces' (touching inner faces / 16), 'binary' (any "
+                        "touch = 1) or 'capped' (min(n, 4) / 4) (default: faces)")
+    p.add_argument("--network-start", choices=choices(NetworkStart), default=None,
+                   help="the network's state at a trial's start: 'hold-home' (motor states "
+                        "holding the home posture) or 'zero' (every state 0) "
+                        "(default: hold-home)")
+    p.add_argument("--self-collision", choices=["on", "off"], default=None,
+                   help="the arm collides with the body (default: off)")
+    p.add_argument("--model-version", type=int, choices=sorted(MODEL_VERSIONS), default=None,
+                   help="the model version of a new run (default: the newest; a resumed run "
+                        "keeps its own)")
+
+
+def levers(args):
+    """The ``Levers`` of ``add_levers``'s options."""
+    from ..model.levers import Levers
+
+    return Levers(**{k: getattr(args, k) for k in ("reflex_inputs", "touch_pay",
+                                                    "network_start")
+                     if getattr(args, k) is not None})

@@ -1,5 +1,6 @@
 """The studies of the model itself: ``validate`` (the model checks; exit 0 when every one
-passes) and ``bench`` (simulation speed, or with ``--physics`` the physics-step study)."""
+passes), ``bench`` (simulation speed, or with ``--physics`` the physics-step study) and
+``screen`` (a run's robots again under other levers)."""
 
 from __future__ import annotations
 
@@ -8,7 +9,8 @@ import math
 from pathlib import Path
 
 from ..progress import ProgressBar
-from .arguments import add_scene, command, int_at_least, positive, workers, world_config
+from .arguments import (add_levers, add_scene, command, int_at_least, levers, positive, workers,
+                        world_config)
 from .stopping import checked
 
 
@@ -33,6 +35,8 @@ def register_validate(subparsers) -> None:
                    help="random networks post-evaluated for the chance level (default 30)")
     p.add_argument("--scene-only", action="store_true",
                    help="only the scene checks and the scripted grasps (seconds, not minutes)")
+    p.add_argument("--reflex-inputs", choices=["hand-set", "evolved"], default="hand-set",
+                   help="the reflex checks with this lever (docs/model/levers.md)")
     add_scene(p)
     p.set_defaults(func=cmd_validate)
 
@@ -45,7 +49,8 @@ def cmd_validate(args) -> int:
     if args.json is not None and args.json.exists():
         raise FileExistsError(f"--json {args.json} exists; choose another file")
     results = validate.run(World(world_config(args)), grid=args.grid, networks=args.networks,
-                           chance_networks=args.chance_networks, scene_only=args.scene_only)
+                           chance_networks=args.chance_networks, scene_only=args.scene_only,
+                           reflex_inputs=args.reflex_inputs)
     print(validate.format_report(results))
     if args.json:
         write_json(args.json, results)
@@ -95,4 +100,45 @@ def cmd_bench(args) -> int:
         print(bench.format_table(results))
     if args.json:
         write_json(args.json, results)
+    return 0
+
+
+def register_screen(subparsers) -> None:
+    p = command(subparsers, "screen", "run a run's snapshot robots again under other levers "
+                                      "(scene, self-collision, network start, reflex inputs), "
+                                      "without training: docs/model/levers.md")
+    p.add_argument("run_dir", type=Path, metavar="RUN_DIR", help="a run with snapshots")
+    p.add_argument("--generation", type=positive, required=True,
+                   help="the snapshot's generation")
+    p.add_argument("--phase", default="pre", help="the phase (default: pre)")
+    p.add_argument("--robots", type=positive, default=2,
+                   help="the best robots of each replication (default 2)")
+    p.add_argument("--arm", required=True, metavar="NAME",
+                   help="the name of this lever setting in the table (letters, digits, '-')")
+    p.add_argument("--out", type=Path, required=True,
+                   help="the screen table (parquet): this arm's rows are added or replaced")
+    p.add_argument("--workers", type=workers, default=None,
+                   help="local processes (default: every core)")
+    add_scene(p)
+    add_levers(p)
+    p.set_defaults(func=cmd_screen)
+
+
+def cmd_screen(args) -> int:
+    import re
+
+    from ..evolution.rundir import RunDirectory
+    from ..studies.lever_screen import Arm, save_screen, screen
+
+    if not re.fullmatch(r"[A-Za-z0-9][A-Za-z0-9_-]*", args.arm):
+        raise ValueError(f"--arm must be letters, digits, '_' or '-', got {args.arm!r}")
+    if args.model_version is not None:
+        raise ValueError("--model-version: a screen runs the robots under their run's version")
+    run = RunDirectory.open(args.run_dir)
+    arm = Arm(args.arm, world_config(args, run.settings.world), levers(args))
+    table = screen(run.out, args.generation, [arm], args.phase, args.robots,
+                   workers=args.workers)
+    total = save_screen(table, args.out)
+    print(f"{args.arm}: {table.height} trials; {args.out} holds {total.height} trials of "
+          f"{total['arm'].n_unique()} arm(s)")
     return 0

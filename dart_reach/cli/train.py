@@ -9,8 +9,8 @@ import sys
 from pathlib import Path
 
 from ..progress import training_bar
-from .arguments import (add_scene, add_workers, command, cores, non_negative, physics_dt,
-                        positive, world_config)
+from .arguments import (add_levers, add_scene, add_workers, command, cores, levers,
+                        non_negative, physics_dt, positive, world_config)
 from .stopping import checked, interrupted
 
 
@@ -32,6 +32,7 @@ def register_train(subparsers) -> None:
                    help="physics step in s, a divisor of 0.1 (default 0.02, the step chosen "
                         "in docs/model/world.md)")
     add_scene(p)
+    add_levers(p)
     add_workers(p)
     p.add_argument("--resume", action="store_true", help="continue the run in --out")
     p.add_argument("--yes", action="store_true",
@@ -58,9 +59,13 @@ def cmd_train(args) -> int:
         conditions = [scaled(c, args.generations) for c in conditions]
     world = world_config(args, None if args.physics_dt is None
                          else WorldConfig(physics_dt=args.physics_dt))
-    settings = Settings(replications=args.replications, trials=args.trials, steps=args.steps,
-                        seed=args.seed, world=world)
     out = args.out or Path("recordings") / f"{'+'.join(c.name for c in conditions)}-s{args.seed}"
+    version = args.model_version
+    if version is None and args.resume and (out / "manifest.json").is_file():
+        version = _model_version_of(out)  # a run resumes under the version it was made with
+    settings = Settings(replications=args.replications, trials=args.trials, steps=args.steps,
+                        seed=args.seed, world=world, levers=levers(args),
+                        **({} if version is None else {"model_version": version}))
     if not args.resume:
         hours = announce_cost(conditions, settings, None if args.ray else args.workers or cores())
         if hours > ASK_HOURS and not args.yes and sys.stdin.isatty() and not _agreed():
@@ -86,6 +91,13 @@ def cmd_train(args) -> int:
           f"phases/*/); post-evaluate with: {shlex.join(['dart-reach', 'evaluate', str(run.out)])}",
           file=sys.stderr)
     return 0
+
+
+def _model_version_of(out: Path) -> int:
+    """The model version a run's manifest records (1 when it predates versions)."""
+    from ..evolution.rundir import read_manifest
+
+    return read_manifest(out / "manifest.json").get("settings", {}).get("model_version", 1)
 
 
 #: Core-hours from which ``train`` announces the size of a run before starting it.

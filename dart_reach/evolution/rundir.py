@@ -134,10 +134,13 @@ def check_same_run(manifest_path: Path, manifest: dict) -> None:
     """``RunError`` unless the manifest at ``manifest_path`` holds the conditions and settings
     of ``manifest`` (``manifest_of``), naming the first difference."""
     old = read_manifest(manifest_path)
+    if "settings" in old:  # written before a setting existed: read with its default
+        old = dict(old, settings=Settings.from_json(old["settings"]).to_json())
     for key in ("conditions", "settings"):
         asked = json.loads(json.dumps(manifest[key]))
-        if old.get(key) != asked:
-            where, there, here = first_difference(old.get(key), asked, key)
+        old_value = json.loads(json.dumps(old.get(key)))
+        if old_value != asked:
+            where, there, here = first_difference(old_value, asked, key)
             what = f"{where} is {there} in the run there, {here} now"
             raise RunError(f"{manifest_path}: the run there was made with other {key} "
                            f"({what}); resume it with the same conditions and Settings",

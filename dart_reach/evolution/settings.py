@@ -17,13 +17,15 @@ import numpy as np
 from .conditions import Phase, load_condition
 from .ga import GAConfig, Scheme
 from .genome import ParamGroup, as_groups, random_genome
+from ..model.levers import CURRENT_MODEL_VERSION, Levers, check_model_version
 from ..model.task import TrialConfig
 from ..model.world import BallConfig, SectorConfig, WorldConfig
 
 
 @dataclass(frozen=True)
 class Settings:
-    """Budgets and seeds of a run: everything besides the conditions that defines its result."""
+    """Budgets and seeds of a run: everything besides the conditions that defines its result:
+    the model version it runs under and the trial's levers (``model.levers``) among them."""
 
     replications: int = 10
     trials: int = 18  # trials per lifetime: 2 per sector (section III-C)
@@ -31,28 +33,30 @@ class Settings:
     seed: int = 0
     ga: GAConfig = field(default_factory=GAConfig)
     world: WorldConfig = field(default_factory=WorldConfig)
+    levers: Levers = field(default_factory=Levers)
+    model_version: int = CURRENT_MODEL_VERSION
 
     def __post_init__(self):
+        check_model_version(self.model_version)
+        if not isinstance(self.levers, Levers):
+            raise ValueError(f"levers must be a model.levers.Levers, got {self.levers!r}")
         for name in ("replications", "trials", "steps"):
             if getattr(self, name) < 1:
                 raise ValueError(f"{name} must be a positive integer, got {getattr(self, name)}")
         if self.seed < 0:
             raise ValueError(f"seed must be a non-negative integer, got {self.seed}")
-        if self.ga.population % self.replications:
-            raise ValueError(
-                f"the population ({self.ga.population}) must be a multiple of the number of "
-                f"replications ({self.replications}): the next phase starts from the best "
-                f"population / replications genomes of each (section III-D)")
 
     def to_json(self) -> dict:
         d = asdict(self)
         d["ga"]["scheme"] = self.ga.scheme.value
         d["world"]["skeleton"] = str(self.world.skeleton) if self.world.skeleton else None
+        d["levers"] = self.levers.to_json()
         return d
 
     @classmethod
     def from_json(cls, d: dict) -> "Settings":
-        """The inverse of ``to_json`` (a manifest's ``settings``)."""
+        """The inverse of ``to_json`` (a manifest's ``settings``). A manifest written before
+        model versions and levers existed was written by model version 1 with its levers."""
         w = dict(d["world"])
         w["skeleton"] = Path(w["skeleton"]) if w.get("skeleton") else None
         w["ball"] = BallConfig(**{k: tuple(v) if isinstance(v, list) else v
@@ -60,15 +64,20 @@ class Settings:
         w["sectors"] = SectorConfig(**{k: tuple(v) if isinstance(v, list) else v
                                        for k, v in w["sectors"].items()})
         ga = dict(d["ga"], scheme=Scheme(d["ga"]["scheme"]))
-        return cls(**dict(d, ga=GAConfig(**ga), world=WorldConfig(**w)))
+        return cls(**dict(d, ga=GAConfig(**ga), world=WorldConfig(**w),
+                          levers=Levers.from_json(d.get("levers")),
+                          model_version=d.get("model_version", 1)))
 
 
 def trial_config(phase: Phase, settings: Settings) -> TrialConfig:
     """The maturational state of a phase as the task sees it."""
     groups = as_groups(phase.free_groups)
+    levers = settings.levers
     return TrialConfig(acuity=phase.acuity, offset_sensors=phase.offset_sensors,
                        hidden_frozen=ParamGroup.HIDDEN not in groups, reflexes=phase.reflexes,
-                       steps=settings.steps, trials=settings.trials)
+                       steps=settings.steps, trials=settings.trials,
+                       reflex_inputs=levers.reflex_inputs, touch_pay=levers.touch_pay,
+                       network_start=levers.network_start)
 
 
 def standard_trial(phase: str = "pre", **changes) -> TrialConfig:

@@ -79,6 +79,13 @@ class Trainer(RunDirectory):
     def __init__(self, out: Path, conditions: list[Condition], settings: Settings,
                  resume: bool = False, command: str | None = None):
         out = Path(out)
+        if any(len(c.phases) > 1 for c in conditions) and settings.ga.population % \
+                settings.replications:
+            raise ValueError(
+                f"the population ({settings.ga.population}) must be a multiple of the number of "
+                f"replications ({settings.replications}) when a condition has a phase after "
+                f"the first: it starts from the best population / replications genomes of each "
+                f"(section III-D)")
         manifest = manifest_of(conditions, settings)
         manifest_path = out / "manifest.json"
         if manifest_path.exists():

@@ -117,3 +117,25 @@ def trial_fitness_terms(data, dt: float = DT) -> dict[str, float]:
     if data.diverged:
         terms["fitness"] = 0.0
     return terms
+
+
+def fitness_under_touch_pays(data) -> dict[str, float]:
+    """A trial's fitness (Eq. 5) scored again under each ``levers.TouchPay``: the mean over
+    its steps of min(p_sight, p_touch) with p_touch counted as the lever says from the trial's
+    inner-face touches (n of 16 per step), keyed ``fitness_<pay>`` ('-' as '_'); 0 for a
+    diverged trial. Under the pay the trial ran with, it is the trial's fitness to the last
+    bit. A screen of the touch lever without training (docs/model/levers.md)."""
+    from ..model import sensors
+    from ..model.levers import TOUCH_CAP, TouchPay
+
+    pays = {TouchPay.FACES: sensors.p_touch, TouchPay.BINARY: sensors.p_touch_binary,
+            TouchPay.CAPPED: lambda n, m: sensors.p_touch_capped(n, m, TOUCH_CAP)}
+    steps = len(data.p_sight)
+    counts, segments = data.contacts.sum(axis=1).tolist(), data.contacts.shape[1]
+    out = {}
+    for pay, p_touch in pays.items():
+        p = np.zeros(steps)
+        for t in range(int(data.steps_run)):
+            p[t] = sensors.p_multimodal(float(data.p_sight[t]), p_touch(counts[t], segments))
+        out[f"fitness_{pay.value.replace('-', '_')}"] = 0.0 if data.diverged else float(p.mean())
+    return out

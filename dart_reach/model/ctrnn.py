@@ -14,6 +14,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from .levers import REFLEX_EVOLVED_SCALE, ReflexInputs
+
 N_SENSORS = 25
 N_HIDDEN = 8
 N_MOTORS = 14
@@ -273,7 +275,9 @@ class Network:
     neuron's only memory is its own tau.
 
     ``reflexes``: the hand-set weights of ``reflex_weights`` and thresholds of ``reflex_biases``
-    replace the evolved ones on their connections. ``hidden_frozen``: the internal neurons are
+    replace the evolved ones on their connections (``reflex_inputs``: on every connection of the
+    three reflex motors, or, ``ReflexInputs.EVOLVED``, on the reflex arcs only, the others
+    evolved and scaled by ``REFLEX_EVOLVED_SCALE``). ``hidden_frozen``: the internal neurons are
     held at 0 (pre-reaching, section III-D 1), so neither ``w_sensor_hidden`` nor
     ``w_hidden_motor`` has any effect.
 
@@ -282,16 +286,22 @@ class Network:
     """
 
     def __init__(self, params: NetworkParams, *, reflexes: bool = False,
-                 hidden_frozen: bool = False):
+                 hidden_frozen: bool = False, reflex_inputs: ReflexInputs = ReflexInputs.HAND_SET):
         validate_params(params)
         self.params = params
         self.reflexes = bool(reflexes)
         self.hidden_frozen = bool(hidden_frozen)
+        self.reflex_inputs = ReflexInputs(reflex_inputs)
         f = lambda a: np.array(a, dtype=float, order="C")  # noqa: E731  (private copies)
         self._w_sm = f(params.w_sensor_motor)
         self._bias_m = f(params.bias_motor)
         if self.reflexes:
             mask, w = reflex_weights()
+            if self.reflex_inputs is ReflexInputs.EVOLVED:
+                # Fig. 3's caption: the evolved direct inputs reach the reflex motors too,
+                # scaled down so that the reflex arcs still act (levers.ReflexInputs)
+                self._w_sm[mask] *= REFLEX_EVOLVED_SCALE
+                mask = w != 0.0
             self._w_sm[mask] = w[mask]
             bmask, b = reflex_biases()
             self._bias_m[bmask] = b[bmask]

@@ -185,6 +185,21 @@ def p_touch(n_segments_touching: int, n_segments: int) -> float:
     return n_segments_touching / n_segments
 
 
+def p_touch_binary(n_segments_touching: int, n_segments: int) -> float:
+    """p_touch under ``levers.TouchPay.BINARY``: 1.0 when any of the ``n_segments`` touches,
+    else 0.0."""
+    p_touch(n_segments_touching, n_segments)  # checks the counts
+    return 1.0 if n_segments_touching > 0 else 0.0
+
+
+def p_touch_capped(n_segments_touching: int, n_segments: int, cap: int) -> float:
+    """p_touch under ``levers.TouchPay.CAPPED``: min(n, cap) / cap, in [0, 1]."""
+    if not 1 <= cap <= n_segments:
+        raise ValueError(f"cap must be in [1, {n_segments}], got {cap}")
+    p_touch(n_segments_touching, n_segments)  # checks the counts
+    return min(n_segments_touching, cap) / cap
+
+
 def p_multimodal(p_sight: float, p_touch: float) -> float:  # noqa: F811 (names as in Eq. 5)
     """Performance of one step (section III-C, Eq. 5): min(p_sight, p_touch), in [0, 1]."""
     return min(p_sight, p_touch)

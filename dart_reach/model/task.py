@@ -27,6 +27,7 @@ from . import sensors
 from .ctrnn import (N_HIDDEN, N_MOTORS, N_SENSORS, OFFSET, PROPRIO, SIGHT, TOUCH, Network,
                     NetworkParams, motor_targets)
 from .icub import HAND_SEGMENTS, TOUCH_BODIES
+from .levers import TOUCH_CAP, NetworkStart, ReflexInputs, TouchPay
 from .world import BALL_PARKED, N_SECTORS, World, palm_normal, palm_point
 
 #: Indices in ``HAND_SEGMENTS`` of the six touch-sensor bodies (palm, fingertips).
@@ -58,6 +59,8 @@ class TrialConfig:
 
     ``acuity`` is the exponent a of Eqs. 1-2: 3 in pre-reaching (low acuity), 1 afterwards, as
     the paper's text (section III-B) says; its Table I swaps the two values.
+    ``reflex_inputs``, ``touch_pay`` and ``network_start`` are the trial's levers
+    (``levers.Levers``; the defaults are model version 1's).
     """
 
     acuity: float = 1.0
@@ -67,8 +70,15 @@ class TrialConfig:
     senses: Senses = Senses.NORMAL
     steps: int = 200  # 20 s of 0.1 s steps (section III-C)
     trials: int = 18  # trials per lifetime: 2 per sector (section III-C)
+    reflex_inputs: ReflexInputs = ReflexInputs.HAND_SET
+    touch_pay: TouchPay = TouchPay.FACES
+    network_start: NetworkStart = NetworkStart.HOLD_HOME
 
     def __post_init__(self):
+        for name, kind in (("reflex_inputs", ReflexInputs), ("touch_pay", TouchPay),
+                           ("network_start", NetworkStart)):
+            if not isinstance(getattr(self, name), kind):
+                object.__setattr__(self, name, kind(getattr(self, name)))
         if not (self.acuity > 0 and math.isfinite(self.acuity)):
             raise ValueError(f"acuity must be a positive number, got {self.acuity!r}")
         if self.steps <= 0 or self.trials <= 0:
@@ -155,7 +165,14 @@ class Trial:
         self._proprio_span = (world.motor_limit_upper - world.motor_limit_lower).tolist()
         self._touch_segments = TOUCH_SEGMENTS.tolist()
         self._p = np.zeros(config.steps)  # p_multimodal per step of ``fitness``
-        self._home_motor = (world.home_targets + 1.0) / 2.0  # the network's start
+        # the network's motor states at a trial's start (levers.NetworkStart)
+        self._home_motor = ((world.home_targets + 1.0) / 2.0
+                            if config.network_start is NetworkStart.HOLD_HOME
+                            else np.zeros(N_MOTORS))
+        self._pay_touch = {TouchPay.FACES: sensors.p_touch,
+                           TouchPay.BINARY: sensors.p_touch_binary,
+                           TouchPay.CAPPED: lambda n, m: sensors.p_touch_capped(n, m, TOUCH_CAP),
+                           }[config.touch_pay]
         self._no_touch = config.senses in _NO_TOUCH
         self._no_sight = config.senses in _NO_SIGHT
         self._offsets = config.offset_sensors and not self._no_sight
@@ -201,7 +218,7 @@ class Trial:
             self._x_offset[:] = sensors.NO_SIGHT
         # The fitness is about the world, whatever the robot is deprived of (Eq. 5).
         p_s = self._p_sight = sensors.p_sight(cx, cy, ball_visible)
-        p_t = self._p_touch = sensors.p_touch(sum(touching), N_SEGMENTS)
+        p_t = self._p_touch = self._pay_touch(sum(touching), N_SEGMENTS)
         self._p_multimodal = sensors.p_multimodal(p_s, p_t)
         return math.isfinite(positions.sum() + ball.sum())
 
@@ -295,8 +312,9 @@ def trial_positions(world: World, rng: np.random.Generator, trials: int = 18
 
 def network_for(params: NetworkParams, config: TrialConfig) -> Network:
     """The network of ``params`` in the maturational state of ``config`` (reflexes, frozen
-    internal neurons)."""
-    return Network(params, reflexes=config.reflexes, hidden_frozen=config.hidden_frozen)
+    internal neurons, the reflex motors' inputs)."""
+    return Network(params, reflexes=config.reflexes, hidden_frozen=config.hidden_frozen,
+                   reflex_inputs=config.reflex_inputs)
 
 
 def lifetime(params: NetworkParams, world: World, config: TrialConfig,

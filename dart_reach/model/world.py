@@ -114,8 +114,16 @@ class WorldConfig:
     gravity: float = 9.81  # m/s^2
     ball: BallConfig = field(default_factory=BallConfig)
     sectors: SectorConfig = field(default_factory=SectorConfig)
+    #: A lever (docs/model/levers.md; the paper does not say): the right arm's bodies (shoulder
+    #: to fingertips) collide with the rest of the body (pelvis, torso, chest, neck, head), so
+    #: that a flexed arm cannot pass through the chest; the arm's own bodies never collide with
+    #: each other (the primitive shapes of the hand, wrist and fingers overlap by construction).
+    #: Off in model version 1: only the ball collides with the robot.
+    self_collision: bool = False
 
     def __post_init__(self):
+        if not isinstance(self.self_collision, bool):
+            raise ValueError(f"self_collision must be true or false, got {self.self_collision!r}")
         for key in ("physics_dt", "control_dt"):
             if not 0 < getattr(self, key) < math.inf:
                 raise ValueError(f"{key} must be a positive number of seconds, got "
@@ -183,9 +191,12 @@ class World:
         self.world.setDeactivationOptions(options)
         self.world.addSkeleton(self.robot)
         self._resolve_robot()
+        if config.self_collision:
+            self._collide_arm_with_body()
         self.ball_skeleton, self._ball_joint, self.ball_body = _make_ball(config.ball)
         self.world.addSkeleton(self.ball_skeleton)
         self._resolve_contacts()
+        self._ball_shapes = set(self.ball_body.getShapeNodes())
         self._set_home()
         self.neck_centre = self.robot.getBodyNode(icub.NECK).getWorldTransform().translation()
         self.reset(self.sector_point(4, 0.5, 0.5))
@@ -243,6 +254,25 @@ class World:
         self._q_cmd = [0.0] * N_MOTORS  # the springs' rest positions per motor (rad)
         self._max_move = self.config.max_joint_speed * self.config.control_dt
         self._substeps = self.config.substeps
+
+    def _collide_arm_with_body(self) -> None:
+        """Self-collision on (``WorldConfig.self_collision``) for the arm against the body only:
+        every pair of bodies inside the right arm's subtree, and inside the body, is left out
+        by the constraint solver's collision filter."""
+        r = self.robot
+        r.setSelfCollisionCheck(True)
+        r.setAdjacentBodyCheck(False)
+        bodies = [r.getBodyNode(i) for i in range(r.getNumBodyNodes())]
+        in_arm = {b.getName(): False for b in bodies}
+        for b in bodies:  # parents come before their children in a skeleton's body list
+            parent = b.getParentBodyNode()
+            in_arm[b.getName()] = (b.getName() == icub.SHOULDER
+                                   or (parent is not None and in_arm[parent.getName()]))
+        ignore = self.world.getConstraintSolver().getCollisionOption().collisionFilter
+        for i, a in enumerate(bodies):
+            for b in bodies[i + 1:]:
+                if in_arm[a.getName()] == in_arm[b.getName()]:
+                    ignore.addBodyNodePairToBlackList(a, b)
 
     def _resolve_contacts(self) -> None:
         """Touch (III-B, III-C): for the collision shape of each hand segment, its index and the
@@ -366,10 +396,15 @@ class World:
         touch[:] = False
         touch_any[:] = False
         step, last_collisions = self.world.step, self.world.getLastCollisionResult
+        self_collision = self.config.self_collision
         for _ in range(self._substeps):
             step(False)
             result = last_collisions()
-            if result.getNumContacts():
+            if not result.getNumContacts():
+                continue
+            if self_collision:
+                self._gather_ball_touch(result)
+            else:
                 # Only the ball collides with the robot (self-collision is off), so a hand
                 # segment among the colliding bodies touches the ball on some face. List the
                 # contacts (costly) only when a segment not yet marked as touching on its inner
@@ -382,6 +417,28 @@ class World:
                         gather = gather or not touch[i]
                 if gather:
                     self._gather_touch(result, touch)
+
+    def _gather_ball_touch(self, result) -> None:
+        """With self-collision on: mark the hand segments in one substep's contacts with the
+        ball (any face, and inner face as ``_gather_touch``), ignoring the robot's contacts
+        with itself."""
+        faces, ball_shapes = self._touch_faces, self._ball_shapes
+        touch, touch_any = self._touch, self._touch_any
+        ball = None
+        for contact in result.getContacts():
+            frame1 = contact.collisionObject1.getShapeFrame()
+            frame2 = contact.collisionObject2.getShapeFrame()
+            frame = frame2 if frame1 in ball_shapes else frame1 if frame2 in ball_shapes else None
+            face = None if frame is None else faces.get(frame)
+            if face is None:  # not with the ball, or not a hand segment
+                continue
+            touch_any[face[0]] = True
+            if touch[face[0]]:
+                continue
+            if ball is None:
+                ball = self.ball_body.getCOM()
+            if inner_face_touch(frame.getTransform().rotation(), ball - contact.point, face):
+                touch[face[0]] = True
 
     def _gather_touch(self, result, touch: np.ndarray) -> None:
         """Mark the hand segments that touch the ball on their inner face in one substep's

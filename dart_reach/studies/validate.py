@@ -29,6 +29,7 @@ from ..evolution.settings import standard_trial
 from ..measures.metrics import grasped, trial_metrics
 from ..model import sensors
 from ..model.ctrnn import MOTOR_INDEX, SENSOR_INDEX, motor_targets
+from ..model.levers import ReflexInputs
 from ..model.scripted import ScriptedReach, grasp_posture
 from ..model.task import Trial, network_for, trial_positions
 from ..model.world import N_SECTORS, World
@@ -161,8 +162,8 @@ def _peak_speed(hand: np.ndarray, dt: float) -> float:
 
 
 # ----------------------------------------------------------------------------------- reflexes
-def reflex_rates(world: World, reflexes: bool, networks: int = REFLEX_NETWORKS, seed: int = 0
-                 ) -> dict:
+def reflex_rates(world: World, reflexes: bool, networks: int = REFLEX_NETWORKS, seed: int = 0,
+                 reflex_inputs: ReflexInputs = ReflexInputs.HAND_SET) -> dict:
     """A random pre-reaching population (``networks`` random genomes: direct connections only,
     low acuity a = 3) with or without the reflexes (pre vs pre*, section IV-C).
 
@@ -178,9 +179,10 @@ def reflex_rates(world: World, reflexes: bool, networks: int = REFLEX_NETWORKS, 
     the end of that trial, its palm touch sensor is held at touched (+1) or untouched (-1) for
     ``GRASP_STEPS`` control steps, the rest of its input as it was; the fraction of networks
     whose hand target is then past half-closed (> 0). A reflex acts when the touched rate is a
-    clear majority and well above the untouched rate.
+    clear majority and well above the untouched rate. ``reflex_inputs``: the lever of what
+    else drives the reflex motors (``levers.ReflexInputs``).
     """
-    config = standard_trial("pre", reflexes=reflexes, trials=1,
+    config = standard_trial("pre", reflexes=reflexes, trials=1, reflex_inputs=reflex_inputs,
                             steps=round(ORIENT_SECONDS / world.config.control_dt) + 1)
     trial = Trial(world, config)
     rng = np.random.default_rng(seed)
@@ -319,14 +321,16 @@ def verdicts(r: dict) -> list[Check]:
 
 
 def run(world: World | None = None, grid: int = 7, networks: int = REFLEX_NETWORKS,
-        chance_networks: int = CHANCE_NETWORKS, seed: int = 0, scene_only: bool = False
-        ) -> dict:
+        chance_networks: int = CHANCE_NETWORKS, seed: int = 0, scene_only: bool = False,
+        reflex_inputs: ReflexInputs = ReflexInputs.HAND_SET) -> dict:
     """Every check on the shipped world (or ``world``): the figures and ``checks``, a list of
     ``{name, passed, detail}``; ``passed`` is True when every check passed. ``scene_only``:
-    the scene's checks and the scripted grasps only (no networks)."""
+    the scene's checks and the scripted grasps only (no networks). ``reflex_inputs``: the
+    reflex checks under that lever (``levers.ReflexInputs``)."""
     world = world or World()
     t0 = time.perf_counter()
-    r = {"physics_dt": world.config.physics_dt, "max_joint_speed": world.config.max_joint_speed,
+    r = {"reflex_inputs": ReflexInputs(reflex_inputs).value,
+         "physics_dt": world.config.physics_dt, "max_joint_speed": world.config.max_joint_speed,
          "sectors": world.config.sectors.__dict__}
     r.update(scene_geometry(world, grid))
     r.update(scene(world, grid))
@@ -334,7 +338,8 @@ def run(world: World | None = None, grid: int = 7, networks: int = REFLEX_NETWOR
     if not scene_only:
         for tag, on in (("reflex", True), ("noreflex", False)):
             r.update({f"{tag}_{k}": v
-                      for k, v in reflex_rates(world, on, networks, seed).items()})
+                      for k, v in reflex_rates(world, on, networks, seed,
+                                               reflex_inputs).items()})
         r.update(chance(world, chance_networks, seed + 1))
     r["checks"] = [c.__dict__ for c in verdicts(r)]
     r["passed"] = all(c["passed"] for c in r["checks"])

@@ -1,0 +1,133 @@
+"""Model versions and levers: the model's own choices where the paper is silent or torn.
+
+Where the paper fixes a number the model follows it; where it leaves a choice open the model
+makes one, and the choices that decide what evolution finds are *levers* a user can set (a
+scene or a ``Levers`` value in a run's settings), documented with their units in
+docs/model/levers.md. The ball's distance is the scene's sphere radius (``model.scenes``);
+self-collision of the robot's body is a physics setting (``world.WorldConfig.self_collision``);
+the three levers of the trial are here.
+
+A **model version** names the model's defaults and numerics as a whole. Every run writes the
+version it was trained with into its manifest (``settings.model_version``; a manifest without
+one was written by version 1), and resumes, evaluates and reproduces under it, so the default
+can change without losing a committed result.
+"""
+
+from __future__ import annotations
+
+import enum
+from dataclasses import dataclass
+
+#: Model versions this package can run, with what each is. A run trained under a version
+#: always runs under it (its digests are pinned by tests/model/test_task.py and
+#: tests/evolution/test_training_digest.py).
+MODEL_VERSIONS = {
+    1: "the model of November 2026: the defaults of Levers(), sphere radius 0.344 m "
+       "(scene arm-length-shoulder), no self-collision, the numerics of dart_reach 0.x",
+}
+#: The version new runs are trained under.
+CURRENT_MODEL_VERSION = 1
+
+
+def check_model_version(version) -> int:
+    """``version`` as an int if this package can run it; ``ValueError`` naming the versions
+    it knows otherwise."""
+    if isinstance(version, bool) or not isinstance(version, int) or version not in MODEL_VERSIONS:
+        raise ValueError(f"model version {version!r} is not one this dart_reach can run (it "
+                         f"knows {', '.join(map(str, MODEL_VERSIONS))}); a run made by a newer "
+                         f"dart_reach needs that version of the package")
+    return version
+
+
+class ReflexInputs(enum.Enum):
+    """What drives the three reflex motor neurons (neck yaw, neck pitch, fingers) besides the
+    hand-set reflex arcs (section III-D 1, Fig. 3), while the reflexes are on.
+
+    - ``HAND_SET`` (version 1's default): only the hand-set reflex weights; the evolved direct
+      inputs of these three motors are not used.
+    - ``EVOLVED``: as Fig. 3's caption reads ("dashed arrows pointing to the motor layer
+      indicate connections toward all motor neurons"): every other sensor reaches them too,
+      through its evolved weight times ``REFLEX_EVOLVED_SCALE`` (0.1: weights in [-0.5, 0.5]
+      instead of [-5, 5]), so that in a random network the 24 evolved inputs sum to about a
+      fifth of the grasp reflex's drive and the reflexes still act; the reflex arcs' own
+      connections and the thresholds stay hand-set. The scale is this project's choice, fixed
+      before any run (docs/model/levers.md gives the drive it measured).
+    """
+
+    HAND_SET = "hand-set"
+    EVOLVED = "evolved"
+
+
+#: The factor on the evolved direct weights of the reflex motors under ``ReflexInputs.EVOLVED``.
+REFLEX_EVOLVED_SCALE = 0.1
+
+
+class TouchPay(enum.Enum):
+    """How p_touch of Eq. 5 counts touch (section III-C: "p_touch measures the number of inner
+    hand/fingers segments in contact with the object ... scaled between 0 and 1").
+
+    - ``FACES`` (version 1's default): n / 16, n the hand segments touching the ball on their
+      inner face this step.
+    - ``BINARY``: 1 when any inner face touches, else 0 (touch pays by time, not by area).
+    - ``CAPPED``: min(n, ``TOUCH_CAP``) / ``TOUCH_CAP``, ``TOUCH_CAP`` = 4 (the palm and three
+      finger segments already pay fully; wrapping the whole hand pays no more).
+    """
+
+    FACES = "faces"
+    BINARY = "binary"
+    CAPPED = "capped"
+
+
+#: Segments from which ``TouchPay.CAPPED`` pays p_touch = 1.
+TOUCH_CAP = 4
+
+
+class NetworkStart(enum.Enum):
+    """The network's state at a trial's start (the paper does not say).
+
+    - ``HOLD_HOME`` (version 1's default): internal states 0, motor states (t_home + 1) / 2, the
+      states whose targets hold the home posture.
+    - ``ZERO``: every state 0 (motor targets -1 until the network's first update moves them).
+    """
+
+    HOLD_HOME = "hold-home"
+    ZERO = "zero"
+
+
+@dataclass(frozen=True)
+class Levers:
+    """The trial's levers (see the enums); the defaults are model version 1's choices."""
+
+    reflex_inputs: ReflexInputs = ReflexInputs.HAND_SET
+    touch_pay: TouchPay = TouchPay.FACES
+    network_start: NetworkStart = NetworkStart.HOLD_HOME
+
+    def __post_init__(self):
+        for name, kind in (("reflex_inputs", ReflexInputs), ("touch_pay", TouchPay),
+                           ("network_start", NetworkStart)):
+            value = getattr(self, name)
+            if not isinstance(value, kind):
+                try:
+                    object.__setattr__(self, name, kind(value))
+                except ValueError:
+                    raise ValueError(f"{name} must be one of "
+                                     f"{', '.join(repr(k.value) for k in kind)}, got {value!r}"
+                                     ) from None
+
+    def to_json(self) -> dict:
+        return {k: getattr(self, k).value for k in ("reflex_inputs", "touch_pay",
+                                                     "network_start")}
+
+    @classmethod
+    def from_json(cls, d: dict | None) -> "Levers":
+        """The inverse of ``to_json``; None or missing keys: version 1's defaults."""
+        d = dict(d or {})
+        unknown = sorted(set(d) - {"reflex_inputs", "touch_pay", "network_start"})
+        if unknown:
+            raise ValueError(f"unknown lever(s) {', '.join(unknown)}")
+        return cls(**d)
+
+    def changed(self) -> dict[str, str]:
+        """The levers set away from version 1's defaults, name -> value."""
+        base = Levers()
+        return {k: v for k, v in self.to_json().items() if base.to_json()[k] != v}
