@@ -126,8 +126,9 @@ class ReachGraspEnv(gym.Env):
     ## Rewards
 
     Step k's reward is p_multimodal (Eq. 5) of the state observed at step k, in which the
-    action is chosen: p_sight (the ball's distance from the centre of the view) plus p_touch
-    (the share of hand segments touching it) and their product, as in ``model.sensors``. The
+    action is chosen: min(p_sight, p_touch), in [0, 1], where p_sight is 1 with the ball at the
+    centre of the view falling to 0 at its corners and p_touch the share of hand segments
+    touching it on their inner faces (``model.sensors``); ``info`` holds both terms. The
     rewards of a whole episode are the trial's ``p_multimodal`` row by row and their mean is
     its fitness (``info["fitness"]``). A step whose physics diverges earns 0 and ends the
     episode (below); the trial's fitness is then 0, as in the GA.
@@ -235,9 +236,9 @@ class ReachGraspEnv(gym.Env):
         self.episode_seed: int | None = None
 
     def __reduce__(self):
-        """Pickled as its arguments (a DART world does not pickle): the copy is a new
-        environment, to be reset before it steps."""
-        return (_rebuild, (self._arguments,))
+        """Pickled as its arguments and its registration's spec (a DART world does not
+        pickle): the copy is a new environment, to be reset before it steps."""
+        return (_rebuild, (self._arguments, self.spec))
 
     @property
     def trial_data(self) -> TrialData | None:
@@ -358,8 +359,10 @@ class ReachGraspEnv(gym.Env):
 CONDITION = "gymnasium"
 
 
-def _rebuild(arguments: dict) -> ReachGraspEnv:
-    return ReachGraspEnv(**arguments)
+def _rebuild(arguments: dict, spec) -> ReachGraspEnv:
+    env = ReachGraspEnv(**arguments)
+    env.spec = spec
+    return env
 
 
 def _renderer():
