@@ -169,10 +169,10 @@ def gym_env(trials: int = 9) -> dict:
     """The Gymnasium environment (``envs``, the ``gym`` extra) against the trial it wraps:
     the shipped evolved pre-reaching robots' networks stepped through ``ReachGraspEnv`` as
     ``envs.NetworkPolicy`` (with its reflexes off: the networks have theirs) and run by
-    ``Trial.run``, the same trials to the last bit, in pairs over the sector centres. ``env_steps_per_s``: control steps of
-    0.1 s per second of one core (one process; a vector environment runs one per core);
-    ``env_over_trial``: the trial's time over the environment's (1: the wrapper costs
-    nothing)."""
+    ``Trial.run``, the same trials to the last bit, in pairs over the sector centres.
+    ``env_steps_per_s``: control steps of 0.1 s per second of one core (one process; a vector
+    environment runs one per core); ``env_over_trial``: the trial's time over the
+    environment's (1: the wrapper costs nothing)."""
     from ..envs import NetworkPolicy, ReachGraspEnv  # the gym extra
 
     env = ReachGraspEnv(phase="pre", reflexes=False)
