@@ -20,7 +20,6 @@ gymnasium = pytest.importorskip("gymnasium")
 import dart_reach  # noqa: E402
 from dart_reach.envs import REFLEX_MOTORS, NetworkPolicy, ReachGraspEnv  # noqa: E402
 from dart_reach.measures import metrics  # noqa: E402
-from dart_reach.model.ctrnn import motor_targets  # noqa: E402
 from dart_reach.envs.seeing import record_episode  # noqa: E402
 from dart_reach.evolution.genome import decode  # noqa: E402
 from dart_reach.model.task import Trial, network_for, trial_positions  # noqa: E402
