@@ -75,8 +75,10 @@ def _pin_numpy_dispatch() -> None:
 
 _pin_numpy_dispatch()
 
-#: The Gymnasium id of the paper's trial as an environment (``envs``; the ``gym`` extra).
-GYM_ID = "dart_reach/ReachGrasp-v0"
+#: The Gymnasium id of the paper's trial as an environment (``envs``; the ``gym`` extra). v1:
+#: actions in [-1, 1] float32, 200 steps in the registration (``ReachGraspEnv``'s version
+#: history); ``gymnasium.make`` refuses v0, naming v1.
+GYM_ID = "dart_reach/ReachGrasp-v1"
 
 
 def _register_gym_environment() -> None:
@@ -90,7 +92,8 @@ def _register_gym_environment() -> None:
     except ImportError:
         return
     if GYM_ID not in gymnasium.registry:
-        gymnasium.register(GYM_ID, entry_point="dart_reach.envs.reach_grasp:ReachGraspEnv")
+        gymnasium.register(GYM_ID, entry_point="dart_reach.envs.reach_grasp:ReachGraspEnv",
+                           max_episode_steps=200)  # the trial's 200 steps of 0.1 s
 
 
 _register_gym_environment()

@@ -1,7 +1,7 @@
 """The package's architecture, read from its imports with ``ast``: subpackages follow the data
 flow and import only those before them; no module imports a private name of another; no module
 grows past about 600 lines; imports sit at the top of a module except where deferring them is
-stated (an optional extra, or the CLI's start-up time)."""
+stated (an optional extra, or the CLI's start-up time); no two modules import each other."""
 
 from __future__ import annotations
 
@@ -13,8 +13,8 @@ PACKAGE = Path(__file__).resolve().parents[1] / "dart_reach"
 #: Each layer may import itself and the layers before it. ``errors``, ``files`` and
 #: ``progress`` are shared utilities every layer may use.
 #: ``envs`` (the Gymnasium environment) wraps the model's trial, takes its phases from
-#: evolution's conditions and draws its frames with viewing's headless viewer: it sits after
-#: viewing, and bench (studies) measures it.
+#: evolution's conditions and draws its frames with ``viewing.episode`` (which takes a trial's
+#: record, not the environment): it sits after viewing, and bench (studies) measures it.
 LAYERS = ("model", "measures", "recording", "evolution", "postevaluation", "analysis",
           "robots", "viewing", "envs", "studies", "cli")
 SHARED = {"errors", "files", "progress", "skeletons", ""}
@@ -128,3 +128,38 @@ def test_the_layer_test_sees_a_wrong_import(tmp_path):
     node = tree.body[0]
     assert _layer(_target(("model", "world"), node, False)[0]) == "analysis"
     assert LAYERS.index("analysis") > LAYERS.index("model")
+
+
+def _import_graph() -> dict[str, set[str]]:
+    """Module -> the package's modules it imports (at the top or deferred; a package's
+    ``__init__`` stands for the package)."""
+    modules = {".".join(parts[:-1] if parts[-1] == "__init__" else parts)
+               for _, parts, _ in _modules()}
+    graph: dict[str, set[str]] = {}
+    for _, parts, tree in _modules():
+        is_init = parts[-1] == "__init__"
+        me = ".".join(parts[:-1] if is_init else parts)
+        edges = graph.setdefault(me, set())
+        for node in ast.walk(tree):
+            if isinstance(node, ast.ImportFrom):
+                for target in _target(parts, node, is_init):
+                    while target and target not in modules:  # a name of a module
+                        target = target.rpartition(".")[0]
+                    if target and target != me:
+                        edges.add(target)
+    return graph
+
+
+def _circles(graph: dict[str, set[str]]) -> list[list[str]]:
+    """Every import circle between two modules of one subpackage (A imports B, B imports A,
+    deferred or not): a package's ``__init__`` importing its own modules is not one."""
+    return sorted([a, b] for a in graph for b in graph[a]
+                  if a < b and a in graph.get(b, ()) and a.split(".")[0] == b.split(".")[0]
+                  and "." in a and "." in b)
+
+
+def test_no_two_modules_import_each_other():
+    circles = _circles(_import_graph())
+    assert not circles, f"import circles: {circles}"
+    # the rule can fail
+    assert _circles({"envs.a": {"envs.b"}, "envs.b": {"envs.a"}}) == [["envs.a", "envs.b"]]

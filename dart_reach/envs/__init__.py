@@ -1,12 +1,15 @@
 """The paper's trial as a Gymnasium environment (the ``gym`` extra; docs/guides/gymnasium.md).
 
-``import dart_reach`` registers it as ``dart_reach/ReachGrasp-v0`` where Gymnasium is installed:
-``gymnasium.make("dart_reach/ReachGrasp-v0", phase="gross")``. ``reach_grasp``: the
-environment, a thin wrapper over ``model.task.Trial``; ``seeing``: an episode as a Rerun
-recording like a trial's, and the frames of ``render_mode="rgb_array"`` (imported apart: rerun
-and polars take about a second to load, which every process of a vector environment would pay).
+``import dart_reach`` registers it as ``dart_reach/ReachGrasp-v1`` where Gymnasium is installed:
+``gymnasium.make("dart_reach/ReachGrasp-v1", phase="gross")``. ``reach_grasp``: the
+environment, a thin wrapper over ``model.task.Trial``; ``policy``: a controller network (a
+shipped robot's) as a policy; ``seeing``: an episode as a Rerun recording like a trial's
+(imported apart: rerun and polars take about a second to load, which every process of a
+vector environment would pay). Its frames are ``viewing.episode``'s.
 """
 
-from .reach_grasp import REFLEX_MOTORS, ReachGraspEnv, shipped_phases
+from .policy import NetworkPolicy
+from .reach_grasp import REFLEX_MOTORS, ReachGraspEnv, check_ball_position, shipped_phases
 
-__all__ = ["REFLEX_MOTORS", "ReachGraspEnv", "shipped_phases"]
+__all__ = ["REFLEX_MOTORS", "NetworkPolicy", "ReachGraspEnv", "check_ball_position",
+           "shipped_phases"]

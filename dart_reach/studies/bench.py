@@ -167,29 +167,30 @@ def closed_loop(kind: str, config: WorldConfig | None = None, trials: int = 9,
 
 def gym_env(trials: int = 9) -> dict:
     """The Gymnasium environment (``envs``, the ``gym`` extra) against the trial it wraps:
-    the shipped evolved pre-reaching robots' networks stepped through ``ReachGraspEnv`` (with
-    its reflexes off: the networks have theirs) and run by ``Trial.run``, the same trials to
-    the last bit, in pairs over the sector centres. ``env_steps_per_s``: control steps of
-    0.1 s per second of one core (one process; a vector environment runs one per core);
-    ``env_over_trial``: the trial's time over the environment's (1: the wrapper costs
-    nothing)."""
-    from ..envs import ReachGraspEnv  # the gym extra
+    the shipped evolved pre-reaching robots' networks stepped through ``ReachGraspEnv`` as
+    ``envs.NetworkPolicy`` (with its reflexes off: the networks have theirs) and run by
+    ``Trial.run``, the same trials to the last bit, in pairs over the sector centres.
+    ``env_steps_per_s``: control steps of 0.1 s per second of one core (one process; a vector
+    environment runs one per core); ``env_over_trial``: the trial's time over the
+    environment's (1: the wrapper costs nothing)."""
+    from ..envs import NetworkPolicy, ReachGraspEnv  # the gym extra
 
     env = ReachGraspEnv(phase="pre", reflexes=False)
     runner = Trial(World(env.world.config), env.config)
     networks = [network_for(decode(g, {ParamGroup.DIRECT}), replace(env.config, reflexes=True))
                 for g in panel_genomes("evolved")]
+    policies = [NetworkPolicy(n) for n in networks]
     centres = [env.world.sector_point(k, 0.5, 0.5) for k in range(9)]
     in_env, in_trial, steps = [], [], []
     for i in range(trials * len(networks)):
-        network, k = networks[i % len(networks)], i % 9
+        network, policy, k = networks[i % len(networks)], policies[i % len(networks)], i % 9
 
         def episode():
             x, info = env.reset(options={"sector": k, "ball_position": centres[k]})
-            network.reset(motor=info["home_action"])
+            policy.reset(info)
             over = False
             while not over:
-                x, _, terminated, truncated, _ = env.step(network.step(x))
+                x, _, terminated, truncated, _ = env.step(policy(x))
                 over = terminated or truncated
 
         def trial():

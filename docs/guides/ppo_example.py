@@ -1,7 +1,8 @@
-"""PPO (stable-baselines3) on dart_reach/ReachGrasp-v0, pre-reaching, against the GA at the same
-number of trials (docs/guides/gymnasium.md). Not part of the test suite.
+"""PPO (stable-baselines3) on dart_reach/ReachGrasp-v1, pre-reaching, against the GA at the same
+number of trials (docs/guides/gymnasium.md). tests/envs/test_ppo_example.py runs it for a few
+thousand steps (skipped without stable-baselines3); the learning itself is a documented result.
 
-    pip install -e ".[gym]" torch==2.13.0 stable-baselines3
+    pip install torch==2.13.0 && pip install -e ".[rl]"  # torch: a CPU wheel first
     python docs/guides/ppo_example.py --timesteps 288000 --ga-run recordings/replication-50x10
 """
 

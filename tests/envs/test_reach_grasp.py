@@ -1,11 +1,15 @@
 """The Gymnasium environment is the paper's trial: an evolved robot stepped through it earns the
 fitness ``Trial.run`` gives it, bit for bit; its reflexes are the network's; Gymnasium's own
-checker passes; same seed, same episode; it runs vectorised; an episode records like a trial."""
+checker passes (and stable-baselines3's, where it is installed); same seed, same episode; it runs
+vectorised and pickles; a divergence ends an episode without a reward spike; bad input is
+refused; an episode records like a trial."""
 
 from __future__ import annotations
 
+import pickle
 import subprocess
 import sys
+import warnings
 from dataclasses import replace
 
 import numpy as np
@@ -14,7 +18,8 @@ import pytest
 gymnasium = pytest.importorskip("gymnasium")
 
 import dart_reach  # noqa: E402
-from dart_reach.envs import REFLEX_MOTORS, ReachGraspEnv  # noqa: E402
+from dart_reach.envs import REFLEX_MOTORS, NetworkPolicy, ReachGraspEnv  # noqa: E402
+from dart_reach.measures import metrics  # noqa: E402
 from dart_reach.envs.seeing import record_episode  # noqa: E402
 from dart_reach.evolution.genome import decode  # noqa: E402
 from dart_reach.model.task import Trial, network_for, trial_positions  # noqa: E402
@@ -32,12 +37,13 @@ def shipped_network(env: ReachGraspEnv, phase: str, reflexes: bool = True):
 
 
 def episode(env, policy, **reset):
-    """Step ``policy`` (a network: its ``step(observation)``) through one episode."""
+    """Step ``policy`` (a ``NetworkPolicy``: ``reset(info)``, ``policy(observation)``) through
+    one episode."""
     observation, info = env.reset(**reset)
-    policy.reset(motor=info["home_action"])
+    policy.reset(info)
     rewards, done = [], False
     while not done:
-        observation, reward, terminated, truncated, info = env.step(policy.step(observation))
+        observation, reward, terminated, truncated, info = env.step(policy(observation))
         rewards.append(reward)
         done = terminated or truncated
     return np.array(rewards), info
@@ -47,8 +53,9 @@ def test_a_shipped_robot_earns_the_fitness_its_trial_gives_it_bit_for_bit():
     # fine-reaching: full acuity, offset sensors, internal neurons, reflexes (inside the
     # network, so the environment's are off and the network is the whole controller)
     env = ReachGraspEnv(phase="fine", reflexes=False)
-    _, config, network = shipped_network(env, "fine")
-    rewards, info = episode(env, network, seed=2013)
+    robot, config, network = shipped_network(env, "fine")
+    # the robot as a policy (its network built by of_robot, the trial's by the GA's code)
+    rewards, info = episode(env, NetworkPolicy.of_robot(robot), seed=2013)
     sector, position = env.trial_data.sector, env.trial_data.ball_start
     # the position is a GA trial's, drawn from the seed
     k, p = trial_positions(World(), np.random.default_rng(2013), trials=1)[0]
@@ -58,9 +65,31 @@ def test_a_shipped_robot_earns_the_fitness_its_trial_gives_it_bit_for_bit():
     assert rewards.shape == (200,) and np.array_equal(rewards, data.p_multimodal)
     assert np.mean(rewards) == data.fitness == info["fitness"]
     mine = env.trial_data
-    for name in ("sensors", "joints", "dofs", "motor", "targets", "contacts", "ball"):
+    for name in ("sensors", "joints", "dofs", "targets", "contacts", "contacts_any", "ball"):
         assert np.array_equal(getattr(mine, name), getattr(data, name)), name
+    # the motor outputs the actions stand for, (a + 1) / 2: 2 s - 1 rounds below s = 1/4
+    assert np.allclose(mine.motor, data.motor, rtol=0, atol=1e-15)
     assert mine.steps_run == data.steps_run == 200 and not info["diverged"]
+    # the episode's end says what the post-evaluation's measures say of the trial
+    m = metrics.trial_metrics(data)
+    assert (info["reached"], info["grasped"]) == (m["reached"], m["grasped"])
+    assert info["is_success"] == info["grasped"]
+
+
+def test_actions_are_used_as_given_float64_never_rounded_to_float32():
+    env = ReachGraspEnv(phase="gross", reflexes=False, steps=5)
+    env.reset(seed=1)
+    action = np.linspace(-0.9, 0.9, 14) + 1e-12  # not float32 numbers
+    assert not np.array_equal(action, action.astype(np.float32).astype(np.float64))
+    env.step(action)
+    assert np.array_equal(env.trial_data.targets[0], action)
+    single = env.action_space.sample()
+    assert single.dtype == np.float32
+    env.step(single)
+    assert np.array_equal(env.trial_data.targets[1], single.astype(np.float64))
+    # beyond [-1, 1]: clipped; the motor record holds the outputs the targets stand for
+    env.step(np.full(14, 3.0))
+    assert (env.trial_data.targets[2] == 1.0).all() and (env.trial_data.motor[2] == 1.0).all()
 
 
 def test_the_reflexes_are_the_networks_and_override_the_action():
@@ -74,24 +103,24 @@ def test_the_reflexes_are_the_networks_and_override_the_action():
     params.tau_motor[REFLEX_MOTORS] = 0.0
     network = network_for(params, config)
     options = {"sector": 3, "ball_position": World().sector_point(3, 0.5, 0.5)}
-    rewards, _ = episode(env, network, options=options)
+    rewards, _ = episode(env, NetworkPolicy(network), options=options)
     data = Trial(World(), config).run(network, 3, options["ball_position"])
     assert np.array_equal(rewards, data.p_multimodal)
-    assert np.array_equal(env.trial_data.motor, data.motor)
+    assert np.array_equal(env.trial_data.targets, data.targets)
+    # the reflex motors' outputs are the arcs' own; the others' stand for their targets
+    assert np.array_equal(env.trial_data.motor[:, REFLEX_MOTORS], data.motor[:, REFLEX_MOTORS])
+    assert np.allclose(env.trial_data.motor, data.motor, rtol=0, atol=1e-15)
 
-    class Contrary:  # the same network, its reflex outputs replaced by nonsense
-        def reset(self, motor):
-            network.reset(motor)
-
-        def step(self, x):
-            a = network.step(x).copy()
-            a[REFLEX_MOTORS] = 1.0 - a[REFLEX_MOTORS]
+    class Contrary(NetworkPolicy):  # the same network, its reflex targets replaced by nonsense
+        def __call__(self, observation):
+            a = super().__call__(observation)
+            a[REFLEX_MOTORS] = -a[REFLEX_MOTORS]
             return a
-    again, _ = episode(env, Contrary(), options=options)
+    again, _ = episode(env, Contrary(network), options=options)
     assert np.array_equal(again, rewards)
     # with the reflexes off the same nonsense drives the neck and hand: another trial
     off = ReachGraspEnv(phase="pre", steps=40, reflexes=False)
-    episode(off, Contrary(), options=options)
+    episode(off, Contrary(network), options=options)
     assert not np.array_equal(off.trial_data.joints, env.trial_data.joints)
 
 
@@ -99,8 +128,38 @@ def test_gymnasiums_checker_passes_and_the_id_is_registered():
     from gymnasium.utils.env_checker import check_env
 
     env = gymnasium.make(dart_reach.GYM_ID, phase="gross", steps=10)
+    assert dart_reach.GYM_ID == "dart_reach/ReachGrasp-v1"
+    assert env.spec.max_episode_steps == 200
     assert isinstance(env.unwrapped, ReachGraspEnv) and env.unwrapped.config.acuity == 1.0
-    check_env(env.unwrapped, skip_render_check=True)
+    assert env.action_space == gymnasium.spaces.Box(-1, 1, (14,), np.float32)
+    assert env.observation_space == gymnasium.spaces.Box(-1, 1, (25,), np.float64)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        check_env(env.unwrapped, skip_render_check=True)
+
+
+def test_the_old_id_is_refused_naming_the_new_one():
+    with pytest.warns(DeprecationWarning, match="v1"), pytest.raises(
+            gymnasium.error.DeprecatedEnv, match="Please use `dart_reach/ReachGrasp-v1`"):
+        gymnasium.make("dart_reach/ReachGrasp-v0")
+
+
+def test_stable_baselines3s_checker_passes_without_a_warning():
+    sb3_checker = pytest.importorskip("stable_baselines3.common.env_checker")
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        sb3_checker.check_env(ReachGraspEnv(phase="fine", steps=10), warn=True)
+
+
+def test_the_registered_time_limit_truncates_and_nothing_else_does():
+    env = gymnasium.make(dart_reach.GYM_ID, phase="pre")
+    env.reset(seed=4)
+    home = env.unwrapped.home_action.astype(np.float32)
+    for t in range(200):
+        _, reward, terminated, truncated, info = env.step(home)
+        assert not terminated and truncated == (t == 199) and 0.0 <= reward <= 1.0
+    assert not info["diverged"] and "reason" not in info
+    assert {"fitness", "reached", "grasped", "is_success"} <= set(info)
 
 
 def test_importing_dart_reach_needs_no_gymnasium():
@@ -137,7 +196,7 @@ def test_same_seed_same_episode_another_seed_another():
 def test_vector_environments_step_as_single_ones(vector):
     steps = 4
     make = lambda: ReachGraspEnv(phase="fine", steps=steps)  # noqa: E731
-    actions = np.random.default_rng(1).random((steps, 2, 14))
+    actions = np.random.default_rng(1).uniform(-1, 1, (steps, 2, 14)).astype(np.float32)
     envs = getattr(gymnasium.vector, vector)([make, make])
     try:
         observations, _ = envs.reset(seed=[11, 12])
@@ -155,6 +214,62 @@ def test_vector_environments_step_as_single_ones(vector):
         assert np.array_equal(np.array(rewards)[:, i], expected_rewards)
 
 
+@pytest.mark.parametrize("mode", ["sync", "async"])
+def test_make_vec_runs_the_registered_environment(mode):
+    envs = gymnasium.make_vec(dart_reach.GYM_ID, num_envs=2, vectorization_mode=mode,
+                              phase="gross", steps=3)
+    try:
+        assert envs.single_action_space == gymnasium.spaces.Box(-1, 1, (14,), np.float32)
+        observations, infos = envs.reset(seed=7)
+        assert observations.shape == (2, 25) and infos["sector"].shape == (2,)
+        for _ in range(3):
+            observations, rewards, terminated, truncated, infos = envs.step(
+                envs.action_space.sample())
+        assert truncated.all() and not terminated.any() and np.isfinite(observations).all()
+        assert infos["_is_success"].all() and infos["is_success"].dtype == bool
+    finally:
+        envs.close()
+
+
+def test_the_environment_pickles_and_the_copy_steps_as_the_original():
+    import cloudpickle
+
+    env = gymnasium.make(dart_reach.GYM_ID, phase="fine", steps=5)
+    env.reset(seed=0)
+    actions = np.random.default_rng(2).uniform(-1, 1, (5, 14)).astype(np.float32)
+    for dumps, loads in ((pickle.dumps, pickle.loads), (cloudpickle.dumps, cloudpickle.loads)):
+        copy = loads(dumps(env))
+        assert copy.spec.max_episode_steps == 200 and copy.unwrapped is not env.unwrapped
+        assert copy.unwrapped.config == env.unwrapped.config
+        mine, theirs = (run_actions(e.unwrapped, 3, actions) for e in (env, copy))
+        assert all(np.array_equal(x, y) for x, y in zip(mine, theirs))
+
+
+def test_a_diverged_physics_ends_the_episode_without_a_reward_spike():
+    """The real world's state blown up (NaN velocities, as the trial's own test does) after
+    4 steps: the 5th step terminates with reward 0, the reason, the last finite observation,
+    and the trial's fitness 0, as ``Trial.run`` gives it."""
+    env = ReachGraspEnv(phase="gross", steps=20)
+    observation, _ = env.reset(seed=5, options={"sector": 4})
+    rewards = []
+    for _ in range(4):
+        observation, reward, terminated, truncated, info = env.step(env.home_action)
+        assert not (terminated or truncated)
+        rewards.append(reward)
+    env.world.robot.setVelocities(np.full(env.world.robot.getNumDofs(), np.nan))
+    last, reward, terminated, truncated, info = env.step(env.home_action)
+    assert terminated and not truncated and reward == 0.0
+    assert info["diverged"] and "not finite" in info["reason"] and info["fitness"] == 0.0
+    assert np.isfinite(last).all() and env.observation_space.contains(last)
+    assert np.array_equal(last, env.trial_data.sensors[4])  # the state the action saw
+    assert env.trial_data.diverged and env.trial_data.steps_run == 5
+    assert not info["is_success"] and {"reached", "grasped"} <= set(info)
+    with pytest.raises(gymnasium.error.ResetNeeded):
+        env.step(env.home_action)
+    env.reset(seed=5)  # and a new episode runs
+    assert not env.step(env.home_action)[2]
+
+
 def test_bad_options_are_refused_with_their_reason():
     with pytest.raises(ValueError, match="unknown phase 'crawl'.*gross"):
         ReachGraspEnv(phase="crawl")
@@ -169,8 +284,29 @@ def test_bad_options_are_refused_with_their_reason():
         env.reset(options={"colour": "red"})
     with pytest.raises(ValueError, match="needs its 'sector'"):
         env.reset(options={"ball_position": [0.0, 0.0, 0.0]})
-    with pytest.raises(ValueError, match="sector must be an integer in 0..8"):
-        env.reset(options={"sector": 9})
+    for sector in (9, -1, 2.0, "3", True, np.bool_(False)):
+        with pytest.raises(ValueError, match="must be an integer in 0..8"):
+            env.reset(options={"sector": sector})
+    assert env.reset(options={"sector": np.int64(8)})[1]["sector"] == 8
+    # a ball position is checked against its sector of the scene's sectors
+    world = env.world
+    corner = world.sector_point(0, 0.0, 0.0)
+    assert env.reset(options={"sector": 0, "ball_position": corner})[1]["sector"] == 0
+    assert env.reset(options={"sector": 0, "ball_position": corner.round(3)})  # rounding
+    for sector, position, why in (
+            (1, corner, "not in sector 1"),  # another sector's point
+            (4, world.sector_point(4, 0.5, 0.5) + [5.0, 0, 0], "not in sector 4"),  # 5 m away
+            (4, world.neck_centre, "not in sector 4"),
+            (4, world.sector_point(4, 0.5, 0.5) * 1.01, "not in sector 4"),  # off the sphere
+            (4, [0.1, 0.2], "3 finite numbers"), (4, [np.nan, 0, 0], "3 finite numbers")):
+        with pytest.raises(ValueError, match=why):
+            env.reset(options={"sector": sector, "ball_position": position})
+    near = ReachGraspEnv(scene="near", steps=3).world
+    with pytest.raises(ValueError, match="not in sector 4"):  # the default scene's point
+        ReachGraspEnv(scene="near", steps=3).reset(
+            options={"sector": 4, "ball_position": world.sector_point(4, 0.5, 0.5)})
+    ReachGraspEnv(scene="near", steps=3).reset(
+        options={"sector": 4, "ball_position": near.sector_point(4, 0.5, 0.5)})
     observation, _ = env.reset(seed=0)
     with pytest.raises(ValueError, match="read-only"):  # the trial's record is safe
         observation *= 2.0
