@@ -36,7 +36,7 @@ from typing import Sequence
 import numpy as np
 import polars as pl
 
-from . import findings, stats, stillness, verdicts
+from . import brunner_munzel, findings, stats, stillness, verdicts
 from ..postevaluation import snapshots
 from .claims import CLAIMS, Claim, Kind
 from .stillness import BABBLING, STILL
@@ -258,7 +258,9 @@ def fitness_by_strategy(course_table: pl.DataFrame,
     populations (``<column>_babbling``, ``<column>_still``) and the two-sided Mann-Whitney p
     between them, the replication as the unit (``p_<column>``, ``stats.mann_whitney``);
     ``smallest_p``, the smallest p those sample sizes allow (2 / C(n, k) without ties), says
-    whether the test could have found a difference."""
+    whether the test could have found a difference; ``theta_<column>`` = P(babbling > still)
+    + P(=) / 2 with its 95 % interval (``theta_<column>_low``, ``_high``: the studentized
+    permutation Brunner-Munzel test inverted; NaN with fewer than 2 populations a side)."""
     rows = []
     for (generation,), at in course_table.group_by("generation", maintain_order=True):
         n = {s: at.filter(pl.col("strategy") == s).height for s in (BABBLING, STILL)}
@@ -270,12 +272,20 @@ def fitness_by_strategy(course_table: pl.DataFrame,
                 row[f"{column}_{s}"] = at.filter(pl.col("strategy") == s)[column].median()
             test = stats.mann_whitney(at, column, "strategy", order=[BABBLING, STILL])
             row[f"p_{column}"] = float(test["p"][0])
+            still_, babbling_ = (at.filter(pl.col("strategy") == s)[column].to_numpy()
+                                 for s in (STILL, BABBLING))
+            bm = (brunner_munzel.test(still_, babbling_) if min(n.values()) >= 2 else None)
+            row[f"theta_{column}"] = bm.theta if bm else math.nan
+            row[f"theta_{column}_low"] = bm.low if bm else math.nan
+            row[f"theta_{column}_high"] = bm.high if bm else math.nan
         row["smallest_p"] = 2 / math.comb(n[BABBLING] + n[STILL], n[STILL])
         rows.append(row)
     keys = ["generation", "babbling", "still"]
     schema = {**{k: pl.Int64 for k in keys},
               **{f"{c}_{s}": pl.Float64 for c in columns for s in (BABBLING, STILL)},
-              **{f"p_{c}": pl.Float64 for c in columns}, "smallest_p": pl.Float64}
+              **{f"p_{c}": pl.Float64 for c in columns},
+              **{f"theta_{c}{e}": pl.Float64 for c in columns for e in ("", "_low", "_high")},
+              "smallest_p": pl.Float64}
     return pl.DataFrame(rows, schema=schema).sort("generation")
 
 
