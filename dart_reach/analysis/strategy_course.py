@@ -38,7 +38,7 @@ import polars as pl
 
 from . import brunner_munzel, findings, stats, stillness, verdicts
 from ..postevaluation import snapshots
-from .claims import CLAIMS, Claim, Kind
+from .claims import CLAIMS, RATES, Claim, Kind
 from .stillness import BABBLING, STILL
 
 #: The generations at which the pre-reaching claims are judged (issue 48).
@@ -200,11 +200,14 @@ def scale_ends(development: pl.DataFrame, generations: Sequence[int] = JUDGED,
     ``verdicts.relative_changes``, from -2 to 2) at each of ``generations`` the development
     table holds under the claim's two conditions: a value of 0 under one and any other under
     the other is at +-2 however small it is (one babbling trial of a still population's 225),
-    and one such unit widens the interval of the mean change by itself. ``generation``,
+    and one such unit widens the interval of the mean change by itself. Only the claims still
+    judged on that scale are listed: a rate's (``claims.RATES``: babbling, reach) is judged
+    on its own scale (``verdicts.paired_rate_equivalent``), where 0 is a level like any
+    other. ``generation``,
     ``claim``, ``replication``, ``senses`` and ``reference`` (the claim's first condition and
     the replication's value there), ``versus`` and ``changed`` (its second)."""
     rows = development.filter(pl.col("phase") == phase)
-    same = [c for c in claims_of_pre() if c.kind is Kind.SAME_PAIRED]
+    same = [c for c in claims_of_pre() if c.kind is Kind.SAME_PAIRED and c.measure not in RATES]
     frames = [pl.DataFrame(schema={"generation": pl.Int64, "claim": pl.Utf8,
                                    "replication": pl.Int64, "senses": pl.Utf8,
                                    "reference": pl.Float64, "versus": pl.Utf8,

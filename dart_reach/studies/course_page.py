@@ -11,7 +11,7 @@ from pathlib import Path
 
 import polars as pl
 
-from ..analysis import budgets, said
+from ..analysis import budgets, said, verdicts
 from ..analysis import strategy_course as sc
 from ..analysis.figures import strategy_figure, training_by_strategy
 from ..analysis.stillness import BABBLING, STILL, STILL_SHARE, trained_trials
@@ -302,6 +302,7 @@ def values(recordings: Path) -> dict[str, str]:
         f"{r['claim']} ({r['before']}: {r['was']}, {r['after']}: {r['now']})"
         for r in changed.iter_rows(named=True)) or "none"
     ends = sc.scale_ends(development)
+    out["rate_margin"] = f"{verdicts.RATE_MARGIN:g}"
     out["scale_ends"] = ("none." if not ends.height else "\n\n" + markdown_table(ends.rename(
         {"senses": "condition", "reference": "value", "versus": "against",
          "changed": "value there"})))
