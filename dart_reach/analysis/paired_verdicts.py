@@ -11,8 +11,8 @@ import numpy as np
 from scipy.stats import rankdata
 
 from .verdicts import (ALPHA, CONTRADICTED, INCONCLUSIVE, MIN_UNITS, PAIRED_MARGIN,
-                       RATE_MARGIN, REPRODUCED, UNDERPOWERED, Outcome, _no_spread, _normal_sf,
-                       _ties, finite, friedman, signed_rank_distribution, smallest_friedman_p,
+                       RATE_MARGIN, REPRODUCED, UNDERPOWERED, Outcome, no_spread, normal_sf,
+                       tie_sum, finite, friedman, signed_rank_distribution, smallest_friedman_p,
                        smallest_signed_rank_p, t_cdf, t_quantile, t_sf, walsh_median)
 
 
@@ -31,7 +31,7 @@ def wilcoxon(d, alternative: str = "two-sided") -> tuple[float, int]:
     t_plus = float(ranks[d > 0].sum())
     mu = n * (n + 1) / 4
     direction = int(np.sign(t_plus - mu))
-    ties = _ties(np.abs(d))
+    ties = tie_sum(np.abs(d))
     if ties == 0:
         cdf = np.cumsum(signed_rank_distribution(n))
         k = int(round(t_plus))
@@ -41,8 +41,8 @@ def wilcoxon(d, alternative: str = "two-sided") -> tuple[float, int]:
         return float(min(max(p, 0.0), 1.0)), direction
     sd = math.sqrt(n * (n + 1) * (2 * n + 1) / 24 - ties / 48)
     z = (t_plus - mu) / sd
-    p = {"two-sided": min(1.0, 2 * _normal_sf(abs(z))), "greater": _normal_sf(z),
-         "less": _normal_sf(-z)}[alternative]
+    p = {"two-sided": min(1.0, 2 * normal_sf(abs(z))), "greater": normal_sf(z),
+         "less": normal_sf(-z)}[alternative]
     return float(p), direction
 
 
@@ -115,7 +115,7 @@ def paired_equivalent(reference, changed, margin: float = PAIRED_MARGIN,
     if len(ref) < MIN_UNITS:
         return Outcome(UNDERPOWERED, note=f"{len(ref)} pairs")
     d = relative_changes(ref, new) if relative else new - ref
-    if _no_spread(d):
+    if no_spread(d):
         return Outcome(INCONCLUSIVE, effect=float(d.mean()),
                        note="every unit changed alike: no evidence")
     bound = margin if relative else margin * abs(float(np.median(ref)))
@@ -145,7 +145,7 @@ def paired_rate_equivalent(reference, changed, margin: float = RATE_MARGIN) -> O
     if len(ref) < MIN_UNITS:
         return Outcome(UNDERPOWERED, note=f"{len(ref)} pairs")
     d = new - ref
-    if _no_spread(d):
+    if no_spread(d):
         return Outcome(INCONCLUSIVE, effect=float(d.mean()),
                        note="every unit changed alike: no evidence")
     p_eq, p_diff, mean, low, high = paired_tost(ref, new, margin)
@@ -168,7 +168,7 @@ def senses_differ(matrix, level: float = ALPHA, margin: float = PAIRED_MARGIN) -
     if n < 2 or smallest_friedman_p(n, k) >= ALPHA:
         return Outcome(UNDERPOWERED, note=f"{n} blocks: the smallest possible p is "
                                           f"{smallest_friedman_p(max(n, 1), k):.2g}")
-    if _no_spread(x):
+    if no_spread(x):
         return Outcome(INCONCLUSIVE, 1.0, 0.0, paper_level_met=False,
                        note="every value equal: no evidence")
     chi2, p = friedman(x)

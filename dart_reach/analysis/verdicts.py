@@ -109,7 +109,8 @@ def finite(x) -> np.ndarray:
     return x[np.isfinite(x)]
 
 
-def _no_spread(*groups) -> bool:
+def no_spread(*groups) -> bool:
+    """Whether the values of ``groups`` together have no spread (or there are none)."""
     values = np.concatenate([np.ravel(g) for g in groups])
     return len(values) == 0 or bool(np.ptp(values) == 0)
 
@@ -135,7 +136,7 @@ def friedman(x: np.ndarray) -> tuple[float, float]:
     n, k = x.shape
     ranks = rankdata(x, axis=1)
     sums = ranks.sum(axis=0)
-    ties = sum(_ties(row) for row in x)
+    ties = sum(tie_sum(row) for row in x)
     chi2 = (12 / (n * k * (k + 1)) * float((sums ** 2).sum()) - 3 * n * (k + 1)) \
         / (1 - ties / (n * k * (k * k - 1)))
     return float(chi2), float(special.chdtrc(k - 1, chi2))
@@ -253,13 +254,14 @@ def walsh_median(d, confidence: float = 0.95) -> tuple[float, float, float]:
     return float(np.median(walsh)), float(walsh[k - 1]), float(walsh[len(walsh) - k])
 
 
-def _ties(values: np.ndarray) -> float:
+def tie_sum(values: np.ndarray) -> float:
     """Sum of t^3 - t over the groups of tied values (the tie correction's numerator)."""
     _, counts = np.unique(values, return_counts=True)
     return float((counts ** 3 - counts).sum())
 
 
-def _normal_sf(z: float) -> float:
+def normal_sf(z: float) -> float:
+    """The standard normal survival function."""
     return float(special.ndtr(-z))
 
 
@@ -281,7 +283,7 @@ def directional(a, b, sign: int, level: float = ALPHA) -> Outcome:
                        f"possible p is {smallest_directional_p(len(a), len(b)):.2g}")
     if (gated := _two_mode_gate(a, b, theta)) is not None:
         return gated
-    if _no_spread(a, b):
+    if no_spread(a, b):
         return Outcome(INCONCLUSIVE, 1.0, 0.5, 0.5, 0.5, 1 - ALPHA, 1.0, False,
                        "every value equal: no evidence")
     res = brunner_munzel.test(a, b, confidence=1 - ALPHA)
@@ -334,7 +336,7 @@ def equivalent(a, b, margin: float = EQUIVALENCE_MARGIN) -> Outcome:
     theta, se, df = probabilistic_index(a, b)
     if (gated := _two_mode_gate(a, b, theta)) is not None:
         return gated
-    if _no_spread(a, b):
+    if no_spread(a, b):
         return Outcome(INCONCLUSIVE, math.nan, theta, note="every value equal: no evidence")
     p_diff = brunner_munzel.test(a, b).p
     if se == 0:  # complete separation: a difference, never equivalence
@@ -368,7 +370,7 @@ def not_better(a, b, better: int, margin: float = EQUIVALENCE_MARGIN) -> Outcome
     theta = theta if better > 0 else 1 - theta
     if (gated := _two_mode_gate(a, b, theta)) is not None:
         return gated
-    if _no_spread(a, b):
+    if no_spread(a, b):
         return Outcome(INCONCLUSIVE, math.nan, theta, note="every value equal: no evidence")
     res = brunner_munzel.test(a, b)  # once: both one-sided p from the same splits
     p_better, p_worse = ((res.p_greater, res.p_less) if better > 0 else
@@ -401,7 +403,7 @@ def _too_few(units) -> Outcome | None:
     if len(x) < MIN_UNITS:
         return Outcome(UNDERPOWERED, effect=float(x.mean()) if len(x) else math.nan,
                        note=f"{len(x)} units; an interval needs at least {MIN_UNITS}")
-    if _no_spread(x):
+    if no_spread(x):
         return Outcome(INCONCLUSIVE, effect=float(x[0]), note="every unit equal: no evidence")
     return None
 
@@ -429,7 +431,7 @@ def at_least(units_by_cell: dict, floor: float) -> Outcome:
         if len(v) < MIN_UNITS:
             return Outcome(UNDERPOWERED, note=f"{len(v)} units; an interval needs at least "
                                               f"{MIN_UNITS}")
-    flat = [k for k, v in cells.items() if _no_spread(v)]
+    flat = [k for k, v in cells.items() if no_spread(v)]
     k = len(cells)
     lower = {c: mean_interval(v, 1 - 2 * ALPHA) for c, v in cells.items() if c not in flat}
     upper = {c: mean_interval(v, 1 - 2 * ALPHA / k) for c, v in cells.items() if c not in flat}
