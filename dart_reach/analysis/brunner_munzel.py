@@ -57,6 +57,8 @@ class Result:
     statistic: float
     splits: int
     exact: bool
+    p_greater: float = math.nan
+    p_less: float = math.nan
 
 
 @functools.cache
@@ -151,13 +153,14 @@ def test(a, b, alternative: str = "two-sided", confidence: float = 0.95) -> Resu
     total = len(permuted) + extra
     at_least = {"two-sided": (np.abs(permuted), abs(observed)),
                 "greater": (permuted, observed), "less": (-permuted, -observed)}
-    values, at = at_least[alternative]
-    p = (extra + int(np.count_nonzero(values >= at - TOLERANCE * abs(at)))) / total
+    ps = {side: min(1.0, (extra + int(np.count_nonzero(values >= at - TOLERANCE * abs(at))))
+                    / total) for side, (values, at) in at_least.items()}
+    p = ps[alternative]
     # q: |T| > q exactly when the two-sided p < 1 - confidence (the k-th largest |T|)
     k = math.ceil((1 - confidence) * total - extra)
     q = float(np.sort(np.abs(permuted))[::-1][k - 1]) / (1 - TOLERANCE) if k >= 1 else math.inf
     clipped = float(_clip(theta[0], len(a), len(b)))
     half = q * se[0] / (clipped * (1 - clipped))
     low, high = special.expit(special.logit(clipped) + np.array([-half, half]))
-    return Result(float(theta[0]), float(low), float(high), confidence, float(min(p, 1.0)),
-                  float(observed), total, exact)
+    return Result(float(theta[0]), float(low), float(high), confidence, float(p),
+                  float(observed), total, exact, ps["greater"], ps["less"])

@@ -22,6 +22,9 @@ from .verdicts import ALPHA
 ABOUT_HALF = (1 / 3, 2 / 3)
 #: The trial-level babbling measure (docs/model/measures.md).
 BABBLING = "babbling"
+#: The measures that are a share of trials (a trial's boolean, a robot's mean over its trials):
+#: a claim of no change in one is judged on the rate's own scale (``verdicts.RATE_MARGIN``).
+RATES = ("babbling", "reached", "grasped")
 #: Swipes in the trials without a grasp (NaN in a trial with one): F2's "when they don't
 #: grasp the ball they try again" (``findings.robots`` derives it from ``swipes``).
 SWIPES_UNGRASPED = "swipes_ungrasped"

@@ -24,7 +24,7 @@ import numpy as np
 import polars as pl
 
 from . import stats, summaries, verdicts
-from .claims import ABOUT_HALF, CLAIMS, SENSES, SWIPES_UNGRASPED, Claim, Kind
+from .claims import ABOUT_HALF, CLAIMS, RATES, SENSES, SWIPES_UNGRASPED, Claim, Kind
 from .verdicts import ALPHA, NOT_RUN, VERDICTS, Outcome
 
 _ROBOT = ("notation", "run", "replication", "rank")
@@ -54,10 +54,12 @@ TESTS = {
                             "inverted]",
     Kind.NOT_BETTER.value: "non-superiority on theta = P(b better than a): upper one-sided "
                            f"95 % bound below {0.5 + verdicts.EQUIVALENCE_MARGIN:g}; "
-                           "contradicted when b is better (one-sided Mann-Whitney)",
+                           "contradicted when b is better (one-sided studentized permutation "
+                           "Brunner-Munzel); underpowered below 6 a group",
     Kind.NO_DIFFERENCE.value: "equivalence: two one-sided tests on theta = P(b > a) within "
                               f"0.5 +- {verdicts.EQUIVALENCE_MARGIN:g}; contradicted by a "
-                              "two-tailed Mann-Whitney difference",
+                              "two-sided studentized permutation Brunner-Munzel difference; "
+                              "underpowered below 6 a group",
     Kind.BAND.value: "Student's t 95 % interval of the mean over replications inside the band",
     Kind.EVERY_SECTOR.value: "every sector's reach and grasp rate: one-sided 95 % lower bound "
                              f"over replications above {verdicts.SECTOR_FLOOR:g}; contradicted "
@@ -68,9 +70,11 @@ TESTS = {
                       "replications",
     Kind.PAIRED.value: "Friedman's test, replication as block; contradicted when every pair of "
                        f"conditions is equivalent (paired TOST, +-{verdicts.PAIRED_MARGIN:.0%})",
-    Kind.SAME_PAIRED.value: "two one-sided t-tests on replications: the mean of each "
-                            "replication's change relative to its own level within "
-                            f"+-{verdicts.PAIRED_MARGIN:.0%}",
+    Kind.SAME_PAIRED.value: "two one-sided paired t-tests on replications: a rate's mean "
+                            "change within +-"
+                            f"{verdicts.RATE_MARGIN:g} (rate units; n the replications, never "
+                            "the trials), another measure's mean change relative to each "
+                            f"replication's level within +-{verdicts.PAIRED_MARGIN:.0%}",
     Kind.CHANGE_PAIRED.value: "Wilcoxon signed-rank on replications (exact); effect: "
                               "Hodges-Lehmann change [exact 95 % CI]",
     Kind.WITHIN.value: "Wilcoxon signed-rank on replications of one measure against another",
@@ -296,7 +300,9 @@ def _paired_change(claim: Claim, data: _Data) -> dict:
     if drops.height == 0:
         return _not_run(claim, f"no {claim.b} robots under both {claim.senses} and "
                                f"{claim.versus} (evaluate --sensors all)")
-    if claim.kind is Kind.SAME_PAIRED:
+    if claim.kind is Kind.SAME_PAIRED and claim.measure in RATES:
+        judge = verdicts.paired_rate_equivalent
+    elif claim.kind is Kind.SAME_PAIRED:
         def judge(ref, new):
             return verdicts.paired_equivalent(ref, new, relative=True)
     else:

@@ -36,9 +36,9 @@ from typing import Sequence
 import numpy as np
 import polars as pl
 
-from . import findings, stats, stillness, verdicts
+from . import brunner_munzel, findings, stats, stillness, verdicts
 from ..postevaluation import snapshots
-from .claims import CLAIMS, Claim, Kind
+from .claims import CLAIMS, RATES, Claim, Kind
 from .stillness import BABBLING, STILL
 
 #: The generations at which the pre-reaching claims are judged (issue 48).
@@ -200,11 +200,14 @@ def scale_ends(development: pl.DataFrame, generations: Sequence[int] = JUDGED,
     ``verdicts.relative_changes``, from -2 to 2) at each of ``generations`` the development
     table holds under the claim's two conditions: a value of 0 under one and any other under
     the other is at +-2 however small it is (one babbling trial of a still population's 225),
-    and one such unit widens the interval of the mean change by itself. ``generation``,
+    and one such unit widens the interval of the mean change by itself. Only the claims still
+    judged on that scale are listed: a rate's (``claims.RATES``: babbling, reach) is judged
+    on its own scale (``verdicts.paired_rate_equivalent``), where 0 is a level like any
+    other. ``generation``,
     ``claim``, ``replication``, ``senses`` and ``reference`` (the claim's first condition and
     the replication's value there), ``versus`` and ``changed`` (its second)."""
     rows = development.filter(pl.col("phase") == phase)
-    same = [c for c in claims_of_pre() if c.kind is Kind.SAME_PAIRED]
+    same = [c for c in claims_of_pre() if c.kind is Kind.SAME_PAIRED and c.measure not in RATES]
     frames = [pl.DataFrame(schema={"generation": pl.Int64, "claim": pl.Utf8,
                                    "replication": pl.Int64, "senses": pl.Utf8,
                                    "reference": pl.Float64, "versus": pl.Utf8,
@@ -258,7 +261,9 @@ def fitness_by_strategy(course_table: pl.DataFrame,
     populations (``<column>_babbling``, ``<column>_still``) and the two-sided Mann-Whitney p
     between them, the replication as the unit (``p_<column>``, ``stats.mann_whitney``);
     ``smallest_p``, the smallest p those sample sizes allow (2 / C(n, k) without ties), says
-    whether the test could have found a difference."""
+    whether the test could have found a difference; ``theta_<column>`` = P(babbling > still)
+    + P(=) / 2 with its 95 % interval (``theta_<column>_low``, ``_high``: the studentized
+    permutation Brunner-Munzel test inverted; NaN with fewer than 2 populations a side)."""
     rows = []
     for (generation,), at in course_table.group_by("generation", maintain_order=True):
         n = {s: at.filter(pl.col("strategy") == s).height for s in (BABBLING, STILL)}
@@ -270,12 +275,20 @@ def fitness_by_strategy(course_table: pl.DataFrame,
                 row[f"{column}_{s}"] = at.filter(pl.col("strategy") == s)[column].median()
             test = stats.mann_whitney(at, column, "strategy", order=[BABBLING, STILL])
             row[f"p_{column}"] = float(test["p"][0])
+            still_, babbling_ = (at.filter(pl.col("strategy") == s)[column].to_numpy()
+                                 for s in (STILL, BABBLING))
+            bm = (brunner_munzel.test(still_, babbling_) if min(n.values()) >= 2 else None)
+            row[f"theta_{column}"] = bm.theta if bm else math.nan
+            row[f"theta_{column}_low"] = bm.low if bm else math.nan
+            row[f"theta_{column}_high"] = bm.high if bm else math.nan
         row["smallest_p"] = 2 / math.comb(n[BABBLING] + n[STILL], n[STILL])
         rows.append(row)
     keys = ["generation", "babbling", "still"]
     schema = {**{k: pl.Int64 for k in keys},
               **{f"{c}_{s}": pl.Float64 for c in columns for s in (BABBLING, STILL)},
-              **{f"p_{c}": pl.Float64 for c in columns}, "smallest_p": pl.Float64}
+              **{f"p_{c}": pl.Float64 for c in columns},
+              **{f"theta_{c}{e}": pl.Float64 for c in columns for e in ("", "_low", "_high")},
+              "smallest_p": pl.Float64}
     return pl.DataFrame(rows, schema=schema).sort("generation")
 
 

@@ -19,16 +19,20 @@ data like the runs' (``calibration``; the table in docs/results/calibration.md).
   non-superiority on the probabilistic index theta = P(B > A) + P(B = A) / 2 (Brunner-Munzel
   standard error): reproduced when the upper one-sided 95 % bound of theta (in the direction
   "better") is below 0.5 + ``EQUIVALENCE_MARGIN``; contradicted when b is better (one-sided
-  Brunner-Munzel permutation p < ALPHA).
+  Brunner-Munzel permutation p < ALPHA, both directions from one run of the permutations);
+  underpowered below 6 units a group (``one_mode``), as every two-group rule.
 - ``equivalent``: "a and b do not differ" (two-sided): two one-sided tests on theta within
   0.5 +- ``EQUIVALENCE_MARGIN`` (Lakens 2017); contradicted by a two-sided Brunner-Munzel
-  permutation difference.
+  permutation difference; underpowered below 6 units a group (``one_mode``).
 - ``in_band``: "about half": Student's t 95 % interval of the mean over units inside the band.
 - ``at_least``: "in every sector": every cell's one-sided 95 % lower bound above a floor (an
   intersection-union test); contradicted when some cell's upper bound, Bonferroni-adjusted
   over the cells, is below it.
-- ``paired_directional`` / ``paired_equivalent``: the same units under two conditions or at
-  two moments: Wilcoxon signed-rank (exact without ties) / two one-sided paired t-tests.
+- ``paired_directional`` / ``paired_equivalent`` / ``paired_rate_equivalent``: the same units
+  under two conditions or at two moments: Wilcoxon signed-rank (exact without ties) / two
+  one-sided paired t-tests, of the change relative to each unit's level for a measure / of the
+  absolute change against ``RATE_MARGIN`` for a rate (a rate at 0 is a level like any other;
+  ``paired_verdicts``).
 - ``senses_differ``: "performance varies across the sensory conditions": Friedman's test with
   the replication as block; contradicted when every pair of conditions is equivalent (paired
   TOST within ``PAIRED_MARGIN``, an intersection-union test).
@@ -67,6 +71,13 @@ EQUIVALENCE_MARGIN = 0.15
 #: Margin of a paired claim of no change ("the behavior remains substantially the same",
 #: IV-A-1): the mean change within +-20 % of the median of the reference condition.
 PAIRED_MARGIN = 0.20
+#: Margin of a paired claim of no change in a *rate* (babbling, reach: a share of trials, in
+#: [0, 1]), in rate units: the mean change within +-0.10. It is ``PAIRED_MARGIN`` (20 %) of
+#: the one rate level the paper gives of pre-reachers, "about half of the trials" (0.5, the
+#: centre of ``claims.ABOUT_HALF``, F1, IV-A-1), fixed from the paper before any data was
+#: judged on it: 4.5 of a robot's 45 trials. A relative change ((new - ref) / mean) is -2
+#: whenever one side is 0, so one babbling trial in 225 would decide a rate near 0.
+RATE_MARGIN = 0.10
 #: "Succeed in all 9 sectors": each sector's reach and grasp rate at least this (lower bound).
 SECTOR_FLOOR = 0.10
 #: The fewest units of an interval rule: Student's t with at least 2 degrees of freedom.
@@ -98,7 +109,8 @@ def finite(x) -> np.ndarray:
     return x[np.isfinite(x)]
 
 
-def _no_spread(*groups) -> bool:
+def no_spread(*groups) -> bool:
+    """Whether the values of ``groups`` together have no spread (or there are none)."""
     values = np.concatenate([np.ravel(g) for g in groups])
     return len(values) == 0 or bool(np.ptp(values) == 0)
 
@@ -124,7 +136,7 @@ def friedman(x: np.ndarray) -> tuple[float, float]:
     n, k = x.shape
     ranks = rankdata(x, axis=1)
     sums = ranks.sum(axis=0)
-    ties = sum(_ties(row) for row in x)
+    ties = sum(tie_sum(row) for row in x)
     chi2 = (12 / (n * k * (k + 1)) * float((sums ** 2).sum()) - 3 * n * (k + 1)) \
         / (1 - ties / (n * k * (k * k - 1)))
     return float(chi2), float(special.chdtrc(k - 1, chi2))
@@ -191,6 +203,21 @@ def one_mode(n_a: int, n_b: int) -> float:
     return 2.0 ** (1 - min(n_a, n_b))
 
 
+def _two_mode_gate(a, b, theta: float) -> Outcome | None:
+    """The gate of every two-group rule (``directional``, ``equivalent``, ``not_better``):
+    underpowered when, under theta = 0.5, a two-mode group could fall in one mode more often
+    than ``ALPHA`` (``one_mode``: fewer than 6 units in the smaller group), whatever the data.
+    Below it an equivalence is as unsafe as a difference: a 3-unit two-mode group against 7
+    narrow units looks like a difference or like no difference by the luck of its modes."""
+    n_a, n_b = len(a), len(b)
+    if one_mode(n_a, n_b) <= ALPHA:
+        return None
+    return Outcome(UNDERPOWERED, effect=theta, note=f"{n_b} vs {n_a}: under the null a two-mode "
+                   f"group falls in one mode {one_mode(n_a, n_b):.2g} of the time (the gate: "
+                   f"at least 6 units a group); the smallest Mann-Whitney p possible is "
+                   f"{smallest_mann_whitney_p(n_a, n_b):.3g}")
+
+
 def smallest_signed_rank_p(n: int) -> float:
     """The smallest two-tailed p of the Wilcoxon signed-rank test of n non-zero differences
     (all of one sign, exact distribution): 2 / 2^n."""
@@ -227,13 +254,14 @@ def walsh_median(d, confidence: float = 0.95) -> tuple[float, float, float]:
     return float(np.median(walsh)), float(walsh[k - 1]), float(walsh[len(walsh) - k])
 
 
-def _ties(values: np.ndarray) -> float:
+def tie_sum(values: np.ndarray) -> float:
     """Sum of t^3 - t over the groups of tied values (the tie correction's numerator)."""
     _, counts = np.unique(values, return_counts=True)
     return float((counts ** 3 - counts).sum())
 
 
-def _normal_sf(z: float) -> float:
+def normal_sf(z: float) -> float:
+    """The standard normal survival function."""
     return float(special.ndtr(-z))
 
 
@@ -253,11 +281,9 @@ def directional(a, b, sign: int, level: float = ALPHA) -> Outcome:
     if min(len(a), len(b)) < 2 or smallest_directional_p(len(a), len(b)) >= ALPHA:
         return Outcome(UNDERPOWERED, effect=theta, note=f"{len(b)} vs {len(a)}: the smallest "
                        f"possible p is {smallest_directional_p(len(a), len(b)):.2g}")
-    if one_mode(len(a), len(b)) > ALPHA:
-        return Outcome(UNDERPOWERED, effect=theta, note=f"{len(b)} vs {len(a)}: under the null "
-                       f"a two-mode group falls in one mode {one_mode(len(a), len(b)):.2g} of "
-                       "the time")
-    if _no_spread(a, b):
+    if (gated := _two_mode_gate(a, b, theta)) is not None:
+        return gated
+    if no_spread(a, b):
         return Outcome(INCONCLUSIVE, 1.0, 0.5, 0.5, 0.5, 1 - ALPHA, 1.0, False,
                        "every value equal: no evidence")
     res = brunner_munzel.test(a, b, confidence=1 - ALPHA)
@@ -308,7 +334,9 @@ def equivalent(a, b, margin: float = EQUIVALENCE_MARGIN) -> Outcome:
     if min(len(a), len(b)) < 2:
         return Outcome(UNDERPOWERED, note=f"{len(b)} vs {len(a)}: no spread to estimate")
     theta, se, df = probabilistic_index(a, b)
-    if _no_spread(a, b):
+    if (gated := _two_mode_gate(a, b, theta)) is not None:
+        return gated
+    if no_spread(a, b):
         return Outcome(INCONCLUSIVE, math.nan, theta, note="every value equal: no evidence")
     p_diff = brunner_munzel.test(a, b).p
     if se == 0:  # complete separation: a difference, never equivalence
@@ -340,11 +368,15 @@ def not_better(a, b, better: int, margin: float = EQUIVALENCE_MARGIN) -> Outcome
         return Outcome(UNDERPOWERED, note=f"{len(b)} vs {len(a)}: no spread to estimate")
     theta, se, df = probabilistic_index(a, b)
     theta = theta if better > 0 else 1 - theta
-    if _no_spread(a, b):
+    if (gated := _two_mode_gate(a, b, theta)) is not None:
+        return gated
+    if no_spread(a, b):
         return Outcome(INCONCLUSIVE, math.nan, theta, note="every value equal: no evidence")
-    p_better = brunner_munzel.test(a, b, "greater" if better > 0 else "less").p
+    res = brunner_munzel.test(a, b)  # once: both one-sided p from the same splits
+    p_better, p_worse = ((res.p_greater, res.p_less) if better > 0 else
+                         (res.p_less, res.p_greater))
     if se == 0:  # complete separation: b worse everywhere (or better everywhere)
-        p_ns = brunner_munzel.test(a, b, "less" if better > 0 else "greater").p
+        p_ns = p_worse
         high = theta
     else:
         p_ns = t_cdf((theta - 0.5 - margin) / se, df)
@@ -371,7 +403,7 @@ def _too_few(units) -> Outcome | None:
     if len(x) < MIN_UNITS:
         return Outcome(UNDERPOWERED, effect=float(x.mean()) if len(x) else math.nan,
                        note=f"{len(x)} units; an interval needs at least {MIN_UNITS}")
-    if _no_spread(x):
+    if no_spread(x):
         return Outcome(INCONCLUSIVE, effect=float(x[0]), note="every unit equal: no evidence")
     return None
 
@@ -399,7 +431,7 @@ def at_least(units_by_cell: dict, floor: float) -> Outcome:
         if len(v) < MIN_UNITS:
             return Outcome(UNDERPOWERED, note=f"{len(v)} units; an interval needs at least "
                                               f"{MIN_UNITS}")
-    flat = [k for k, v in cells.items() if _no_spread(v)]
+    flat = [k for k, v in cells.items() if no_spread(v)]
     k = len(cells)
     lower = {c: mean_interval(v, 1 - 2 * ALPHA) for c, v in cells.items() if c not in flat}
     upper = {c: mean_interval(v, 1 - 2 * ALPHA / k) for c, v in cells.items() if c not in flat}
@@ -419,136 +451,9 @@ def at_least(units_by_cell: dict, floor: float) -> Outcome:
                    note=note)
 
 
-# ------------------------------------------------------------------------------ paired units
-def wilcoxon(d, alternative: str = "two-sided") -> tuple[float, int]:
-    """p of the Wilcoxon signed-rank test of the changes ``d`` (zeros dropped) and their
-    observed direction: exact without ties (``signed_rank_distribution``), else the normal
-    approximation with the tie correction. Equal to ``scipy.stats.wilcoxon(d, method="exact" /
-    "approx")`` (tested)."""
-    d = finite(d)
-    d = d[d != 0]
-    n = len(d)
-    if n == 0:
-        return 1.0, 0
-    ranks = rankdata(np.abs(d))
-    t_plus = float(ranks[d > 0].sum())
-    mu = n * (n + 1) / 4
-    direction = int(np.sign(t_plus - mu))
-    ties = _ties(np.abs(d))
-    if ties == 0:
-        cdf = np.cumsum(signed_rank_distribution(n))
-        k = int(round(t_plus))
-        below, above = cdf[k], 1.0 - (cdf[k - 1] if k else 0.0)
-        p = {"two-sided": min(1.0, 2 * min(below, above)), "greater": above,
-             "less": below}[alternative]
-        return float(min(max(p, 0.0), 1.0)), direction
-    sd = math.sqrt(n * (n + 1) * (2 * n + 1) / 24 - ties / 48)
-    z = (t_plus - mu) / sd
-    p = {"two-sided": min(1.0, 2 * _normal_sf(abs(z))), "greater": _normal_sf(z),
-         "less": _normal_sf(-z)}[alternative]
-    return float(p), direction
 
 
-def paired_directional(reference, changed, sign: int, level: float = ALPHA) -> Outcome:
-    """Claim: ``changed`` is higher (``sign`` +1) or lower (-1) than ``reference`` in the same
-    units (a replication under two conditions or in two generation windows). Two-tailed
-    Wilcoxon signed-rank test of the changes; direction from the signed ranks; effect: the
-    Hodges-Lehmann change with its exact 95 % interval. Underpowered when changes all of one
-    sign cannot reach ``ALPHA``."""
-    ref, new = np.asarray(reference, float), np.asarray(changed, float)
-    keep = np.isfinite(ref) & np.isfinite(new)
-    d = new[keep] - ref[keep]
-    nonzero = int(np.count_nonzero(d))
-    if len(d) == 0:
-        return Outcome(UNDERPOWERED, note="no pairs")
-    effect, low, high = walsh_median(d)
-    if smallest_signed_rank_p(len(d)) >= ALPHA:
-        return Outcome(UNDERPOWERED, effect=effect, low=low, high=high, confidence=0.95,
-                       note=f"{len(d)} pairs: the smallest possible p is "
-                            f"{smallest_signed_rank_p(len(d)):.2g}")
-    if nonzero == 0:
-        return Outcome(INCONCLUSIVE, 1.0, effect, low, high, 0.95, 1.0, False,
-                       "no unit changed: no evidence")
-    p, observed = wilcoxon(d)
-    verdict = (REPRODUCED if p < ALPHA and observed == sign else
-               CONTRADICTED if p < ALPHA and observed == -sign else INCONCLUSIVE)
-    return Outcome(verdict, p if observed == sign else 1.0, effect, low, high, 0.95,
-                   p if observed == -sign else 1.0, bool(p < level and observed == sign),
-                   f"{len(d)} pairs")
-
-
-def paired_tost(reference, changed, bound: float) -> tuple[float, float, float, float, float]:
-    """Two one-sided paired t-tests of the mean change against +-``bound``: (p of
-    equivalence, p of a difference (two-tailed), mean change, its 90 % interval)."""
-    d = np.asarray(changed, float) - np.asarray(reference, float)
-    d = d[np.isfinite(d)]
-    n, mean, sd = len(d), float(d.mean()), float(d.std(ddof=1))
-    if sd == 0:
-        return (0.0 if abs(mean) < bound else 1.0), (0.0 if mean else 1.0), mean, mean, mean
-    se = sd / math.sqrt(n)
-    p_eq = max(t_sf((mean + bound) / se, n - 1), t_cdf((mean - bound) / se, n - 1))
-    p_diff = 2 * t_sf(abs(mean) / se, n - 1)
-    half = t_quantile(1 - ALPHA, n - 1) * se
-    return p_eq, p_diff, mean, mean - half, mean + half
-
-
-def relative_changes(reference, changed) -> np.ndarray:
-    """Each unit's change relative to its own level: (changed - reference) over their mean
-    magnitude, 0 where both are 0 (in [-2, 2]; +-0.2 is a change of about 20 %)."""
-    ref, new = np.asarray(reference, float), np.asarray(changed, float)
-    scale = (np.abs(ref) + np.abs(new)) / 2
-    with np.errstate(invalid="ignore", divide="ignore"):
-        return np.where(scale > 0, (new - ref) / np.where(scale > 0, scale, 1.0), 0.0)
-
-
-def paired_equivalent(reference, changed, margin: float = PAIRED_MARGIN,
-                      relative: bool = False) -> Outcome:
-    """Claim: ``changed`` is substantially the same as ``reference`` (paired). Two one-sided
-    paired t-tests (Lakens 2017) of the mean change against +-``margin`` x |median of the
-    reference|, or with ``relative`` of the mean of each unit's change relative to its own
-    level (``relative_changes``) against +-``margin`` (a still replication and a babbling one
-    each keep their own scale: a margin from the median of a group of two strategies lies
-    between them, too wide for the one and too narrow for the other): reproduced when both
-    reject; contradicted when the change differs from 0 (t, two-tailed); otherwise
-    inconclusive. Changes without spread are no evidence (inconclusive); underpowered below
-    ``MIN_UNITS`` pairs."""
-    ref, new = np.asarray(reference, float), np.asarray(changed, float)
-    keep = np.isfinite(ref) & np.isfinite(new)
-    ref, new = ref[keep], new[keep]
-    if len(ref) < MIN_UNITS:
-        return Outcome(UNDERPOWERED, note=f"{len(ref)} pairs")
-    d = relative_changes(ref, new) if relative else new - ref
-    if _no_spread(d):
-        return Outcome(INCONCLUSIVE, effect=float(d.mean()),
-                       note="every unit changed alike: no evidence")
-    bound = margin if relative else margin * abs(float(np.median(ref)))
-    p_eq, p_diff, mean, low, high = paired_tost(np.zeros_like(d), d, bound)
-    verdict = (REPRODUCED if p_eq < ALPHA else CONTRADICTED if p_diff < ALPHA
-               else INCONCLUSIVE)
-    return Outcome(verdict, p_eq, mean, low, high, 1 - 2 * ALPHA, p_diff,
-                   note=f"margin +-{bound:.3g}; difference p = {p_diff:.2g}")
-
-
-# ------------------------------------------------------------------------------ paired blocks
-def senses_differ(matrix, level: float = ALPHA, margin: float = PAIRED_MARGIN) -> Outcome:
-    """Claim: the treatments (columns, e.g. the four sensory conditions) differ, each row a
-    block (a replication under every condition). Friedman's test; effect: Kendall's W (0: no
-    agreement, 1: every block ranks the treatments alike). Contradicted when every pair of
-    treatments is equivalent (paired TOST within ``margin`` x |median of the pair's first|;
-    the largest p of the pairs, an intersection-union test); otherwise inconclusive."""
-    x = np.asarray(matrix, float)
-    x = x[np.isfinite(x).all(axis=1)]
-    n, k = x.shape
-    if n < 2 or smallest_friedman_p(n, k) >= ALPHA:
-        return Outcome(UNDERPOWERED, note=f"{n} blocks: the smallest possible p is "
-                                          f"{smallest_friedman_p(max(n, 1), k):.2g}")
-    if _no_spread(x):
-        return Outcome(INCONCLUSIVE, 1.0, 0.0, paper_level_met=False,
-                       note="every value equal: no evidence")
-    chi2, p = friedman(x)
-    w = chi2 / (n * (k - 1))
-    p_same = max(paired_tost(x[:, i], x[:, j], margin * abs(float(np.median(x[:, i]))))[0]
-                 for i in range(k) for j in range(i + 1, k)) if n >= MIN_UNITS else 1.0
-    verdict = (REPRODUCED if p < ALPHA else CONTRADICTED if p_same < ALPHA else INCONCLUSIVE)
-    return Outcome(verdict, float(p), w, p_against=p_same, paper_level_met=bool(p < level),
-                   note=f"{n} blocks x {k} conditions; all pairs equivalent p = {p_same:.2g}")
+# the paired rules, by family in their own module (imported last: it uses the above)
+from .paired_verdicts import (paired_directional, paired_equivalent,  # noqa: E402
+                              paired_rate_equivalent, paired_tost, relative_changes,
+                              senses_differ, wilcoxon)

@@ -11,7 +11,7 @@ from pathlib import Path
 
 import polars as pl
 
-from ..analysis import budgets
+from ..analysis import budgets, said, verdicts
 from ..analysis import strategy_course as sc
 from ..analysis.figures import strategy_figure, training_by_strategy
 from ..analysis.stillness import BABBLING, STILL, STILL_SHARE, trained_trials
@@ -139,18 +139,31 @@ def fitness_values(course: pl.DataFrame, stats: pl.DataFrame) -> dict[str, str]:
     the run's ``stats``), with the strategy of each population at the last snapshot."""
     fit = sc.fitness_by_strategy(course)
     tested = fit.filter(pl.col("smallest_p") < ALPHA)
-    said = []
+    parts = []
+    last = fit.tail(1).to_dicts()[0] if fit.height else None
     for column, heading in FITNESS.items():
         differ = tested.filter(pl.col(f"p_{column}") < ALPHA)["generation"].to_list()
-        said.append(f"the {heading} differs (p < {ALPHA}) at generation(s) "
-                    f"{', '.join(map(str, differ))}" if differ else
-                    f"the {heading} does not differ at any (p "
-                    f"{budgets.number_text(tested[f'p_{column}'].min())} or more)")
+        at_last = (f"; at {last['generation']} (n = {last['babbling']} babbling vs "
+                   f"{last['still']} still, the smallest p possible "
+                   f"{budgets.number_text(last['smallest_p'])}) θ = P(babbling > still) = "
+                   f"{budgets.number_text(last[f'theta_{column}'])} "
+                   f"[{budgets.number_text(last[f'theta_{column}_low'])}, "
+                   f"{budgets.number_text(last[f'theta_{column}_high'])}], 95 %"
+                   if last else "")
+        parts.append(f"the {heading} differs (p < {ALPHA}) at generation(s) "
+                    f"{', '.join(map(str, differ))}{at_last}" if differ else
+                    f"for the {heading} no difference detected at any (p "
+                    f"{budgets.number_text(tested[f'p_{column}'].min())} or more){at_last}"
+                    if tested.height else
+                    f"for the {heading} no snapshot where the test could find a difference"
+                    f"{at_last}")
     summary = (f"of the {tested.height} snapshots where the test could find a difference "
-               f"(smallest possible p below {ALPHA}), " + "; ".join(said))
+               f"(smallest possible p below {ALPHA}), " + "; ".join(parts))
     headings = {"babbling": "babbling populations", "still": "still populations",
                 **{f"{c}_{k}": f"{h}: {k}" for c, h in FITNESS.items() for k in (BABBLING, STILL)},
                 **{f"p_{c}": f"{h}: p" for c, h in FITNESS.items()},
+                **{f"theta_{c}{e}": f"{h}: θ{w}" for c, h in FITNESS.items()
+                   for e, w in (("", ""), ("_low", " low"), ("_high", " high"))},
                 "smallest_p": "smallest p possible"}
     rising = sc.growth(stats, window=GROWTH_WINDOW)
     rising = rising.join(sc.last_strategies(course), on="replication", how="left")
@@ -182,6 +195,16 @@ def fitness_values(course: pl.DataFrame, stats: pl.DataFrame) -> dict[str, str]:
     }
 
 
+def fit_at_50(recordings: Path) -> str:
+    """The still populations' fitness against the babbling ones' in the stillness page's run
+    (``studies.stillness``, 50 generations), the replication as the unit, worded from its
+    test (``said.two_groups``)."""
+    by_replication = stillness.tables(recordings)["by_replication"]
+    fit = {s: by_replication.filter(pl.col("strategy") == s)["fitness"].to_numpy()
+           for s in (STILL, BABBLING)}
+    return said.two_groups(fit[STILL], fit[BABBLING], STILL, BABBLING)
+
+
 def values(recordings: Path) -> dict[str, str]:
     """The values of docs/results/templates/pre-reaching-course.md: the full-budget run's
     pre-reaching snapshots (``strategy_course``), where training stands, the strategies per
@@ -195,7 +218,7 @@ def values(recordings: Path) -> dict[str, str]:
            "pre_of": str(int(pre["of"].max())), "still_share": percent(STILL_SHARE),
            "judged": ", ".join(map(str, sc.JUDGED)), "ten": TEN,
            "judged_list": ",".join(map(str, sc.JUDGED)),
-           **cost_values(run, int(pre["of"].max()))}
+           **cost_values(run, int(pre["of"].max())), "fit_at_50": fit_at_50(recordings)}
     development = load_development(directory, senses=None)
     if development is None or not development.filter(pl.col("phase") == "pre").height:
         raise ValueError(f"{directory}: no pre-reaching snapshot post-evaluated (dart-reach "
@@ -279,6 +302,7 @@ def values(recordings: Path) -> dict[str, str]:
         f"{r['claim']} ({r['before']}: {r['was']}, {r['after']}: {r['now']})"
         for r in changed.iter_rows(named=True)) or "none"
     ends = sc.scale_ends(development)
+    out["rate_margin"] = f"{verdicts.RATE_MARGIN:g}"
     out["scale_ends"] = ("none." if not ends.height else "\n\n" + markdown_table(ends.rename(
         {"senses": "condition", "reference": "value", "versus": "against",
          "changed": "value there"})))

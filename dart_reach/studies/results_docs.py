@@ -28,7 +28,7 @@ import polars as pl
 from . import course_page, scene_study, stillness
 from .doc_text import (FULL, REPLICATIONS, TEN, markdown_table, number, render,
                        training_text)
-from ..analysis import budgets, calibration, findings, report, verdicts
+from ..analysis import budgets, calibration, findings, report, said, verdicts
 from ..evolution import cost
 from ..evolution.conditions import list_conditions
 from ..evolution.rundir import RunDirectory
@@ -195,7 +195,8 @@ def readme_row(paper: dict, budget: budgets.Budget) -> dict[str, str]:
 def _pre_replications(table: pl.DataFrame | None) -> tuple[str, str, str]:
     """A run's pre-reachers replication by replication (``report.replication_table``), how
     many of its replications had no robot babble in any trial, and the mean fitness of those
-    still replications beside the babbling ones'."""
+    still replications beside the babbling ones' with what their test allows to say
+    (``said.two_groups``)."""
     if table is None:
         return ("not post-evaluated yet",) * 3
     pre = report.replication_table(table, "pre")
@@ -204,6 +205,8 @@ def _pre_replications(table: pl.DataFrame | None) -> tuple[str, str, str]:
            (("still", is_still), ("babbling", ~is_still))}
     fitness = "; ".join(f"{name} {budgets.number_text(float(f.mean()))} ({f.len()})"
                         if f.len() else f"{name}: none" for name, f in fit.items())
+    fitness += ", " + said.two_groups(fit["still"].to_numpy(), fit["babbling"].to_numpy(),
+                                      "still", "babbling")
     return markdown_table(pre), f"{int(is_still.sum())} of {pre.height}", fitness
 
 

@@ -29,7 +29,7 @@ from pathlib import Path
 import numpy as np
 import polars as pl
 
-from ..analysis import budgets, stillness
+from ..analysis import budgets, said, stillness
 from ..analysis.strategy_course import JUDGED
 from ..evolution.backends import worker_trial
 from ..evolution.genome import as_groups, decode
@@ -181,6 +181,10 @@ def values(recordings: Path, markdown_table) -> dict[str, str]:
               for s in (stillness.STILL, stillness.BABBLING)]
     out["p.smallest"] = _number(2 / math.comb(sum(counts), counts[0]))
     out["p.fitness"] = _number(p["fitness"])
+    fit = {s: t["by_replication"].filter(pl.col("strategy") == s)["fitness"].to_numpy()
+           for s in (stillness.STILL, stillness.BABBLING)}
+    out["said.fitness"] = said.two_groups(fit[stillness.STILL], fit[stillness.BABBLING],
+                                          stillness.STILL, stillness.BABBLING)
     out["p.touch_share"] = _number(p["steps in touch"])
     out["p.touch_level"] = _number(p["p_touch in touch"])
     out.update(_sectors(t["by_sector"]))

@@ -1,0 +1,180 @@
+"""The paired rules of ``verdicts`` (the same units under two conditions or at two moments, and
+the sensory conditions with the replication as block), kept apart by family; ``verdicts``
+re-exports them, so ``verdicts.paired_equivalent`` and the rest are where they always were.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from scipy.stats import rankdata
+
+from .verdicts import (ALPHA, CONTRADICTED, INCONCLUSIVE, MIN_UNITS, PAIRED_MARGIN,
+                       RATE_MARGIN, REPRODUCED, UNDERPOWERED, Outcome, no_spread, normal_sf,
+                       tie_sum, finite, friedman, signed_rank_distribution, smallest_friedman_p,
+                       smallest_signed_rank_p, t_cdf, t_quantile, t_sf, walsh_median)
+
+
+# ------------------------------------------------------------------------------ paired units
+def wilcoxon(d, alternative: str = "two-sided") -> tuple[float, int]:
+    """p of the Wilcoxon signed-rank test of the changes ``d`` (zeros dropped) and their
+    observed direction: exact without ties (``signed_rank_distribution``), else the normal
+    approximation with the tie correction. Equal to ``scipy.stats.wilcoxon(d, method="exact" /
+    "approx")`` (tested)."""
+    d = finite(d)
+    d = d[d != 0]
+    n = len(d)
+    if n == 0:
+        return 1.0, 0
+    ranks = rankdata(np.abs(d))
+    t_plus = float(ranks[d > 0].sum())
+    mu = n * (n + 1) / 4
+    direction = int(np.sign(t_plus - mu))
+    ties = tie_sum(np.abs(d))
+    if ties == 0:
+        cdf = np.cumsum(signed_rank_distribution(n))
+        k = int(round(t_plus))
+        below, above = cdf[k], 1.0 - (cdf[k - 1] if k else 0.0)
+        p = {"two-sided": min(1.0, 2 * min(below, above)), "greater": above,
+             "less": below}[alternative]
+        return float(min(max(p, 0.0), 1.0)), direction
+    sd = math.sqrt(n * (n + 1) * (2 * n + 1) / 24 - ties / 48)
+    z = (t_plus - mu) / sd
+    p = {"two-sided": min(1.0, 2 * normal_sf(abs(z))), "greater": normal_sf(z),
+         "less": normal_sf(-z)}[alternative]
+    return float(p), direction
+
+
+def paired_directional(reference, changed, sign: int, level: float = ALPHA) -> Outcome:
+    """Claim: ``changed`` is higher (``sign`` +1) or lower (-1) than ``reference`` in the same
+    units (a replication under two conditions or in two generation windows). Two-tailed
+    Wilcoxon signed-rank test of the changes; direction from the signed ranks; effect: the
+    Hodges-Lehmann change with its exact 95 % interval. Underpowered when changes all of one
+    sign cannot reach ``ALPHA``."""
+    ref, new = np.asarray(reference, float), np.asarray(changed, float)
+    keep = np.isfinite(ref) & np.isfinite(new)
+    d = new[keep] - ref[keep]
+    nonzero = int(np.count_nonzero(d))
+    if len(d) == 0:
+        return Outcome(UNDERPOWERED, note="no pairs")
+    effect, low, high = walsh_median(d)
+    if smallest_signed_rank_p(len(d)) >= ALPHA:
+        return Outcome(UNDERPOWERED, effect=effect, low=low, high=high, confidence=0.95,
+                       note=f"{len(d)} pairs: the smallest possible p is "
+                            f"{smallest_signed_rank_p(len(d)):.2g}")
+    if nonzero == 0:
+        return Outcome(INCONCLUSIVE, 1.0, effect, low, high, 0.95, 1.0, False,
+                       "no unit changed: no evidence")
+    p, observed = wilcoxon(d)
+    verdict = (REPRODUCED if p < ALPHA and observed == sign else
+               CONTRADICTED if p < ALPHA and observed == -sign else INCONCLUSIVE)
+    return Outcome(verdict, p if observed == sign else 1.0, effect, low, high, 0.95,
+                   p if observed == -sign else 1.0, bool(p < level and observed == sign),
+                   f"{len(d)} pairs")
+
+
+def paired_tost(reference, changed, bound: float) -> tuple[float, float, float, float, float]:
+    """Two one-sided paired t-tests of the mean change against +-``bound``: (p of
+    equivalence, p of a difference (two-tailed), mean change, its 90 % interval)."""
+    d = np.asarray(changed, float) - np.asarray(reference, float)
+    d = d[np.isfinite(d)]
+    n, mean, sd = len(d), float(d.mean()), float(d.std(ddof=1))
+    if sd == 0:
+        return (0.0 if abs(mean) < bound else 1.0), (0.0 if mean else 1.0), mean, mean, mean
+    se = sd / math.sqrt(n)
+    p_eq = max(t_sf((mean + bound) / se, n - 1), t_cdf((mean - bound) / se, n - 1))
+    p_diff = 2 * t_sf(abs(mean) / se, n - 1)
+    half = t_quantile(1 - ALPHA, n - 1) * se
+    return p_eq, p_diff, mean, mean - half, mean + half
+
+
+def relative_changes(reference, changed) -> np.ndarray:
+    """Each unit's change relative to its own level: (changed - reference) over their mean
+    magnitude, 0 where both are 0 (in [-2, 2]; +-0.2 is a change of about 20 %)."""
+    ref, new = np.asarray(reference, float), np.asarray(changed, float)
+    scale = (np.abs(ref) + np.abs(new)) / 2
+    with np.errstate(invalid="ignore", divide="ignore"):
+        return np.where(scale > 0, (new - ref) / np.where(scale > 0, scale, 1.0), 0.0)
+
+
+def paired_equivalent(reference, changed, margin: float = PAIRED_MARGIN,
+                      relative: bool = False) -> Outcome:
+    """Claim: ``changed`` is substantially the same as ``reference`` (paired). Two one-sided
+    paired t-tests (Lakens 2017) of the mean change against +-``margin`` x |median of the
+    reference|, or with ``relative`` of the mean of each unit's change relative to its own
+    level (``relative_changes``) against +-``margin`` (a still replication and a babbling one
+    each keep their own scale: a margin from the median of a group of two strategies lies
+    between them, too wide for the one and too narrow for the other): reproduced when both
+    reject; contradicted when the change differs from 0 (t, two-tailed); otherwise
+    inconclusive. Changes without spread are no evidence (inconclusive); underpowered below
+    ``MIN_UNITS`` pairs."""
+    ref, new = np.asarray(reference, float), np.asarray(changed, float)
+    keep = np.isfinite(ref) & np.isfinite(new)
+    ref, new = ref[keep], new[keep]
+    if len(ref) < MIN_UNITS:
+        return Outcome(UNDERPOWERED, note=f"{len(ref)} pairs")
+    d = relative_changes(ref, new) if relative else new - ref
+    if no_spread(d):
+        return Outcome(INCONCLUSIVE, effect=float(d.mean()),
+                       note="every unit changed alike: no evidence")
+    bound = margin if relative else margin * abs(float(np.median(ref)))
+    p_eq, p_diff, mean, low, high = paired_tost(np.zeros_like(d), d, bound)
+    verdict = (REPRODUCED if p_eq < ALPHA else CONTRADICTED if p_diff < ALPHA
+               else INCONCLUSIVE)
+    return Outcome(verdict, p_eq, mean, low, high, 1 - 2 * ALPHA, p_diff,
+                   note=f"margin +-{bound:.3g}; difference p = {p_diff:.2g}")
+
+
+def paired_rate_equivalent(reference, changed, margin: float = RATE_MARGIN) -> Outcome:
+    """Claim: a *rate* (a share of trials in [0, 1]: babbling, reach) is substantially the
+    same under ``changed`` as under ``reference``, in the same units (replications; a robot's
+    rate is its mean over its trials, and a condition whose trials repeat one another, as the
+    ball-absent ones do (the scene is the same in every trial and the controller is
+    deterministic, so a robot's 45 no-ball trials are one trial 45 times), adds nothing to n:
+    n is the units, never the trials). Judged on the rate's own scale: two one-sided paired
+    t-tests (Lakens 2017; ``statsmodels.stats.weightstats.ttost_paired``, tested equal) of the
+    mean absolute change against +-``margin`` (``RATE_MARGIN``, rate units, fixed from the
+    paper): reproduced when both reject; contradicted when the mean change differs from 0
+    (paired t, two-tailed); otherwise inconclusive. A unit at 0 is a level like any other
+    (the relative change of ``paired_equivalent(relative=True)`` is -2 there). Underpowered
+    below ``MIN_UNITS`` pairs; changes without spread are no evidence (inconclusive)."""
+    ref, new = np.asarray(reference, float), np.asarray(changed, float)
+    keep = np.isfinite(ref) & np.isfinite(new)
+    ref, new = ref[keep], new[keep]
+    if len(ref) < MIN_UNITS:
+        return Outcome(UNDERPOWERED, note=f"{len(ref)} pairs")
+    d = new - ref
+    if no_spread(d):
+        return Outcome(INCONCLUSIVE, effect=float(d.mean()),
+                       note="every unit changed alike: no evidence")
+    p_eq, p_diff, mean, low, high = paired_tost(ref, new, margin)
+    verdict = (REPRODUCED if p_eq < ALPHA else CONTRADICTED if p_diff < ALPHA
+               else INCONCLUSIVE)
+    return Outcome(verdict, p_eq, mean, low, high, 1 - 2 * ALPHA, p_diff,
+                   note=f"rate change within +-{margin:g}; difference p = {p_diff:.2g}")
+
+
+# ------------------------------------------------------------------------------ paired blocks
+def senses_differ(matrix, level: float = ALPHA, margin: float = PAIRED_MARGIN) -> Outcome:
+    """Claim: the treatments (columns, e.g. the four sensory conditions) differ, each row a
+    block (a replication under every condition). Friedman's test; effect: Kendall's W (0: no
+    agreement, 1: every block ranks the treatments alike). Contradicted when every pair of
+    treatments is equivalent (paired TOST within ``margin`` x |median of the pair's first|;
+    the largest p of the pairs, an intersection-union test); otherwise inconclusive."""
+    x = np.asarray(matrix, float)
+    x = x[np.isfinite(x).all(axis=1)]
+    n, k = x.shape
+    if n < 2 or smallest_friedman_p(n, k) >= ALPHA:
+        return Outcome(UNDERPOWERED, note=f"{n} blocks: the smallest possible p is "
+                                          f"{smallest_friedman_p(max(n, 1), k):.2g}")
+    if no_spread(x):
+        return Outcome(INCONCLUSIVE, 1.0, 0.0, paper_level_met=False,
+                       note="every value equal: no evidence")
+    chi2, p = friedman(x)
+    w = chi2 / (n * (k - 1))
+    p_same = max(paired_tost(x[:, i], x[:, j], margin * abs(float(np.median(x[:, i]))))[0]
+                 for i in range(k) for j in range(i + 1, k)) if n >= MIN_UNITS else 1.0
+    verdict = (REPRODUCED if p < ALPHA else CONTRADICTED if p_same < ALPHA else INCONCLUSIVE)
+    return Outcome(verdict, float(p), w, p_against=p_same, paper_level_met=bool(p < level),
+                   note=f"{n} blocks x {k} conditions; all pairs equivalent p = {p_same:.2g}")

@@ -1,0 +1,140 @@
+"""Every two-group rule gated and held to its null where a two-mode group meets a narrow one, and
+a rate's claim of no change judged on the rate's own scale.
+
+- Each rule (``directional``, ``equivalent``, ``not_better``) against its null at 3 vs 7, 6 vs
+  6 and 10 vs 10, with a two-mode group (babbling or still) against a narrow one at
+  theta = 0.5: it decides against the claim's null at most ALPHA within Monte-Carlo error
+  (``SHAPE_DATASETS`` data sets: seconds); the same rules without the gate fail at 3 vs 7, so
+  the check can fail.
+- ``not_better`` runs its permutation test once.
+- The A1/A3 rule (``verdicts.paired_rate_equivalent``): a unit at 0 against a unit at 1/225
+  is not a difference; the rule is statsmodels' paired TOST.
+"""
+
+from __future__ import annotations
+
+from unittest import mock
+
+import numpy as np
+import pytest
+from statsmodels.stats.weightstats import ttost_paired
+
+from dart_reach.analysis import brunner_munzel
+from dart_reach.analysis import calibration as cal
+from dart_reach.analysis import verdicts as v
+
+#: Data sets a (rule, sizes) cell; its bound: ALPHA + Z_MC Monte-Carlo s.e. (0.075 at 400).
+SHAPE_DATASETS = 400
+BOUND = v.ALPHA + cal.Z_MC * (v.ALPHA * (1 - v.ALPHA) / SHAPE_DATASETS) ** 0.5
+SIZES = ((3, 7), (6, 6), (10, 10))
+#: Each rule and what is an error under theta = 0.5 (its null of a contradiction, or for the
+#: directional rule, of any decision).
+RULES = {
+    "directional": (lambda a, b: v.directional(a, b, +1), v.DECIDED),
+    "equivalent": (v.equivalent, (v.CONTRADICTED,)),
+    "not_better": (lambda a, b: v.not_better(a, b, +1), (v.CONTRADICTED,)),
+}
+
+
+def _two_mode_null(n_a: int, n_b: int, seed: int):
+    """``SHAPE_DATASETS`` pairs (a, b) of replication means: a two-mode group of n_a against
+    a narrow one of n_b at theta = 0.5 (``calibration.shaped``)."""
+    rng = np.random.default_rng(seed)
+    nest = cal.Nesting(n_a, 5, 1.0, cal.RUN_RATIOS[0])
+    return [cal.shaped(rng, nest, cal.SHAPES[0], replications=n_b)
+            for _ in range(SHAPE_DATASETS)]
+
+
+def _error_rate(rule: str, data) -> float:
+    judge, errors = RULES[rule]
+    return float(np.mean([judge(a, b).verdict in errors for a, b in data]))
+
+
+@pytest.mark.parametrize("rule", sorted(RULES))
+@pytest.mark.parametrize("sizes", SIZES, ids=lambda s: f"{s[0]} vs {s[1]}")
+def test_each_rule_holds_its_null_with_a_two_mode_group(rule, sizes):
+    assert _error_rate(rule, _two_mode_null(*sizes, seed=sum(sizes))) <= BOUND
+
+
+@pytest.mark.parametrize("rule", ["equivalent", "not_better"])
+def test_without_the_gate_the_no_difference_rules_fail_at_3_vs_7(rule):
+    """What the gate prevents (and proof that the check above can fail): with it switched off
+    a two-mode group of 3 against 7 narrow units is 'contradicted' far above the bound."""
+    data = _two_mode_null(3, 7, seed=10)
+    with mock.patch.object(v, "one_mode", lambda n_a, n_b: 0.0):
+        assert _error_rate(rule, data) > BOUND
+
+
+@pytest.mark.parametrize("rule", sorted(RULES))
+def test_every_two_group_rule_is_gated_below_6_a_group(rule):
+    """Whatever the data (here complete separation, and two identical-looking groups), 3 vs 7
+    and 5 vs 10 are underpowered, 6 vs 6 is not, and the note says why."""
+    judge, _ = RULES[rule]
+    rng = np.random.default_rng(3)
+    for n_a, n_b in ((3, 7), (7, 3), (5, 10)):
+        for a, b in ((rng.normal(0, 1, n_a), rng.normal(10, 1, n_b)),
+                     (rng.normal(0, 1, n_a), rng.normal(0, 1, n_b))):
+            out = judge(a, b)
+            assert out.verdict == v.UNDERPOWERED, (n_a, n_b, out)
+            assert "two-mode" in out.note and f"{v.smallest_mann_whitney_p(n_a, n_b):.3g}" \
+                in out.note
+    out = judge(rng.normal(0, 1, 6), rng.normal(10, 1, 6))
+    assert out.verdict != v.UNDERPOWERED
+
+
+def test_not_better_runs_its_permutation_test_once():
+    rng = np.random.default_rng(4)
+    a, b = rng.normal(0, 1, 10), rng.normal(0.2, 1, 10)
+    with mock.patch.object(brunner_munzel, "test", wraps=brunner_munzel.test) as spy:
+        out = v.not_better(a, b, +1)
+    assert spy.call_count == 1
+    one = brunner_munzel.test(a, b, "greater")
+    assert out.p_against == pytest.approx(one.p, abs=1e-15)
+    # complete separation, b worse: the p of non-superiority is the other one-sided p
+    worse = v.not_better(a, a - 10, +1)
+    assert worse.verdict == v.REPRODUCED
+    assert worse.p == pytest.approx(brunner_munzel.test(a, a - 10, "less").p, abs=1e-15)
+
+
+# ----------------------------------------------------------------------------- rates (A1, A3)
+def test_a_unit_at_0_against_a_unit_at_1_in_225_is_no_difference():
+    """Five still replications babble in 1 trial of 225 with the ball and in none without it,
+    five babbling ones keep their rate: the relative change says -2 for each still one and
+    decides a difference; on the rate's own scale it is a change of 0.0044, within the
+    margin."""
+    rng = np.random.default_rng(5)
+    moving = rng.uniform(0.3, 0.7, 5)
+    ref = np.concatenate([np.full(5, 1 / 225), moving])
+    new = np.concatenate([np.zeros(5), moving + rng.normal(0, 0.01, 5)])
+    assert v.paired_equivalent(ref, new, relative=True).verdict == v.CONTRADICTED
+    out = v.paired_rate_equivalent(ref, new)
+    assert out.verdict == v.REPRODUCED
+    assert abs(out.effect) < 0.01 and out.p_against > v.ALPHA
+    # one unit alone at 0 against 1/225, every other unchanged: never a difference
+    one = v.paired_rate_equivalent(np.r_[1 / 225, moving], np.r_[0.0, moving])
+    assert one.verdict != v.CONTRADICTED
+
+
+def test_a_rate_that_rises_by_a_quarter_is_a_difference():
+    """The check can fail the other way: babbling up by 0.25 without the ball in every
+    replication (as at generation 250) is contradicted, not 'the same'."""
+    rng = np.random.default_rng(6)
+    ref = rng.uniform(0.0, 0.5, 10)
+    out = v.paired_rate_equivalent(ref, ref + rng.normal(0.25, 0.05, 10))
+    assert out.verdict == v.CONTRADICTED and out.effect == pytest.approx(0.25, abs=0.05)
+
+
+@pytest.mark.parametrize("seed", range(5))
+def test_the_rate_rule_is_statsmodels_paired_tost(seed):
+    rng = np.random.default_rng(seed)
+    ref = rng.uniform(0, 1, 10)
+    new = np.clip(ref + rng.normal(0.03 * seed, 0.08, 10), 0, 1)
+    out = v.paired_rate_equivalent(ref, new)
+    p, _, _ = ttost_paired(new, ref, -v.RATE_MARGIN, v.RATE_MARGIN)
+    assert out.p == pytest.approx(p, rel=1e-10)
+    assert out.effect == pytest.approx(np.mean(new - ref), abs=1e-15)
+
+
+def test_the_rate_rule_is_underpowered_or_no_evidence_where_it_should_be():
+    assert v.paired_rate_equivalent([0.1, 0.2], [0.1, 0.2]).verdict == v.UNDERPOWERED
+    assert v.paired_rate_equivalent(np.zeros(10), np.zeros(10)).verdict == v.INCONCLUSIVE
