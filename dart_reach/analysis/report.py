@@ -413,7 +413,7 @@ def build(run_dirs: Sequence, out=None, findings_out=None) -> Path:
     if not run_dirs:
         raise ValueError("the report needs at least one run directory")
     for d in run_dirs:
-        RunDirectory.open(d)  # one clear error for a path that is not a run
+        RunDirectory.open(d).verify()  # one clear error for a path not a run, or damaged
     out = Path(out) if out is not None else run_dirs[0] / "report.html"
     if out.suffix.lower() not in (".html", ".htm"):
         raise ValueError(f"{out}: the report is an HTML file; give a name ending in .html")

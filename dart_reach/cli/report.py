@@ -35,7 +35,7 @@ def cmd_report(args) -> int:
     from ..evolution.rundir import RunDirectory
 
     for run_dir in args.run_dirs:
-        RunDirectory.open(run_dir)  # one clear line for a path that is not a run
+        RunDirectory.open(run_dir).verify()  # one clear line for a path not a run or damaged
         if not exists(run_dir / TABLE):
             raise ValueError(
                 f"{run_dir}: not post-evaluated yet (no {TABLE}), and the report's findings and "
