@@ -65,7 +65,7 @@ def register_export(subparsers) -> None:
     p.add_argument("run_dir", type=Path, metavar="RUN_DIR", help="a run directory of 'train'")
     p.add_argument("--csv", type=Path, required=True, metavar="DIR",
                    help="the directory to write <table>.csv into (created if missing; no "
-                        "file is overwritten)")
+                        "file is overwritten; required, no default)")
     p.set_defaults(func=cmd_export)
 
 
