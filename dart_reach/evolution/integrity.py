@@ -102,6 +102,24 @@ def recorded_write(out: Path, path: Path, write) -> Path:
     return path
 
 
+def settle(out: Path) -> None:
+    """After a write that stopped between the rename and the ledger's last step: keep, for
+    each file, the one digest of the file on disk, and drop the entries of files no longer
+    there (a write stopped before its first rename, a damaged file deleted to be written
+    again). Call it while holding the run's lock, once its files are verified."""
+    out = Path(out)
+    files = ledger(out)
+    settled = {}
+    for name, digests in files.items():
+        if (out / name).is_file():
+            digest = sha256(out / name) if len(digests) > 1 else None
+            settled[name] = [digest] if digest in digests else digests
+    if settled != files:
+        manifest = _manifest(out)
+        manifest[LEDGER] = settled
+        _save_manifest(out, manifest)
+
+
 def advice(out: Path, path: Path) -> str:
     """What to do with a damaged file of a run's state, by kind."""
     name = Path(path).name

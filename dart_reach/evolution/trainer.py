@@ -40,6 +40,7 @@ from .conditions import Condition, Phase
 from .ga import (GAState, ask, best_k, generation_stats, init_state, state_to_arrays, tell,
                  transition_population)
 from .genome import as_groups, decode, free_mask, random_genome, release
+from . import integrity
 from .integrity import recorded_write
 from .provenance import cpu, git_state, machine, versions
 from .rundir import (STATS_SCHEMA, RunDirectory, RunError, check_same_run, described_run,
@@ -147,6 +148,7 @@ class Trainer(RunDirectory):
         ``integrity.DamagedFile`` (before writing anything) when a file of the run's state is
         damaged. Call it while holding the directory's lock."""
         self.verify()
+        integrity.settle(self.out)
         recorded = self._recorded_generations()
         for _, phase in self.unique_phases():
             committed = self.stats.filter(pl.col("phase_key") == phase.key)
