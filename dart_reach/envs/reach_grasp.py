@@ -370,7 +370,13 @@ class ReachGraspEnv(gym.Env):
             return None
         if self._data is None:
             raise ResetNeeded("nothing to render before reset()")
-        return self._renderer.frame(self.world, self._data)
+        data, t = self._data, self._t
+        # the contacts of the state the world holds: the record's row t, the last one apart
+        if data.diverged:
+            touching = data.contacts[t - 1]
+        else:
+            touching = self._final.contacts[0] if t == self.config.steps else data.contacts[t]
+        return self._renderer.frame(self.world, touching)
 
     def close(self):
         if self._renderer is not None:

@@ -125,6 +125,8 @@ class SceneCamera:
         colour = np.zeros((H, W, 3))
         for shape in self.shapes:
             pose = shape.node.getWorldTransform().matrix()
+            if not np.isfinite(pose).all():
+                continue  # a diverged world: nothing to draw of it
             box = self._window(pose[:3, 3], shape.bound)
             if box is None:
                 continue

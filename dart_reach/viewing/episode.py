@@ -9,14 +9,13 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..model.task import TrialData
 from ..model.world import World
 from .camera import SceneCamera
 
 
 class TrialRenderer:
     """The camera's view (``camera.SceneCamera``) of a trial's world at the state it holds now,
-    the state the trial observed last: ``frame(world, data)``, (height, width, 3) uint8.
+    the state the trial observed last: ``frame(world, touching)``, (height, width, 3) uint8.
     Measured ~140 frames per second at 320x240 on the project's 2-core machine under a
     training run (``dart-reach bench``, ``env_render_fps``)."""
 
@@ -25,16 +24,13 @@ class TrialRenderer:
         self._camera: SceneCamera | None = None
         self._world: World | None = None
 
-    def frame(self, world: World, data: TrialData | None = None) -> np.ndarray:
-        """The frame of ``world`` now; ``data``: the trial's record, whose contacts at its
-        last observed step colour the touching hand segments (None: no contacts drawn)."""
+    def frame(self, world: World, touching=None) -> np.ndarray:
+        """The frame of ``world`` now; ``touching``: which hand segments touch the ball in
+        that state (a row of a trial's ``contacts``, ``TrialData``), drawn yellow; None: no
+        contacts drawn."""
         if self._camera is None or world is not self._world:
             self._camera = SceneCamera(world, self.width, self.height)
             self._world = world
-        touching = None
-        if data is not None:
-            seen = min(data.steps_run, data.contacts.shape[0] - 1)  # the state observed last
-            touching = data.contacts[seen]
         return self._camera.image(world, touching)
 
     def close(self) -> None:

@@ -248,8 +248,8 @@ def test_the_environment_pickles_and_the_copy_steps_as_the_original():
 def test_a_diverged_physics_ends_the_episode_without_a_reward_spike():
     """The real world's state blown up (NaN velocities, as the trial's own test does) after
     4 steps: the 5th step terminates with reward 0, the reason, the last finite observation,
-    and the trial's fitness 0, as ``Trial.run`` gives it."""
-    env = ReachGraspEnv(phase="gross", steps=20)
+    and the trial's fitness 0, as ``Trial.run`` gives it; its frame is still a frame."""
+    env = ReachGraspEnv(phase="gross", steps=20, render_mode="rgb_array")
     observation, _ = env.reset(seed=5, options={"sector": 4})
     rewards = []
     for _ in range(4):
@@ -264,6 +264,8 @@ def test_a_diverged_physics_ends_the_episode_without_a_reward_spike():
     assert np.array_equal(last, env.trial_data.sensors[4])  # the state the action saw
     assert env.trial_data.diverged and env.trial_data.steps_run == 5
     assert not info["is_success"] and {"reached", "grasped"} <= set(info)
+    frame = env.render()  # the robot's poses are not finite: not drawn
+    assert frame.shape == (240, 320, 3) and frame.dtype == np.uint8
     with pytest.raises(gymnasium.error.ResetNeeded):
         env.step(env.home_action)
     env.reset(seed=5)  # and a new episode runs
@@ -358,6 +360,12 @@ def test_rgb_array_is_a_camera_image_that_follows_the_episode():
     assert all(f.shape == (150, 200, 3) and f.dtype == np.uint8 for f in first)
     assert all(np.array_equal(a, b) for a, b in zip(first, second))
     assert (first[0] != first[-1]).any(axis=2).sum() > 100  # the arm moved
+    # to the episode's end: the last frame is the world's final state
+    short = ReachGraspEnv(phase="gross", render_mode="rgb_array", steps=2)
+    short.reset(seed=5, options={"sector": 2})
+    short.step(np.zeros(14, np.float32))
+    assert short.step(np.zeros(14, np.float32))[3]
+    assert np.array_equal(short.render(), SceneCamera(short.world).image(short.world))
     rows, cols = np.nonzero(red(first[0]))
     ball = camera.project(env.unwrapped.trial_data.ball[0])[0]
     assert abs(cols.mean() + 0.5 - ball[0]) < 1.5 and abs(rows.mean() + 0.5 - ball[1]) < 1.5

@@ -96,10 +96,10 @@ def test_touching_hand_segments_are_drawn_yellow(world):
     renderer = TrialRenderer(160, 120)
     data = TrialData.empty(3, 0, world.ball_position(), world.robot.getNumDofs())
     data.contacts[0] = True
-    assert renderer.frame(world, data).shape == (120, 160, 3)
-    assert yellow(renderer.frame(world, data)) > 5
-    data.contacts[0] = False
-    assert yellow(renderer.frame(world, data)) == 0
+    assert renderer.frame(world, data.contacts[0]).shape == (120, 160, 3)
+    assert yellow(renderer.frame(world, data.contacts[0])) > 5
+    assert yellow(renderer.frame(world, data.contacts[1])) == 0
+    assert yellow(renderer.frame(world)) == 0
 
 
 @pytest.mark.parametrize("kind", ["capsule", "cylinder"])
