@@ -217,7 +217,8 @@ def test_vector_environments_step_as_single_ones(vector):
 @pytest.mark.parametrize("mode", ["sync", "async"])
 def test_make_vec_runs_the_registered_environment(mode):
     envs = gymnasium.make_vec(dart_reach.GYM_ID, num_envs=2, vectorization_mode=mode,
-                              phase="gross", steps=3)
+                              phase="gross", steps=3, render_mode="rgb_array", width=64,
+                              height=48)
     try:
         assert envs.single_action_space == gymnasium.spaces.Box(-1, 1, (14,), np.float32)
         observations, infos = envs.reset(seed=7)
@@ -227,6 +228,8 @@ def test_make_vec_runs_the_registered_environment(mode):
                 envs.action_space.sample())
         assert truncated.all() and not terminated.any() and np.isfinite(observations).all()
         assert infos["_is_success"].all() and infos["is_success"].dtype == bool
+        frames = envs.render()  # one camera image per environment
+        assert [f.shape for f in frames] == [(48, 64, 3)] * 2
     finally:
         envs.close()
 
