@@ -62,7 +62,7 @@ from ..model.ctrnn import MOTOR_NAMES, N_HIDDEN, OFFSET, PROPRIO, SIGHT, TOUCH, 
 from ..files import atomic_write
 from ..model.icub import HAND_SEGMENTS
 from ..model.task import Senses, TrialData
-from .robot_model import RobotModel  # noqa: F401 (rrd.RobotModel, as before)
+from .robot_model import RobotModel
 
 APP_ID = "dart_reach"
 #: Version of the entity layout, in every recording's properties (2: the five signal entities;

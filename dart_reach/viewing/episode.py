@@ -16,8 +16,8 @@ from .camera import SceneCamera
 class TrialRenderer:
     """The camera's view (``camera.SceneCamera``) of a trial's world at the state it holds now,
     the state the trial observed last: ``frame(world, touching)``, (height, width, 3) uint8.
-    Measured ~140 frames per second at 320x240 on the project's 2-core machine under a
-    training run (``dart-reach bench``, ``env_render_fps``)."""
+    80-130 frames per second at 320x240 on the project's 2-core machine with both cores
+    busy (2026-11-28; ``dart-reach bench``, ``env_render_fps``)."""
 
     def __init__(self, width: int = 320, height: int = 240):
         self.width, self.height = int(width), int(height)
