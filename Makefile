@@ -220,7 +220,7 @@ levers-screen: $(VENV)/.installed
 		$(BIN)/dart-reach screen $(FULL) --generation 250 --robots 2 --out $(LEVERS)/screen.parquet \
 			--arm $${a%%:*} $$(echo $${a#*:} | tr ',' ' ') || exit $$?; \
 	done
-LEVER_ARMS := far:--scene=beyond-arm-length reflex-evolved:--reflex-inputs=evolved
+LEVER_ARMS := far:--scene=beyond-arm-length reflex-evolved:--reflex-inputs=evolved self-collision:--self-collision=on capped:--touch-pay=capped
 levers-train: $(VENV)/.installed
 	for a in $(LEVER_ARMS); do \
 		$(BIN)/dart-reach train docs/learning-check.toml --generations 50 --replications 6 \

@@ -139,6 +139,26 @@ def screen_section(screen: pl.DataFrame) -> str:
         lines.append(f"| {r['candidate']} | {_f(r['rho_arm'])} | {_f(r['rise_arm'])} | "
                      f"{_f(r['rho_babbling'])} | {_f(r['rise_babbling'])} | "
                      f"{'yes' if r['chosen'] else 'no'} |")
+    lines += ["", "What each screen predicts (robots evolved without the lever, run under it; a "
+              "prediction of where training under it starts, not its result):", ""]
+    at = {r["arm"]: r for r in prof.iter_rows(named=True)}
+    base = at["today"]
+    for arm, r in at.items():
+        if arm == "today":
+            continue
+        lines.append(f"- `{arm}`: reach {_f(base['reach'], 2)} -> {_f(r['reach'], 2)}, fitness "
+                     f"{_f(base['fitness'], 4)} -> {_f(r['fitness'], 4)} "
+                     f"({r['fitness'] / base['fitness'] - 1:+.0%}), hand-shoulder "
+                     f"{_f(base['hand_shoulder_m'])} -> {_f(r['hand_shoulder_m'])} m, babbling "
+                     f"without the ball {_f(base['babbling_no_ball'], 2)} -> "
+                     f"{_f(r['babbling_no_ball'], 2)}.")
+    for r in choice.iter_rows(named=True):
+        if r["candidate"] in ("binary", "capped"):
+            paid = today[f"fitness_{r['candidate']}"].mean()
+            lines.append(f"- `{r['candidate']}` touch pay: fitness "
+                         f"{_f(today['fitness_faces'].mean(), 4)} -> {_f(paid, 4)}; among the "
+                         f"robots it pays the extended arm {'more' if r['rise_arm'] > 0 else 'less'}"
+                         f" than today's pay (rho {_f(r['rho_arm'])} against {_f(ref_arm)}).")
     return "\n".join(lines) + "\n"
 
 
