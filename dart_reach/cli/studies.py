@@ -109,14 +109,16 @@ def register_screen(subparsers) -> None:
                                       "without training: docs/model/levers.md")
     p.add_argument("run_dir", type=Path, metavar="RUN_DIR", help="a run with snapshots")
     p.add_argument("--generation", type=positive, required=True,
-                   help="the snapshot's generation")
+                   help="the snapshot's generation (required: no default)")
     p.add_argument("--phase", default="pre", help="the phase (default: pre)")
     p.add_argument("--robots", type=positive, default=2,
                    help="the best robots of each replication (default 2)")
     p.add_argument("--arm", required=True, metavar="NAME",
-                   help="the name of this lever setting in the table (letters, digits, '-')")
+                   help="the name of this lever setting in the table (letters, digits, '-'; required: no "
+                        "default)")
     p.add_argument("--out", type=Path, required=True,
-                   help="the screen table (parquet): this arm's rows are added or replaced")
+                   help="the screen table (parquet): this arm's rows are added or replaced "
+                        "(required: no default)")
     p.add_argument("--workers", type=workers, default=None,
                    help="local processes (default: every core)")
     add_scene(p)

@@ -155,7 +155,6 @@ class Trainer(RunDirectory):
         ``integrity.DamagedFile`` (before writing anything) when a file of the run's state is
         damaged. Call it while holding the directory's lock."""
         self.verify()
-        integrity.settle(self.out)
         recorded = self._recorded_generations()
         for _, phase in self.unique_phases():
             committed = self.stats.filter(pl.col("phase_key") == phase.key)
@@ -170,6 +169,8 @@ class Trainer(RunDirectory):
                                f"({recorded[phase.key]} generations of phase {phase.name} "
                                f"recorded, {done} in the checkpoint); restore it or start a new "
                                f"run")
+        integrity.settle(self.out)  # checked: only now may anything on disk change
+        for _, phase in self.unique_phases():
             if self.final_path(phase).exists() and not (self.phase_dir(phase)
                                                           / "best.parquet").exists():
                 self._save_best_table(phase, *self.load_final(phase))
