@@ -146,7 +146,7 @@ full-budget-snapshots: $(VENV)/.installed
 	$(BIN)/dart-reach evaluate $(FULL_COPY) --finished-only --development 5 --baseline 10
 	$(BIN)/dart-reach evaluate $(FULL_COPY) --finished-only --development 5 \
 		--development-sensors all --snapshots $(JUDGED)
-	$(BIN)/python -m dart_reach.studies.stillness . --judged --run-dir $(FULL_COPY)
+	$(BIN)/python -m reports.stillness . --judged --run-dir $(FULL_COPY)
 	rm -rf $(FULL)/development $(FULL)/development.parquet
 	for t in $(FULL_TABLES); do \
 		if [ -e $(FULL_COPY)/$$t ]; then cp -r $(FULL_COPY)/$$t $(FULL)/; fi; done
@@ -164,7 +164,7 @@ replication-report: $(VENV)/.installed
 # recordings/, and scene-study/scene-study.md and .png); a test fails when they differ.
 results: $(VENV)/.installed
 	$(BIN)/python -m dart_reach.studies.scene_study $(STUDY) docs/results/scene-study > /dev/null
-	$(BIN)/python -m dart_reach.studies.results_docs .
+	$(BIN)/python -m reports.results .
 
 # The whole suite, one process per core (pytest-xdist); a test file stays in one process, so its
 # module fixtures are built once. The slowest tests are listed at the end.
