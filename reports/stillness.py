@@ -32,8 +32,8 @@ from dart_reach.analysis import budgets, said, strategies
 from dart_reach.evolution.rundir import RunDirectory
 from dart_reach.model.task import N_SEGMENTS
 from dart_reach.postevaluation import results
-from dart_reach.postevaluation.snapshots import load_development
-from dart_reach.studies.fitness_terms import SNAPSHOT_KEY, TABLE, build, by_snapshot, missing
+from dart_reach.studies.fitness_terms import (SNAPSHOT_KEY, TABLE, build, by_snapshot,
+                                              missing)
 
 from .runs import FULL, JUDGED, STILLNESS_RUN as RUN
 
@@ -139,9 +139,9 @@ def values(recordings: Path, markdown_table) -> dict[str, str]:
 
 def budget_values(recordings: Path, markdown_table) -> dict[str, str]:
     """``budget.generations`` and ``budget.body`` of docs/results/templates/stillness.md:
-    ``FULL``'s snapshots taken apart (``fitness_terms.by_snapshot``): the means per strategy and the
-    replication-as-unit comparison, each with a generation column, and per generation which
-    of the page's statements (``strategies.STATED``) its means contradict."""
+    ``FULL``'s snapshots taken apart (``fitness_terms.by_snapshot``): the means per strategy
+    and the replication-as-unit comparison, each with a generation column, and per generation
+    which of the page's statements (``strategies.STATED``) its means contradict."""
     tables_ = by_snapshot(recordings / FULL)
     if not tables_:
         return {"budget.generations": "none yet",

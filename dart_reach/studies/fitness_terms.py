@@ -69,7 +69,8 @@ def snapshot_pre(run_dir: Path, generation: int) -> list[tuple[int, int]]:
             table.filter((pl.col("phase") == "pre") & (pl.col("generation") == generation)))
     if not rows.height:
         raise ValueError(f"{run_dir}: no pre-reaching snapshot of generation {generation} "
-                         f"post-evaluated (dart-reach evaluate RUN --finished-only --development 5)")
+                         f"post-evaluated (dart-reach evaluate RUN --finished-only "
+                         f"--development 5)")
     return sorted(rows.select("replication", "rank").unique().iter_rows())
 
 

@@ -1,6 +1,6 @@
 """The committed tables of Eq. 5's factors (``studies.fitness_terms``, written by
-``reports.stillness``) are the post-evaluated robots' trials: its fitness is the committed post-evaluation's, and a robot's trials run again give its
-rows."""
+``reports.stillness``) are the post-evaluated robots' trials: their fitness is the committed
+post-evaluation's, and a robot's trials run again give its rows."""
 
 from __future__ import annotations
 
