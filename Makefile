@@ -25,12 +25,13 @@ $(VENV)/.installed-dev: pyproject.toml | $(BIN)/python
 # the post-evaluation of each replication's best robot under the four sensory conditions
 # (section IV) beside 2 random genomes per phase, and the report: about 5 minutes on 2 cores.
 DEMO_OUT := recordings/demo-standard
+DEMO_REPORT := recordings/demo-standard-report.html
 demo: $(VENV)/.installed
 	$(BIN)/dart-reach reach --seconds 5
 	$(BIN)/dart-reach train standard --generations 3 --replications 2 --trials 6 --record-every 1 \
 		--out $(DEMO_OUT) $(if $(wildcard $(DEMO_OUT)/manifest.json),--resume,)
 	$(BIN)/dart-reach evaluate $(DEMO_OUT) --sensors all --robots 1 --baseline 2
-	$(BIN)/dart-reach report $(DEMO_OUT)
+	$(BIN)/dart-reach report $(DEMO_OUT) --out $(DEMO_REPORT)
 	@echo
 	@echo "Results in $(DEMO_OUT):"
 	@echo "  manifest.json        every setting, seed, version and the git revision"
@@ -40,12 +41,11 @@ demo: $(VENV)/.installed
 	@echo "  evaluation.parquet   one row per post-evaluation trial with the paper's measures"
 	@echo "  evaluation/**/*.rrd  the trials of the best robot of the best replication"
 	@echo "  evaluation/trial.rbl their layout in the viewer (scene, sensors, neurons, motors)"
-	@echo "  report.html          the paper's findings tested against the run, figures, statistics"
 	@echo "Watch a trial in the Rerun viewer (scene, sensors, neurons, motors, fitness):"
 	@echo "  $(BIN)/rerun $$(ls $(DEMO_OUT)/evaluation/fine-*/normal/*/trial20-*.rrd | head -1) $(DEMO_OUT)/evaluation/trial.rbl"
 	@echo "  $(BIN)/rerun $(DEMO_OUT)/training.rrd"
 	@echo "Read the report (findings, provenance, training, Figs. 5-10) in a browser:"
-	@echo "  $(abspath $(DEMO_OUT))/report.html"
+	@echo "  $(abspath $(DEMO_REPORT))  (beside the run: a report never writes into a run)"
 	@echo "Redraw the paper's figures 5-10 in Jupyter:"
 	@echo "  make notebooks"
 

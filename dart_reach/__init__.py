@@ -109,6 +109,7 @@ _PUBLIC = {
     "evaluate_run": "postevaluation.systematic", "load_evaluation": "postevaluation.systematic",
     "run_phases": "postevaluation.systematic", "SENSES": "postevaluation.systematic",
     "load_runs": "analysis.tables", "read_rrd": "recording.rrd",
+    "read_properties": "recording.rrd", "export_run": "analysis.export",
     "save_series": "recording.export",
     "watch": "viewing.watch", "build_report": "analysis.report",
 }

@@ -21,10 +21,13 @@ def _umask() -> int:
     return mask
 
 
-def atomic_write(path: Path, write: Callable[[Path], None]) -> Path:
+def atomic_write(path: Path, write: Callable[[Path], None],
+                 before_replace: Callable[[Path], None] | None = None) -> Path:
     """Write through a temporary file in the same directory, then rename: a reader (or a
     resumed run) sees the old file or the new one, never half of one. The file gets the
-    permissions of a plainly created one (0666 less the umask)."""
+    permissions of a plainly created one (0666 less the umask). ``before_replace`` is called
+    with the temporary file once it is complete and on disk, before the rename (to record
+    its hash: ``evolution.integrity``); if it raises, the old file stays."""
     path = Path(path)
     tmp = None
     try:
@@ -36,6 +39,8 @@ def atomic_write(path: Path, write: Callable[[Path], None]) -> Path:
         with open(tmp, "rb") as f:
             os.fsync(f.fileno())
         os.chmod(tmp, 0o666 & ~_umask())
+        if before_replace is not None:
+            before_replace(tmp)
         os.replace(tmp, path)
     except OSError as exc:
         raise _naming(exc, path) from None

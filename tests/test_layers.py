@@ -26,7 +26,7 @@ MAX_LINES = 600
 DEFERRED = {
     "cli": "start-up: 'dart-reach --help' and every command load only what they run",
     "__init__": "the public names are loaded on first use (PEP 562)",
-    "envs": "render_mode='rgb_array' alone loads the headless viewer (rerun, polars: about a "
+    "envs": "a render mode alone loads its renderer (human: rerun and polars, about a "
             "second), which every process of a vector environment would pay",
     "progress": "start-up: tqdm.auto takes 60 ms to import and is needed only to draw a bar; "
                 "the CLI imports progress for every command",

@@ -330,7 +330,8 @@ def test_the_ablation_notebook_builds_trains_evaluates_and_compares(tmp_path, mo
     assert run_phases(out)["phase_key"].n_unique() == 5
     table = load_evaluation(out)
     assert table.height == 5 * 2 * 45 and (table["rank"] == 0).all()
-    assert (out / "report.html").is_file()
+    assert (tmp_path / "ablation-report.html").is_file()  # beside, never in, the run
+    assert not (out / "report.html").exists()
 
 
 def test_the_strategies_notebook_follows_the_committed_full_budget_run(monkeypatch):

@@ -54,7 +54,8 @@ def test_every_readme_snippet_runs_as_a_script(tmp_path):
         result = subprocess.run([sys.executable, str(script)], cwd=tmp_path, env=env,
                                 capture_output=True, text=True, timeout=900)
         assert result.returncode == 0, f"README block {i}:\n{block}\n{result.stderr[-3000:]}"
-    assert (tmp_path / "recordings" / "ablation" / "report.html").is_file()
+    assert (tmp_path / "ablation-report.html").is_file()  # beside, never in, the run
+    assert not (tmp_path / "recordings" / "ablation" / "report.html").exists()
     assert (tmp_path / "recordings" / "watch" / "standard-pre-sector4.rrd").is_file()
 
 

@@ -10,7 +10,7 @@ import math
 import numpy as np
 from scipy.stats import rankdata
 
-from .verdicts import (ALPHA, CONTRADICTED, INCONCLUSIVE, MIN_UNITS, PAIRED_MARGIN,
+from .verdict_core import (ALPHA, CONTRADICTED, INCONCLUSIVE, MIN_UNITS, PAIRED_MARGIN,
                        RATE_MARGIN, REPRODUCED, UNDERPOWERED, Outcome, no_spread, normal_sf,
                        tie_sum, finite, friedman, signed_rank_distribution, smallest_friedman_p,
                        smallest_signed_rank_p, t_cdf, t_quantile, t_sf, walsh_median)

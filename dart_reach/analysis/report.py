@@ -402,9 +402,23 @@ def recordings_dir(out: Path, run_dirs: Sequence[Path]) -> dict[Path, Path]:
             for i, d in enumerate(run_dirs)}
 
 
+def default_name(run_dir: Path) -> str:
+    """The report's file name by default, in the current directory: ``<run>-report.html``."""
+    return f"{Path(run_dir).resolve().name}-report.html"
+
+
+def _check_outside(out: Path, run_dirs: Sequence[Path], option: str) -> None:
+    """``UsageError`` when ``out`` (and so what is written beside it) lies inside a run."""
+    for d in run_dirs:
+        if d.resolve() in (out.resolve().parent, *out.resolve().parent.parents):
+            text = f"{out}: inside the run {d}, which the report only reads; write it elsewhere"
+            raise UsageError(f"{text} ({option}=...)", cli=f"{text} (--{option.split('_')[0]})")
+
+
 def build(run_dirs: Sequence, out=None, findings_out=None) -> Path:
-    """Write the report of ``run_dirs`` to ``out`` (default ``<first run>/report.html``) and
-    return its path. The runs are only read: the trials that Figs. 6 and 8 draw and that have
+    """Write the report of ``run_dirs`` to ``out`` (default ``<first run's name>-report.html``
+    in the current directory) and return its path. The runs are only read, and ``out`` may not
+    lie inside one of them (nothing is ever written into a run the report reads): the trials that Figs. 6 and 8 draw and that have
     no recording are recorded again in ``recordings_dir`` beside ``out``. Runs without a
     post-evaluation get provenance and training only, and their claims are "not run".
     ``findings_out``: also write the findings the report shows, every claim at every budget
@@ -413,8 +427,11 @@ def build(run_dirs: Sequence, out=None, findings_out=None) -> Path:
     if not run_dirs:
         raise ValueError("the report needs at least one run directory")
     for d in run_dirs:
-        RunDirectory.open(d)  # one clear error for a path that is not a run
-    out = Path(out) if out is not None else run_dirs[0] / "report.html"
+        RunDirectory.open(d).verify()  # one clear error for a path not a run, or damaged
+    out = Path(out) if out is not None else Path(default_name(run_dirs[0]))
+    _check_outside(out, run_dirs, "out")
+    if findings_out is not None:
+        _check_outside(Path(findings_out), run_dirs, "findings_out")
     if out.suffix.lower() not in (".html", ".htm"):
         raise ValueError(f"{out}: the report is an HTML file; give a name ending in .html")
     if not out.parent.is_dir():

@@ -12,7 +12,7 @@ from .arguments import command
 def register_report(subparsers) -> None:
     p = command(subparsers, "report", "one self-contained HTML file: the paper's findings "
                                       "tested against runs, provenance, training, Figs. 5-10")
-    p.epilog = ("The runs are only read (but for the report itself with the default --out). "
+    p.epilog = ("The runs are only read: nothing is written into them. "
                 "Trials that Figs. 6 and 8 draw and that have no "
                 "recording (committed results hold none) are run again and recorded beside "
                 "the report, in NAME-recordings/ for NAME.html (about 0.4 MB a trial), and "
@@ -20,8 +20,9 @@ def register_report(subparsers) -> None:
     p.add_argument("run_dirs", type=Path, nargs="+", metavar="RUN_DIR",
                    help="post-evaluated run directories (dart-reach evaluate)")
     p.add_argument("--out", type=Path, default=None, metavar="FILE.html",
-                   help="where to write it, in an existing directory (default "
-                        "RUN_DIR/report.html of the first run)")
+                   help="where to write it, in an existing directory outside the runs "
+                        "(default: <first RUN_DIR's name>-report.html in the current "
+                        "directory)")
     p.add_argument("--findings", type=Path, default=None, metavar="FILE.parquet",
                    help="also write the findings, every claim at every budget, to this new "
                         "parquet file (default: none)")
@@ -35,7 +36,7 @@ def cmd_report(args) -> int:
     from ..evolution.rundir import RunDirectory
 
     for run_dir in args.run_dirs:
-        RunDirectory.open(run_dir)  # one clear line for a path that is not a run
+        RunDirectory.open(run_dir).verify()  # one clear line for a path not a run or damaged
         if not exists(run_dir / TABLE):
             raise ValueError(
                 f"{run_dir}: not post-evaluated yet (no {TABLE}), and the report's findings and "

@@ -162,6 +162,7 @@ def cmd_status(args) -> int:
     from ..postevaluation import checks
 
     run = RunDirectory.open(args.run_dir)
+    run.verify()
     table = run.status()
     head = ("condition", "phase", "replication", "generations", "best", "mean", "wall (h)")
     rows = [(r["condition"], r["phase"], str(r["replication"]),

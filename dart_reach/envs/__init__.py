@@ -5,7 +5,8 @@
 environment, a thin wrapper over ``model.task.Trial``; ``policy``: a controller network (a
 shipped robot's) as a policy; ``seeing``: an episode as a Rerun recording like a trial's
 (imported apart: rerun and polars take about a second to load, which every process of a
-vector environment would pay). Its frames are ``viewing.episode``'s.
+vector environment would pay). Its ``rgb_array`` frames are ``viewing.episode``'s, a camera
+image drawn in numpy; its ``human`` mode streams to a Rerun viewer (``viewing.live``).
 """
 
 from .policy import NetworkPolicy

@@ -172,13 +172,23 @@ class ReachGraspEnv(gym.Env):
     - ``senses``: a post-evaluation sensory condition (``task.Senses`` or its value).
     - ``steps``: control steps of 0.1 s per episode (200); with another value, pass the same
       ``max_episode_steps`` to ``gymnasium.make``.
-    - ``render_mode``: None or ``"rgb_array"`` (a frame of the headless Rerun viewer,
-      ``viewing.episode``; needs a Vulkan driver, a RuntimeError at construction where there
-      is none).
+    - ``render_mode``: None, ``"rgb_array"`` or ``"human"``. ``rgb_array``: ``render()``
+      returns a camera image of the scene at the current step, (``height``, ``width``, 3)
+      uint8, drawn in numpy from the DART world's shapes (``viewing.camera``: no GPU,
+      display or graphics driver; hand segments touching the ball yellow). ``human``: every
+      step is streamed to a live Rerun viewer in the trial layout of ``dart-reach watch``
+      (``viewing.live``), once its action is taken; ``render()`` returns None.
+    - ``width``, ``height``: the ``rgb_array`` image's size in pixels (320 x 240).
+    - ``viewer``: where ``human`` streams to: a viewer's gRPC URL
+      (``rerun+http://HOST:9876/proxy``), an .rrd path written as the episodes run, or None:
+      a viewer spawned on this machine, or, without a display, a gRPC server in this process
+      (its URL printed to stderr; ``rerun --connect URL`` watches it).
 
     ## Version History
 
-    - v1: actions in [-1, 1] float32 (the motor targets; v0 took the motor outputs in [0, 1]
+    - v1: ``render_mode`` ``"rgb_array"`` a camera image of the scene (it was a screenshot
+      of the Rerun viewer's window, which needed a Vulkan driver) and ``"human"``; actions
+      in [-1, 1] float32 (the motor targets; v0 took the motor outputs in [0, 1]
       float64), ``max_episode_steps=200`` in the registration, a diverged step rewarded 0
       (v0: minus the return so far) with ``info["reason"]``, inputs checked (``sector`` an
       int, ``ball_position`` in its sector), ``reached``, ``grasped`` and ``is_success`` at
@@ -186,11 +196,12 @@ class ReachGraspEnv(gym.Env):
     - v0: the first version; ``gymnasium.make`` now refuses it and names v1.
     """
 
-    metadata = {"render_modes": ["rgb_array"], "render_fps": 10}
+    metadata = {"render_modes": ["human", "rgb_array"], "render_fps": 10}
 
     def __init__(self, phase: str | Phase = "pre", scene: str | None = None,
                  reflexes: bool | None = None, senses: str | Senses = Senses.NORMAL,
-                 steps: int = 200, render_mode: str | None = None):
+                 steps: int = 200, render_mode: str | None = None, width: int = 320,
+                 height: int = 240, viewer: str | None = None):
         if isinstance(phase, str):
             phases = shipped_phases()
             if phase not in phases:
@@ -206,16 +217,23 @@ class ReachGraspEnv(gym.Env):
         if isinstance(steps, bool) or not isinstance(steps, (int, np.integer)) or steps < 1:
             raise ValueError(f"steps must be a positive integer, got {steps!r}")
         if render_mode not in (None, *self.metadata["render_modes"]):
-            raise ValueError(f"render_mode must be None or 'rgb_array', got {render_mode!r}")
+            raise ValueError(f"render_mode must be None, 'rgb_array' or 'human', got "
+                             f"{render_mode!r}")
+        for name, pixels in (("width", width), ("height", height)):
+            if isinstance(pixels, bool) or not isinstance(pixels, (int, np.integer)) \
+                    or pixels < 8:
+                raise ValueError(f"{name} must be an integer of at least 8 pixels, got "
+                                 f"{pixels!r}")
         # kept for pickling: the environment is rebuilt from them (a DART world does not pickle)
         self._arguments = dict(phase=phase, scene=scene, reflexes=reflexes, senses=senses,
-                               steps=int(steps), render_mode=render_mode)
+                               steps=int(steps), render_mode=render_mode, width=int(width),
+                               height=int(height), viewer=viewer)
         self.phase = phase
         config = trial_config(phase, Settings(steps=int(steps)))
         self.config = replace(config, senses=Senses(senses), reflexes=(
             config.reflexes if reflexes is None else reflexes))
         self.render_mode = render_mode
-        self._renderer = _renderer() if render_mode is not None else None
+        self._renderer = _renderer(render_mode, int(width), int(height), viewer)
         world_config = WorldConfig() if scene is None else load_scene(scene).world()
         self.world = World(world_config)
         self.trial = Trial(self.world, self.config)
@@ -261,6 +279,8 @@ class ReachGraspEnv(gym.Env):
                 "home_action": self.home_action.copy()}
         observation = data.sensors[0]
         observation.flags.writeable = False
+        if self.render_mode == "human":
+            self._renderer.send(self.world, data, self.recording_info())
         return observation, info
 
     def _ball(self, options) -> tuple[int, np.ndarray]:
@@ -316,6 +336,8 @@ class ReachGraspEnv(gym.Env):
             observation = data.sensors[t - 1]  # the last finite one, not NaNs for a learner
         if last or not ok:
             info.update(self._outcome(data))
+        if self.render_mode == "human":
+            self._renderer.send(self.world, data, self.recording_info())
         return observation, reward, not ok, last and ok, info
 
     @staticmethod
@@ -341,13 +363,20 @@ class ReachGraspEnv(gym.Env):
                          senses=self.config.senses.value)
 
     def render(self):
-        """An RGB frame (H, W, 3) uint8 of the episode so far at its current step
-        (``viewing.episode.TrialRenderer``); None without a render mode."""
-        if self.render_mode is None:
+        """``rgb_array``: the camera's image (H, W, 3) uint8 of the scene at the current step
+        (``viewing.episode.TrialRenderer``). None without a render mode, and in ``human``
+        mode, whose frames ``reset`` and ``step`` stream as they run."""
+        if self.render_mode != "rgb_array":
             return None
         if self._data is None:
             raise ResetNeeded("nothing to render before reset()")
-        return self._renderer.frame(self.world, self._data, self.recording_info())
+        data, t = self._data, self._t
+        # the contacts of the state the world holds: the record's row t, the last one apart
+        if data.diverged:
+            touching = data.contacts[t - 1]
+        else:
+            touching = self._final.contacts[0] if t == self.config.steps else data.contacts[t]
+        return self._renderer.frame(self.world, touching)
 
     def close(self):
         if self._renderer is not None:
@@ -365,9 +394,14 @@ def _rebuild(arguments: dict, spec) -> ReachGraspEnv:
     return env
 
 
-def _renderer():
-    """The headless renderer (``viewing.episode``), loaded only when a render mode asks for it:
-    rerun, polars and the viewer take about a second to import, which every process of a
-    vector environment would pay."""
-    from ..viewing.episode import TrialRenderer
-    return TrialRenderer()
+def _renderer(mode: str | None, width: int, height: int, viewer):
+    """The renderer of a render mode, loaded only when one asks for it: ``human``'s stream
+    loads rerun and polars (about a second), which every process of a vector environment
+    would pay."""
+    if mode == "rgb_array":
+        from ..viewing.episode import TrialRenderer
+        return TrialRenderer(width, height)
+    if mode == "human":
+        from ..viewing.live import LiveViewer
+        return LiveViewer(viewer)
+    return None

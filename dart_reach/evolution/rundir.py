@@ -25,6 +25,11 @@ Run directory::
     findings.parquet           every claim judged at the run's budget (``make results``)
     .lock                      held by the process working in the directory (``files``)
 
+The manifest's ``files`` ledger holds the SHA-256 of every checkpoint, final and snapshot
+as it was written; each is checked against it when it is read (``integrity``), and
+``RunDirectory.verify`` checks them all at once. A damaged one raises
+``integrity.DamagedFile`` naming it and what to do.
+
 Each phase's checkpoint carries its statistics rows: the statistics of a run are read from its
 checkpoints (``generations.parquet`` and ``training.rrd`` are derived from them).
 """
@@ -37,6 +42,7 @@ from pathlib import Path
 import numpy as np
 import polars as pl
 
+from . import integrity
 from .conditions import Condition, Phase, condition_from_dict
 from .ga import GAState, state_from_arrays
 from .settings import Settings
@@ -190,6 +196,7 @@ class RunDirectory:
         path = self.checkpoint_path(phase)
         if not path.exists():
             return None
+        integrity.check(self.out, path)
         try:
             with np.load(path, allow_pickle=False) as d:
                 if str(d["phase_key"]) != phase.key:
@@ -238,6 +245,7 @@ class RunDirectory:
         """Final populations (R, P, L) and lifetime fitness (R, P) of a trained phase, best
         first within each replication."""
         path = self.final_path(phase)
+        integrity.check(self.out, path)
         try:
             with np.load(path, allow_pickle=False) as d:
                 return d["population"], d["fitness"]
@@ -249,6 +257,7 @@ class RunDirectory:
         kept, in generation order; [] for a run made without snapshots."""
         out = []
         for path in sorted((self.phase_dir(phase) / "snapshots").glob("gen*.npz")):
+            integrity.check(self.out, path)
             try:
                 with np.load(path, allow_pickle=False) as d:
                     if str(d["phase_key"]) != phase.key:
@@ -257,6 +266,24 @@ class RunDirectory:
             except Exception as exc:
                 raise RunError(f"{path}: unreadable snapshot ({exc})") from None
         return out
+
+    def state_files(self) -> list[Path]:
+        """Every file the run's state is built from that is on disk: each phase's checkpoint,
+        final and snapshots, in training order."""
+        files = []
+        for _, phase in self.unique_phases():
+            files += [p for p in (self.checkpoint_path(phase), self.final_path(phase))
+                      if p.exists()]
+            files += sorted((self.phase_dir(phase) / "snapshots").glob("gen*.npz"))
+        return files
+
+    def verify(self) -> None:
+        """Check every file of ``state_files`` before anything is done with the run: its
+        SHA-256 against the manifest's ledger, or for a file written before the ledger, that
+        it reads whole. Raises ``integrity.DamagedFile`` naming the first damaged file and
+        what to do; changes nothing on disk."""
+        for path in self.state_files():
+            integrity.verify(self.out, path)
 
     def status(self) -> pl.DataFrame:
         """Where training stands (``dart-reach status``): one row per phase trained in this run

@@ -10,7 +10,9 @@ phase. A phase shared by several conditions (same content, same preceding phases
 (``settings.seed_sequence``).
 
 A generation is committed by its phase's checkpoint alone, written atomically (a temporary file
-renamed over the old one). Everything a generation adds is either written before that commit
+renamed over the old one), its SHA-256 committed in the manifest around the rename
+(``integrity.recorded_write``; finals and snapshots too), so that a damaged file is refused
+when it is read. Everything a generation adds is either written before that commit
 (the best-of-generation recordings and the snapshots, which a redone generation rewrites
 identically) or derived
 from the committed checkpoints and rebuilt from them on resume (generations.parquet and
@@ -38,6 +40,8 @@ from .conditions import Condition, Phase
 from .ga import (GAState, ask, best_k, generation_stats, init_state, state_to_arrays, tell,
                  transition_population)
 from .genome import as_groups, decode, free_mask, random_genome, release
+from . import integrity
+from .integrity import recorded_write
 from .provenance import cpu, git_state, machine, versions
 from .rundir import (STATS_SCHEMA, RunDirectory, RunError, check_same_run, described_run,
                      manifest_of, read_manifest)
@@ -147,8 +151,11 @@ class Trainer(RunDirectory):
     def repair(self) -> None:
         """Before training on: check that the directory agrees with its committed state,
         rebuild what is derived from it (generations.parquet, training.rrd, best.parquet).
-        Raises ``RunError`` naming the file when something cannot be rebuilt. Call it while
-        holding the directory's lock."""
+        Raises ``RunError`` naming the file when something cannot be rebuilt, and
+        ``integrity.DamagedFile`` (before writing anything) when a file of the run's state is
+        damaged. Call it while holding the directory's lock."""
+        self.verify()
+        integrity.settle(self.out)
         recorded = self._recorded_generations()
         for _, phase in self.unique_phases():
             committed = self.stats.filter(pl.col("phase_key") == phase.key)
@@ -186,7 +193,7 @@ class Trainer(RunDirectory):
         rows = self.stats.filter(pl.col("phase_key") == phase.key)
         arrays.update({f"stats/{c}": np.array(rows[c].to_list(), dtype=np.str_)
                        if t == pl.Utf8 else rows[c].to_numpy() for c, t in STATS_SCHEMA.items()})
-        atomic_write(self.checkpoint_path(phase), lambda p: _savez(p, arrays))
+        recorded_write(self.out, self.checkpoint_path(phase), lambda p: _savez(p, arrays))
         self._save_stats()
 
     def _save_final(self, condition: Condition, phase: Phase, states: list[GAState]) -> None:
@@ -195,7 +202,7 @@ class Trainer(RunDirectory):
         genomes = np.stack([g for g, _ in ranked])
         fitness = np.stack([f for _, f in ranked])
         self._save_best_table(phase, genomes, fitness)  # derived: before the commit
-        atomic_write(self.final_path(phase), lambda p: _savez(p, {
+        recorded_write(self.out, self.final_path(phase), lambda p: _savez(p, {
             "population": genomes, "fitness": fitness, "best": genomes[:, 0],
             "phase_key": np.array(phase.key)}))
 
@@ -299,7 +306,7 @@ class Trainer(RunDirectory):
         k = min(SNAPSHOT_ROBOTS, self.settings.ga.population)
         ranked = [best_k(s, k) for s in states]
         path = self.snapshot_path(phase, states[0].generation)
-        atomic_write(path, lambda p: _savez(p, {
+        recorded_write(self.out, path, lambda p: _savez(p, {
             "genomes": np.stack([g for g, _ in ranked]),
             "fitness": np.stack([f for _, f in ranked]),
             "generation": np.array(states[0].generation), "phase_key": np.array(phase.key)}))
@@ -364,6 +371,8 @@ def train(conditions: list[Condition], settings: Settings, out: Path, workers: i
     out = Path(out)
     if resume and not (out / "manifest.json").is_file():
         raise RunError(f"nothing to resume: {out} holds no run")
+    if resume:  # a damaged file refused before anything is written, the lock file included
+        RunDirectory(*described_run(out)).verify()
     with DirectoryLock(out):
         remove_temporaries(out)  # of a killed write: the lock says no one else is writing
         run = Trainer(out, conditions, settings, resume=resume, command=command)

@@ -25,6 +25,8 @@ import math
 
 import numpy as np
 
+from ..model import sensors
+from ..model.levers import TouchPay
 from .contacts import first_touch, touch_onsets
 from .kinematics import DT
 
@@ -125,15 +127,11 @@ def fitness_under_touch_pays(data) -> dict[str, float]:
     inner-face touches (n of 16 per step), keyed ``fitness_<pay>`` ('-' as '_'); 0 for a
     diverged trial. Under the pay the trial ran with, it is the trial's fitness to the last
     bit. A screen of the touch lever without training (docs/model/levers.md)."""
-    from ..model import sensors
-    from ..model.levers import TOUCH_CAP, TouchPay
-
-    pays = {TouchPay.FACES: sensors.p_touch, TouchPay.BINARY: sensors.p_touch_binary,
-            TouchPay.CAPPED: lambda n, m: sensors.p_touch_capped(n, m, TOUCH_CAP)}
     steps = len(data.p_sight)
     counts, segments = data.contacts.sum(axis=1).tolist(), data.contacts.shape[1]
     out = {}
-    for pay, p_touch in pays.items():
+    for pay in TouchPay:
+        p_touch = sensors.p_touch_of(pay)
         p = np.zeros(steps)
         for t in range(int(data.steps_run)):
             p[t] = sensors.p_multimodal(float(data.p_sight[t]), p_touch(counts[t], segments))

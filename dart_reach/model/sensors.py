@@ -21,6 +21,8 @@ import math
 
 import numpy as np
 
+from .levers import TOUCH_CAP, TouchPay
+
 #: Half field of view of the head camera (section III-B: 112 deg x 94 deg), degrees.
 HALF_FOV_X_DEG = 56.0
 HALF_FOV_Y_DEG = 47.0
@@ -198,6 +200,12 @@ def p_touch_capped(n_segments_touching: int, n_segments: int, cap: int) -> float
         raise ValueError(f"cap must be in [1, {n_segments}], got {cap}")
     p_touch(n_segments_touching, n_segments)  # checks the counts
     return min(n_segments_touching, cap) / cap
+
+
+def p_touch_of(pay: TouchPay):
+    """The p_touch function (n touching, N segments) -> [0, 1] of a ``levers.TouchPay``."""
+    return {TouchPay.FACES: p_touch, TouchPay.BINARY: p_touch_binary,
+            TouchPay.CAPPED: lambda n, m: p_touch_capped(n, m, TOUCH_CAP)}[TouchPay(pay)]
 
 
 def p_multimodal(p_sight: float, p_touch: float) -> float:  # noqa: F811 (names as in Eq. 5)

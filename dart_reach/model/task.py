@@ -27,7 +27,7 @@ from . import sensors
 from .ctrnn import (N_HIDDEN, N_MOTORS, N_SENSORS, OFFSET, PROPRIO, SIGHT, TOUCH, Network,
                     NetworkParams, motor_targets)
 from .icub import HAND_SEGMENTS, TOUCH_BODIES
-from .levers import TOUCH_CAP, NetworkStart, ReflexInputs, TouchPay
+from .levers import NetworkStart, ReflexInputs, TouchPay
 from .world import BALL_PARKED, N_SECTORS, World, palm_normal, palm_point
 
 #: Indices in ``HAND_SEGMENTS`` of the six touch-sensor bodies (palm, fingertips).
@@ -169,10 +169,7 @@ class Trial:
         self._home_motor = ((world.home_targets + 1.0) / 2.0
                             if config.network_start is NetworkStart.HOLD_HOME
                             else np.zeros(N_MOTORS))
-        self._pay_touch = {TouchPay.FACES: sensors.p_touch,
-                           TouchPay.BINARY: sensors.p_touch_binary,
-                           TouchPay.CAPPED: lambda n, m: sensors.p_touch_capped(n, m, TOUCH_CAP),
-                           }[config.touch_pay]
+        self._pay_touch = sensors.p_touch_of(config.touch_pay)  # levers.TouchPay
         self._no_touch = config.senses in _NO_TOUCH
         self._no_sight = config.senses in _NO_SIGHT
         self._offsets = config.offset_sensors and not self._no_sight

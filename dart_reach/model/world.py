@@ -31,10 +31,10 @@ import numpy as np
 
 from . import icub
 from .ctrnn import N_MOTORS
+from .sectors import (N_SECTORS, POINTS_PER_SECTOR, SYSTEMATIC_FRACTIONS, SectorConfig,
+                      check_sector, sector_angles, sphere_point)
 from .sensors import clip
 
-N_SECTORS = 9
-POINTS_PER_SECTOR = 5
 #: Fraction of each joint's range kept free of targets at both ends (see ``World``).
 LIMIT_MARGIN = 0.01
 #: Where the ball-absent test (``task.Senses.NO_BALL``, section IV-A-1) hangs the ball (m, world
@@ -61,41 +61,6 @@ class BallConfig:
     max_swing: float = 75.0
     friction: float = 1.0  # Coulomb coefficient of the ball's surface
     color: tuple[float, float, float] = (0.9, 0.05, 0.05)
-
-
-@dataclass(frozen=True)
-class SectorConfig:
-    """The 9 sectors of Fig. 2: a patch of the sphere of ``radius`` centred on the neck (the
-    origin of ``neck_1`` at the home posture), cut into 3 x 3 cells by azimuth (0 = straight ahead,
-    positive to the robot's right) and elevation (0 = neck height, positive up), in degrees.
-    Sector k has elevation row k // 3 (0 = lowest) and azimuth column k % 3 (0 = leftmost).
-    The paper does not give the bounds (it copies the infant experiments, II-B, III); the
-    defaults are the scene study's ``arm-length-shoulder`` scene (docs/model/scene.md):
-    the ball at shoulder height, 0-45 deg to the right of the midline, the farthest point at the
-    extended arm's length. Every point, corners included, is in front of the right shoulder,
-    inside the head camera's field of view at the home posture, 25-34 cm from the eyes (inside
-    the 50 cm of the distance sensor, Eq. 3), clear of the resting arm and within the reach of
-    the right arm (``dart-reach validate``; docs/model/world.md). Other scenes:
-    ``dart_reach.scenes``."""
-
-    radius: float = 0.344
-    azimuth_edges: tuple[float, float, float, float] = (0.0, 15.0, 30.0, 45.0)
-    elevation_edges: tuple[float, float, float, float] = (-35.9, -20.9, -5.9, 9.1)
-
-    def __post_init__(self):
-        r = self.radius
-        if isinstance(r, bool) or not isinstance(r, (int, float)) or not 0 < r < math.inf:
-            raise ValueError(f"radius must be a positive number of metres, got {r!r}")
-        object.__setattr__(self, "radius", float(r))
-        for key in ("azimuth_edges", "elevation_edges"):
-            edges = getattr(self, key)
-            if (not isinstance(edges, (tuple, list)) or len(edges) != 4
-                    or any(isinstance(e, bool) or not isinstance(e, (int, float)) for e in edges)
-                    or not all(-90 <= e <= 90 for e in edges)
-                    or not all(a < b for a, b in zip(edges, edges[1:]))):
-                raise ValueError(f"{key} must be 4 increasing angles in [-90, 90] degrees, got "
-                                 f"{edges!r}")
-            object.__setattr__(self, key, tuple(float(e) for e in edges))
 
 
 @dataclass(frozen=True)
@@ -141,33 +106,6 @@ class WorldConfig:
         return round(self.control_dt / self.physics_dt)
 
 
-# ------------------------------------------------------------------------------------ sectors
-def sector_angles(config: SectorConfig, sector: int, u: float, v: float) -> tuple[float, float]:
-    """(azimuth, elevation) in degrees of the point at fractions (u, v) in [0, 1] of a sector's
-    azimuth and elevation spans."""
-    check_sector(sector)
-    row, col = divmod(sector, 3)
-    az0, az1 = config.azimuth_edges[col], config.azimuth_edges[col + 1]
-    el0, el1 = config.elevation_edges[row], config.elevation_edges[row + 1]
-    return az0 + u * (az1 - az0), el0 + v * (el1 - el0)
-
-
-def sphere_point(centre: np.ndarray, radius: float, azimuth: float, elevation: float) -> np.ndarray:
-    """World point (m) at (azimuth, elevation) degrees on the sphere; +x of the world is backward,
-    so straight ahead is -x and the robot's right +y."""
-    az, el = math.radians(azimuth), math.radians(elevation)
-    return centre + radius * np.array(
-        [-math.cos(el) * math.cos(az), math.cos(el) * math.sin(az), math.sin(el)])
-
-
-def check_sector(sector) -> None:
-    if not isinstance(sector, (int, np.integer)) or not 0 <= sector < N_SECTORS:
-        raise ValueError(f"sector must be an integer in 0..{N_SECTORS - 1}, got {sector!r}")
-
-
-#: Fractions (u, v) of the 5 systematic post-evaluation points of a sector: its centre and the
-#: centres of its four quadrants.
-SYSTEMATIC_FRACTIONS = ((0.5, 0.5), (0.25, 0.25), (0.75, 0.25), (0.25, 0.75), (0.75, 0.75))
 
 
 class World:

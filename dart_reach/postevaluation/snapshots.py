@@ -106,6 +106,7 @@ def measure_snapshots(run_dir, robots: int = 1, workers: int | None = None,
     ``progress`` is told a ``systematic.EvaluationProgress`` (robots done of those left, with
     an ETA) after each robot."""
     run = RunDirectory.open(run_dir) if finished_only else open_finished(run_dir)
+    run.verify()  # a damaged file refused before anything is written
     if robots < 1:
         raise ValueError(f"robots must be at least 1, got {robots}")
     senses = tuple(Senses(s) for s in senses)

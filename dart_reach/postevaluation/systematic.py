@@ -269,6 +269,7 @@ def evaluate_run(run_dir, senses: Iterable[str] = ("normal",), robots: int = 5,
     the run once it has finished, is kept: evaluating the run then adds only the rest."""
     run = (RunDirectory.open(run_dir) if finished_only and baseline
            else open_finished(run_dir, finished_only))
+    run.verify()  # a damaged file refused before anything is written
     bar = evaluation_bar() if progress is True else None
     try:
         with DirectoryLock(run.out):

@@ -43,6 +43,7 @@ from __future__ import annotations
 
 import functools
 import os
+import socket
 import subprocess
 import sys
 import warnings
@@ -61,7 +62,7 @@ from ..model.ctrnn import MOTOR_NAMES, N_HIDDEN, OFFSET, PROPRIO, SIGHT, TOUCH, 
 from ..files import atomic_write
 from ..model.icub import HAND_SEGMENTS
 from ..model.task import Senses, TrialData
-from .quaternion import quaternions
+from .robot_model import RobotModel
 
 APP_ID = "dart_reach"
 #: Version of the entity layout, in every recording's properties (2: the five signal entities;
@@ -144,90 +145,6 @@ class TrialInfo:
     def name(self) -> str:
         return (f"{self.condition}/{self.phase} rep {self.replication} #{self.individual} "
                 f"{self.senses} trial {self.trial} (sector {self.sector})")
-
-
-# ------------------------------------------------------------------------------ robot geometry
-class RobotModel:
-    """The robot's kinematic tree and visual shapes, for drawing a trial from its joint record.
-
-    Body poses are computed for all steps at once (vectorised forward kinematics) from
-    ``TrialData.dofs``: asking DART for 28 body transforms per step would cost more than the
-    recording itself. Only revolute and weld joints occur in the skeleton; others are refused.
-    """
-
-    def __init__(self, world):
-        robot = world.robot
-        bodies = list(robot.getBodyNodes())
-        index = {b.getName(): i for i, b in enumerate(bodies)}
-        # A revolute joint's transform from its parent body is before @ R(q) @ after, and
-        # R(q) = I + sin q K + (1 - cos q) K^2 (Rodrigues, K the axis' cross-product matrix):
-        # so it is terms[0] + sin q terms[1] + (1 - cos q) terms[2], three constant matrices.
-        self.parent, self.dof, self.terms = [], [], []
-        for b in bodies:
-            j = b.getParentJoint()
-            kind = type(j).__name__
-            if kind not in ("RevoluteJoint", "WeldJoint"):
-                raise ValueError(f"cannot draw joint {j.getName()} of type {kind}")
-            p = b.getParentBodyNode()
-            self.parent.append(-1 if p is None else index[p.getName()])
-            before = np.asarray(j.getTransformFromParentBodyNode().matrix())
-            after = np.linalg.inv(np.asarray(j.getTransformFromChildBodyNode().matrix()))
-            K = np.zeros((4, 4))
-            if kind == "RevoluteJoint":
-                x, y, z = np.asarray(j.getAxis(), float)
-                K[:3, :3] = [[0, -z, y], [z, 0, -x], [-y, x, 0]]
-            self.dof.append(j.getIndexInSkeleton(0) if kind == "RevoluteJoint" else -1)
-            self.terms.append(np.stack([before @ after, before @ K @ after,
-                                        before @ K @ K @ after]))
-        self.names = [b.getName() for b in bodies]
-        segment = {name: i for i, name in enumerate(HAND_SEGMENTS)}
-        boxes, spheres = [], []
-        for i, b in enumerate(bodies):
-            for s in b.getShapeNodes():
-                if not s.hasVisualAspect():
-                    continue
-                shape, local = s.getShape(), np.asarray(s.getRelativeTransform().matrix())
-                kind = type(shape).__name__
-                if kind == "BoxShape":
-                    boxes.append((i, local, np.asarray(shape.getSize()) / 2,
-                                  segment.get(b.getName(), -1)))
-                elif kind == "SphereShape":
-                    spheres.append((i, local, shape.getRadius()))
-        self.box_body = np.array([b[0] for b in boxes])
-        self.box_local = np.stack([b[1] for b in boxes])
-        self.box_half = np.stack([b[2] for b in boxes])
-        self.box_segment = np.array([b[3] for b in boxes])
-        self.sphere_body = np.array([s[0] for s in spheres], int)
-        self.sphere_local = np.stack([s[1] for s in spheres]) if spheres else np.zeros((0, 4, 4))
-        self.sphere_radius = np.array([s[2] for s in spheres])
-        self.ball_radius = world.config.ball.radius
-        self.string_length = world.config.ball.string_length
-
-    def body_transforms(self, dofs: np.ndarray) -> np.ndarray:
-        """World transforms (T, B, 4, 4) of every body for joint positions ``dofs`` (T, ndof)."""
-        dofs = np.asarray(dofs, float)
-        n = dofs.shape[0]
-        out = np.empty((n, len(self.names), 4, 4))
-        # (T, ndof, 3): the coefficients 1, sin q, 1 - cos q of each joint's three terms
-        coefficients = np.stack([np.ones_like(dofs), np.sin(dofs), 1.0 - np.cos(dofs)], axis=-1)
-        for i, (p, d, terms) in enumerate(zip(self.parent, self.dof, self.terms)):
-            if d >= 0:
-                local = (coefficients[:, d] @ terms.reshape(3, 16)).reshape(n, 4, 4)
-            else:
-                local = np.broadcast_to(terms[0], (n, 4, 4))
-            if p < 0:
-                out[:, i] = local
-            else:
-                np.matmul(out[:, p], local, out=out[:, i])
-        return out
-
-    def shape_poses(self, dofs: np.ndarray):
-        """Centres (T, n, 3) and xyzw quaternions (T, n, 4) of the boxes, and the sphere centres
-        (T, m, 3)."""
-        bodies = self.body_transforms(dofs)
-        box = bodies[:, self.box_body] @ self.box_local
-        sphere = bodies[:, self.sphere_body] @ self.sphere_local
-        return box[..., :3, 3], quaternions(box[..., :3, :3]), sphere[..., :3, 3]
 
 
 # ------------------------------------------------------------------------------ blueprints
@@ -331,32 +248,29 @@ def _send_trial(rec: rr.RecordingStream, data: TrialData, info: TrialInfo, model
                 dt: float, blueprint: bool, measures: dict | None) -> None:
     """Send one trial to ``rec`` (``trial_rrd``)."""
     T = data.steps_run
-    steps = np.arange(T)
     if blueprint:
         _send_blueprint(rec, trial_blueprint())
     rec.send_recording_name(info.name())
     measures = measures if measures is not None else metrics.trial_metrics(data, dt)
     rec.send_property("trial", rr.AnyValues(layout=LAYOUT, **asdict(info),
                                             **{m: measures[m] for m in MEASURES}))
-    index = [rr.TimeColumn("step", sequence=steps), rr.TimeColumn("sim_time", duration=steps * dt)]
-    for entity, names, get in SIGNALS:
-        rec.log(entity, _series_names(tuple(names)), static=True)
-        values = np.asarray(get(data)[:T], dtype=float)
-        rec.send_columns(entity, indexes=index, columns=rr.Scalars.columns(scalars=values))
+    _send_static(rec, info, model)
+    _send_rows(rec, data, model, dt, 0, T)
+    # the pendulum's fixed pivot above the ball's start; the whole paths of hand and ball
+    rec.log("world/pendulum/pivot", rr.Points3D([_pivot(data, model)], radii=0.006,
+                                                colors=[_STRING]), static=True)
+    rec.log("world/paths", _paths(data, T), static=True)
 
+
+def _send_static(rec: rr.RecordingStream, info: TrialInfo, model: RobotModel) -> None:
+    """What a trial's recording holds for all time: series names, the scene's frame, the
+    robot's box sizes, the round things' sizes and colours, the string's style."""
+    for entity, names, _ in SIGNALS:
+        rec.log(entity, _series_names(tuple(names)), static=True)
     # the 3D scene (the iCub root frame: +x backward, +y right, +z up)
     rec.log("world", rr.ViewCoordinates.RIGHT_HAND_Z_UP, static=True)
-    centres, quats, spheres = model.shape_poses(data.dofs[:T])
-    nb = centres.shape[1]
-    touching = np.zeros((T, nb), bool)
-    on_hand = model.box_segment >= 0
-    touching[:, on_hand] = data.contacts[:T][:, model.box_segment[on_hand]]
-    colours = np.where(touching[..., None], _TOUCH, _GREY).astype(np.uint8).reshape(-1, 4)
     rec.log("world/robot", rr.Boxes3D(half_sizes=model.box_half, fill_mode="solid"),
             static=True)
-    rec.send_columns("world/robot", indexes=index, columns=rr.Boxes3D.columns(
-        centers=centres.reshape(-1, 3), quaternions=quats.reshape(-1, 4),
-        colors=colours).partition([nb] * T))
     # round things, one entity: the head's spheres, the ball, the palm point
     radii = np.concatenate([model.sphere_radius, [model.ball_radius, 0.008]])
     rec.log("world/spheres", rr.Ellipsoids3D(
@@ -365,22 +279,101 @@ def _send_trial(rec: rr.RecordingStream, data: TrialData, info: TrialInfo, model
             _ABSENT if info.senses == Senses.NO_BALL.value else _RED, _HAND_COLOUR],
         labels=["head"] * len(model.sphere_radius) + ["ball", "palm"], show_labels=False),
         static=True)
-    rec.send_columns("world/spheres", indexes=index, columns=rr.Ellipsoids3D.columns(
-        centers=np.concatenate([spheres, data.ball[:T, None], data.hand[:T, None]], axis=1)
-        .reshape(-1, 3)).partition([len(radii)] * T))
-    # the pendulum: its fixed pivot above the ball's start, and the string to the ball
-    pivot = np.asarray(data.ball_start, float) + [0.0, 0.0, model.string_length]
-    rec.log("world/pendulum/pivot", rr.Points3D([pivot], radii=0.006, colors=[_STRING]),
-            static=True)
-    strings = np.stack([np.broadcast_to(pivot, (T, 3)), data.ball[:T]], axis=1)
     rec.log("world/pendulum/string", rr.LineStrips3D.from_fields(radii=0.0015,
                                                                   colors=[_STRING]),
             static=True)
+
+
+def _pivot(data: TrialData, model: RobotModel) -> np.ndarray:
+    return np.asarray(data.ball_start, float) + [0.0, 0.0, model.string_length]
+
+
+def _paths(data: TrialData, stop: int) -> rr.LineStrips3D:
+    return rr.LineStrips3D([data.hand[:stop], data.ball[:stop]], radii=0.002,
+                           colors=[_HAND_COLOUR, _RED], labels=["hand path", "ball path"])
+
+
+def _send_rows(rec: rr.RecordingStream, data: TrialData, model: RobotModel, dt: float,
+               start: int, stop: int, first: int = 0) -> None:
+    """Send rows ``start``..``stop`` of a trial's record: every signal and the scene's poses,
+    at steps ``first + start``.. of the timelines (``first``: where a live stream's episode
+    begins)."""
+    T = stop - start
+    steps = np.arange(start, stop) + first
+    index = [rr.TimeColumn("step", sequence=steps), rr.TimeColumn("sim_time", duration=steps * dt)]
+    for entity, names, get in SIGNALS:
+        values = np.asarray(get(data)[start:stop], dtype=float)
+        rec.send_columns(entity, indexes=index, columns=rr.Scalars.columns(scalars=values))
+    centres, quats, spheres = model.shape_poses(data.dofs[start:stop])
+    nb = centres.shape[1]
+    touching = np.zeros((T, nb), bool)
+    on_hand = model.box_segment >= 0
+    touching[:, on_hand] = data.contacts[start:stop][:, model.box_segment[on_hand]]
+    colours = np.where(touching[..., None], _TOUCH, _GREY).astype(np.uint8).reshape(-1, 4)
+    rec.send_columns("world/robot", indexes=index, columns=rr.Boxes3D.columns(
+        centers=centres.reshape(-1, 3), quaternions=quats.reshape(-1, 4),
+        colors=colours).partition([nb] * T))
+    n_round = len(model.sphere_radius) + 2
+    rec.send_columns("world/spheres", indexes=index, columns=rr.Ellipsoids3D.columns(
+        centers=np.concatenate([spheres, data.ball[start:stop, None],
+                                data.hand[start:stop, None]], axis=1)
+        .reshape(-1, 3)).partition([n_round] * T))
+    # the pendulum's string, from its fixed pivot to the ball
+    strings = np.stack([np.broadcast_to(_pivot(data, model), (T, 3)), data.ball[start:stop]],
+                       axis=1)
     rec.send_columns("world/pendulum/string", indexes=index,
                      columns=rr.LineStrips3D.columns(strips=strings))  # (T, 2, 3): numpy path
-    rec.log("world/paths", rr.LineStrips3D([data.hand[:T], data.ball[:T]], radii=0.002,
-                                           colors=[_HAND_COLOUR, _RED],
-                                           labels=["hand path", "ball path"]), static=True)
+
+
+# ------------------------------------------------------------------------------ live
+def live_stream(name: str, target: str | Path | None = None,
+                spawn: bool = True) -> tuple[rr.RecordingStream, str]:
+    """A recording stream for trials sent a step at a time (``send_live_step``), with the
+    trial layout, and a line saying where it goes. ``target``: a viewer's gRPC URL
+    (``rerun+http://HOST:PORT/proxy``; ``rerun`` alone listens at port 9876); a path (an .rrd
+    file the stream is written to as it goes); None: a viewer spawned on this machine with
+    ``spawn`` (where there is a display), else a gRPC server in this process on a free port,
+    which buffers the stream until a viewer connects to it (``rerun --connect URL``)."""
+    rec = rr.RecordingStream(APP_ID, recording_id=name, send_properties=False)
+    if target is None and spawn:
+        rec.spawn(hide_welcome_screen=True)
+        where = "a Rerun viewer spawned on this machine (port 9876)"
+    elif target is None:
+        with socket.socket() as probe:  # a free port: 9876 may be another viewer's
+            probe.bind(("127.0.0.1", 0))
+            port = probe.getsockname()[1]
+        url = rec.serve_grpc(grpc_port=port)
+        where = (f"no display here: serving the episodes at {url}; watch them with "
+                 f"`rerun --connect {url}` (from another machine: through an SSH tunnel to "
+                 f"port {port})")
+    elif str(target).startswith(("rerun://", "rerun+http://", "rerun+https://", "http://")):
+        rec.connect_grpc(str(target))
+        where = f"the Rerun viewer at {target}"
+    else:
+        rec.save(Path(target))
+        where = f"the recording {target} (open it with `rerun {target}`)"
+    _send_blueprint(rec, trial_blueprint())
+    rec.send_recording_name(name)
+    return rec, where
+
+
+def send_live_step(rec: rr.RecordingStream, data: TrialData, info: TrialInfo,
+                   model: RobotModel, dt: float, row: int, first: int = 0) -> None:
+    """Send row ``row`` of a trial in progress to a live stream (``live_stream``), at step
+    ``first + row`` of its timelines (``first``: where this trial begins in a stream that
+    holds several one after another). Row 0 also sends what the trial holds for all its
+    steps (``first`` 0: as static; later trials: at their first step)."""
+    if row == 0:
+        if first == 0:
+            _send_static(rec, info, model)
+        rec.set_time("step", sequence=first)
+        rec.set_time("sim_time", duration=first * dt)
+        rec.log("world/pendulum/pivot", rr.Points3D([_pivot(data, model)], radii=0.006,
+                                                    colors=[_STRING]))
+    _send_rows(rec, data, model, dt, row, row + 1, first)
+    rec.set_time("step", sequence=first + row)
+    rec.set_time("sim_time", duration=(first + row) * dt)
+    rec.log("world/paths", _paths(data, row + 1))
 
 
 def _encoded(recording_id: str, send) -> bytes:

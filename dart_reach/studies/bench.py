@@ -206,6 +206,31 @@ def gym_env(trials: int = 9) -> dict:
             **ratio("env_over_trial", in_trial / in_env)}
 
 
+def env_render(frames: int = 100, width: int = 320, height: int = 240, seed: int = 0) -> dict:
+    """The Gymnasium environment's ``render_mode="rgb_array"`` (``viewing.camera``, drawn in
+    numpy): ``frames`` steps of random actions (drawn from ``seed``), each rendered.
+    ``env_render_fps``: frames per second of one core, the median over frames of one over a
+    ``render()`` call's time (quartiles beside it); ``env_render_ms``: the median time of a
+    call (ms)."""
+    from ..envs import ReachGraspEnv  # the gym extra
+
+    env = ReachGraspEnv(phase="gross", render_mode="rgb_array", width=width, height=height)
+    env.reset(seed=seed)
+    env.action_space.seed(seed)
+    env.render()  # the camera is built at the first frame
+    times = []
+    for _ in range(frames):
+        if env.step(env.action_space.sample())[3]:
+            env.reset()
+        t0 = time.perf_counter()
+        env.render()
+        times.append(time.perf_counter() - t0)
+    env.close()
+    times = np.asarray(times)
+    return {**ratio("env_render_fps", 1.0 / times),
+            "env_render_ms": float(np.median(times)) * 1e3}
+
+
 def _replay(world: World, ball: np.ndarray, targets: np.ndarray, steps: int) -> None:
     """The bare physics of a trial: its first ``steps`` motor targets, nothing observed."""
     world.reset(ball)
@@ -408,6 +433,7 @@ TARGETS = {
     "ray_efficiency": (0.8, ">="),
     "recording_overhead": (1.15, "<="),
     "worker_peak_rss_mb": (300.0, "<="),
+    "env_render_fps": (10.0, ">="),
 }
 
 
@@ -424,7 +450,7 @@ def run(seconds: float = 2.0, pairs: int = 30) -> dict:
     """Every figure, in one run: ``pairs`` pairs of ``seconds`` simulated seconds for the
     physics ratio; the closed loop over 45 trials of each kind; 10 pairs of generations on the
     pool, 5 on a local Ray cluster (when the ``cluster`` extra is installed); the Gymnasium
-    environment over 45 trials (when the ``gym`` extra is)."""
+    environment over 45 trials and its rgb_array frames (when the ``gym`` extra is)."""
     results = {"machine": machine()}
     results.update(world_rtf(seconds=seconds, pairs=pairs))
     results.update(physics_speedup())
@@ -443,6 +469,7 @@ def run(seconds: float = 2.0, pairs: int = 30) -> dict:
         results["env_skipped"] = "Gymnasium is not installed (the 'gym' extra)"
     else:
         results.update(gym_env())
+        results.update(env_render())
     results["targets_met"] = check(results)
     return results
 

@@ -25,6 +25,7 @@ from ..evolution.backends import make_backend, worker_trial
 from ..evolution.genome import as_groups, decode
 from ..evolution.rundir import RunDirectory
 from ..evolution.settings import trial_config
+from ..files import atomic_write
 from ..measures.fitness import fitness_under_touch_pays
 from ..measures.metrics import trial_metrics
 from ..model.levers import Levers
@@ -124,8 +125,6 @@ def screen(run_dir, generation: int, arms: list[Arm], phase: str = "pre", robots
 def save_screen(table: pl.DataFrame, path: Path) -> pl.DataFrame:
     """Add ``table``'s arms to the screen table at ``path`` (zstd parquet), replacing the rows
     of arms screened again; the combined table, written atomically."""
-    from ..files import atomic_write
-
     path = Path(path)
     if path.exists():
         old = pl.read_parquet(path)

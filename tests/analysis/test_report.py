@@ -83,12 +83,19 @@ def test_the_report_holds_every_section_figure_and_claim(tiny_run, tmp_path):
 def test_cli_writes_the_report_and_never_overwrites_a_foreign_file(tiny_run, tmp_path):
     def cli(*args):
         return subprocess.run([sys.executable, "-m", "dart_reach.cli", "report", *args],
-                              capture_output=True, text=True, timeout=300)
+                              capture_output=True, text=True, timeout=300, cwd=tmp_path)
 
-    r = cli(str(tiny_run))
+    r = cli(str(tiny_run))  # by default in the current directory, never in the run
     assert r.returncode == 0, r.stderr
-    assert (tiny_run / "report.html").is_file() and str(tiny_run / "report.html") in r.stdout
+    assert (tmp_path / "tiny-report.html").is_file() and "tiny-report.html" in r.stdout
+    assert not (tiny_run / "report.html").exists()
     assert cli(str(tiny_run)).returncode == 0  # its own report is rebuilt
+    for inside in ("--out", "--findings"):
+        name = "r.html" if inside == "--out" else "f.parquet"
+        r = cli(str(tiny_run), inside, str(tiny_run / "phases" / name))
+        assert r.returncode == 2 and r.stderr.count("\n") == 1, r.stderr
+        assert "inside the run" in r.stderr and inside in r.stderr
+        assert not (tiny_run / "phases" / name).exists()
     foreign = tmp_path / "notes.html"
     foreign.write_text("<p>my notes</p>")
     r = cli(str(tiny_run), "--out", str(foreign))
@@ -120,15 +127,15 @@ def test_the_report_leaves_the_runs_it_reads_untouched(tmp_path):
     shutil.copytree(ROOT / "recordings" / "scene-study" / "near", run)
     before = _contents(run)
     (tmp_path / "out").mkdir()
-    r = subprocess.run([sys.executable, "-m", "dart_reach.cli", "report", str(run), "--out",
-                        str(tmp_path / "out" / "r.html")], capture_output=True, text=True,
-                       timeout=600)
+    r = subprocess.run([sys.executable, "-m", "dart_reach.cli", "report", str(run)],
+                       capture_output=True, text=True, timeout=600, cwd=tmp_path / "out")
     assert r.returncode == 0, r.stderr
-    assert _contents(run) == before
-    made = sorted((tmp_path / "out" / "r-recordings" / "near").rglob("*.rrd"))
+    assert _contents(run) == before  # every file's bytes (so its hash) unchanged, none added
+    made = sorted((tmp_path / "out" / "near-report-recordings" / "near").rglob("*.rrd"))
     assert made and all(p.stat().st_size > 0 for p in made)
-    assert (tmp_path / "out" / "r-recordings" / "near" / "evaluation" / "trial.rbl").is_file()
-    text = (tmp_path / "out" / "r.html").read_text()
+    assert (tmp_path / "out" / "near-report-recordings" / "near" / "evaluation"
+            / "trial.rbl").is_file()
+    text = (tmp_path / "out" / "near-report.html").read_text()
     assert "Fig. 8" in text and "no recording" not in text
     assert report.recordings_dir(tmp_path / "r.html", [run, tmp_path / "near"]) == {
         run: tmp_path / "r-recordings" / "near-0",

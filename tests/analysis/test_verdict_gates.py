@@ -21,7 +21,7 @@ from statsmodels.stats.weightstats import ttost_paired
 
 from dart_reach.analysis import brunner_munzel
 from dart_reach.analysis import calibration as cal
-from dart_reach.analysis import verdicts as v
+from dart_reach.analysis import verdict_core, verdicts as v
 
 #: Data sets a (rule, sizes) cell; its bound: ALPHA + Z_MC Monte-Carlo s.e. (0.075 at 400).
 SHAPE_DATASETS = 400
@@ -61,7 +61,7 @@ def test_without_the_gate_the_no_difference_rules_fail_at_3_vs_7(rule):
     """What the gate prevents (and proof that the check above can fail): with it switched off
     a two-mode group of 3 against 7 narrow units is 'contradicted' far above the bound."""
     data = _two_mode_null(3, 7, seed=10)
-    with mock.patch.object(v, "one_mode", lambda n_a, n_b: 0.0):
+    with mock.patch.object(verdict_core, "one_mode", lambda n_a, n_b: 0.0):
         assert _error_rate(rule, data) > BOUND
 
 

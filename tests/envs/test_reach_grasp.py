@@ -26,7 +26,7 @@ from dart_reach.model.task import Trial, network_for, trial_positions  # noqa: E
 from dart_reach.model.world import World  # noqa: E402
 from dart_reach.recording.rrd import read_rrd  # noqa: E402
 from dart_reach.robots import robots  # noqa: E402
-from dart_reach.viewing.headless import renderer_missing  # noqa: E402
+from dart_reach.viewing.camera import SceneCamera  # noqa: E402
 
 
 def shipped_network(env: ReachGraspEnv, phase: str, reflexes: bool = True):
@@ -135,7 +135,7 @@ def test_gymnasiums_checker_passes_and_the_id_is_registered():
     assert env.observation_space == gymnasium.spaces.Box(-1, 1, (25,), np.float64)
     with warnings.catch_warnings():
         warnings.simplefilter("error")
-        check_env(env.unwrapped, skip_render_check=True)
+        check_env(env.unwrapped)  # its render check too: no Vulkan driver needed
 
 
 def test_the_old_id_is_refused_naming_the_new_one():
@@ -217,7 +217,8 @@ def test_vector_environments_step_as_single_ones(vector):
 @pytest.mark.parametrize("mode", ["sync", "async"])
 def test_make_vec_runs_the_registered_environment(mode):
     envs = gymnasium.make_vec(dart_reach.GYM_ID, num_envs=2, vectorization_mode=mode,
-                              phase="gross", steps=3)
+                              phase="gross", steps=3, render_mode="rgb_array", width=64,
+                              height=48)
     try:
         assert envs.single_action_space == gymnasium.spaces.Box(-1, 1, (14,), np.float32)
         observations, infos = envs.reset(seed=7)
@@ -227,6 +228,8 @@ def test_make_vec_runs_the_registered_environment(mode):
                 envs.action_space.sample())
         assert truncated.all() and not terminated.any() and np.isfinite(observations).all()
         assert infos["_is_success"].all() and infos["is_success"].dtype == bool
+        frames = envs.render()  # one camera image per environment
+        assert [f.shape for f in frames] == [(48, 64, 3)] * 2
     finally:
         envs.close()
 
@@ -248,8 +251,8 @@ def test_the_environment_pickles_and_the_copy_steps_as_the_original():
 def test_a_diverged_physics_ends_the_episode_without_a_reward_spike():
     """The real world's state blown up (NaN velocities, as the trial's own test does) after
     4 steps: the 5th step terminates with reward 0, the reason, the last finite observation,
-    and the trial's fitness 0, as ``Trial.run`` gives it."""
-    env = ReachGraspEnv(phase="gross", steps=20)
+    and the trial's fitness 0, as ``Trial.run`` gives it; its frame is still a frame."""
+    env = ReachGraspEnv(phase="gross", steps=20, render_mode="rgb_array")
     observation, _ = env.reset(seed=5, options={"sector": 4})
     rewards = []
     for _ in range(4):
@@ -264,6 +267,8 @@ def test_a_diverged_physics_ends_the_episode_without_a_reward_spike():
     assert np.array_equal(last, env.trial_data.sensors[4])  # the state the action saw
     assert env.trial_data.diverged and env.trial_data.steps_run == 5
     assert not info["is_success"] and {"reached", "grasped"} <= set(info)
+    frame = env.render()  # the robot's poses are not finite: not drawn
+    assert frame.shape == (240, 320, 3) and frame.dtype == np.uint8
     with pytest.raises(gymnasium.error.ResetNeeded):
         env.step(env.home_action)
     env.reset(seed=5)  # and a new episode runs
@@ -276,7 +281,9 @@ def test_bad_options_are_refused_with_their_reason():
     with pytest.raises(ValueError, match="steps must be a positive"):
         ReachGraspEnv(steps=0)
     with pytest.raises(ValueError, match="render_mode"):
-        ReachGraspEnv(render_mode="human")
+        ReachGraspEnv(render_mode="depth_array")
+    with pytest.raises(ValueError, match="width must be an integer of at least 8"):
+        ReachGraspEnv(render_mode="rgb_array", width=4)
     env = ReachGraspEnv(steps=3)
     with pytest.raises(gymnasium.error.ResetNeeded):
         env.step(env.home_action)
@@ -332,21 +339,82 @@ def test_an_episode_records_like_a_trial(tmp_path):
                               getattr(env.trial_data, term)[:12])
 
 
-@pytest.mark.skipif(renderer_missing() is None, reason="a Vulkan driver is installed here")
-def test_rendering_without_a_vulkan_driver_says_so():
-    with pytest.raises(RuntimeError, match="Vulkan"):
-        ReachGraspEnv(render_mode="rgb_array")
+def red(frame: np.ndarray) -> np.ndarray:
+    r, g, b = (frame[..., i].astype(int) for i in range(3))
+    return (r > 40) & (r > 3 * g) & (r > 3 * b)
 
 
-@pytest.mark.skipif(renderer_missing() is not None,
-                    reason=f"no headless renderer here: {renderer_missing()}")
-def test_render_draws_the_episode():
-    env = ReachGraspEnv(render_mode="rgb_array", steps=5)
+def test_rgb_array_is_a_camera_image_that_follows_the_episode():
+    """rgb_array: the scene through a fixed camera, drawn without a GPU; the same episode
+    gives the same frames bit for bit; the ball is red where the camera sees it."""
+    frames = []
+    for _ in range(2):
+        env = gymnasium.make(dart_reach.GYM_ID, phase="gross", render_mode="rgb_array",
+                             width=200, height=150)
+        env.reset(seed=5, options={"sector": 2})
+        shots = [env.render()]
+        for _ in range(8):  # the arm goes to its targets' middle, away from home
+            env.step(np.zeros(14, np.float32))
+            shots.append(env.render())
+        frames.append(shots)
+        camera = SceneCamera(env.unwrapped.world, 200, 150)
+        env.close()
+    first, second = frames
+    assert all(f.shape == (150, 200, 3) and f.dtype == np.uint8 for f in first)
+    assert all(np.array_equal(a, b) for a, b in zip(first, second))
+    assert (first[0] != first[-1]).any(axis=2).sum() > 100  # the arm moved
+    # to the episode's end: the last frame is the world's final state
+    short = ReachGraspEnv(phase="gross", render_mode="rgb_array", steps=2)
+    short.reset(seed=5, options={"sector": 2})
+    short.step(np.zeros(14, np.float32))
+    assert short.step(np.zeros(14, np.float32))[3]
+    assert np.array_equal(short.render(), SceneCamera(short.world).image(short.world))
+    rows, cols = np.nonzero(red(first[0]))
+    ball = camera.project(env.unwrapped.trial_data.ball[0])[0]
+    assert abs(cols.mean() + 0.5 - ball[0]) < 1.5 and abs(rows.mean() + 0.5 - ball[1]) < 1.5
+
+
+def test_human_mode_streams_each_step_as_the_trial_records_it(tmp_path):
+    """human: each step goes to the stream once its action is taken, in the trial layout;
+    the stream read back is the episode's recording, and episodes follow one another."""
+    live = tmp_path / "live.rrd"
+    env = ReachGraspEnv(phase="pre", render_mode="human", viewer=str(live))
+    env.reset(seed=3, options={"sector": 4})
+    assert env.render() is None and not live.exists()  # a reset alone opens nothing
+    for _ in range(12):
+        env.step(env.action_space.sample())
+        assert env.render() is None
+    recorded = read_rrd(record_episode(env, tmp_path / "episode.rrd"))
+    env.reset(seed=4, options={"sector": 0})
+    for _ in range(3):
+        env.step(env.home_action)
+    second = env.trial_data
+    env.close()
+    table = read_rrd(live)
+    assert table["step"].to_list() == list(range(15))
+    columns = [c for c in recorded.columns if c not in ("step", "sim_time")]
+    assert len(columns) > 60
+    for column in columns:  # the first episode: its recording's rows, every series
+        assert np.array_equal(table[column].to_numpy()[:12], recorded[column].to_numpy()), \
+            column
+    assert np.array_equal(table["fitness/p_sight"].to_numpy()[12:], second.p_sight[:3])
+    assert np.allclose(table["sim_time"].to_numpy(), np.arange(15) * 0.1)
+
+
+def test_human_mode_without_a_display_serves_the_stream(monkeypatch, capsys):
+    import socket
+
+    monkeypatch.delenv("DISPLAY", raising=False)
+    monkeypatch.delenv("WAYLAND_DISPLAY", raising=False)
+    monkeypatch.setattr(sys, "platform", "linux")
+    env = ReachGraspEnv(phase="pre", render_mode="human", steps=3)
     try:
         env.reset(seed=0)
         env.step(env.home_action)
-        frame = env.render()
+        message = capsys.readouterr().err
+        assert "no display here: serving the episodes at rerun+http://127.0.0.1:" in message
+        port = int(message.split("rerun+http://127.0.0.1:")[1].split("/")[0])
+        with socket.create_connection(("127.0.0.1", port), timeout=5):
+            pass  # a viewer can connect: `rerun --connect URL`
     finally:
         env.close()
-    assert frame.dtype == np.uint8 and frame.ndim == 3 and frame.shape[2] == 3
-    assert frame.std() > 5  # a picture, not a blank

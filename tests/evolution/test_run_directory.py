@@ -19,6 +19,7 @@ import numpy as np
 import polars as pl
 import pytest
 
+from dart_reach.evolution import integrity
 from dart_reach.recording.rrd import read_rrd
 
 STRACE = shutil.which("strace")
@@ -91,9 +92,15 @@ def snapshot(out: Path) -> dict:
         elif f.suffix == ".rrd":
             snap[str(f)] = read_rrd(p)
         elif f.name == "manifest.json":
-            snap[str(f)] = {k: v for k, v in json.loads(p.read_text()).items()
+            manifest = json.loads(p.read_text())
+            # the ledger accepts each file on disk alone (the digests differ between runs:
+            # a .npz holds the time it was written)
+            ledger = manifest.pop("files", {})
+            assert all(d == [integrity.sha256(out / n)] for n, d in ledger.items()), ledger
+            snap[str(f)] = {k: v for k, v in manifest.items()
                             if k not in ("created", "command", "git_revision", "git_dirty",
                                          "git_diff_sha256", "sessions")}
+            snap[str(f)]["files"] = sorted(ledger)
     return snap
 
 

@@ -15,6 +15,7 @@ from rerun.chunk import RrdReader
 from scipy.spatial.transform import Rotation
 
 from dart_reach import save_series
+from dart_reach.measures.units import with_unit
 from dart_reach.measures import metrics
 from dart_reach.recording import rrd as rec
 from dart_reach.recording.quaternion import quaternions
@@ -213,11 +214,23 @@ def test_cli_read_saves_the_series_as_csv_and_parquet_without_overwriting(tmp_pa
     table = rec.read_rrd(path)
     assert pl.read_parquet(parquet).equals(table)
     from_csv = pl.read_csv(csv)
-    assert from_csv.columns == table.columns and from_csv.height == 40  # one row per step
-    assert from_csv.columns[:2] == ["step", "sim_time"]
-    assert "robot/positions/hand/x" in from_csv.columns
-    assert np.allclose(from_csv.drop("step").to_numpy(), table.drop("step").to_numpy(),
-                       rtol=1e-6, equal_nan=True)
+    # the trial's properties and ball position first, then the series, named with units
+    properties = ["condition", "phase", "replication", "individual", "generation", "senses",
+                  "sector", "trial", "trial_seed", "ball_x [m]", "ball_y [m]", "ball_z [m]"]
+    assert from_csv.columns == properties + [with_unit(c) for c in table.columns]
+    assert from_csv.height == 40  # one row per step
+    assert from_csv.columns[12:14] == ["step", "sim_time [s]"]
+    assert "robot/positions/hand/x [m]" in from_csv.columns
+    assert "robot/joints/arm_hand/r_elbow [rad]" in from_csv.columns
+    assert "network/hidden/h3" in from_csv.columns  # no unit: a neuron's state
+    first = from_csv.row(0, named=True)
+    assert (first["condition"], first["phase"], first["replication"], first["sector"],
+            first["senses"]) == ("standard", "pre", 1, 4, "no-touch")
+    assert from_csv["sector"].n_unique() == 1  # the same on every row
+    assert np.allclose([first[f"ball_{a} [m]"] for a in "xyz"],
+                       table.select(f"robot/positions/ball/{a}" for a in "xyz").row(0))
+    series = from_csv.select(from_csv.columns[13:]).to_numpy()
+    assert np.allclose(series, table.drop("step").to_numpy(), rtol=1e-6, equal_nan=True)
     saved = csv.read_bytes()
     again = _read_cli(path, "--csv", csv)
     assert again.returncode == 2 and again.stderr.count("\n") == 1

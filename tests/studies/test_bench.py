@@ -70,6 +70,15 @@ def test_the_environment_figure_times_the_same_trials():
     assert g["env_steps_per_s"] > 0 and 0 < g["env_over_trial"] < 10
 
 
+def test_the_render_figure_times_frames_of_the_environment():
+    import pytest
+
+    pytest.importorskip("gymnasium")
+    r = bench.env_render(frames=5, width=64, height=48)
+    assert r["env_render_fps"] > 0 and len(r["env_render_fps_iqr"]) == 2
+    assert r["env_render_ms"] > 0
+
+
 def test_a_run_s_trial_cost_times_its_snapshots_and_its_population(tmp_path):
     import pytest
 

@@ -1,0 +1,86 @@
+"""Every results table of a run out as CSV (``dart-reach export RUN --csv DIR``), for pandas,
+R, MATLAB or a spreadsheet.
+
+The tables (those the run has): ``evaluation`` and ``baseline`` (the post-evaluation, one row
+per trial), ``development`` (the snapshots' trials), ``generations`` (the training's statistics,
+one row per phase, replication and generation) and ``findings`` (every claim judged, ``make
+results``). Each is written to ``DIR/<table>.csv``, one file however many parts it is stored
+in (``postevaluation.results``), its columns named with their units (``first_touch_s [s]``,
+``hand_path [m]``; ``measures.units``). Values are written as stored: a measure stored as
+float32 is written with the digits a float32 holds (``0.6``), not widened to float64
+(``0.6000000238``). A list column (none in these tables today) is written as its items
+separated by spaces. Nothing is overwritten and nothing is written into the run.
+"""
+
+from __future__ import annotations
+
+import os
+from pathlib import Path
+
+import polars as pl
+
+from ..evolution.rundir import RunDirectory, RunError
+from ..files import atomic_write, check_new_file
+from ..measures.units import with_unit
+from ..postevaluation import results
+
+#: The tables ``export_run`` writes, in this order: name -> the file in the run.
+TABLES = {"evaluation": results.EVALUATION, "baseline": results.BASELINE,
+          "development": results.DEVELOPMENT, "generations": "generations.parquet",
+          "findings": "findings.parquet"}
+
+
+def stored_table(path: str | os.PathLike) -> pl.DataFrame:
+    """The table at ``path`` (one parquet file or its parts, read as one) with its values as
+    stored (float32 kept float32); ``RunError`` naming a file that cannot be read."""
+    files = results.stored_files(path)
+    if not files:
+        raise RunError(f"{path}: no such table")
+    frames = []
+    for file in files:
+        try:
+            frames.append(pl.read_parquet(file))
+        except Exception as exc:  # polars raises several kinds for a damaged file
+            raise RunError(f"{file}: unreadable parquet table ({exc})") from None
+    return pl.concat(frames, how="diagonal_relaxed") if len(frames) > 1 else frames[0]
+
+
+def _csv(table: pl.DataFrame, path: Path) -> None:
+    lists = [c for c, t in table.schema.items() if isinstance(t, pl.List)]
+    table = table.with_columns(pl.col(c).list.eval(pl.element().cast(pl.Utf8)).list.join(" ")
+                               for c in lists)
+    table.rename({c: with_unit(c) for c in table.columns}).write_csv(path)
+
+
+def export_table(path: str | os.PathLike, out: str | os.PathLike,
+                 option: str = "out") -> Path:
+    """Write the parquet table at ``path`` (a file or a table in parts) to ``out``, a new CSV
+    file, its columns named with their units. Returns ``out``."""
+    out = check_new_file(out, ".csv", "a CSV table", option)
+    table = stored_table(path)
+    return atomic_write(out, lambda p: _csv(table, p))
+
+
+def export_run(run_dir, out_dir) -> list[Path]:
+    """Write every results table the run in ``run_dir`` has (``TABLES``) to
+    ``out_dir/<table>.csv`` (``out_dir`` created if missing, its parent must exist); returns
+    the files written. Refuses, before writing any, a run without a table and an existing
+    file."""
+    run = RunDirectory.open(run_dir)
+    out_dir = Path(out_dir)
+    found = {name: run.out / file for name, file in TABLES.items()
+             if results.exists(run.out / file)}
+    if not found:
+        raise RunError(f"{run.out}: no results table to export (train writes "
+                       f"generations.parquet, evaluate evaluation.parquet)")
+    if not out_dir.is_dir() and not out_dir.parent.is_dir():
+        raise FileNotFoundError(f"out_dir {out_dir}: no such directory {out_dir.parent}; "
+                                f"create it first")
+    if out_dir.resolve() == run.out.resolve() or run.out.resolve() in out_dir.resolve().parents:
+        raise ValueError(f"{out_dir}: inside the run {run.out}; export it elsewhere")
+    for name in found:
+        if (out_dir / f"{name}.csv").exists():
+            raise FileExistsError(f"{out_dir / f'{name}.csv'}: the file exists; choose another "
+                                  f"directory (nothing is overwritten)")
+    out_dir.mkdir(exist_ok=True)
+    return [export_table(path, out_dir / f"{name}.csv") for name, path in found.items()]
