@@ -117,7 +117,7 @@ replication-50x10: $(VENV)/.installed
 		--record-every 5 --snapshot-every 5 --out $(REPLICATION10) \
 		$$(test -f $(REPLICATION10)/manifest.json && echo --resume)
 
-# The paper's full budget (issue 48): the standard condition at 500 generations per phase, 10
+# The paper's full budget: the standard condition at 500 generations per phase, 10
 # replications, snapshots every 10 generations (and after 1, 2 and 5), recordings every 25.
 # About 15,000 replication-generations, 100+ hours of 2 cores: it resumes from
 # recordings/standard-500x10/ (its compact state is tracked) after every interruption.
@@ -127,7 +127,7 @@ full-budget: $(VENV)/.installed
 		--snapshot-every 10 --record-every 25 --out $(FULL) \
 		$$(test -f $(FULL)/manifest.json && echo --resume)
 
-# Its pre-reaching snapshots post-evaluated while it trains (issue 48; docs/results/
+# Its pre-reaching snapshots post-evaluated while it trains (docs/results/
 # pre-reaching-course.md): on a copy of the compact state in FULL_FROM (default the tracked one;
 # the training holds its own directory's lock), every snapshot's best 5 under normal senses and
 # 10 random genomes, every condition at the generations the claims are judged; only what is
@@ -146,7 +146,7 @@ full-budget-snapshots: $(VENV)/.installed
 	$(BIN)/dart-reach evaluate $(FULL_COPY) --finished-only --development 5 --baseline 10
 	$(BIN)/dart-reach evaluate $(FULL_COPY) --finished-only --development 5 \
 		--development-sensors all --snapshots $(JUDGED)
-	$(BIN)/python -m dart_reach.studies.stillness . --judged --run-dir $(FULL_COPY)
+	$(BIN)/python -m reports.stillness . --judged --run-dir $(FULL_COPY)
 	rm -rf $(FULL)/development $(FULL)/development.parquet
 	for t in $(FULL_TABLES); do \
 		if [ -e $(FULL_COPY)/$$t ]; then cp -r $(FULL_COPY)/$$t $(FULL)/; fi; done
@@ -164,7 +164,7 @@ replication-report: $(VENV)/.installed
 # recordings/, and scene-study/scene-study.md and .png); a test fails when they differ.
 results: $(VENV)/.installed
 	$(BIN)/python -m dart_reach.studies.scene_study $(STUDY) docs/results/scene-study > /dev/null
-	$(BIN)/python -m dart_reach.studies.results_docs .
+	$(BIN)/python -m reports.results .
 
 # The whole suite, one process per core (pytest-xdist); a test file stays in one process, so its
 # module fixtures are built once. The slowest tests are listed at the end.

@@ -1,3 +1,13 @@
 """The project's studies of its own runs: pages generated from the committed tables under
 recordings/ into docs/results/. Not part of the installed package; imports ``dart_reach`` one
-way. Run from the repository's root: ``python -m reports.<study>`` (``make results``)."""
+way (the package never imports this folder). Run from the repository's root:
+``python -m reports.<study>`` (``make results`` runs ``reports.results``, which renders every
+templated page).
+
+- ``results``: every page rendered from its template in docs/results/templates/, and the
+  findings frames committed beside the runs; ``--check`` names the pages that differ;
+- ``pre_reaching_course``, ``stillness``, ``cost``: the values of their pages;
+- ``levers``: the levers study's page; ``calibration``: the verdict rules' calibration table;
+- ``runs``: the committed runs the pages read and the generations judged; ``text``: how the
+  pages write numbers and tables.
+"""

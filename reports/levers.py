@@ -17,7 +17,7 @@ import polars as pl
 from scipy import stats
 
 from dart_reach.analysis.profile import CRITERIA, more_than_reference, profiles, share_interval
-from dart_reach.analysis.stillness import STILL, strategies
+from dart_reach.analysis.strategies import STILL, strategies
 from dart_reach.postevaluation.snapshots import load_development
 
 ROOT = Path(__file__).resolve().parents[1]

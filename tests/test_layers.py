@@ -6,6 +6,7 @@ stated (an optional extra, or the CLI's start-up time); no two modules import ea
 from __future__ import annotations
 
 import ast
+import re
 from pathlib import Path
 
 PACKAGE = Path(__file__).resolve().parents[1] / "dart_reach"
@@ -163,3 +164,85 @@ def test_no_two_modules_import_each_other():
     assert not circles, f"import circles: {circles}"
     # the rule can fail
     assert _circles({"envs.a": {"envs.b"}, "envs.b": {"envs.a"}}) == [["envs.a", "envs.b"]]
+
+
+#: The repository's root: the project's committed runs (folders under recordings/) and its
+#: studies of them (reports/, beside the package, never installed).
+ROOT = PACKAGE.parent
+REPORTS = ROOT / "reports"
+
+
+def committed_runs() -> list[str]:
+    """The names of the committed runs: the folders under recordings/."""
+    return sorted(p.name for p in (ROOT / "recordings").iterdir() if p.is_dir())
+
+
+def _code_strings(tree: ast.AST) -> list[ast.Constant]:
+    """The string constants of a module's code, its docstrings left out (they may name a
+    page a reader opens; code that reads one is what the rule is about)."""
+    docs = {id(node.body[0].value) for node in ast.walk(tree)
+            if isinstance(node, (ast.Module, ast.ClassDef, ast.FunctionDef,
+                                 ast.AsyncFunctionDef))
+            and node.body and isinstance(node.body[0], ast.Expr)
+            and isinstance(node.body[0].value, ast.Constant)}
+    return [n for n in ast.walk(tree) if isinstance(n, ast.Constant)
+            and isinstance(n.value, str) and id(n) not in docs]
+
+
+def run_and_docs_mentions(text: str, tree: ast.AST, runs: list[str]) -> list[str]:
+    """What in a module names a committed run or reads docs/: a run's name with a digit in it
+    (``replication-50``) anywhere in its text, comments and docstrings included; a run's name as
+    a path part of a string in code that also names ``recordings``; a string in code that is
+    ``docs`` or starts with ``docs/``."""
+    found = [f"names {run}" for run in runs if any(c.isdigit() for c in run)
+             and re.search(rf"(?<![\w-]){re.escape(run)}(?!\w)", text)]
+    strings = [n.value for n in _code_strings(tree)]
+    parts = {part for s in strings for part in s.split("/")}
+    if "recordings" in parts:
+        found += [f"names {run} under recordings/" for run in runs if run in parts]
+    found += [f"reads {s!r}" for s in strings if s.strip() == "docs" or s.startswith("docs/")]
+    return found
+
+
+def test_no_module_of_the_package_names_a_committed_run_or_reads_docs():
+    """The package is the model and its generic tools: what it computes takes a run and
+    parameters; the pages of the project's own runs live in reports/."""
+    runs = committed_runs()
+    assert {"replication-50x10", "standard-500x10"} <= set(runs)
+    wrong = [f"{path.relative_to(PACKAGE)}: {what}" for path, _, tree in _modules()
+             for what in run_and_docs_mentions(path.read_text(), tree, runs)]
+    assert not wrong, "\n".join(wrong)
+    # the rule can fail
+    code = 'TEN = "replication-50x10"\nPAGE = Path("docs/results/x.md")\n' \
+           'T = ROOT / "recordings" / "calibration" / "t.parquet"\n'
+    assert run_and_docs_mentions(code, ast.parse(code), runs) == [
+        "names replication-50x10", "names calibration under recordings/",
+        "names replication-50x10 under recordings/", "reads 'docs/results/x.md'"]
+    code = '"""See docs/results/replication.md."""\nd["levers"] = 1\n'
+    assert run_and_docs_mentions(code, ast.parse(code), runs) == []
+
+
+def _imported(tree: ast.AST) -> set[str]:
+    """The top-level names of the modules a module imports by absolute name."""
+    names = set()
+    for node in ast.walk(tree):
+        if isinstance(node, ast.Import):
+            names |= {a.name.split(".")[0] for a in node.names}
+        elif isinstance(node, ast.ImportFrom) and node.level == 0 and node.module:
+            names.add(node.module.split(".")[0])
+    return names
+
+
+def test_reports_import_the_package_one_way_and_are_never_installed():
+    """reports/ imports dart_reach; dart_reach never imports reports; the wheel ships no
+    reports (pyproject's package list)."""
+    pyproject = (ROOT / "pyproject.toml").read_text()
+    listed = re.search(r"^packages = \[(.*?)\]", pyproject, re.M | re.S).group(1)
+    shipped = set(re.findall(r'"([\w.]+)"', listed))
+    assert "dart_reach" in shipped and not any(p.split(".")[0] == "reports" for p in shipped)
+    backwards = [str(path.relative_to(PACKAGE)) for path, _, tree in _modules()
+                 if "reports" in _imported(tree)]
+    assert not backwards, f"the package imports reports: {backwards}"
+    studies = sorted(REPORTS.glob("*.py"))
+    assert len(studies) > 2
+    assert any("dart_reach" in _imported(ast.parse(p.read_text())) for p in studies)

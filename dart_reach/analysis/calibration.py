@@ -26,7 +26,6 @@ from __future__ import annotations
 import math
 from collections.abc import Callable
 from dataclasses import dataclass
-from pathlib import Path
 
 import numpy as np
 import polars as pl
@@ -68,9 +67,8 @@ class Nesting:
 
 
 #: The runs' ratio of within- to between-replication s.d. (``spreads``, over phases and
-#: measures; docs/results/replication.md): the lowest lower quartile and the highest upper
-#: quartile of the committed replication runs (replication-50's 0.62, replication-10's 2.97),
-#: rounded.
+#: measures; docs/results/replication.md): the lowest lower quartile (0.62) and the highest
+#: upper quartile (2.97) over the project's committed replication runs, rounded.
 RUN_RATIOS = (0.6, 3.0)
 #: The nestings of the runs: 4 replications (the 10- and 50-generation runs), 10 (the
 #: paper's), each at the two ends of the runs' quartile ratios.
@@ -547,18 +545,3 @@ def markdown(table: pl.DataFrame) -> str:
         lines.append(f"| {rule} | {scenario} | {measure} | " + " | ".join(values)
                      + f" | {bound} | {met} |")
     return "\n".join(lines) + "\n"
-
-
-#: The calibration table, a compact result committed beside the runs' (``python -m
-#: dart_reach.analysis.calibration`` writes it; docs/results/calibration.md shows it,
-#: tests/analysis/test_calibration.py checks it and recomputes parts of it).
-TABLE = Path(__file__).resolve().parents[2] / "recordings" / "calibration" / "calibration.parquet"
-
-
-if __name__ == "__main__":  # the table of docs/results/calibration.md
-    table = calibrate()
-    TABLE.parent.mkdir(parents=True, exist_ok=True)
-    table.write_parquet(TABLE)
-    print(markdown(table))
-    for nest in NESTINGS:
-        print(nest.label, robot_level_null(nest))

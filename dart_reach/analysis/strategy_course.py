@@ -1,31 +1,30 @@
-"""The course of the two pre-reaching strategies over generations (issue 48, point 3).
+"""The course of the two pre-reaching strategies over generations.
 
-At 50 generations per phase half of the pre-reaching populations babble and half hold the hand
-still on the ball (docs/results/stillness.md). The full-budget run (500 generations per phase)
-keeps the best 5 robots of every replication at generations 1, 2, 5, 10 and every 10th; their
-post-evaluation (``evaluate --finished-only --development 5``: the 45 systematic positions,
-normal senses, and the ball absent at the generations judged) is the development table this
-module reads:
+Trained for some generations, some pre-reaching populations babble and some hold the hand
+still (``strategies``). A run that keeps snapshots of its best robots
+(``--snapshot-every``) and post-evaluates them (``evaluate --finished-only --development 5``:
+the 45 systematic positions, normal senses, and other conditions at the generations to judge)
+gives the development table this module reads:
 
 - ``course``: per replication and snapshot, the means of ``MEASURES`` over the best robots'
-  trials and the population's strategy by ``stillness.strategies``'s rule (fixed at 50
-  generations, before the full-budget run was looked at: still when fewer than 5 % of the
-  trials babble);
+  trials and the population's strategy by ``strategies.strategies``'s rule (still when fewer
+  than ``still_share`` of the trials babble);
 - ``switches``: per replication, when the strategy changed and whether it came back;
   ``still_by_line``: how many would be still were the rule's line elsewhere;
 - ``claims_of_pre`` and ``judged``: the claims of section IV-A-1 about pre-reachers alone
   (F1, A1, A3, D2, T1, V3: those whose groups are pre-reachers and random networks) judged on
-  the snapshot of a generation as if it were the phase's end, the replication as the unit,
-  one Holm family per generation;
+  the snapshots of the given generations as if each were the phase's end, the replication as
+  the unit, one Holm family per generation;
 - ``verdict_changes`` and ``babbling_by_condition``: which verdicts changed between judged
   generations, and how much the babbling and the still populations babble under each
   condition evaluated there; ``scale_ends``: the replications whose relative change in a
   "same" claim is at the scale's end (a still population's one babbling trial);
 - ``fitness_by_strategy`` and ``growth``: whether the two strategies are equally fit at each
   snapshot, and whether the populations' fitness is still rising;
-- ``at_budget``: a generation of the full run beside another run's final pre-reachers at the
-  same number of generations (generation 50 beside ``replication-50x10``: twenty populations
-  at that budget).
+- ``at_budget``: a generation of one run beside another run's final pre-reachers trained for
+  as many generations.
+
+Which generations to judge is the caller's choice: every function that judges takes them.
 """
 
 from __future__ import annotations
@@ -36,13 +35,11 @@ from typing import Sequence
 import numpy as np
 import polars as pl
 
-from . import brunner_munzel, findings, stats, stillness, verdicts
+from . import brunner_munzel, findings, stats, strategies, verdicts
 from ..postevaluation import snapshots
 from .claims import CLAIMS, RATES, Claim, Kind
-from .stillness import BABBLING, STILL
+from .strategies import BABBLING, STILL
 
-#: The generations at which the pre-reaching claims are judged (issue 48).
-JUDGED = (50, 100, 150, 200, 250)
 #: The measures followed (column: heading): booleans are rates; ``contact_after_first`` is
 #: the mean over the trials with a touch.
 MEASURES = {"babbling": "babbling rate", "hand_path": "hand path (m)",
@@ -55,20 +52,20 @@ _GROUPS = {"", "pre", "random pre"}
 
 
 def course(development: pl.DataFrame, phase: str = "pre",
-           still_share: float = stillness.STILL_SHARE) -> pl.DataFrame:
+           still_share: float = strategies.STILL_SHARE) -> pl.DataFrame:
     """Per (replication, generation) of ``phase`` in a development table
     (``snapshots.load_development(run, senses=None)`` or its normal trials): ``robots``,
     ``trials``, each of ``MEASURES`` as ``snapshots.course`` gives it (each robot's mean over
     its normal trials, then the mean over the robots; NaN where none has one),
     ``lifetime_fitness`` (the best robot's), the ``babbling_share`` and the ``strategy``
-    (``stillness.strategies``). Sorted by replication and generation."""
+    (``strategies.strategies``). Sorted by replication and generation."""
     rows = development.filter((pl.col("phase") == phase) & (pl.col("senses") == "normal"))
     keys = ["replication", "generation"]
     means = snapshots.course(rows, tuple(MEASURES)).select(
         *keys, "robots", *[m for m in MEASURES if m in rows.columns])
     best = (rows.filter(pl.col("rank") == 0).group_by(keys)
             .agg(pl.col("lifetime_fitness").first()))
-    kinds = stillness.strategies(rows, phase, still_share=still_share, by=tuple(keys))
+    kinds = strategies.strategies(rows, phase, still_share=still_share, by=tuple(keys))
     out = means.join(best, on=keys).join(kinds, on=keys)
     missing = [pl.lit(float("nan")).alias(m) for m in MEASURES if m not in out.columns]
     return (out.with_columns(*missing)
@@ -113,7 +110,7 @@ def last_strategies(course_table: pl.DataFrame) -> pl.DataFrame:
 def still_by_line(course_table: pl.DataFrame, lines: Sequence[float] = LINES
                   ) -> pl.DataFrame:
     """Per snapshot of ``course``'s table, how many populations would be still were the
-    rule's line (``stillness.STILL_SHARE``) at each of ``lines``: a column ``below L %`` per
+    rule's line (``strategies.STILL_SHARE``) at each of ``lines``: a column ``below L %`` per
     line counts the replications whose ``babbling_share`` is under it."""
     return (course_table.group_by("generation")
             .agg(*[(pl.col("babbling_share") < line).sum().cast(pl.Int64)
@@ -137,7 +134,7 @@ def claims_of_pre(claims: Sequence[Claim] = CLAIMS) -> tuple[Claim, ...]:
 
 
 def judged(development: pl.DataFrame, baseline: pl.DataFrame | None,
-           generations: Sequence[int] = JUDGED, phase: str = "pre") -> pl.DataFrame:
+           generations: Sequence[int], phase: str = "pre") -> pl.DataFrame:
     """``claims_of_pre`` judged at each of ``generations`` that the development table holds
     (``findings.findings``, one Holm family per generation): the snapshot's robots and
     trials, every condition it was evaluated under, stand for the phase's final
@@ -169,7 +166,7 @@ def at_budget(course_table: pl.DataFrame, generation: int, evaluation: pl.DataFr
     full = (course_table.filter(pl.col("generation") == generation)
             .select("replication", "babbling_share", "strategy", *MEASURES)
             .with_columns(pl.lit(labels[0]).alias("run")))
-    other_rows = stillness.trained_trials(evaluation)
+    other_rows = strategies.trained_trials(evaluation)
     other = course(other_rows.with_columns(pl.lit(generation).alias("generation"),
                                            pl.lit(0).alias("offset"),
                                            pl.lit(float("nan")).alias("lifetime_fitness")))
@@ -193,7 +190,7 @@ def verdict_changes(found: pl.DataFrame) -> pl.DataFrame:
                                       "was": pl.Utf8, "now": pl.Utf8})
 
 
-def scale_ends(development: pl.DataFrame, generations: Sequence[int] = JUDGED,
+def scale_ends(development: pl.DataFrame, generations: Sequence[int],
                phase: str = "pre") -> pl.DataFrame:
     """The replications at the end of the scale of a "same" claim of ``claims_of_pre``
     (``Kind.SAME_PAIRED``: each replication's change relative to its own level,
@@ -297,8 +294,8 @@ def growth(generations: pl.DataFrame, phase: str = "pre", window: int = 10) -> p
     (``generations.parquet``: one row per replication and generation trained, ``mean`` the
     population's mean fitness), over the last ``window`` generations of ``phase`` and the
     ``window`` before them: ``last`` (the last generation trained), ``mean_before`` and
-    ``mean_now`` (the means of the population's mean fitness) and ``ratio`` (now / before);
-    issue 48 measured it at 50 generations (41-50 against 31-40). ValueError when fewer than
+    ``mean_now`` (the means of the population's mean fitness) and ``ratio`` (now / before):
+    at 50 generations and ``window`` 10, generations 41-50 against 31-40. ValueError when fewer than
     2 × ``window`` generations are trained."""
     rows = generations.filter(pl.col("phase") == phase)
     last = rows.group_by("replication").agg(pl.col("generation").max().alias("last"))

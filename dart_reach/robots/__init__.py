@@ -21,16 +21,14 @@ provenance (``ROBOTS_FORMAT``)::
 
 ``robots()`` reads them all (``index()`` lists the files); ``export_robots()`` writes such a
 file from one phase of a trained run, ``export_run()`` one per phase of every condition of a
-run: a file dropped into this folder is shipped from then on. ``replication-50-*.json``: the
-best 2 robots of each of the 4 replications of every phase of the longer replication's stage
-1 (docs/results/replication.md; 50 generations per phase, gross^ 100); ``replication-10-*.json``: the
-same of stage 2, all eight conditions of Fig. 10 at 10 generations per phase (gross^ and
-gross^* 20, fine^ and fine* 30; pre-h, shared by pre-h and gross-h, under each);
-``replication-50x10-*.json``: the best 2 of each of the 10 replications of the standard
-condition and gross^ at 50 generations per phase (gross^ 100), the paper's transition.
-``evolved_pre.json``, which tests and benchmarks use, holds the best 10 robots of each of the
-2 replications of the scene study's ``arm-length-shoulder`` run (docs/results/scene-study.md):
-the standard condition's pre-reaching phase alone, 60 generations, on the default scene.
+run: a file dropped into this folder is shipped from then on. A file is named after the run
+and the phase it came from (``<run>-<condition>-<phase>.json``; ``run`` in its provenance):
+those shipped hold the best 2 robots of each replication of every phase of the project's
+replication runs (docs/results/replication.md describes each run: its conditions, budget and
+replications). ``evolved_pre.json``, which tests and benchmarks use, holds the best 10 robots
+of each of the 2 replications of the scene study's ``arm-length-shoulder`` run
+(docs/results/scene-study.md): the standard condition's pre-reaching phase alone, 60
+generations, on the default scene.
 """
 
 from __future__ import annotations

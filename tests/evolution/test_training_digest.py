@@ -1,6 +1,6 @@
 """The training digest: what the genetic algorithm computes is pinned to the last bit, so that a
 faster revision may take over a long run at a resume only when it trains exactly as the
-revision that began it (docs/guides/runs.md, "Long runs"; issue 49).
+revision that began it (docs/guides/runs.md, "Long runs").
 
 Two parts, each a digest of float64 bytes:
 

@@ -65,7 +65,7 @@ def test_straightness_from_the_surface_is_one_for_a_straight_reach():
     ball = still([0.2, 0, 0], 12)
     hand = line([0, 0, 0], [0.015, 0, 0], 12)  # reaches the surface (0.165 m) at row 11
     assert k.straightness(hand, ball, 11, r) == pytest.approx(1.0)
-    # to the centre the same reach scores 0.2 / 0.165: the bias issue 22 removes
+    # to the centre the same reach scores 0.2 / 0.165: the bias measuring to the surface removes
     assert k.straightness(hand, ball, 11) == pytest.approx(0.2 / 0.165)
     # 10 cm sideways, then diagonally onto the surface: 0.165 / (0.1 + hypot(0.165, 0.1))
     detour = np.vstack([line([0, 0, 0], [0, 0.01, 0], 11),

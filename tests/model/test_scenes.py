@@ -1,4 +1,4 @@
-"""Scenes as data (``dart_reach/scenes``, docs/model/scene.md): the shipped files follow
+"""Scenes as data (``dart_reach/model/scenes``, docs/model/scene.md): the shipped files follow
 the rule that defines them, bad files are refused naming the problem, and a run keeps its scene
 (sections II-B, III, Fig. 2)."""
 

@@ -7,7 +7,7 @@ import polars as pl
 from matplotlib import colormaps
 from matplotlib.figure import Figure
 
-from ..stillness import STILL
+from ..strategies import STILL
 
 
 def development_figure(course_table: pl.DataFrame, measure: str, label: str | None = None,

@@ -4,8 +4,8 @@ The paper places the ball "in a randomly selected point located within one of 9 
 spherical surface centered on the iCub's neck" and gives no numbers: the sphere's radius and the
 sectors' bounds are open levers, grounded in the infant experiments it copies (docs/model/scene.md,
 "The scene"). A scene fixes them. The scenes of the scene study ship as TOML files inside this
-package (``dart_reach/scenes/*.toml``); a user writes another one and passes its path wherever a
-scene name is accepted (``dart-reach train --scene FILE``, :func:`load_scene`).
+package (``dart_reach/model/scenes/*.toml``); a user writes another one and passes its path
+wherever a scene name is accepted (``dart-reach train --scene FILE``, :func:`load_scene`).
 
 File format (every key is checked; unknown, missing or mistyped keys raise
 :class:`SceneError` naming the file and the problem)::
@@ -111,7 +111,7 @@ def load_scene(name_or_path: str | os.PathLike) -> Scene:
     """A shipped scene by name (:func:`scene_names`) or the scene in a TOML file (a path-like
     object, or a string ending in ``.toml`` or containing a path separator)."""
     if isinstance(name_or_path, str) and name_or_path in scene_names():
-        source = f"dart_reach/scenes/{name_or_path}.toml"
+        source = f"dart_reach/model/scenes/{name_or_path}.toml"
         text = (_shipped() / f"{name_or_path}.toml").read_bytes()
     elif isinstance(name_or_path, os.PathLike) or (
             isinstance(name_or_path, str)

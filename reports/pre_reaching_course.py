@@ -1,8 +1,8 @@
-"""docs/results/pre-reaching-course.md and its figure, from the full-budget run's committed
-pre-reaching snapshots (issue 48; ``analysis.strategy_course``): where its training stands,
-the strategy of every population at every snapshot, when they changed, the course of the
-measures, generation 50 beside ``TEN``'s final pre-reachers and the claims of pre-reachers
-judged at ``strategy_course.JUDGED``. Rendered by ``results_docs``."""
+"""docs/results/pre-reaching-course.md and its figures, from the full-budget run's committed
+pre-reaching snapshots (``analysis.strategy_course``): where its training stands, the strategy
+of every population at every snapshot, when they changed, the course of the measures,
+generation 50 beside ``TEN``'s final pre-reachers and the claims of pre-reachers judged at
+``runs.JUDGED``. Rendered by ``reports.results``."""
 
 from __future__ import annotations
 
@@ -11,19 +11,22 @@ from pathlib import Path
 
 import polars as pl
 
-from ..analysis import budgets, said, verdicts
-from ..analysis import strategy_course as sc
-from ..analysis.figures import strategy_figure, training_by_strategy
-from ..analysis.stillness import BABBLING, STILL, STILL_SHARE, trained_trials
-from ..evolution import cost
-from ..evolution.rundir import RunDirectory
-from ..evolution.settings import SNAPSHOT_ROBOTS, snapshot_due
-from ..model.world import N_SECTORS, POINTS_PER_SECTOR
-from ..postevaluation import results
-from ..postevaluation.snapshots import load_development
-from ..postevaluation.systematic import TESTS, load_evaluation
+from dart_reach.analysis import budgets, said, verdicts
+from dart_reach.analysis import strategy_course as sc
+from dart_reach.analysis.figures import strategy_figure, training_by_strategy
+from dart_reach.analysis.strategies import BABBLING, STILL, STILL_SHARE, trained_trials
+from dart_reach.evolution import cost
+from dart_reach.evolution.rundir import RunDirectory
+from dart_reach.evolution.settings import SNAPSHOT_ROBOTS, snapshot_due
+from dart_reach.model.world import N_SECTORS, POINTS_PER_SECTOR
+from dart_reach.postevaluation import results
+from dart_reach.postevaluation.snapshots import load_development
+from dart_reach.postevaluation.systematic import TESTS, load_evaluation
+from dart_reach.studies import fitness_terms
+
 from . import stillness
-from .doc_text import FULL, TEN, markdown_table, percent, training_text
+from .runs import FULL, JUDGED, TEN
+from .text import markdown_table, percent, training_text
 
 
 #: CPU-seconds of one post-evaluation trial of a snapshot robot (200 control steps) under
@@ -32,10 +35,10 @@ from .doc_text import FULL, TEN, markdown_table, percent, training_text
 #: pre-reaching-course.md, "What it costs", says how.
 NORMAL_TRIAL_CPU_S, OTHER_TRIAL_CPU_S = 77.3 / 450, 1_420 / 9_000
 #: CPU-seconds of one trial of a judged snapshot's robot run again for Eq. 5's terms
-#: (``studies.stillness --generation 50``: 2,250 trials in 417.5 CPU-seconds, start included,
+#: (``reports.stillness --generation 50``: 2,250 trials in 417.5 CPU-seconds, start included,
 #: from /proc/PID/stat, beside the training), same machine, 2026-11-27.
 TERMS_TRIAL_CPU_S = 417.5 / 2_250
-#: The generation this round of the run ends at (issue 48) and the snapshots' spacing.
+#: The generation this round of the run ends at and the snapshots' spacing.
 ROUND_END, SNAPSHOT_EVERY = 250, 10
 #: Trials of one robot under one sensory condition (the systematic positions), and the
 #: conditions besides normal senses at a judged generation (Fig. 9's three and the ball absent).
@@ -44,8 +47,8 @@ POSITIONS, OTHER_CONDITIONS = N_SECTORS * POINTS_PER_SECTOR, len(TESTS) - 1
 #: level, and the generations of each of the two windows over which growth is measured.
 FITNESS = {"fitness": "post-evaluation fitness", "lifetime_fitness": "training's best"}
 ALPHA, GROWTH_WINDOW = 0.05, 10
-#: A longer window beside the issue's 10 generations: the trend under the generation-to-
-#: generation noise of the population's mean fitness.
+#: A longer window beside the first look's 10 generations: the trend under the
+#: generation-to-generation noise of the population's mean fitness.
 LONG_WINDOW = 50
 
 
@@ -54,7 +57,7 @@ def cost_values(run: RunDirectory, generations: int) -> dict[str, str]:
     ``generations`` (``snapshot_due``) costs beside the training to it: ``snapshots``,
     ``snapshots_core_h`` (every snapshot under normal senses), ``judged_core_h`` (the other
     conditions at the judged generations), ``terms_core_h`` (their robots run again for Eq.
-    5's terms, ``studies.stillness``), ``pre_core_s`` (the run's median core-seconds a
+    5's terms, ``reports.stillness``), ``pre_core_s`` (the run's median core-seconds a
     pre-reaching replication-generation, ``cost.core_seconds``), ``pre_round_core_h`` (the
     training to ``ROUND_END`` at that median) and ``evaluation_share`` (the three's
     share of it)."""
@@ -62,8 +65,8 @@ def cost_values(run: RunDirectory, generations: int) -> dict[str, str]:
                     for g in range(1, ROUND_END + 1))
     robots = SNAPSHOT_ROBOTS * run.settings.replications
     normal = snapshots * robots * POSITIONS * NORMAL_TRIAL_CPU_S / 3600
-    judged = len(sc.JUDGED) * OTHER_CONDITIONS * robots * POSITIONS * OTHER_TRIAL_CPU_S / 3600
-    terms = len(sc.JUDGED) * robots * POSITIONS * TERMS_TRIAL_CPU_S / 3600
+    judged = len(JUDGED) * OTHER_CONDITIONS * robots * POSITIONS * OTHER_TRIAL_CPU_S / 3600
+    terms = len(JUDGED) * robots * POSITIONS * TERMS_TRIAL_CPU_S / 3600
     median = float(cost.core_seconds(run).filter(pl.col("phase") == "pre")["core_s"]
                    .drop_nans().median())
     training = median * ROUND_END * run.settings.replications / 3600
@@ -104,7 +107,7 @@ def settled(turns: pl.DataFrame, generations: list[int]) -> str:
 
 def still_to_know(last: int, of: int) -> str:
     """When the question is next answered, given the ``last`` snapshot post-evaluated and the
-    phase's ``of`` generations: at ``ROUND_END`` (this round's end, issue 48) and at ``of``,
+    phase's ``of`` generations: at ``ROUND_END`` (this round's end) and at ``of``,
     or, past ``ROUND_END``, at ``of`` alone."""
     if last < ROUND_END:
         return (f"Whether this holds is known at generation {ROUND_END} (this round's end) "
@@ -120,15 +123,15 @@ def kinds(table: pl.DataFrame) -> tuple[int, int]:
 def with_terms(run_dir: Path, evaluation: pl.DataFrame) -> pl.DataFrame:
     """A run's ``evaluation`` table (``load_evaluation(run_dir)``) as it is, or, when it
     predates ``contact_after_first``, its pre-reachers' normal trials given that measure from
-    the run's Eq. 5 table (``stillness.TABLE``: the same robots' same trials run again)."""
+    the run's Eq. 5 table (``fitness_terms.TABLE``: the same robots' same trials run again)."""
     if "contact_after_first" in evaluation.columns:
         return evaluation
     keys = ["phase", "replication", "rank", "trial"]
-    terms = results.read_table(run_dir / stillness.TABLE).select(*keys, "contact_after_first")
+    terms = results.read_table(run_dir / fitness_terms.TABLE).select(*keys, "contact_after_first")
     joined = trained_trials(evaluation).join(terms, on=keys, how="left")
     if joined["contact_after_first"].is_null().any():
-        raise ValueError(f"{run_dir / stillness.TABLE}: not every pre-reacher's trial of "
-                         f"{run_dir / results.EVALUATION} (python -m dart_reach.studies.stillness)")
+        raise ValueError(f"{run_dir / fitness_terms.TABLE}: not every pre-reacher's trial of "
+                         f"{run_dir / results.EVALUATION} (python -m reports.stillness)")
     return joined
 
 
@@ -197,7 +200,7 @@ def fitness_values(course: pl.DataFrame, stats: pl.DataFrame) -> dict[str, str]:
 
 def fit_at_50(recordings: Path) -> str:
     """The still populations' fitness against the babbling ones' in the stillness page's run
-    (``studies.stillness``, 50 generations), the replication as the unit, worded from its
+    (``reports.stillness``, 50 generations), the replication as the unit, worded from its
     test (``said.two_groups``)."""
     by_replication = stillness.tables(recordings)["by_replication"]
     fit = {s: by_replication.filter(pl.col("strategy") == s)["fitness"].to_numpy()
@@ -209,15 +212,15 @@ def values(recordings: Path) -> dict[str, str]:
     """The values of docs/results/templates/pre-reaching-course.md: the full-budget run's
     pre-reaching snapshots (``strategy_course``), where training stands, the strategies per
     replication and snapshot, their changes, the course of the measures, generation 50
-    beside ``TEN``'s populations and the claims of pre-reachers at ``strategy_course.JUDGED``."""
+    beside ``TEN``'s populations and the claims of pre-reachers at ``runs.JUDGED``."""
     directory = recordings / FULL
     run = RunDirectory.open(directory)
     pre = run.status().filter(pl.col("phase") == "pre")
     trained = int(pre["generations"].min())
     out = {"run": FULL, "training": training_text(run), "pre_trained": str(trained),
            "pre_of": str(int(pre["of"].max())), "still_share": percent(STILL_SHARE),
-           "judged": ", ".join(map(str, sc.JUDGED)), "ten": TEN,
-           "judged_list": ",".join(map(str, sc.JUDGED)),
+           "judged": ", ".join(map(str, JUDGED)), "ten": TEN,
+           "judged_list": ",".join(map(str, JUDGED)),
            **cost_values(run, int(pre["of"].max())), "fit_at_50": fit_at_50(recordings)}
     development = load_development(directory, senses=None)
     if development is None or not development.filter(pl.col("phase") == "pre").height:
@@ -273,14 +276,14 @@ def values(recordings: Path) -> dict[str, str]:
             out["at50_summary"] += (f"; {TEN}'s evaluation table predates the measure "
                                     f"'{sc.MEASURES['contact_after_first']}' "
                                     f"(contact_after_first), which comes from its "
-                                    f"{stillness.TABLE} (the same robots' same trials run "
+                                    f"{fitness_terms.TABLE} (the same robots' same trials run "
                                     f"again)")
     else:
         out["at50"] = "(generation 50 not yet post-evaluated)"
         out["at50_summary"] = "generation 50 is not yet post-evaluated"
     baseline = (load_evaluation(directory, baseline=True)
                 if results.exists(directory / results.BASELINE) else None)
-    found = sc.judged(development, baseline)
+    found = sc.judged(development, baseline, JUDGED)
     claims = [c.id for c in sc.claims_of_pre()]
     grid = pl.DataFrame({"claim": claims})
     for g in found["generation"].unique().sort().to_list():
@@ -290,7 +293,7 @@ def values(recordings: Path) -> dict[str, str]:
                  + (f" ({r['note']})" if r["note"] else "")
                  for r in found.filter(pl.col("generation") == g).iter_rows(named=True)}
         grid = grid.with_columns(pl.Series(f"gen {g}", [cells[c] for c in claims]))
-    waiting = [g for g in sc.JUDGED if g not in set(found["generation"])]
+    waiting = [g for g in JUDGED if g not in set(found["generation"])]
     why = {g: "not yet trained" if g > trained else "not yet evaluated" for g in waiting}
     out["claims_waiting"] = ("" if not waiting else "Not yet judged: generation(s) "
                              + ", ".join(f"{g} ({why[g]})" for g in waiting) + ". ")
@@ -301,7 +304,7 @@ def values(recordings: Path) -> dict[str, str]:
     out["verdict_changes"] = "; ".join(
         f"{r['claim']} ({r['before']}: {r['was']}, {r['after']}: {r['now']})"
         for r in changed.iter_rows(named=True)) or "none"
-    ends = sc.scale_ends(development)
+    ends = sc.scale_ends(development, JUDGED)
     out["rate_margin"] = f"{verdicts.RATE_MARGIN:g}"
     out["scale_ends"] = ("none." if not ends.height else "\n\n" + markdown_table(ends.rename(
         {"senses": "condition", "reference": "value", "versus": "against",

@@ -1,6 +1,5 @@
-"""What the generated results docs share (``results_docs``, ``course_page``): the committed
-runs they read, the placeholders of their templates and how their numbers and tables are
-written."""
+"""What the generated results pages share (``reports.results`` and the pages it renders): the
+placeholders of their templates and how their numbers and tables are written."""
 
 from __future__ import annotations
 
@@ -11,16 +10,8 @@ from typing import Mapping
 import numpy as np
 import polars as pl
 
-from ..analysis import budgets
-from ..evolution.rundir import RunDirectory
-
-#: The ten-replication run (issue 32).
-TEN = "replication-50x10"
-#: The replication runs of docs/results/replication.md, smallest budget first.
-REPLICATIONS = ("replication-10", "replication-50", TEN)
-#: The paper's full budget (issue 48): the standard condition, 500 generations per phase, 10
-#: replications; trained over many sessions.
-FULL = "standard-500x10"
+from dart_reach.analysis import budgets
+from dart_reach.evolution.rundir import RunDirectory
 
 _PLACEHOLDER = re.compile(r"\{\{\s*([A-Za-z0-9_.\-]+)\s*\}\}")
 #: Rates are shown in per cent; other measures with 3 significant digits.

@@ -1,4 +1,4 @@
-"""Still and babbling populations (``analysis.stillness``) on small tables worked by hand."""
+"""Still and babbling populations (``analysis.strategies``) on small tables worked by hand."""
 
 from __future__ import annotations
 
@@ -7,7 +7,7 @@ import math
 import polars as pl
 import pytest
 
-from dart_reach.analysis import stillness
+from dart_reach.analysis import strategies
 from dart_reach.measures.fitness import TERMS
 
 
@@ -25,11 +25,11 @@ def evaluation(shares: dict[int, tuple[int, int]]) -> pl.DataFrame:
 
 
 def test_the_rule_splits_at_one_trial_in_twenty():
-    found = stillness.strategies(evaluation({0: (0, 40), 1: (1, 40), 2: (2, 40), 3: (30, 40)}))
+    found = strategies.strategies(evaluation({0: (0, 40), 1: (1, 40), 2: (2, 40), 3: (30, 40)}))
     assert found["babbling_share"].to_list() == pytest.approx([0, 1 / 40, 2 / 40, 30 / 40])
     assert found["strategy"].to_list() == ["still", "still", "babbling", "babbling"]
     assert found["trials"].to_list() == [40] * 4
-    assert stillness.strategies(evaluation({0: (1, 40)}), still_share=0.02)["strategy"][0] \
+    assert strategies.strategies(evaluation({0: (1, 40)}), still_share=0.02)["strategy"][0] \
         == "babbling"
 
 
@@ -46,9 +46,9 @@ def test_the_means_per_strategy_sector_and_replication():
                           terms(2, 0, 0, 0.05, 2, 0.6)])
     strategy = pl.DataFrame({"replication": [0, 1, 2], "babbling_share": [0.0, 0.5, 0.4],
                              "strategy": ["still", "babbling", "babbling"]})
-    trials = stillness.with_strategy(table, strategy)
+    trials = strategies.with_strategy(table, strategy)
     assert trials["touched"].to_list() == [1.0, 0.0, 1.0, 1.0, 1.0]
-    per = stillness.by_strategy(trials)
+    per = strategies.by_strategy(trials)
     assert per["strategy"].to_list() == ["still", "babbling"]
     still, babbling = per.rows(named=True)
     assert (still["replications"], still["robots"], still["trials"]) == (1, 2, 2)
@@ -57,28 +57,28 @@ def test_the_means_per_strategy_sector_and_replication():
     assert babbling["touches"] == pytest.approx(10 / 3)
     assert still["sight_level"] == pytest.approx(0.4)  # the trial without one is left out
     assert still["touched"] == pytest.approx(0.5)
-    sector = stillness.by_sector(trials).filter(pl.col("sector") == 0)
+    sector = strategies.by_sector(trials).filter(pl.col("sector") == 0)
     assert sector["strategy"].to_list() == ["still", "babbling"]
     assert sector["fitness"].to_list() == pytest.approx([0.02, 0.03])
-    rep = stillness.by_replication(trials, strategy)
+    rep = strategies.by_replication(trials, strategy)
     assert rep["replication"].to_list() == [0, 1, 2]
     assert rep["fitness"].to_list() == pytest.approx([0.01, 0.02, 0.05])
     assert rep["babbling_share"].to_list() == [0.0, 0.5, 0.4]
-    assert "steps in sight" in stillness.headed(per).columns
+    assert "steps in sight" in strategies.headed(per).columns
 
 
 def test_a_trial_without_a_strategy_is_refused():
     table = pl.DataFrame([terms(0, 0, 0, 0.02, 1), terms(5, 0, 0, 0.02, 1)])
     strategy = pl.DataFrame({"replication": [0], "babbling_share": [0.0], "strategy": ["still"]})
     with pytest.raises(ValueError, match=r"replication\(s\) \[5\]"):
-        stillness.with_strategy(table, strategy)
+        strategies.with_strategy(table, strategy)
 
 
 def test_strategies_compared_with_the_replication_as_the_unit():
     per = pl.DataFrame({"strategy": ["still"] * 3 + ["babbling"] * 3,
                         "fitness": [1.0, 2.0, 3.0, 4.0, 5.0, 6.0],
                         "touch_share": [0.5, 0.6, 0.7, 0.5, 0.6, 0.7]})
-    table = stillness.compare(per, ("fitness", "touch_share"))
+    table = strategies.compare(per, ("fitness", "touch_share"))
     fit, touch = table.rows(named=True)
     assert (fit["still"], fit["babbling"], fit["still / babbling"]) == (2.0, 5.0, 0.4)
     assert fit["p"] == pytest.approx(0.1)  # exact: 2 of the 20 splits are as extreme
@@ -91,9 +91,9 @@ def test_the_page_s_statements_are_checked_against_the_means():
              "touch_level": 0.1, "touched": 0.4, "touch_limits": 0.99}
     babbling = {"touch_share": 0.1, "contact_bout_s": 1.0, "contact_after_first": 0.2,
                 "touch_level": 0.2, "touched": 0.7, "touch_limits": 0.9}
-    assert stillness.contradicted(still, babbling) == []
-    assert stillness.contradicted(still | {"touch_share": 0.1}, babbling) == [
+    assert strategies.contradicted(still, babbling) == []
+    assert strategies.contradicted(still | {"touch_share": 0.1}, babbling) == [
         "a still robot is in touch on more steps"]
-    assert stillness.contradicted(still, babbling | {"touch_level": 0.05, "touch_limits": 0.4}) \
+    assert strategies.contradicted(still, babbling | {"touch_level": 0.05, "touch_limits": 0.4}) \
         == ["a babbling robot touches with more faces",
             "touch sets the score on most of the babbling robots' scoring steps"]

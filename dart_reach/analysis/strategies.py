@@ -1,17 +1,18 @@
-"""Why stillness pays (issue 48, point 4): Eq. 5's fitness taken apart per strategy.
+"""The two pre-reaching strategies, still and babbling, told apart by one rule, and Eq. 5's
+fitness taken apart per strategy (why stillness pays).
 
-At 50 generations per phase some pre-reaching populations babble and some hold the hand
-still; ``strategies`` tells them apart from the post-evaluation table by a rule fixed before
+Trained for some generations, some pre-reaching populations babble and some hold the hand
+still; ``strategies`` tells them apart from a post-evaluation table by a rule fixed before
 their fitness was compared, and ``by_strategy``, ``by_sector`` and ``by_replication`` average
 the per-trial factors of the fitness (``measures.fitness.fitness_terms``: one row per trial of
-a table such as ``studies.stillness``'s) over each strategy's trials.
+a table such as ``studies.fitness_terms``'s) over each strategy's trials.
 
 The rule (``STILL_SHARE``): a replication is *still* when fewer than 1 in 20 of its
 pre-reaching robots' post-evaluation trials under normal senses babble (``babbling``, the
 measure of IV-A-1 in ``measures.kinematics``), *babbling* otherwise. Populations are one kind
 or the other: a babbling one babbles in a large share of its trials (random networks already
-do in some: docs/results/replication.md), a still one in none; the margin lets a still
-population have a stray babbling trial without changing kind.
+do in some), a still one in none; the margin lets a still population have a stray babbling
+trial without changing kind.
 """
 
 from __future__ import annotations

@@ -1,6 +1,6 @@
-"""The committed table of Eq. 5's factors (``studies.stillness``) is the post-evaluated robots'
-trials: its fitness is the committed post-evaluation's, and a robot's trials run again give its
-rows."""
+"""The committed tables of Eq. 5's factors (``studies.fitness_terms``, written by
+``reports.stillness``) are the post-evaluated robots' trials: their fitness is the committed
+post-evaluation's, and a robot's trials run again give its rows."""
 
 from __future__ import annotations
 
@@ -15,23 +15,23 @@ from dart_reach.evolution.provenance import simd
 from dart_reach.evolution.rundir import RunDirectory
 from dart_reach.measures.fitness import TERMS
 from dart_reach.postevaluation import results
-from dart_reach.analysis import strategy_course
 from dart_reach.postevaluation.snapshots import load_development
 from dart_reach.postevaluation.systematic import load_evaluation
-from dart_reach.studies import course_page, stillness
-from dart_reach.studies.doc_text import FULL
+from dart_reach.studies import fitness_terms
+from reports import pre_reaching_course, stillness
+from reports.runs import FULL, JUDGED
 
 ROOT = Path(__file__).resolve().parents[2]
 RUN_DIR = ROOT / "recordings" / stillness.RUN
 
 
 def committed() -> pl.DataFrame:
-    return results.read_table(RUN_DIR / stillness.TABLE)
+    return results.read_table(RUN_DIR / fitness_terms.TABLE)
 
 
 def test_the_table_holds_every_post_evaluated_pre_reacher_on_every_position():
     table = committed()
-    evaluated = stillness.evaluated_pre(RUN_DIR)
+    evaluated = fitness_terms.evaluated_pre(RUN_DIR)
     assert len(evaluated) == 50  # the best 5 of each of 10 replications
     assert sorted(table.select("replication", "rank").unique().iter_rows()) == evaluated
     assert table.height == 45 * len(evaluated)
@@ -54,11 +54,11 @@ def test_a_robot_run_again_gives_its_rows():
     """The still robot of replication 9 (rank 1) on its first sector's 5 positions. Bit for
     bit only at the numpy dispatch level the table was written at (docs/guides/runs.md,
     "Results"): elsewhere the trials may part, and the check is skipped."""
-    written = {s.get("simd") for s in results.sessions(RUN_DIR / stillness.TABLE)}
+    written = {s.get("simd") for s in results.sessions(RUN_DIR / fitness_terms.TABLE)}
     if written != {simd()}:
         pytest.skip(f"table written at numpy's {written}, this process runs at {simd()}")
     run = RunDirectory.open(RUN_DIR)
-    again = results.quantised(pl.DataFrame(stillness.robot_trials(run, 9, 1, positions=5)))
+    again = results.quantised(pl.DataFrame(fitness_terms.robot_trials(run, 9, 1, positions=5)))
     stored = committed().filter((pl.col("replication") == 9) & (pl.col("rank") == 1)
                                 & (pl.col("trial") < 5)).sort("trial")
     for term in TERMS:
@@ -83,7 +83,7 @@ def test_the_50_generation_comparison_takes_contact_after_first_from_the_table(t
     table missing a robot is an error, not a silent NaN."""
     evaluation = load_evaluation(RUN_DIR)
     assert "contact_after_first" not in evaluation.columns
-    measured = course_page.with_terms(RUN_DIR, evaluation)
+    measured = pre_reaching_course.with_terms(RUN_DIR, evaluation)
     keys = ["replication", "rank", "trial"]
     joined = measured.join(committed().select(*keys, pl.col("contact_after_first").alias("t")),
                            on=keys)
@@ -92,10 +92,10 @@ def test_the_50_generation_comparison_takes_contact_after_first_from_the_table(t
     assert measured["contact_after_first"].is_nan().sum() < measured.height  # touches exist
     short = tmp_path / "run"
     short.mkdir()
-    results.write_table(short / stillness.TABLE,
+    results.write_table(short / fitness_terms.TABLE,
                         committed().filter(pl.col("replication") != 3), [{}])
     with pytest.raises(ValueError, match="not every pre-reacher's trial"):
-        course_page.with_terms(short, evaluation)
+        pre_reaching_course.with_terms(short, evaluation)
 
 
 FULL_DIR = ROOT / "recordings" / FULL
@@ -104,15 +104,15 @@ FULL_DIR = ROOT / "recordings" / FULL
 def test_the_full_runs_table_holds_its_snapshots_robots_with_their_development_fitness():
     """Each snapshot generation in standard-500x10's table: every robot its development.parquet
     post-evaluated there, on every position, with the fitness it stored, to the last bit."""
-    table = results.read_table(FULL_DIR / stillness.TABLE)
+    table = results.read_table(FULL_DIR / fitness_terms.TABLE)
     generations = table["generation"].unique().sort().to_list()
-    assert generations and set(generations) <= set(strategy_course.JUDGED)
+    assert generations and set(generations) <= set(JUDGED)
     development = load_development(FULL_DIR)
     keys = ["generation", "replication", "rank", "trial", "sector"]
     for generation in generations:
         rows = table.filter(pl.col("generation") == generation)
         assert (sorted(rows.select("replication", "rank").unique().iter_rows())
-                == stillness.snapshot_pre(FULL_DIR, generation))
+                == fitness_terms.snapshot_pre(FULL_DIR, generation))
         assert rows.height == 45 * 50
     joined = table.join(development.select(*keys, pl.col("fitness").alias("evaluated")),
                         on=keys)
@@ -124,12 +124,12 @@ def test_the_full_runs_table_holds_its_snapshots_robots_with_their_development_f
 def test_every_judged_snapshot_post_evaluated_is_taken_apart(tmp_path):
     """The committed table holds every judged generation the development table has; without
     the table, those are the generations ``--judged`` would run."""
-    assert stillness.judged_missing(FULL_DIR) == []
-    judged = sorted(set(results.read_table(FULL_DIR / stillness.TABLE)["generation"]))
+    assert fitness_terms.missing(FULL_DIR, JUDGED) == []
+    judged = sorted(set(results.read_table(FULL_DIR / fitness_terms.TABLE)["generation"]))
     for name in results.stored_files(FULL_DIR / results.DEVELOPMENT):
         (tmp_path / name.relative_to(FULL_DIR)).parent.mkdir(parents=True, exist_ok=True)
         shutil.copy(name, tmp_path / name.relative_to(FULL_DIR))
-    assert stillness.judged_missing(tmp_path) == judged
+    assert fitness_terms.missing(tmp_path, JUDGED) == judged
 
 
 def test_a_snapshot_not_post_evaluated_is_one_line_and_exit_2(capsys):
@@ -151,8 +151,8 @@ def test_a_snapshot_of_one_strategy_is_said_not_compared(tmp_path):
     development = load_development(FULL_DIR).filter(pl.col("generation") == 100)
     results.write_table(run / results.DEVELOPMENT,
                         development.with_columns(pl.lit(True).alias("babbling")), [{}])
-    terms = results.read_table(FULL_DIR / stillness.TABLE).filter(pl.col("generation") == 100)
-    results.write_table(run / stillness.TABLE, terms, [{}])
+    terms = results.read_table(FULL_DIR / fitness_terms.TABLE).filter(pl.col("generation") == 100)
+    results.write_table(run / fitness_terms.TABLE, terms, [{}])
     values = stillness.budget_values(tmp_path, md)
     assert values["budget.generations"] == "100"
     assert "at 100 all the populations are babbling: nothing to compare" in values["budget.body"]

@@ -1,14 +1,14 @@
-"""The results docs, generated from the committed results (``make results``).
+"""The results pages, generated from the committed results (``make results``).
 
-Every number and table of a generated doc comes from the runs' committed tables under
-``recordings/`` (``postevaluation.results``): its prose is a template,
-``docs/results/templates/<doc>.md``, in which ``{{ name }}`` stands for a value computed here,
-and the doc itself (``docs/results/<doc>.md``) is the template rendered. A test renders every
-template again and fails when a committed doc differs: a doc cannot drift from its data, and a
-number typed into a doc by hand has nowhere to go.
+Every number and table of a generated page comes from the runs' committed tables under
+``recordings/`` (``dart_reach.postevaluation.results``): its prose is a template,
+``docs/results/templates/<page>.md``, in which ``{{ name }}`` stands for a value computed
+here, and the page itself (``docs/results/<page>.md``) is the template rendered. A test renders
+every template again and fails when a committed page differs: a page cannot drift from its
+data, and a number typed into a page by hand has nowhere to go.
 
-``python -m dart_reach.studies.results_docs [ROOT]`` writes the docs of the repository at ROOT
-(default: the current directory) and each post-evaluated replication run's findings frame
+``python -m reports.results [ROOT]`` writes the pages of the repository at ROOT (default: the
+current directory) and each post-evaluated replication run's findings frame
 (``recordings/<run>/findings.parquet``: every claim judged at the run's budget); ``--check``
 writes nothing and exits 1 naming the files that differ from their rendering.
 """
@@ -22,19 +22,17 @@ from pathlib import Path
 from typing import Callable
 
 import numpy as np
-
 import polars as pl
 
-from . import course_page, scene_study, stillness
-from .doc_text import (FULL, REPLICATIONS, TEN, markdown_table, number, render,
-                       training_text)
-from ..analysis import budgets, calibration, findings, report, said, verdicts
-from ..evolution import cost
-from ..evolution.conditions import list_conditions
-from ..evolution.rundir import RunDirectory
-from ..evolution.settings import Settings
-from ..model.scenes import scene_of
-from ..postevaluation import checks, results
+from dart_reach.analysis import budgets, calibration, findings, report, said, verdicts
+from dart_reach.evolution.rundir import RunDirectory
+from dart_reach.model.scenes import scene_of
+from dart_reach.postevaluation import checks, results
+from dart_reach.studies import scene_study
+
+from . import cost, pre_reaching_course, stillness
+from .runs import REPLICATIONS, TEN
+from .text import markdown_table, number, render, training_text
 
 TEMPLATES = Path("docs/results/templates")
 OUT = Path("docs/results")
@@ -138,7 +136,7 @@ def plain_values(by_budget: pl.DataFrame, run: str = TEN) -> dict[str, str]:
     it survives Holm's adjustment, then the names of those left undecided (inconclusive or
     underpowered) and of those not run (no data: a condition the run did not train, or a
     table not committed); ``plain_names``: one sentence naming the decided ones, for the
-    README."""
+    summary."""
     rows = findings.reading(by_budget.filter(pl.col("runs") == run))
     if rows.filter(pl.col("verdict") != verdicts.NOT_RUN).height == 0:
         text = f"Not yet: `{run}` has not been post-evaluated."
@@ -177,12 +175,13 @@ def plain_values(by_budget: pl.DataFrame, run: str = TEN) -> dict[str, str]:
     return {"plain": "\n".join(lines), "plain_names": sentence}
 
 
-#: Where the README's table of verdicts links: every claim at every budget.
-CLAIMS_LINK = "docs/results/replication.md#every-claim-at-every-budget"
+#: Where the summary's table of verdicts links (from docs/results/): every claim at every
+#: budget.
+CLAIMS_LINK = "replication.md#every-claim-at-every-budget"
 
 
-def readme_row(paper: dict, budget: budgets.Budget) -> dict[str, str]:
-    """The README's row of a budget: its runs (linked to every claim at every budget) and the
+def summary_row(paper: dict, budget: budgets.Budget) -> dict[str, str]:
+    """The summary's row of a budget: its runs (linked to every claim at every budget) and the
     paper's claims by verdict (``findings.summary``), the decided ones with how many survive
     Holm's adjustment."""
     return {"run": f"[`{paper['runs']}`]({CLAIMS_LINK})",
@@ -214,7 +213,7 @@ def replication_values(recordings: Path) -> dict[str, str]:
     """The values of docs/results/templates/replication.md: ``runs`` (what each run is and
     where it stands), ``counts`` (the paper's claims by verdict at each budget, the replication
     as the unit, raw and Holm-surviving; ``own_counts`` the project's own; ``answer`` the
-    README's, ``readme_row``), ``sections`` (by
+    summary's, ``summary_row``), ``sections`` (by
     section of the paper), ``claims`` (every claim side by side, ``budgets.side_by_side``),
     and per run ``<run>.measures`` (means over robots beside the random baseline) and
     ``<run>.status`` (training, ``dart-reach status --markdown``)."""
@@ -235,7 +234,7 @@ def replication_values(recordings: Path) -> dict[str, str]:
             target.append({"budget": budget.label, "runs": block["runs"][0],
                            **findings.summary(block, who)})
         paper = rows[-1]
-        answer.append(readme_row(paper, budget))
+        answer.append(summary_row(paper, budget))
     values["counts"] = markdown_table(pl.DataFrame(rows))
     values["infant_counts"] = markdown_table(pl.DataFrame(infants))
     values["answer"] = markdown_table(pl.DataFrame(answer))
@@ -266,113 +265,28 @@ def replication_values(recordings: Path) -> dict[str, str]:
     return values
 
 
-#: ``ray_efficiency`` of ``dart-reach bench``, lowest and highest over the benchmark runs of
-#: docs/results/benchmarks.md; and the cluster the docs size the paper's budget for.
-RAY_EFFICIENCY = (0.78, 0.92)
-CLUSTER_CORES = 96
-
-
-def cost_values(recordings: Path) -> dict[str, str]:
-    """The values of docs/results/templates/benchmarks-cost.md: ``cost`` (per run and phase,
-    ``cost.measured_cost``) and, for the ten-replication run, ``ten.*``: its
-    replication-generations, wall hours, sessions and resumes, the quartiles of its
-    core-seconds per replication-generation, and the paper's Fig. 10 budget (every shipped
-    condition at its 500 generations per phase, 10 replications) recomputed from them:
-    ``fig10.*`` core-hours and hours on ``CLUSTER_CORES`` cores at ``RAY_EFFICIENCY``."""
-    runs = {name: RunDirectory.open(recordings / name) for name in REPLICATIONS}
-    table = pl.concat(cost.measured_cost(run).select(pl.lit(f"`{name}`").alias("run"), pl.all())
-                      for name, run in runs.items()).rename({
-        "wall_h": "wall (h)", "core_s_min": "core-s: min", "core_s_q1": "lower quartile",
-        "core_s_median": "median", "core_s_q3": "upper quartile"})
-    ten = runs[TEN]
-    sessions = json.loads((ten.out / "manifest.json").read_text())["sessions"]
-    per = cost.core_seconds(ten)
-    q1, median = np.quantile(per["core_s"].drop_nans().to_numpy(), [0.25, 0.5])
-    fig10 = cost.cost_estimate(list(list_conditions()), Settings()).replication_generations
-    hours = [fig10 * c / 3600 for c in (q1, median)]
-    full = full_values(recordings / FULL, (q1, median))
-    return {"cost": markdown_table(table), **full,
-            "ten.replication_generations": f"{per.height * ten.settings.replications:,}",
-            "ten.wall_h": number(float(per["wall_s"].sum()) / 3600),
-            "ten.sessions": str(len(sessions)), "ten.resumes": str(max(len(sessions) - 1, 0)),
-            "ten.q1": number(q1), "ten.median": number(median),
-            "fig10.replication_generations": f"{fig10:,}",
-            "fig10.core_hours": f"{hours[0]:,.0f}–{hours[1]:,.0f}",
-            "fig10.cluster_hours": (f"{hours[0] / (CLUSTER_CORES * RAY_EFFICIENCY[1]):.0f}–"
-                                    f"{hours[1] / (CLUSTER_CORES * RAY_EFFICIENCY[0]):.0f}"),
-            "fig10.cores": str(CLUSTER_CORES),
-            "fig10.efficiency": f"{RAY_EFFICIENCY[0]:g}–{RAY_EFFICIENCY[1]:g}"}
-
-
-def cpu_text(found: dict | None) -> str:
-    """A session's processor (``provenance.cpu``) in a few words, or that it was not recorded
-    (sessions before 2026-11-27)."""
-    if not found:
-        return "not recorded"
-    mhz = f"{found['mhz']:,.0f} MHz" if found.get("mhz") else None
-    return ", ".join(str(v) for v in (found.get("model"), mhz, found.get("vector")) if v)
-
-
-def full_values(directory: Path, quiet: tuple[float, float]) -> dict[str, str]:
-    """``full.*`` of docs/results/templates/benchmarks-cost.md, the full-budget run where it
-    is: its replication-generations done of all, its sessions (revision, the generation it
-    started from, workers, processor, the generations each trained and their core-seconds per
-    replication-generation), the quartiles of its core-seconds per replication-generation and
-    the rest of the campaign at the median (core-hours; hours on the run's last workers) and
-    at ``quiet``, the core-seconds (low, high) of a run on cores it had mostly to itself."""
-    keys = ("full.done", "full.sessions", "full.q1", "full.median", "full.rest_core_h",
-            "full.rest_h", "full.workers", "full.rest_quiet_h", "full.latest",
-            "full.rest_latest_h")
-    if not (directory / "manifest.json").is_file():
-        return dict.fromkeys(keys, "not started")
-    run = RunDirectory.open(directory)
-    status = run.status()
-    done, total = int(status["generations"].sum()), int(status["of"].sum())
-    sessions = json.loads((directory / "manifest.json").read_text())["sessions"]
-    generations = cost.core_seconds(run)
-    by_session = {r["session"]: r for r in generations.group_by("session").agg(
-        pl.len().alias("n"), pl.col("core_s").drop_nans().min().alias("min"),
-        pl.col("core_s").drop_nans().median().alias("median")).iter_rows(named=True)}
-    none = {"n": 0, "min": None, "median": None}
-    rows = [{"session": i, "started": s["started"][:16].replace("T", " "),
-             "revision": (s.get("git_revision") or "?")[:7],
-             "from generation (pre)": s.get("generations_done", {}).get("standard/pre", 0),
-             "workers": s.get("workers"), "cpu": cpu_text(s.get("cpu")),
-             "generations": c["n"], "core-s: min": c["min"], "median": c["median"]}
-            for i, s in enumerate(sessions) for c in [by_session.get(i, none)]]
-    per = generations["core_s"].drop_nans().to_numpy()
-    q1, median = np.quantile(per, [0.25, 0.5]) if per.size else (np.nan, np.nan)
-    workers = sessions[-1].get("workers") or 1
-    rest = (total - done) * median / 3600
-    latest = by_session.get(max(by_session, default=-1), {}).get("median")
-    return {"full.done": f"{done:,} of {total:,}", "full.sessions": markdown_table(
-        pl.DataFrame(rows)), "full.q1": number(q1), "full.median": number(median),
-        "full.rest_core_h": f"{rest:,.0f}", "full.rest_h": f"{rest / workers:,.0f}",
-        "full.workers": str(workers), "full.latest": number(latest),
-        "full.rest_latest_h": f"{(total - done) * latest / 3600 / workers:,.0f}"
-        if latest is not None else "–", "full.rest_quiet_h": "–".join(
-            f"{(total - done) * c / 3600 / workers:,.0f}" for c in quiet)}
-
-
 def stillness_values(recordings: Path) -> dict[str, str]:
     """The values of docs/results/templates/stillness.md (``stillness.values``)."""
     return stillness.values(recordings, markdown_table)
 
 
-#: Each doc rendered from a template: its name and the function of the recordings directory
-#: giving its values.
-DOCS: dict[str, Callable[[Path], dict[str, str]]] = {"scene-study.md": scene_study_values,
-                                                    "replication.md": replication_values,
-                                                    "stillness.md": stillness_values,
-                                                    "pre-reaching-course.md": course_page.values}
+#: Each doc rendered from a template: its name and the functions of the recordings directory
+#: giving its values, each under a prefix of its keys (``course.outcome``:
+#: ``pre_reaching_course.values``'s ``outcome``).
+DOCS: dict[str, dict[str, Callable[[Path], dict[str, str]]]] = {
+    "scene-study.md": {"": scene_study_values},
+    "replication.md": {"": replication_values},
+    "summary.md": {"": replication_values, "course.": pre_reaching_course.values},
+    "stillness.md": {"": stillness_values},
+    "pre-reaching-course.md": {"": pre_reaching_course.values}}
 
 
 #: Each figure of the results docs: its path under docs/results and the function of the
 #: recordings directory giving its PNG bytes. Written by ``main``; not part of ``--check`` (a
 #: figure's bytes depend on matplotlib's version; its data are the doc's tables).
 FIGURES: dict[str, Callable[[Path], bytes]] = {
-    "pre-reaching-course.png": course_page.figure,
-    "pre-reaching-training.png": course_page.training_figure}
+    "pre-reaching-course.png": pre_reaching_course.figure,
+    "pre-reaching-training.png": pre_reaching_course.training_figure}
 #: Each doc that is a table alone: its path under docs/results and the function of the
 #: recordings directory giving its text.
 TABLES: dict[str, Callable[[Path], str]] = {
@@ -382,11 +296,9 @@ TABLES: dict[str, Callable[[Path], str]] = {
 
 
 #: Generated parts of other pages: the page (from the root), the template rendered between
-#: its ``BEGIN`` and ``END`` lines, and the functions giving the values, each under a prefix
-#: of its keys (``course.outcome``: ``course_page.values``'s ``outcome``).
+#: its ``BEGIN`` and ``END`` lines, and the functions giving the values, as ``DOCS``'s.
 PARTS: dict[str, tuple[str, dict[str, Callable[[Path], dict[str, str]]]]] = {
-    "README.md": ("readme-results.md", {"": replication_values, "course.": course_page.values}),
-    "docs/results/benchmarks.md": ("benchmarks-cost.md", {"": cost_values})}
+    "docs/results/benchmarks.md": ("benchmarks-cost.md", {"": cost.values})}
 BEGIN = "<!-- results: generated by `make results` from docs/results/templates/{} -->"
 END = "<!-- /results -->"
 
@@ -402,9 +314,13 @@ def generate(root: Path) -> dict[Path, str]:
             cache[function] = function(recordings)
         return cache[function]
 
-    for name, function in DOCS.items():
+    def merged(functions) -> dict[str, str]:
+        return {prefix + key: value for prefix, function in functions.items()
+                for key, value in values(function).items()}
+
+    for name, functions in DOCS.items():
         template = (root / TEMPLATES / name).read_text(encoding="utf-8")
-        out[root / OUT / name] = render(template, values(function), name)
+        out[root / OUT / name] = render(template, merged(functions), name)
     for page, (name, functions) in PARTS.items():
         text = (root / page).read_text(encoding="utf-8")
         begin = BEGIN.format(name)
@@ -412,9 +328,8 @@ def generate(root: Path) -> dict[Path, str]:
             raise ValueError(f"{root / page}: expected one '{begin}' line and one '{END}' line")
         head, rest = text.split(begin + "\n", 1)
         _, tail = rest.split(END, 1)
-        merged = {prefix + key: value for prefix, function in functions.items()
-                  for key, value in values(function).items()}
-        part = render((root / TEMPLATES / name).read_text(encoding="utf-8"), merged, name)
+        part = render((root / TEMPLATES / name).read_text(encoding="utf-8"), merged(functions),
+                      name)
         out[root / page] = head + begin + "\n" + part + END + tail
     return out
 
@@ -438,7 +353,7 @@ def _same_frame(path: Path, frame: pl.DataFrame) -> bool:
 
 
 def main(argv=None) -> int:
-    parser = argparse.ArgumentParser(prog="python -m dart_reach.studies.results_docs",
+    parser = argparse.ArgumentParser(prog="python -m reports.results",
                                      description="write the results docs from the committed "
                                                  "results")
     parser.add_argument("root", nargs="?", type=Path, default=Path("."),

@@ -1,0 +1,100 @@
+"""The pre-reaching course page (``reports.pre_reaching_course``): which strategy has taken
+over, when the strategies last changed, when the question is next answered, the growth of
+fitness, what the snapshots cost, and the full-budget run's judged generations."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import polars as pl
+import pytest
+
+from dart_reach.analysis import strategy_course as sc
+from dart_reach.evolution.rundir import RunDirectory
+from dart_reach.evolution.settings import snapshot_due
+from dart_reach.postevaluation.snapshots import load_development
+from reports import pre_reaching_course as course_page
+from reports.runs import FULL, JUDGED
+
+ROOT = Path(__file__).resolve().parents[2]
+
+
+def test_the_course_page_says_which_strategy_has_taken_over():
+    assert course_page.outcome(10, 0) == "babbling has taken over (all 10 populations babble)"
+    assert course_page.outcome(0, 10) == ("stillness has taken over (all 10 populations are "
+                                            "still)")
+    assert course_page.outcome(4, 6) == "both persist (4 populations babble, 6 are still)"
+    values = course_page.values(ROOT / "recordings")
+    rows = [r for r in values["matrix"].splitlines()[2:]]
+    last = rows[-1].split(" | ")
+    assert last[0].strip("| ") == values["last"]
+    babbling = sum(c.strip(" |").startswith("B") for c in last[1:])
+    still = sum(c.strip(" |").startswith("S") for c in last[1:])
+    assert values["outcome"] == course_page.outcome(babbling, still)
+
+
+def test_the_course_page_says_when_the_strategies_last_changed():
+    turns = pl.DataFrame({"replication": [0, 1, 2], "last_change": [20, None, 20]},
+                         schema={"replication": pl.Int64, "last_change": pl.Int64})
+    assert course_page.settled(turns, [1, 10, 20, 30, 40]) == (
+        "The last change came at generation 20 (replications 0, 2); at the 2 snapshots since "
+        "(30-40) every population kept its strategy.")
+    assert course_page.settled(turns.head(2), [1, 10, 20]) == (
+        "The last change came at generation 20 (replication 0), the last snapshot.")
+    assert course_page.settled(turns.filter(pl.col("replication") == 1), [1, 10]) == (
+        "No population changed strategy between snapshots.")
+
+
+def test_the_course_page_says_when_the_question_is_next_answered():
+    assert course_page.still_to_know(240, 500) == (
+        "Whether this holds is known at generation 250 (this round's end) and at 500.")
+    assert course_page.still_to_know(250, 500) == (
+        "Whether it holds to generation 500 is known when pre-reaching ends there.")
+    values = course_page.values(ROOT / "recordings")
+    assert values["still_to_know"] == course_page.still_to_know(int(values["last"]), 500)
+
+
+def test_the_course_page_gives_the_growth_over_a_longer_window_once_it_is_trained():
+    directory = ROOT / "recordings" / course_page.FULL
+    stats = RunDirectory.open(directory).stats
+    course = sc.course(load_development(directory))
+    long_ = course_page.LONG_WINDOW
+    rows = course_page.fitness_values(course, stats)["growth_table"].splitlines()[2:]
+    longer = sc.growth(stats, window=long_)
+    assert [float(r.strip("| ").split(" | ")[-1]) for r in rows] == pytest.approx(
+        longer["ratio"].to_list(), rel=5e-3)
+    early = course_page.fitness_values(course, stats.filter(pl.col("generation") < 2 * long_))
+    assert f"{2 * long_} generations are not yet trained" in early["growth_summary"]
+    assert all(r.strip("| ").split(" | ")[-1] == "–"
+               for r in early["growth_table"].splitlines()[2:])
+
+
+def test_the_course_page_costs_the_snapshots_the_run_keeps():
+    """The snapshot rule the cost counts is the one the run followed: its committed snapshots
+    are those ``snapshot_due`` names, and to generation 250 they are 1, 2, 5 and every 10th."""
+    directory = ROOT / "recordings" / "standard-500x10"
+    kept = sorted(int(p.stem.removeprefix("gen"))
+                  for p in directory.glob("phases/pre-*/snapshots/gen*.npz"))
+    assert kept == [g for g in range(1, kept[-1] + 1)
+                    if snapshot_due(g, 500, course_page.SNAPSHOT_EVERY)]
+    values = course_page.cost_values(RunDirectory.open(directory), 500)
+    assert values["snapshots"] == str(len([1, 2, 5, *range(10, 251, 10)]))
+    normal, judged = float(values["snapshots_core_h"]), float(values["judged_core_h"])
+    rates = course_page.OTHER_TRIAL_CPU_S / course_page.NORMAL_TRIAL_CPU_S
+    assert judged == pytest.approx(normal * 5 * 4 / 28 * rates, abs=0.1)
+    terms = float(values["terms_core_h"])  # the five judged snapshots' robots once more
+    assert terms == pytest.approx(
+        normal * 5 / 28 * course_page.TERMS_TRIAL_CPU_S / course_page.NORMAL_TRIAL_CPU_S, abs=0.1)
+
+
+def test_the_makefile_evaluates_the_generations_judged():
+    makefile = (ROOT / "Makefile").read_text()
+    line = next(x for x in makefile.splitlines() if x.startswith("JUDGED :="))
+    assert line.split(":=")[1].strip() == ",".join(map(str, JUDGED))
+
+
+def test_the_committed_runs_scale_ends_hold_no_rate():
+    """On the full-budget run's committed snapshots no listed claim is of a rate."""
+    dev = load_development(ROOT / "recordings" / FULL, senses=None)
+    ends = sc.scale_ends(dev, JUDGED)
+    assert not any("babbling" in c or "reach" in c for c in ends["claim"])
