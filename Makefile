@@ -165,6 +165,7 @@ replication-report: $(VENV)/.installed
 results: $(VENV)/.installed
 	$(BIN)/python -m dart_reach.studies.scene_study $(STUDY) docs/results/scene-study > /dev/null
 	$(BIN)/python -m reports.results .
+	$(BIN)/python -m reports.levers
 
 # The whole suite, one process per core (pytest-xdist); a test file stays in one process, so its
 # module fixtures are built once. The slowest tests are listed at the end.
