@@ -7,7 +7,7 @@ BIN := $(VENV)/bin
 
 .PHONY: demo test bench skeleton clean notebooks screenshots scene-study pythons replication-50 replication-50x10 \
 	replication-10 replication-report results full-budget full-budget-snapshots \
-	levers-screen levers-train levers-evaluate
+	levers-screen levers-train levers-evaluate levers-state
 
 $(BIN)/python:
 	$(PY) -m venv $(VENV)
@@ -233,4 +233,13 @@ levers-evaluate: $(VENV)/.installed
 	for a in $(LEVER_ARMS); do \
 		$(BIN)/dart-reach evaluate $(LEVERS)/$${a%%:*} --finished-only --development 5 \
 			--development-sensors normal,no-ball || exit $$?; \
+	done
+# The compact state of the levers arms trained in another checkout (the pinned worktree,
+# LEVERS_FROM=its path): manifest, statistics, checkpoints, finals and snapshots, to commit.
+levers-state:
+	@test -n "$(LEVERS_FROM)" || { echo "give LEVERS_FROM=the checkout that trains the arms"; exit 2; }
+	for d in $(LEVERS_FROM)/$(LEVERS)/*/; do a=$$(basename $$d); mkdir -p $(LEVERS)/$$a; \
+		cp $$d/manifest.json $$d/generations.parquet $(LEVERS)/$$a/; \
+		(cd $$d && find phases -name checkpoint.npz -o -name final.npz -o -path '*/snapshots/*.npz') | \
+			while read f; do mkdir -p $(LEVERS)/$$a/$$(dirname $$f); cp $$d/$$f $(LEVERS)/$$a/$$f; done; \
 	done

@@ -9,8 +9,10 @@ the trained arms against the reference.
 from __future__ import annotations
 
 import argparse
+import json
 import math
 import sys
+import warnings
 from pathlib import Path
 
 import polars as pl
@@ -27,7 +29,9 @@ MARK = "## Results\n"
 LEVERS = ROOT / "recordings" / "levers"
 #: The trained arms in the pre-registered order: name -> what it changes.
 ARMS = {"far": "the ball at 0.42 m (scene beyond-arm-length)",
-        "reflex-evolved": "the reflex motors' evolved inputs"}
+        "reflex-evolved": "the reflex motors' evolved inputs",
+        "self-collision": "self-collision of the arm with the body (chosen by the screen)",
+        "capped": "p_touch = min(n, 4) / 4 (chosen by the screen)"}
 #: Generation judged, and the reference: today's model's pre-reaching at that generation.
 JUDGED = 50
 REFERENCE = (("standard-500x10", JUDGED), ("replication-50x10", None))
@@ -52,7 +56,9 @@ def robot_means(screen: pl.DataFrame) -> pl.DataFrame:
 
 
 def _spearman(a, b) -> float:
-    rho = stats.spearmanr(a, b).statistic
+    with warnings.catch_warnings():  # a constant input: undefined, NaN
+        warnings.simplefilter("ignore", stats.ConstantInputWarning)
+        rho = stats.spearmanr(a, b).statistic
     return float(rho) if rho == rho else math.nan
 
 
@@ -74,8 +80,10 @@ def choose_arms(screen: pl.DataFrame) -> tuple[pl.DataFrame, float, float]:
         babble_rho = _spearman(m[column], m["babbling"])
         rows.append({"candidate": name, "rho_arm": arm_rho, "rise_arm": arm_rho - ref_arm,
                      "rho_babbling": babble_rho, "rise_babbling": babble_rho - ref_babble})
-    table = pl.DataFrame(rows).sort(["rise_arm", "rise_babbling"], descending=True,
-                                    nulls_last=True)
+    # an undefined correlation (a constant fitness or trait) ranks last
+    table = (pl.DataFrame(rows)
+             .sort(pl.col("rise_arm").fill_nan(None), pl.col("rise_babbling").fill_nan(None),
+                   descending=True, nulls_last=True))
     return table.with_columns(chosen=pl.int_range(pl.len()) < 2), ref_arm, ref_babble
 
 
@@ -200,8 +208,11 @@ def _progress(arm: str) -> str:
     if not stats_path.exists():
         return "not started"
     g = pl.read_parquet(stats_path).group_by("replication").agg(pl.col("generation").max())
+    manifest = json.loads((LEVERS / arm / "manifest.json").read_text())
+    revision = str(manifest.get("git_revision"))[:7] + (" (dirty)" if manifest.get("git_dirty")
+                                                        else "")
     return (f"{int(g['generation'].min())} of {JUDGED} generations in all "
-            f"{g.height} replications")
+            f"{g.height} replications, revision {revision}")
 
 
 def arms_section() -> str:
@@ -231,7 +242,9 @@ def arms_section() -> str:
                                                    for c in CRITERIA)
                      + f" | {int((at['strategy'] == STILL).sum())} |")
         verdicts.append((arm, k, n, p))
-    lines.append("")
+    lines += ["", "Editorial, not a departure: the module the plan names for the strategy, "
+              "`analysis.stillness`, has since been renamed `analysis.strategies`; its rule is "
+              "unchanged.", ""]
     if len(verdicts) < len(ARMS):
         lines.append("**Decision: not yet.** The rule is applied when every arm has been "
                      f"post-evaluated at generation {JUDGED}.")

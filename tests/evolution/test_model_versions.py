@@ -1,0 +1,139 @@
+"""Model versions and levers in runs: written in every manifest, read back, kept on resume,
+refused when bad (docs/model/levers.md); the screen of a run's robots under other levers."""
+
+import json
+import subprocess
+import sys
+from pathlib import Path
+
+import numpy as np
+import polars as pl
+import pytest
+
+from dart_reach.evolution.rundir import RunDirectory
+from dart_reach.evolution.settings import Settings
+from dart_reach.model.levers import Levers, NetworkStart, TouchPay
+from dart_reach.model.world import WorldConfig
+from dart_reach.studies.lever_screen import Arm, screen
+
+ROOT = Path(__file__).resolve().parents[2]
+CONDITION = """\
+name = "pre-only"
+notation = "pre"
+description = "pre-reaching alone, for the model version tests"
+generations_per_phase = 2
+
+[[phases]]
+name = "pre"
+acuity = 3.0
+offset_sensors = false
+free_groups = ["direct"]
+reflexes = true
+"""
+
+
+def _cli(*args):
+    return subprocess.run([sys.executable, "-m", "dart_reach.cli", *map(str, args)],
+                          capture_output=True, text=True, timeout=600)
+
+
+def _train(condition, out, *extra):
+    return _cli("train", condition, "--replications", "3", "--trials", "1", "--steps", "20",
+                "--seed", "4", "--workers", "1", "--record-every", "0", "--snapshot-every",
+                "1", "--out", out, *extra)
+
+
+@pytest.fixture(scope="module")
+def run(tmp_path_factory):
+    """A tiny pre-only run under two levers (3 replications: not a divisor of 20, which a
+    condition of one phase allows)."""
+    folder = tmp_path_factory.mktemp("versions")
+    condition = folder / "pre.toml"
+    condition.write_text(CONDITION)
+    out = folder / "run"
+    result = _train(condition, out, "--touch-pay", "binary", "--self-collision", "on")
+    assert result.returncode == 0, result.stderr
+    return condition, out
+
+
+def test_a_run_writes_its_version_and_levers_and_reads_them_back(run):
+    _, out = run
+    settings = json.loads((out / "manifest.json").read_text())["settings"]
+    assert settings["model_version"] == 1
+    assert settings["levers"] == {"reflex_inputs": "hand-set", "touch_pay": "binary",
+                                  "network_start": "hold-home"}
+    assert settings["world"]["self_collision"] is True
+    opened = RunDirectory.open(out).settings
+    assert opened.levers == Levers(touch_pay=TouchPay.BINARY)
+    assert opened.world.self_collision and opened.model_version == 1
+
+
+def test_a_manifest_from_before_versions_is_version_1_with_its_levers():
+    manifest = json.loads((ROOT / "recordings/standard-500x10/manifest.json").read_text())
+    assert "model_version" not in manifest["settings"]  # written before versions existed
+    settings = Settings.from_json(manifest["settings"])
+    assert settings.model_version == 1 and settings.levers == Levers()
+    assert settings.world.self_collision is False
+
+
+def test_resume_keeps_the_levers_and_refuses_others_without_touching_the_run(run):
+    condition, out = run
+    before = {p: p.read_bytes() for p in out.rglob("*") if p.is_file() and p.name != ".lock"}
+    result = _train(condition, out, "--touch-pay", "capped", "--self-collision", "on",
+                    "--resume")
+    assert result.returncode == 2 and "touch_pay" in result.stderr, result.stderr
+    assert result.stderr.count("\n") == 1
+    after = {p: p.read_bytes() for p in out.rglob("*") if p.is_file() and p.name != ".lock"}
+    assert after == before
+    again = _train(condition, out, "--touch-pay", "binary", "--self-collision", "on",
+                   "--resume")
+    assert again.returncode == 0, again.stderr  # the same levers: it resumes (here: done)
+
+
+@pytest.mark.parametrize("bad, named", [
+    (["--touch-pay", "area"], "--touch-pay"), (["--network-start", "1"], "--network-start"),
+    (["--self-collision", "yes"], "--self-collision"), (["--model-version", "9"],
+                                                          "--model-version")])
+def test_bad_lever_values_are_one_line_and_exit_2(tmp_path, bad, named):
+    result = _cli("train", "standard", "--out", tmp_path / "r", *bad)
+    assert result.returncode == 2 and named in result.stderr, result.stderr
+    assert result.stderr.count("\n") == 1 and not (tmp_path / "r").exists()
+
+
+def test_an_unknown_model_version_in_a_manifest_is_refused(run, tmp_path):
+    _, out = run
+    copy = tmp_path / "copy"
+    copy.mkdir()
+    manifest = json.loads((out / "manifest.json").read_text())
+    manifest["settings"]["model_version"] = 7
+    (copy / "manifest.json").write_text(json.dumps(manifest))
+    result = _cli("status", copy)
+    assert result.returncode == 2 and "model version 7" in result.stderr, result.stderr
+
+
+def test_the_screen_runs_a_runs_robots_under_other_levers(run):
+    _, out = run
+    base = RunDirectory.open(out).settings.world
+    arms = [Arm("as-trained", base, Levers(touch_pay=TouchPay.BINARY)),
+            Arm("zero", base, Levers(touch_pay=TouchPay.BINARY,
+                                     network_start=NetworkStart.ZERO))]
+    table = screen(out, 2, arms, robots=1, senses=("normal",), workers=1)
+    assert table.height == 2 * 3 * 45  # arms x replications x positions
+    mine = table.filter(pl.col("arm") == "as-trained")
+    # a trial's fitness under the pay it ran with is its rescoring to the last bit
+    np.testing.assert_array_equal(mine["fitness"], mine["fitness_binary"])
+    zero = table.filter(pl.col("arm") == "zero")
+    assert not np.array_equal(mine["hand_path"], zero["hand_path"])  # the start matters
+    assert json.loads(zero["levers"][0]) == {"network_start": "zero", "touch_pay": "binary"}
+    again = screen(out, 2, arms[:1], robots=1, senses=("normal",), workers=2)
+    assert again.equals(mine)  # same result whatever the workers
+    with pytest.raises(ValueError, match="no snapshot of pre at generation 9"):
+        screen(out, 9, arms)
+
+
+def test_the_screen_command_refuses_a_bad_arm_name(run, tmp_path):
+    _, out = run
+    result = _cli("screen", out, "--generation", "2", "--arm", "a b", "--out",
+                  tmp_path / "s.parquet")
+    assert result.returncode == 2 and "--arm" in result.stderr, result.stderr
+    assert not (tmp_path / "s.parquet").exists()

@@ -1,0 +1,80 @@
+"""The levers study's page (reports.levers) is its rendering from the committed tables, and its
+rules are the pre-registered ones (docs/results/levers.md): the paper's pre-reacher per
+replication, and the screen's choice of the two further arms."""
+
+from __future__ import annotations
+
+import numpy as np
+import polars as pl
+import pytest
+
+from dart_reach.analysis.profile import (Criteria, more_than_reference, profiles,
+                                         share_interval)
+from reports import levers
+
+
+def test_the_committed_page_is_its_rendering():
+    assert levers.PAGE.read_text() == levers.page(), "run 'python -m reports.levers'"
+
+
+def test_the_pre_registration_is_kept_above_the_results():
+    text = levers.PAGE.read_text()
+    plan = text[: text.index(levers.MARK)]
+    for fixed in ("between 0.35 and 0.65", "at least 0.31 m", "below 0.05",
+                  "at least half of the trials", "at least 3 of its 6", "p < 0.05",
+                  "seed 2027", "50 generations x 6"):
+        assert fixed in plan
+
+
+def _trials(replication, reached, elbow, shoulder, trunk, hs, cv, babbling, no_ball):
+    rows = []
+    for k in range(20):
+        rows.append({"replication": replication, "senses": "normal", "reached": k < reached,
+                     "var_elbow": elbow, "var_shoulder": shoulder, "var_trunk": trunk,
+                     "hand_shoulder_mean": hs, "hand_shoulder_cv": cv, "hand_path": 5.0,
+                     "babbling": k < babbling, "fitness": 0.02})
+        rows.append(dict(rows[-1], senses="no-ball", babbling=k < no_ball))
+    return rows
+
+
+def test_the_paper_pre_reacher_needs_all_four_criteria():
+    paper = dict(reached=10, elbow=0.05, shoulder=0.2, trunk=0.1, hs=0.33, cv=0.02, babbling=0,
+                 no_ball=12)
+    one_off = [("reached", 15), ("elbow", 0.15), ("hs", 0.29), ("cv", 0.06), ("no_ball", 9)]
+    rows = _trials(0, **paper)
+    for r, (key, value) in enumerate(one_off, start=1):
+        rows += _trials(r, **dict(paper, **{key: value}))
+    prof = profiles(pl.DataFrame(rows))
+    assert prof["paper"].to_list() == [True, False, False, False, False, False]
+    assert prof.row(1, named=True)["is_reach"] is False  # 0.75 is outside 0.35-0.65
+    assert prof.row(5, named=True)["is_babbling"] is False
+    assert Criteria().reach_band == (0.35, 0.65)
+
+
+def test_share_intervals_and_the_reference_test_are_the_exact_ones():
+    assert share_interval(0, 6) == pytest.approx((0.0, 0.4593), abs=1e-4)
+    # 3 of 6 against 0 of 20: hypergeometric tail C(6,3) / C(26,3)
+    assert more_than_reference(3, 6, 0, 20) == pytest.approx(20 / 2600)
+    assert more_than_reference(2, 6, 0, 20) == pytest.approx(15 / 325)
+    assert more_than_reference(1, 6, 0, 20) > 0.05  # one arm's replication is not enough
+
+
+def test_the_screen_rule_picks_the_levers_that_pay_the_extended_arm():
+    rng = np.random.default_rng(0)
+    rows = []
+    extension = rng.uniform(0.2, 0.35, 20)
+    for arm in ("today", "start-zero", "self-collision"):
+        for robot, hs in enumerate(extension):
+            for k in range(3):
+                # today pays the flexed arm, self-collision the extended one, the touch pays
+                # and the start nothing in particular
+                faces = {"today": 0.4 - hs, "self-collision": hs, "start-zero": 0.3}[arm]
+                rows.append({"arm": arm, "senses": "normal", "replication": robot // 2,
+                             "rank": robot % 2, "trial": k, "hand_shoulder_mean": hs,
+                             "babbling": bool(k % 2), "fitness_faces": faces + 0.001 * k,
+                             "fitness_binary": 0.3 + 0.01 * rng.random(),
+                             "fitness_capped": hs + 0.01 * rng.random()})
+    choice, ref_arm, _ = levers.choose_arms(pl.DataFrame(rows))
+    assert ref_arm < -0.9
+    chosen = set(choice.filter(pl.col("chosen"))["candidate"])
+    assert chosen == {"self-collision", "capped"}
