@@ -34,7 +34,7 @@ GENERATION, SEED, PER_CONDITION = 250, 2026, 20
 CONDITIONS = ("normal", "no-ball")
 SAMPLE = f"recordings/{FULL}/babbling-sample.parquet"
 PLOTS = "docs/results/babbling-detector"
-LABELS = "reports/babbling_labels.csv"
+LABELS = f"recordings/{FULL}/babbling-labels.csv"
 #: Trials per plot sheet.
 PER_SHEET = 8
 
