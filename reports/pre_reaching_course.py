@@ -9,6 +9,7 @@ from __future__ import annotations
 import io
 from pathlib import Path
 
+import numpy as np
 import polars as pl
 
 from dart_reach.analysis import budgets, said, verdicts
@@ -16,6 +17,7 @@ from dart_reach.analysis import strategy_course as sc
 from dart_reach.analysis.figures import strategy_figure, training_by_strategy
 from dart_reach.analysis.strategies import BABBLING, STILL, STILL_SHARE, trained_trials
 from dart_reach.evolution import cost
+from dart_reach.evolution.ga import Scheme
 from dart_reach.evolution.rundir import RunDirectory
 from dart_reach.evolution.settings import SNAPSHOT_ROBOTS, snapshot_due
 from dart_reach.model.world import N_SECTORS, POINTS_PER_SECTOR
@@ -29,15 +31,12 @@ from .runs import FULL, JUDGED, TEN
 from .text import markdown_table, percent, training_text
 
 
-#: CPU-seconds of one post-evaluation trial of a snapshot robot (200 control steps) under
-#: normal senses and under the four other conditions, measured on snapshot 100 on the project's
-#: 2-core machine (AMD EPYC, 2.45 GHz), 2026-11-27: docs/results/templates/
-#: pre-reaching-course.md, "What it costs", says how.
-NORMAL_TRIAL_CPU_S, OTHER_TRIAL_CPU_S = 77.3 / 450, 1_420 / 9_000
-#: CPU-seconds of one trial of a judged snapshot's robot run again for Eq. 5's terms
-#: (``reports.stillness --generation 50``: 2,250 trials in 417.5 CPU-seconds, start included,
-#: from /proc/PID/stat, beside the training), same machine, 2026-11-27.
-TERMS_TRIAL_CPU_S = 417.5 / 2_250
+#: What one trial costs is taken from the run's own records (``trial_core_s``): a
+#: post-evaluation trial of a snapshot robot is the trial a training generation runs (the same
+#: 200 control steps in the same world), so it costs a replication-generation's core-seconds
+#: (``cost.core_seconds``: each generation's wall time on the session's workers) over the
+#: trials the generation ran (lifetimes x trials). No CPU time measured once on one machine:
+#: the run has moved between processors, and its records say what each session cost.
 #: The generation this round of the run ends at and the snapshots' spacing.
 ROUND_END, SNAPSHOT_EVERY = 250, 10
 #: Trials of one robot under one sensory condition (the systematic positions), and the
@@ -52,30 +51,44 @@ ALPHA, GROWTH_WINDOW = 0.05, 10
 LONG_WINDOW = 50
 
 
+def trial_core_s(run: RunDirectory, upto: int = ROUND_END) -> tuple[float, float, float]:
+    """Core-seconds of one pre-reaching trial of ``run`` (the lower quartile, median and
+    upper quartile over its generations to ``upto``): each generation's core-seconds a
+    replication (``cost.core_seconds``) over the trials it ran, lifetimes (twice the
+    population under the steady-state scheme) x trials per lifetime."""
+    ga = run.settings.ga
+    lifetimes = ga.population * (2 if ga.scheme is Scheme.STEADY_STATE else 1)
+    per = (cost.core_seconds(run).filter((pl.col("phase") == "pre")
+                                         & (pl.col("generation") <= upto))["core_s"]
+           .drop_nans().to_numpy() / (lifetimes * run.settings.trials))
+    low, median, high = np.quantile(per, [0.25, 0.5, 0.75])
+    return float(low), float(median), float(high)
+
+
 def cost_values(run: RunDirectory, generations: int) -> dict[str, str]:
     """What post-evaluating the snapshots to ``ROUND_END`` of a pre-reaching phase of
-    ``generations`` (``snapshot_due``) costs beside the training to it: ``snapshots``,
-    ``snapshots_core_h`` (every snapshot under normal senses), ``judged_core_h`` (the other
-    conditions at the judged generations), ``terms_core_h`` (their robots run again for Eq.
-    5's terms, ``reports.stillness``), ``pre_core_s`` (the run's median core-seconds a
-    pre-reaching replication-generation, ``cost.core_seconds``), ``pre_round_core_h`` (the
-    training to ``ROUND_END`` at that median) and ``evaluation_share`` (the three's
-    share of it)."""
+    ``generations`` (``snapshot_due``) costs beside the training to it, at the run's own
+    cost of a trial (``trial_core_s``: ``trial_core_s`` its median, ``trial_q1``, ``trial_q3``
+    its quartiles): ``snapshots``, ``snapshots_core_h`` (every snapshot under normal senses),
+    ``judged_core_h`` (the other conditions at the judged generations), ``terms_core_h`` (their
+    robots run again for Eq. 5's terms, ``reports.stillness``), ``pre_core_s`` (the run's
+    median core-seconds a pre-reaching replication-generation), ``pre_round_core_h`` (the
+    training to ``ROUND_END`` at that median) and ``evaluation_share`` (the three's share of
+    it)."""
     snapshots = sum(snapshot_due(g, generations, SNAPSHOT_EVERY)
                     for g in range(1, ROUND_END + 1))
     robots = SNAPSHOT_ROBOTS * run.settings.replications
-    normal = snapshots * robots * POSITIONS * NORMAL_TRIAL_CPU_S / 3600
-    judged = len(JUDGED) * OTHER_CONDITIONS * robots * POSITIONS * OTHER_TRIAL_CPU_S / 3600
-    terms = len(JUDGED) * robots * POSITIONS * TERMS_TRIAL_CPU_S / 3600
+    q1, trial, q3 = trial_core_s(run)
+    normal = snapshots * robots * POSITIONS * trial / 3600
+    judged = len(JUDGED) * OTHER_CONDITIONS * robots * POSITIONS * trial / 3600
+    terms = len(JUDGED) * robots * POSITIONS * trial / 3600
     median = float(cost.core_seconds(run).filter(pl.col("phase") == "pre")["core_s"]
                    .drop_nans().median())
     training = median * ROUND_END * run.settings.replications / 3600
-    return {"normal_trial_cpu_s": f"{NORMAL_TRIAL_CPU_S:.3f}",
-            "other_trial_cpu_s": f"{OTHER_TRIAL_CPU_S:.3f}", "snapshots": str(snapshots),
-            "snapshots_core_h": f"{normal:.1f}",
-            "judged_core_h": f"{judged:.1f}", "terms_trial_cpu_s": f"{TERMS_TRIAL_CPU_S:.3f}",
-            "terms_core_h": f"{terms:.1f}", "pre_core_s": f"{median:.0f}",
-            "pre_round_core_h": f"{training:.0f}",
+    return {"trial_core_s": f"{trial:.3f}", "trial_q1": f"{q1:.3f}", "trial_q3": f"{q3:.3f}",
+            "snapshots": str(snapshots), "snapshots_core_h": f"{normal:.1f}",
+            "judged_core_h": f"{judged:.1f}", "terms_core_h": f"{terms:.1f}",
+            "pre_core_s": f"{median:.0f}", "pre_round_core_h": f"{training:.0f}",
             "evaluation_share": percent((normal + judged + terms) / training)}
 
 

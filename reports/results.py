@@ -30,7 +30,7 @@ from dart_reach.model.scenes import scene_of
 from dart_reach.postevaluation import checks, results
 from dart_reach.studies import scene_study
 
-from . import cost, pre_reaching_course, stillness
+from . import babbling_detector, cost, pre_reaching_course, stillness
 from .runs import REPLICATIONS, TEN
 from .text import markdown_table, number, render, training_text
 
@@ -278,7 +278,8 @@ DOCS: dict[str, dict[str, Callable[[Path], dict[str, str]]]] = {
     "replication.md": {"": replication_values},
     "summary.md": {"": replication_values, "course.": pre_reaching_course.values},
     "stillness.md": {"": stillness_values},
-    "pre-reaching-course.md": {"": pre_reaching_course.values}}
+    "pre-reaching-course.md": {"": pre_reaching_course.values},
+    "babbling-detector.md": {"": babbling_detector.values}}
 
 
 #: Each figure of the results docs: its path under docs/results and the function of the

@@ -24,7 +24,8 @@ import numpy as np
 import polars as pl
 
 from . import stats, summaries, verdicts
-from .claims import ABOUT_HALF, CLAIMS, RATES, SENSES, SWIPES_UNGRASPED, Claim, Kind
+from .claims import (ABOUT_HALF, CLAIMS, RATES, SENSES, SWIPES_AFTER_MISS, SWIPES_AGAIN_UNITS,
+                     Claim, Kind)
 from .verdicts import ALPHA, NOT_RUN, VERDICTS, Outcome
 
 _ROBOT = ("notation", "run", "replication", "rank")
@@ -92,8 +93,9 @@ def robots(table: pl.DataFrame, senses: str = "normal") -> pl.DataFrame:
     the ball at least once, Fig. 7) and ``reach_entropy`` (``summaries.peripersonal_space``)."""
     table = _with_run(table).filter(pl.col("senses") == senses)
     if {"swipes", "grasped"} <= set(table.columns):
-        table = table.with_columns(pl.when(~pl.col("grasped")).then(pl.col("swipes"))
-                                   .otherwise(None).cast(pl.Float64).alias(SWIPES_UNGRASPED))
+        failed = ~pl.col("grasped") & (pl.col("swipes") >= 1)
+        table = table.with_columns(pl.when(failed).then(pl.col("swipes"))
+                                   .otherwise(None).cast(pl.Float64).alias(SWIPES_AFTER_MISS))
     present = [m for m in _MEASURES if m in table.columns]
     means = summaries.robot_means(table, present, by=_ROBOT)
     spread = (summaries.peripersonal_space(table, by=_ROBOT)
@@ -346,11 +348,33 @@ def _at_least(claim: Claim, data: _Data) -> dict:
         return _not_run(claim, f"no {claim.measure}")
     reps = replication_means(data.robots(claim.senses), claim.measure) \
         .filter((pl.col("notation") == claim.b) & pl.col(claim.measure).is_not_nan())
+    if claim.measure == SWIPES_AFTER_MISS:
+        return _swipes_again(claim, data, reps)
     if reps.height == 0:
         return _not_run(claim, f"no {claim.b} robots with a {claim.measure}")
     out = verdicts.at_least({claim.b: reps[claim.measure].to_numpy()}, claim.floor)
     return _row(claim, out, f"{claim.measure} {out.effect:.3g} (mean over replications)",
                 f"{reps.height} replications")
+
+
+def _swipes_again(claim: Claim, data: _Data, reps: pl.DataFrame) -> dict:
+    """F2 "when they don't grasp the ball they try again": conditional on a failed swipe, so
+    judged on the replications that have one; fewer than ``SWIPES_AGAIN_UNITS`` and it cannot
+    be tested at this n (underpowered), whatever the mean."""
+    trials = data.table.filter((pl.col("notation") == claim.b)
+                               & (pl.col("senses") == claim.senses))
+    if trials.height == 0 or "swipes" not in trials.columns:
+        return _not_run(claim, f"no {claim.b} trials with swipes")
+    failed = trials.filter(~pl.col("grasped") & (pl.col("swipes") >= 1)).height
+    counted = (f"{failed} of {trials.height} trials with a failed swipe, in {reps.height} "
+               "replications")
+    if reps.height < SWIPES_AGAIN_UNITS:
+        out = verdicts.Outcome(verdicts.UNDERPOWERED, note=(
+            f"cannot be tested at this n: {counted} (at least {SWIPES_AGAIN_UNITS} needed)"))
+        return _row(claim, out, f"{claim.measure}: {counted}", f"{reps.height} replications")
+    out = verdicts.at_least({claim.b: reps[claim.measure].to_numpy()}, claim.floor)
+    return _row(claim, out, f"{claim.measure} {out.effect:.3g} (mean over replications; "
+                            f"{counted})", f"{reps.height} replications")
 
 
 def _every_sector(claim: Claim, data: _Data) -> dict:

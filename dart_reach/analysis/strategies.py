@@ -20,6 +20,7 @@ from __future__ import annotations
 import polars as pl
 
 from . import stats
+from ..measures.kinematics import BABBLING_AMPLITUDE, MOVING_PATH
 
 #: A replication babbling in fewer than this share of its trials is still.
 STILL_SHARE = 0.05
@@ -61,6 +62,28 @@ def strategies(evaluation: pl.DataFrame, phase: str = "pre", senses: str = "norm
                  pl.col("babbling").cast(pl.Float64).mean().alias("babbling_share"))
             .with_columns(pl.when(pl.col("babbling_share") < still_share).then(pl.lit(STILL))
                           .otherwise(pl.lit(BABBLING)).alias("strategy"))
+            .sort(*by))
+
+
+#: The strategy by movement (``movement``): a replication moving in fewer than
+#: ``STILL_SHARE`` of its trials is still by movement.
+MOVES = "moves"
+
+
+def movement(evaluation: pl.DataFrame, phase: str = "pre", senses: str = "normal",
+             still_share: float = STILL_SHARE, by: tuple[str, ...] = ("replication",)
+             ) -> pl.DataFrame:
+    """The strategy by the movement's amount and size, beside ``strategies``'s by rhythm:
+    per replication (``by``), ``trials``, ``moving_share`` (the share of its trials under
+    ``senses`` whose hand path is at least ``MOVING_PATH`` m and amplitude at least
+    ``BABBLING_AMPLITUDE`` m, ``kinematics.is_moving``) and ``movement``: ``STILL`` below
+    ``still_share``, else ``MOVES``."""
+    moving = ((pl.col("hand_path") >= MOVING_PATH)
+              & (pl.col("hand_amplitude") >= BABBLING_AMPLITUDE)).fill_null(False)
+    return (trained_trials(evaluation, phase, senses).group_by(*by)
+            .agg(pl.len().alias("trials"), moving.cast(pl.Float64).mean().alias("moving_share"))
+            .with_columns(pl.when(pl.col("moving_share") < still_share).then(pl.lit(STILL))
+                          .otherwise(pl.lit(MOVES)).alias("movement"))
             .sort(*by))
 
 

@@ -11,7 +11,8 @@ fixed before any data was looked at and documented with its reason in docs/model
   ``straightness_onset``, ``movement_units`` (smoothness: speed peaks before the touch);
 - arm orienting (Table I, pre-reaching): ``approach``, ``heading``;
 - motor babbling (IV-A-1: "large quasi-periodic circular movements"): ``hand_periodicity``,
-  ``hand_amplitude``, ``is_babbling``.
+  ``hand_amplitude``, ``is_babbling``; beside rhythm, the movement's amount and size:
+  ``is_moving``.
 """
 
 from __future__ import annotations
@@ -41,6 +42,9 @@ BABBLING_MIN_HZ = 0.25
 #: ... and a movement at least this large (m, RMS of the detrended hand path: the radius of a
 #: circle; 5 cm, a circle wider than the 7 cm ball).
 BABBLING_AMPLITUDE = 0.05
+#: A trial is *moving* when the hand's path is at least this long (m: a mean speed of
+#: ``ONSET_SPEED`` over the 20 s trial) and its amplitude at least ``BABBLING_AMPLITUDE``.
+MOVING_PATH = 1.0
 #: RMS (m) of the detrended hand path below which the hand counts as at rest.
 REST_TOLERANCE = 1e-9
 
@@ -266,3 +270,10 @@ def is_babbling(frequency: float, share: float, amplitude: float) -> bool:
     hand at rest (NaN share) is not babbling."""
     return bool(share >= BABBLING_SHARE and frequency >= BABBLING_MIN_HZ
                 and amplitude >= BABBLING_AMPLITUDE)
+
+
+def is_moving(path: float, amplitude: float) -> bool:
+    """The hand moves in a trial (docs/model/measures.md, "Moving, beside rhythm"): its path
+    (m, ``path_length``) is at least ``MOVING_PATH`` and its amplitude (m,
+    ``hand_amplitude``) at least ``BABBLING_AMPLITUDE``, rhythm or not. NaN is not moving."""
+    return bool(path >= MOVING_PATH and amplitude >= BABBLING_AMPLITUDE)

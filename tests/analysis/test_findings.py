@@ -217,3 +217,39 @@ def test_holm_family_is_the_papers_claims_and_the_summary_counts_it():
         "V1 motor suppression at the start of gross"}
     with pytest.raises(ValueError, match="reading"):
         fd.reading(found, "robots")
+
+
+def _with_swipes(trials: pl.DataFrame, swipes_of) -> pl.DataFrame:
+    """``trials`` with ``swipes`` per trial from ``swipes_of(replication, rank, sector)``."""
+    return trials.with_columns(pl.struct("replication", "rank", "sector").map_elements(
+        lambda r: swipes_of(r["replication"], r["rank"], r["sector"]),
+        return_dtype=pl.Int64).alias("swipes"))
+
+
+def test_swipes_again_is_conditional_on_a_failed_swipe():
+    """Gross-reachers that almost never swipe cannot test "when they don't grasp the ball they
+    try again" (underpowered, the counts said), however low their swipes per ungrasped trial;
+    with failed swipes in every replication the at-least rule decides on those trials only."""
+    base = _trials({"gross": {"grasp": 0.0}, "pre": {}})
+    rare = fd.findings(_with_swipes(base, lambda rep, rank, sector: int(
+        rep < 2 and rank == 0 and sector == 0)))
+    row = _row(rare, "F2 swipes again")
+    assert row["verdict"] == vd.UNDERPOWERED
+    assert "cannot be tested at this n" in row["note"] and "in 2 replications" in row["note"]
+    again = fd.findings(_with_swipes(base, lambda rep, rank, sector: 3 if sector < 2 else 0))
+    assert _verdict(again, "F2 swipes again") == vd.INCONCLUSIVE  # 3 everywhere: no spread
+    varied = fd.findings(_with_swipes(base, lambda rep, rank, sector: (
+        (3 + (rep + rank) % 2) if sector < 2 else 0)))
+    assert _verdict(varied, "F2 swipes again") == vd.REPRODUCED
+    once = fd.findings(_with_swipes(base, lambda rep, rank, sector: (
+        1 + (sector == 0 and rank == 0 and rep % 2 == 0) if sector < 3 else 0)))
+    assert _verdict(once, "F2 swipes again") == vd.CONTRADICTED
+
+
+def test_smoothness_not_better_is_the_projects_reading():
+    """The paper never measures the robots' smoothness: T7's not-better row is the project's,
+    the infants' smoother reach the infants'; neither is in the headline."""
+    by_id = {c.id: c for c in CLAIMS}
+    assert by_id["T7 smoothness not better"].own
+    assert by_id["T7 smoother reach (infants)"].infants
+    assert not any(c.id.startswith("T7") for c in CLAIMS if not (c.own or c.infants))

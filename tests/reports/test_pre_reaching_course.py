@@ -4,8 +4,10 @@ fitness, what the snapshots cost, and the full-budget run's judged generations."
 
 from __future__ import annotations
 
+import json
 from pathlib import Path
 
+import numpy as np
 import polars as pl
 import pytest
 
@@ -69,22 +71,44 @@ def test_the_course_page_gives_the_growth_over_a_longer_window_once_it_is_traine
                for r in early["growth_table"].splitlines()[2:])
 
 
-def test_the_course_page_costs_the_snapshots_the_run_keeps():
-    """The snapshot rule the cost counts is the one the run followed: its committed snapshots
-    are those ``snapshot_due`` names, and to generation 250 they are 1, 2, 5 and every 10th."""
+def _trial_core_s_from_the_raw_records(directory: Path, upto: int) -> float:
+    """The median core-seconds of a pre-reaching trial, recomputed here with plain polars and
+    json from the run's raw records (not through ``cost``): a generation's wall time, on the
+    workers of the last session started before it, over 10 replications x 40 lifetimes x
+    18 trials."""
+    manifest = json.loads((directory / "manifest.json").read_text())
+    starts = [(s["generations_done"]["standard/pre"], s["workers"]) for s in manifest["sessions"]]
+    walls = (pl.read_parquet(directory / "generations.parquet")
+             .filter((pl.col("phase") == "pre") & (pl.col("generation") <= upto))
+             .group_by("generation").agg(pl.col("wall_s").first()).sort("generation"))
+    per = [wall * [w for done, w in starts if done < g][-1] / (10 * 40 * 18)
+           for g, wall in walls.iter_rows()]
+    return float(np.median(per))
+
+
+def test_the_course_page_costs_the_snapshots_from_the_runs_own_records():
+    """The snapshot rule the cost counts is the one the run followed (its committed snapshots
+    are those ``snapshot_due`` names: to generation 250, 1, 2, 5 and every 10th), and the cost
+    of a trial is the run's own, recomputed here from its raw records; the core-hours follow
+    from the counts of the committed snapshots, positions and conditions."""
     directory = ROOT / "recordings" / "standard-500x10"
     kept = sorted(int(p.stem.removeprefix("gen"))
                   for p in directory.glob("phases/pre-*/snapshots/gen*.npz"))
     assert kept == [g for g in range(1, kept[-1] + 1)
                     if snapshot_due(g, 500, course_page.SNAPSHOT_EVERY)]
     values = course_page.cost_values(RunDirectory.open(directory), 500)
-    assert values["snapshots"] == str(len([1, 2, 5, *range(10, 251, 10)]))
-    normal, judged = float(values["snapshots_core_h"]), float(values["judged_core_h"])
-    rates = course_page.OTHER_TRIAL_CPU_S / course_page.NORMAL_TRIAL_CPU_S
-    assert judged == pytest.approx(normal * 5 * 4 / 28 * rates, abs=0.1)
-    terms = float(values["terms_core_h"])  # the five judged snapshots' robots once more
-    assert terms == pytest.approx(
-        normal * 5 / 28 * course_page.TERMS_TRIAL_CPU_S / course_page.NORMAL_TRIAL_CPU_S, abs=0.1)
+    upto = [g for g in kept if g <= 250]
+    assert values["snapshots"] == str(len(upto)) == "28"
+    trial = _trial_core_s_from_the_raw_records(directory, 250)
+    assert float(values["trial_core_s"]) == pytest.approx(trial, abs=5e-4)
+    assert float(values["trial_q1"]) < trial < float(values["trial_q3"])
+    robots, positions = 5 * 10, 45  # the snapshot robots of 10 replications, 45 positions
+    assert float(values["snapshots_core_h"]) == pytest.approx(
+        len(upto) * robots * positions * trial / 3600, abs=0.1)
+    assert float(values["judged_core_h"]) == pytest.approx(  # 4 other conditions
+        len(JUDGED) * 4 * robots * positions * trial / 3600, abs=0.1)
+    assert float(values["terms_core_h"]) == pytest.approx(
+        len(JUDGED) * robots * positions * trial / 3600, abs=0.1)
 
 
 def test_the_makefile_evaluates_the_generations_judged():

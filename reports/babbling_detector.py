@@ -1,0 +1,166 @@
+"""docs/results/babbling-detector.md: the babbling detector (``measures.kinematics``)
+against paths labelled without its output (docs/model/measures.md, "Validating the
+detector"): the synthetic set (``measures.babbling_synthetic``), the 40 real trials labelled
+by eye (``babbling_sample``: ``SAMPLE``, ``LABELS``), and the strategy by movement beside the
+strategy by rhythm at the judged generations of ``FULL``. Rendered by ``reports.results``."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import polars as pl
+
+from dart_reach.analysis import strategies as st
+from dart_reach.measures import babbling_synthetic as synthetic
+from dart_reach.measures import kinematics as k
+from dart_reach.postevaluation.snapshots import load_development
+
+from .babbling_sample import CONDITIONS, GENERATION, LABELS, SAMPLE, SEED
+from .runs import FULL, JUDGED
+from .text import markdown_table
+
+#: Paths per synthetic family.
+PER_FAMILY = 200
+
+
+def detect(hand) -> dict:
+    """The detector's measures and verdicts on one (T, 3) hand path."""
+    frequency, share = k.hand_periodicity(hand)
+    amplitude, path = k.hand_amplitude(hand), k.path_length(hand)
+    return {"frequency": frequency, "share": share, "amplitude": amplitude, "path": path,
+            "babbling": k.is_babbling(frequency, share, amplitude),
+            "moving": k.is_moving(path, amplitude)}
+
+
+def synthetic_table(per_family: int = PER_FAMILY, seed: int = SEED) -> pl.DataFrame:
+    """Per synthetic family: its label, paths, how many the detector calls babbling and
+    which test failed where it missed (share, frequency, amplitude)."""
+    rows = []
+    for p in synthetic.labelled_set(per_family, seed):
+        d = detect(p.hand)
+        rows.append({"family": p.family, "label": p.babbling, "detected": d["babbling"],
+                     "low share": d["share"] < k.BABBLING_SHARE,
+                     "low frequency": d["frequency"] < k.BABBLING_MIN_HZ,
+                     "small": d["amplitude"] < k.BABBLING_AMPLITUDE})
+    frame = pl.DataFrame(rows)
+    missed = (pl.col("detected") != pl.col("label"))
+    return (frame.group_by("family", maintain_order=True)
+            .agg(pl.col("label").first().alias("babbling by construction"),
+                 pl.len().alias("paths"), pl.col("detected").sum().alias("called babbling"),
+                 (missed & pl.col("low share")).sum().alias("missed: share < 0.4"),
+                 (missed & pl.col("low frequency")).sum().alias("missed: below 0.25 Hz"),
+                 (missed & pl.col("small")).sum().alias("missed: amplitude < 0.05 m")))
+
+
+def real_table(root: Path) -> pl.DataFrame:
+    """One row per labelled real trial: its code, condition, replication, the labels and the
+    detector's measures and verdicts on its hand path."""
+    paths = pl.read_parquet(root / SAMPLE)
+    labels = pl.read_csv(root / LABELS)
+    rows = []
+    for code in sorted(paths["code"].unique()):
+        p = paths.filter(pl.col("code") == code)
+        first = p.row(0, named=True)
+        rows.append({"code": code, "senses": first["senses"],
+                     "replication": first["replication"],
+                     **{f"detector {key}": value for key, value in
+                        detect(p.select("x", "y", "z").to_numpy()).items()}})
+    return labels.join(pl.DataFrame(rows), on="code").with_columns(
+        pl.col("babbling", "moving", "unsure").cast(pl.Boolean))
+
+
+def agreement(table: pl.DataFrame, label: str, detected: str) -> dict[str, int]:
+    """Counts of a confusion table: true/false positives/negatives."""
+    lab, det = table[label], table[detected]
+    return {"tp": int((lab & det).sum()), "fn": int((lab & ~det).sum()),
+            "tn": int((~lab & ~det).sum()), "fp": int((~lab & det).sum())}
+
+
+def _rate(hit: int, total: int) -> str:
+    return f"{hit}/{total} ({hit / total:.0%})" if total else "–"
+
+
+def agreement_rows(real: pl.DataFrame) -> pl.DataFrame:
+    """Sensitivity and specificity of the detector (babbling) and of the moving rule
+    (moving) against the labels, per condition and together, with and without the trials
+    labelled unsure."""
+    rows = []
+    for measure, label, detected in (("babbling", "babbling", "detector babbling"),
+                                     ("moving", "moving", "detector moving")):
+        for name, part in (*((c, real.filter(pl.col("senses") == c)) for c in CONDITIONS),
+                           ("both", real), ("both, sure labels only",
+                                            real.filter(~pl.col("unsure")))):
+            c = agreement(part, label, detected)
+            rows.append({"rule": measure, "trials": name, "n": part.height,
+                         "sensitivity": _rate(c["tp"], c["tp"] + c["fn"]),
+                         "specificity": _rate(c["tn"], c["tn"] + c["fp"])})
+    return pl.DataFrame(rows)
+
+
+def movement_table(recordings: Path) -> pl.DataFrame:
+    """Per replication at each judged generation: babbling share and strategy by rhythm
+    (``strategies.strategies``) beside moving share and strategy by movement
+    (``strategies.movement``), normal senses."""
+    dev = load_development(recordings / FULL).filter(pl.col("generation").is_in(JUDGED))
+    by = ("generation", "replication")
+    table = st.strategies(dev, by=by).join(st.movement(dev, by=by), on=list(by))
+    return table.select("generation", "replication", "babbling_share", "strategy",
+                        "moving_share", "movement").sort(*by)
+
+
+def values(recordings: Path) -> dict[str, str]:
+    root = recordings.parent
+    syn = synthetic_table()
+    real = real_table(root)
+    moves = movement_table(recordings)
+    pos = syn.filter(pl.col("babbling by construction"))
+    neg = syn.filter(~pl.col("babbling by construction"))
+    labelled = real.filter(pl.col("babbling"))
+    missed = labelled.filter(~pl.col("detector babbling"))
+    last = moves.filter(pl.col("generation") == max(JUDGED))
+    rhythm_still = last.filter(pl.col("strategy") == st.STILL)
+    wide = moves.pivot("generation", index="replication", values="moving_share").sort(
+        "replication")
+    return {
+        "run": FULL, "generation": str(GENERATION), "seed": str(SEED),
+        "per_family": str(PER_FAMILY), "labels": LABELS, "sample": SAMPLE,
+        "synthetic_table": markdown_table(syn),
+        "synthetic_sensitivity": _rate(int(pos["called babbling"].sum()),
+                                       int(pos["paths"].sum())),
+        "synthetic_specificity": _rate(int((neg["paths"] - neg["called babbling"]).sum()),
+                                       int(neg["paths"].sum())),
+        "interrupted": _rate(int(pos.filter(pl.col("family").str.contains("interrupted"))
+                                 ["called babbling"].sum()),
+                             int(pos.filter(pl.col("family").str.contains("interrupted"))
+                                 ["paths"].sum())),
+        "uninterrupted": _rate(int(pos.filter(~pl.col("family").str.contains("interrupted"))
+                                   ["called babbling"].sum()),
+                               int(pos.filter(~pl.col("family").str.contains("interrupted"))
+                                   ["paths"].sum())),
+        "wander": _rate(int(neg.filter(pl.col("family") == "wander")["called babbling"].sum()),
+                        int(neg.filter(pl.col("family") == "wander")["paths"].sum())),
+        "other_still": str(int(neg.filter(pl.col("family") != "wander")["called babbling"]
+                               .sum())),
+        "agreement_table": markdown_table(agreement_rows(real)),
+        "labelled_babbling": str(labelled.height), "missed": str(missed.height),
+        "missed_normal": str(missed.filter(pl.col("senses") == "normal").height),
+        "missed_codes": ", ".join(missed["code"].to_list()) or "none",
+        "unsure": str(int(real["unsure"].sum())),
+        "real_table": markdown_table(real.select(
+            "code", "senses", "replication", "babbling", "unsure", "detector babbling",
+            pl.col("detector frequency").alias("Hz"), pl.col("detector share").alias("share"),
+            pl.col("detector amplitude").alias("amplitude (m)"),
+            pl.col("detector path").alias("path (m)"), "moving", "detector moving")),
+        "moving_wide": markdown_table(wide.rename({str(g): f"moving share at {g}"
+                                                   for g in JUDGED})),
+        "last_table": markdown_table(last.drop("generation")),
+        "last": str(max(JUDGED)),
+        "rhythm_still": ", ".join(map(str, rhythm_still["replication"].to_list())) or "none",
+        "rhythm_still_moving": ", ".join(f"{r} ({m:.0%})" for r, m in zip(
+            rhythm_still["replication"], rhythm_still["moving_share"])) or "none",
+        "still_by_movement": "; ".join(
+            f"at {g}: replication{'s' if len(r) > 1 else ''} {', '.join(map(str, r))}"
+            for g, r in moves.filter(pl.col("movement") == st.STILL)
+            .group_by("generation", maintain_order=True).agg("replication").iter_rows())
+        or "none",
+    }

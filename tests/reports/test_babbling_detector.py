@@ -1,0 +1,54 @@
+"""The babbling detector's page (``reports.babbling_detector``): its real trials are the
+committed ones (the sample run again reproduces each trial's committed hand path and
+babbling), every trial drawn is labelled, and the agreement it states is recomputed here
+from the labels and the committed trials with plain polars."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+import polars as pl
+
+from dart_reach.postevaluation.snapshots import load_development
+from reports import babbling_detector as page
+from reports import babbling_sample as sample
+from reports.runs import FULL
+
+ROOT = Path(__file__).resolve().parents[2]
+
+
+def _committed() -> pl.DataFrame:
+    """Each sampled trial's committed row (snapshot 250) beside its label."""
+    paths = pl.read_parquet(ROOT / sample.SAMPLE)
+    keys = paths.group_by("code").agg(pl.col("senses", "replication", "rank", "trial").first())
+    dev = load_development(ROOT / "recordings" / FULL, senses=None).filter(
+        pl.col("generation") == sample.GENERATION)
+    return (keys.join(dev, on=["senses", "replication", "rank", "trial"])
+            .join(pl.read_csv(ROOT / sample.LABELS), on="code", suffix="_label"))
+
+
+def test_every_drawn_trial_is_labelled_and_is_the_committed_trial():
+    paths = pl.read_parquet(ROOT / sample.SAMPLE)
+    rows = _committed()
+    assert rows.height == 2 * sample.PER_CONDITION == paths["code"].n_unique()
+    assert sorted(rows["senses"].unique()) == sorted(sample.CONDITIONS)
+    for code, committed in rows.select("code", "hand_path").iter_rows():
+        hand = paths.filter(pl.col("code") == code).select("x", "y", "z").to_numpy()
+        length = float(np.linalg.norm(np.diff(hand, axis=0), axis=1).sum())
+        assert abs(length - committed) < 1e-6 * max(1.0, committed), code
+
+
+def test_the_stated_agreement_is_the_labels_against_the_committed_babbling():
+    rows = _committed().with_columns(pl.col("babbling_label").cast(pl.Boolean))
+    table = page.agreement_rows(page.real_table(ROOT))
+    for senses in (*sample.CONDITIONS, "both"):
+        part = rows if senses == "both" else rows.filter(pl.col("senses") == senses)
+        labelled = part.filter(pl.col("babbling_label"))
+        found = int(labelled["babbling"].sum())
+        still = part.filter(~pl.col("babbling_label"))
+        correct = int((~still["babbling"]).sum())
+        row = table.filter((pl.col("rule") == "babbling") & (pl.col("trials") == senses)).row(
+            0, named=True)
+        assert row["sensitivity"].startswith(f"{found}/{labelled.height} ")
+        assert row["specificity"].startswith(f"{correct}/{still.height} ")
