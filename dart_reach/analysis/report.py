@@ -1,10 +1,11 @@
 """The replication report (``dart-reach report RUN [RUN ...]``): one self-contained HTML file.
 
-What a reviewer of a replication wants to read, in this order: the findings table (every claim
-of section IV against the data, ``findings``), provenance (command, conditions, budgets,
-seeds, revision, versions, machine, physics step, wall time), training (curves and the
-numbers at the start and end of each phase), the measures of Figs. 5-6 beside the random
-baseline, the figures (5-10, drawn by ``figures`` as the notebooks draw them) and the
+What a reviewer of a replication wants to read, in this order: an answer per phenomenon of the
+paper (``answers``), the claims by verdict and their forest (``summary_html``), the findings
+table (every claim of section IV against the data, ``findings``), provenance (command,
+conditions, budgets, seeds, revision, versions, machine, physics step, wall time), training
+(curves and the numbers at the start and end of each phase), the measures of Figs. 5-6 beside
+the random baseline, the figures (5-10, drawn by ``figures`` as the notebooks draw them) and the
 statistics behind them. Figures are matplotlib PNGs embedded as data URIs, tables plain HTML,
 the page a ``string.Template`` (``templates/report.html``): it opens offline in any browser.
 
