@@ -22,6 +22,7 @@ from __future__ import annotations
 
 import html
 import math
+import os
 from collections.abc import Sequence
 from dataclasses import dataclass
 from pathlib import Path
@@ -169,21 +170,22 @@ def why(rows: pl.DataFrame, said: str) -> str:
 
 def answers(by_budget: pl.DataFrame, phenomena: Sequence[Phenomenon] = PHENOMENA
             ) -> pl.DataFrame:
-    """One row per budget (``budgets.budgets``, in order) and phenomenon: budget (its
-    ``label``), phenomenon, section, claims (how many of its claims the frame has), the count
-    of each verdict, answer (``ANSWERS``) and why. ``by_budget``: the frame of
-    ``budgets.findings_by_budget``; only the paper's claims of its robots count."""
+    """One row per phenomenon and budget (phenomena in order, then ``budgets.budgets``):
+    budget (its ``label``), phenomenon, section, claims (how many of its claims the frame
+    has), the count of each verdict, answer (``ANSWERS``) and why. ``by_budget``: the frame
+    of ``budgets.findings_by_budget``; only the paper's claims of its robots count."""
     head = findings.reading(by_budget)
+    blocks = [(b, head.filter((pl.col("scene") == b.scene)
+                              & (pl.col("generations_per_phase") == b.generations_per_phase)
+                              & (pl.col("replications") == b.replications)))
+              for b in budgets.budgets(by_budget)]
     out = []
-    for b in budgets.budgets(by_budget):
-        block = head.filter((pl.col("scene") == b.scene)
-                            & (pl.col("generations_per_phase") == b.generations_per_phase)
-                            & (pl.col("replications") == b.replications))
-        for p in phenomena:
+    for p in phenomena:
+        order = {c: i for i, c in enumerate(p.claims)}
+        for b, block in blocks:
             rows = (block.filter(pl.col("claim").is_in(list(p.claims)))
-                    .with_columns(pl.col("claim").replace_strict(
-                        {c: i for i, c in enumerate(p.claims)}, return_dtype=pl.Int64)
-                        .alias("_order")).sort("_order").drop("_order"))
+                    .with_columns(pl.col("claim").replace_strict(order, return_dtype=pl.Int64)
+                                  .alias("_order")).sort("_order").drop("_order"))
             if rows.height == 0:
                 continue
             said = answer(rows["verdict"].to_list())
@@ -281,7 +283,7 @@ def _too_small_html(by_budget: pl.DataFrame, run_dirs: Sequence) -> str:
                  f"({ref.generations_per_phase} generations per phase, {ref.replications} "
                  f"replications) can: its saved findings decide {ref.decided} of its "
                  f"{ref.claims} claims; <code>dart-reach report "
-                 f"{html.escape(str(ref.path))}</code> writes its report.")
+                 f"{html.escape(os.path.relpath(ref.path))}</code> writes its report.")
     return text + "</p>"
 
 
@@ -309,7 +311,8 @@ def answers_html(by_budget: pl.DataFrame, run_dirs: Sequence = ()) -> str:
               "reproduced</i> when some are contradicted and none reproduced or all are "
               "inconclusive, <i>not yet testable at this budget</i> when none is decided and "
               "some are underpowered or not run. <i>Why</i>: the lead claim's effect [95 % "
-              "CI] (θ: the chance that a replication of the later group beats one of the "
-              "earlier, 0.5 for none), or the sizes that could not decide.</p>"
+              "CI] (θ: the chance that a replication of the claim's group b is higher than one "
+              "of its group a, 0.5 for none; the forest's caption gives every scale), or the "
+              "sizes that could not decide.</p>"
             + f"<div class='scroll'><table class='answers'><thead>{head}</thead>"
               f"<tbody>{''.join(rows)}</tbody></table></div></div>")
