@@ -201,12 +201,12 @@ def answers(by_budget: pl.DataFrame, phenomena: Sequence[Phenomenon] = PHENOMENA
 
 def _largest(by_budget: pl.DataFrame) -> pl.DataFrame:
     """The paper's claims of its robots at the frame's largest budget (generations per phase,
-    then replications)."""
+    then replications; one scene)."""
     head = findings.reading(by_budget)
-    top = head.select("generations_per_phase", "replications").unique().sort(
-        "generations_per_phase", "replications").row(-1)
+    top = head.select("generations_per_phase", "replications", "scene").unique().sort(
+        "generations_per_phase", "replications", "scene").row(-1)
     return head.filter((pl.col("generations_per_phase") == top[0])
-                       & (pl.col("replications") == top[1]))
+                       & (pl.col("replications") == top[1]) & (pl.col("scene") == top[2]))
 
 
 def decided(by_budget: pl.DataFrame) -> tuple[int, int, int]:
@@ -270,13 +270,15 @@ def _too_small_html(by_budget: pl.DataFrame, run_dirs: Sequence) -> str:
     yes, under, run = decided(by_budget)
     top = _largest(by_budget).row(0, named=True)
     reps, gens = top["replications"], top["generations_per_phase"]
-    text = (f"<p class='too-small'><b>This run is too small to test the paper.</b> At "
+    these = "These runs are" if len(run_dirs) > 1 else "This run is"
+    need = (f": a comparison of two groups needs at least {FEWEST_DECIDING} replications a "
+            "group before any data could decide it (the paper: 10)" if reps < FEWEST_DECIDING
+            else "")
+    text = (f"<p class='too-small'><b>{these} too small to test the paper.</b> At "
             f"{gens} generations per phase ({gens / PAPER_GENERATIONS:.0%} of the paper's "
-            f"{PAPER_GENERATIONS}) and {reps} replications, {yes} of its {run} claims that "
-            f"were run are decided and {under} are underpowered: a comparison of two groups "
-            f"needs at least {FEWEST_DECIDING} replications a group before any data could "
-            "decide it (the paper: 10). The answers below say what this run can and cannot "
-            "show, not whether the paper holds.")
+            f"{PAPER_GENERATIONS}) and {reps} replications, {yes} of the {run} claims that "
+            f"were run are decided and {under} are underpowered{need}. The answers below say "
+            "what can and cannot be shown at this budget, not whether the paper holds.")
     ref = reference_run(run_dirs, least=yes + 1)
     if ref is not None:
         text += (f" The run <code>{html.escape(str(ref.path.name))}</code> beside it "

@@ -96,6 +96,10 @@ def test_a_run_with_nothing_decided_is_too_small_and_names_the_run_beside_it_tha
     assert len(cells) == len(answers.PHENOMENA)
     assert all(c.startswith("untestable'>") for c in cells)
     assert "at least 6 replications a group" in text
+    # ten replications that decide nothing: too small, but not for want of replications
+    ten = answers.answers_html(_frame(lambda c: verdicts.INCONCLUSIVE, 3, 10), [runs / "demo"])
+    assert "too small to test the paper" in ten and "replications a group" not in ten
+    assert "<code>big</code>" in ten
 
 
 def test_a_run_that_decides_gets_answers_with_the_lead_claims_effect():
