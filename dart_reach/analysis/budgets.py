@@ -251,7 +251,8 @@ def toward_paper(by_budget: pl.DataFrame) -> pl.DataFrame:
     claim's effect:
 
     - directional, never: ``sign`` x (theta - 0.5) (0: no difference);
-    - change (paired), within: ``sign`` x effect (0: no difference);
+    - change (paired), within, and a development claim of one phase at two moments
+      (``Claim.effect_kind``): ``sign`` x effect (0: no difference);
     - at least: the mean above the claim's floor;
     - not better: 0.65 - theta(better) (0: the margin, above it: not better);
     - no difference: 0.15 - |theta - 0.5| (``verdicts.EQUIVALENCE_MARGIN``; 0: the margin,
@@ -263,7 +264,8 @@ def toward_paper(by_budget: pl.DataFrame) -> pl.DataFrame:
 
     An interval maps to its image (e.g. theta's interval [0.45, 0.6] to [0.05, 0.15])."""
     floors = {c.id: c.floor for c in CLAIMS}
-    rows = [_toward(k, s, e, lo, hi, floors.get(c, math.nan))
+    kinds = {c.id: c.effect_kind.value for c in CLAIMS}  # a paired development claim: a change
+    rows = [_toward(kinds.get(c, k), s, e, lo, hi, floors.get(c, math.nan))
             for c, k, s, e, lo, hi in by_budget.select(
                 "claim", "kind", "sign", pl.col("effect").fill_null(math.nan),
                 pl.col("effect_low").fill_null(math.nan),

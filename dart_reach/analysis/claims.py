@@ -91,6 +91,16 @@ class Claim:
     infants: bool = False
     floor: float = float("nan")
 
+    @property
+    def effect_kind(self) -> Kind:
+        """The kind whose effect the claim's findings row carries: a development claim of
+        one phase at two moments is judged on the same replications, paired (a change, not
+        theta), whatever its ``kind``."""
+        if (self.source == "development" and self.kind is Kind.DIRECTIONAL
+                and self.a.split("@")[0] == self.b.split("@")[0]):
+            return Kind.CHANGE_PAIRED
+        return self.kind
+
 
 _K = Kind
 

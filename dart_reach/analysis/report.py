@@ -1,10 +1,11 @@
 """The replication report (``dart-reach report RUN [RUN ...]``): one self-contained HTML file.
 
-What a reviewer of a replication wants to read, in this order: the findings table (every claim
-of section IV against the data, ``findings``), provenance (command, conditions, budgets,
-seeds, revision, versions, machine, physics step, wall time), training (curves and the
-numbers at the start and end of each phase), the measures of Figs. 5-6 beside the random
-baseline, the figures (5-10, drawn by ``figures`` as the notebooks draw them) and the
+What a reviewer of a replication wants to read, in this order: an answer per phenomenon of the
+paper (``answers``), the claims by verdict and their forest (``summary_html``), the findings
+table (every claim of section IV against the data, ``findings``), provenance (command,
+conditions, budgets, seeds, revision, versions, machine, physics step, wall time), training
+(curves and the numbers at the start and end of each phase), the measures of Figs. 5-6 beside
+the random baseline, the figures (5-10, drawn by ``figures`` as the notebooks draw them) and the
 statistics behind them. Figures are matplotlib PNGs embedded as data URIs, tables plain HTML,
 the page a ``string.Template`` (``templates/report.html``): it opens offline in any browser.
 
@@ -32,7 +33,7 @@ from string import Template
 
 import polars as pl
 
-from . import budgets, counts, figures, findings, summaries, verdicts
+from . import answers, budgets, counts, figures, findings, summaries, verdicts
 from ..errors import UsageError
 from ..postevaluation import results
 from ..postevaluation import snapshots as development
@@ -106,8 +107,8 @@ def table_html(df: pl.DataFrame, css: str = "", group: str | None = None,
             cells.append(f'<td class="{css_}">{_cell(row[c])}</td>' if css_
                          else f"<td>{_cell(row[c])}</td>")
         rows.append(f"<tr>{''.join(cells)}</tr>")
-    return (f'<table class="{css}"><thead><tr>{head}</tr></thead>'
-            f'<tbody>{"".join(rows)}</tbody></table>')
+    return (f'<div class="scroll"><table class="{css}"><thead><tr>{head}</tr></thead>'
+            f'<tbody>{"".join(rows)}</tbody></table></div>')
 
 
 def _effect(r: dict) -> str:
@@ -135,8 +136,8 @@ def _findings_html(found: pl.DataFrame) -> str:
             f'<td>{_effect(r)}</td><td>{_cell(r["p"])}</td><td>{_cell(r["p_holm"])}</td>'
             f'<td>{met}</td><td class="verdict">{html.escape(r["verdict"])}{note}</td>'
             f'<td>{html.escape(r["verdict_robots"] or "–")}</td></tr>')
-    return (f'<table class="findings"><thead>{head}</thead><tbody>{"".join(rows)}</tbody>'
-            "</table>")
+    return (f'<div class="scroll"><table class="findings"><thead>{head}</thead><tbody>'
+            f'{"".join(rows)}</tbody></table></div>')
 
 
 def budget_text(run_dirs: Sequence[Path], table: pl.DataFrame | None) -> str:
@@ -326,13 +327,9 @@ def summary_html(by_budget: pl.DataFrame) -> str:
             + "<details><summary>The same by section of the paper</summary>"
             + table_html(section_counts(by_budget), "counts", cell_class=verdict_cell)
             + "</details>"
-            + _try(figures.forest_figure, by_budget)
-            + "<p>Every claim's effect with its replication-level interval, on a scale where "
-              "the paper's direction is right, grouped by section of the paper; each row is "
-              "scaled to its own largest end, so rows in different units share the axis. A "
-              "claim without a bounded interval (a test of several groups, an underpowered "
-              "rule) has its marker in the column <i>no interval</i>; one not run at a "
-              "budget has no marker there.</p>"
+            + _try(figures.forest_figure, by_budget) + figures.forest_caption(by_budget)
+            + "<details><summary>Each row's effect, in its own units, and its 1 on the "
+              "axis</summary>" + table_html(figures.scale_table(by_budget)) + "</details>"
             + ("" if never.is_empty() else
                f"<details><summary>{never.height} claims not run at any budget (left out of "
                "the figure)</summary>" + table_html(never) + "</details>")
@@ -459,7 +456,8 @@ def build(run_dirs: Sequence, out=None, findings_out=None) -> Path:
               + ", ".join(html.escape(str(d)) for d in missing) + ". The findings and figures "
               "need the post-evaluation: run <code>dart-reach evaluate RUN --sensors all "
               "--baseline 20</code> first.</p>")
-    sections = [_section("Summary", notice + summary_html(by_budget), "summary"),
+    sections = [_section("The answers", answers.answers_html(by_budget, run_dirs), "answers"),
+                _section("Summary", notice + summary_html(by_budget), "summary"),
                 _section("Findings of section IV", _findings_body(blocks, by_budget)
                          + "<p>Verdicts are computed from the data when this report is built "
                            "(<code>dart_reach.findings</code>, <code>dart_reach.verdicts</code>; "

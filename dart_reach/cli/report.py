@@ -10,8 +10,9 @@ from .arguments import command
 
 
 def register_report(subparsers) -> None:
-    p = command(subparsers, "report", "one self-contained HTML file: the paper's findings "
-                                      "tested against runs, provenance, training, Figs. 5-10")
+    p = command(subparsers, "report", "one self-contained HTML file: an answer per phenomenon "
+                                      "of the paper, its findings tested against runs, "
+                                      "provenance, training, Figs. 5-10")
     p.epilog = ("The runs are only read: nothing is written into them. "
                 "Trials that Figs. 6 and 8 draw and that have no "
                 "recording (committed results hold none) are run again and recorded beside "

@@ -18,7 +18,8 @@ import polars as pl
 from polars.testing import assert_frame_equal
 import pytest
 
-from dart_reach.analysis import budgets, counts, figures, findings, report, tables, verdicts
+from dart_reach.analysis import (answers, budgets, counts, figures, findings, report, tables,
+                                  verdicts)
 from dart_reach.analysis.claims import CLAIMS
 from dart_reach.evolution.conditions import load_condition, scaled
 from dart_reach.postevaluation.systematic import SENSES, evaluate_run
@@ -78,6 +79,27 @@ def test_the_report_holds_every_section_figure_and_claim(tiny_run, tmp_path):
     # one budget: its findings as ever, no comparison of budgets
     assert "findings budgets" not in text and "as the budget grows" not in text
     assert html.escape(report.BUDGET_FIGURE_NOTE) not in text
+
+
+def test_the_report_opens_on_its_answers_and_reads_on_a_phone(tiny_run, tmp_path):
+    """A run of 2 replications decides nothing: the first section says so, every phenomenon
+    "not yet testable"; the forest's caption says what its scale is; the page has a viewport
+    and every table scrolls in its own box instead of widening the page."""
+    text = report.build([tiny_run], tmp_path / "r.html").read_text()
+    assert '<meta name="viewport" content="width=device-width, initial-scale=1">' in text
+    sections = re.findall(r'<section id="([^"]+)">', text)
+    assert sections[:2] == ["answers", "summary"]
+    first = text[text.index('<section id="answers">'):text.index('<section id="summary">')]
+    assert "class='answers too-small'" in first and "too small to test the paper" in first
+    cells = re.findall(r"<td class='(\w+)'>([^<]+)</td>", first)
+    assert len(cells) == len(answers.PHENOMENA)
+    assert set(cells) == {("untestable", answers.NOT_TESTABLE)}
+    summary = text[text.index('<section id="summary">'):text.index('<section id="findings">')]
+    assert "<b>The scale</b>" in summary and "divided by the largest" in summary
+    assert "Labels that read against the axis" in summary
+    assert "better means a lower speed" in summary  # F3 speed not better, drawn at this run
+    assert text.count("<table") == text.count('<div class="scroll"><table') \
+        + text.count("<div class='scroll'><table") > 10
 
 
 def test_cli_writes_the_report_and_never_overwrites_a_foreign_file(tiny_run, tmp_path):

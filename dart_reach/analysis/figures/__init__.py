@@ -51,7 +51,7 @@ from __future__ import annotations
 from .budget import MOVEMENT_COLOURS, budget_figure
 from .conditions import BOX_MIN, fig10_conditions
 from .development import STRATEGY_PANELS, development_figure, strategy_figure
-from .forest import VERDICT_COLOURS, forest_figure
+from .forest import VERDICT_COLOURS, forest_caption, forest_figure, scale_table
 from .performance import (BEHAVIOUR_MEASURES, FIG5_MEASURES, fig5_performance,
                           fig9_sensory_deprivation, table1_behaviours)
 from .space import (BABBLING_MEASURES, FIG6_MEASURES, FIG8_TRIAL, SECTOR_CENTRE_TRIALS, VIEWS,
@@ -65,7 +65,7 @@ __all__ = ["training_curves", "training_by_strategy", "TRAINING_PANELS", "fig5_p
            "fig7_sector_maps", "fig7_reach_regression", "fig8_trajectories", "fig8_babbling",
            "fig9_sensory_deprivation", "table1_behaviours", "fig10_conditions",
            "development_figure", "strategy_figure", "STRATEGY_PANELS", "budget_figure",
-           "forest_figure", "VERDICT_COLOURS",
+           "forest_figure", "forest_caption", "scale_table", "VERDICT_COLOURS",
            "SENSES_COLOURS", "FIG5_MEASURES", "FIG6_MEASURES", "BABBLING_MEASURES",
            "BEHAVIOUR_MEASURES", "SECTOR_CENTRE_TRIALS", "FIG8_TRIAL", "VIEWS", "BOX_MIN",
            "MOVEMENT_COLOURS"]

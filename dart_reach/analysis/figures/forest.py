@@ -4,6 +4,7 @@ per budget (the report's first screen)."""
 
 from __future__ import annotations
 
+import html
 import math
 
 import numpy as np
@@ -11,7 +12,7 @@ import polars as pl
 from matplotlib.figure import Figure
 from matplotlib.lines import Line2D
 
-from .. import budgets, findings, verdicts
+from .. import budgets, findings, scales, verdicts
 from ..counts import never_run, section_part
 
 #: Colours of the verdicts (as the report's table).
@@ -31,6 +32,23 @@ def _bounded(*values) -> bool:
     return all(v is not None and math.isfinite(v) for v in values)
 
 
+def _drawn(by_budget: pl.DataFrame, own: bool) -> pl.DataFrame:
+    """The rows the forest draws: ``who``'s claims on the ``toward_paper`` scale, with their
+    ``part`` of the paper, the claims no budget ran left out."""
+    who = findings.OWN if own else findings.ROBOTS
+    scored = findings.reading(budgets.toward_paper(by_budget), who)
+    scored = scored.filter(~pl.col("claim").is_in(never_run(by_budget, who)["claim"].implode()))
+    return scored.with_columns(section_part().alias("part"))
+
+
+def row_scale(toward: float, low: float, high: float) -> float:
+    """What a row's 1 on the forest's axis is, in the units of its ``toward_paper`` scale:
+    the largest magnitude of its effect and interval ends (NaN: no bounded interval)."""
+    if not _bounded(toward, low, high):
+        return math.nan
+    return max(abs(toward), abs(low), abs(high)) or 1.0
+
+
 def forest_figure(by_budget: pl.DataFrame, own: bool = False) -> Figure:
     """One row per claim of ``by_budget`` (``budgets.findings_by_budget``; the paper's claims,
     or with ``own`` the project's), in one panel per section of the paper
@@ -42,10 +60,7 @@ def forest_figure(by_budget: pl.DataFrame, own: bool = False) -> Figure:
     interval at a budget (Kendall's W, an underpowered rule) gets its marker in the column
     "no interval" on the right; a claim no budget ran (``counts.never_run``) is left out (the
     report lists it under the figure), one not run at some budget has no marker there."""
-    who = findings.OWN if own else findings.ROBOTS
-    scored = findings.reading(budgets.toward_paper(by_budget), who)
-    scored = scored.filter(~pl.col("claim").is_in(never_run(by_budget, who)["claim"].implode()))
-    scored = scored.with_columns(section_part().alias("part"))
+    scored = _drawn(by_budget, own)
     parts = scored["part"].unique(maintain_order=True).to_list()
     claims = {p: scored.filter(pl.col("part") == p)["claim"].unique(maintain_order=True)
               .to_list() for p in parts}
@@ -69,7 +84,7 @@ def forest_figure(by_budget: pl.DataFrame, own: bool = False) -> Figure:
             colour = VERDICT_COLOURS.get(r["verdict"], "0.6")
             t, lo, hi = r["toward"], r["toward_low"], r["toward_high"]
             if _bounded(t, lo, hi):
-                scale = max(abs(t), abs(lo), abs(hi)) or 1.0
+                scale = row_scale(t, lo, hi)
                 ax.plot([lo / scale, hi / scale], [y, y], color=colour, linewidth=1.4)
                 x = t / scale
             else:
@@ -99,3 +114,57 @@ def forest_figure(by_budget: pl.DataFrame, own: bool = False) -> Figure:
     fig.legend(handles=handles, fontsize=LABEL_PT, loc="outside upper center",
                ncol=min(len(handles), 4), frameon=False)
     return fig
+
+
+def scale_table(by_budget: pl.DataFrame, own: bool = False) -> pl.DataFrame:
+    """Per row of the forest (a claim at a budget that was run): its ``scale`` (the kind whose
+    effect it carries, ``scales.scale_of``, explained in ``forest_caption``), its ``effect
+    [CI]`` in that scale's units, what the forest draws of it before scaling (``drawn [CI]``,
+    ``budgets.toward_paper``) and ``1 on the axis`` (``row_scale``, in the drawn units; "–":
+    no interval, the marker in the column "no interval")."""
+    scored = _drawn(by_budget, own).filter(pl.col("verdict") != verdicts.NOT_RUN)
+    names = {v: k for k, v in scales.SCALES.items()}
+    rows = []
+    for r in scored.iter_rows(named=True):
+        s = scales.scale_of(r["claim"], r["kind"])
+        values = [math.nan if r[c] is None else r[c] for c in
+                  ("effect", "effect_low", "effect_high", "toward", "toward_low", "toward_high")]
+        rows.append({"claim": r["claim"], "budget": f"{r['generations_per_phase']} gen/phase",
+                     "scale": names[s],
+                     "effect [CI]": f"{s.symbol} {budgets.effect_text(*values[:3])}",
+                     "drawn [CI]": budgets.effect_text(*values[3:]),
+                     "1 on the axis": budgets.number_text(row_scale(*values[3:]))})
+    return pl.DataFrame(rows, schema=["claim", "budget", "scale", "effect [CI]", "drawn [CI]",
+                                      "1 on the axis"])
+
+
+def forest_caption(by_budget: pl.DataFrame, own: bool = False) -> str:
+    """The forest's caption, from the claims it draws: the scale of each kind of claim drawn
+    (its effect, its units, what 0 and the right side are), what each label that reads
+    against the axis means (``scales.inverted``), and where each row's units are (HTML; the
+    per-row table is ``scale_table``)."""
+    scored = _drawn(by_budget, own).filter(pl.col("verdict") != verdicts.NOT_RUN)
+    claims = scored["claim"].unique(maintain_order=True).to_list()
+    kinds = list(dict.fromkeys(scales.scale_of(c, k) for c, k in scored.select(
+        "claim", "kind").iter_rows()))
+    flipped = [(c, text) for c in claims if c in scales.CLAIM_IDS and (text := scales.inverted(c))]
+    esc = html.escape
+    parts = ["<p>Every claim's effect with its 95 % interval, the replication as the unit, "
+             "grouped by section of the paper. <b>The scale</b>: each row is drawn on the "
+             "scale where the paper's direction is right, then divided by the largest of "
+             "|effect| and |interval ends| in that row, so the axis runs from -1 to 1 in every "
+             "row and rows in different units share it: the position of 0 and the side of "
+             "the interval say where the claim stands, the length of a row says nothing "
+             "across rows (each row's own units and its 1 on the axis are in the table "
+             "below). A claim without a bounded interval is in the column "
+             "<i>no interval</i>; one not run at a budget has no marker there.</p>"
+             "<ul class='scales'>"]
+    names = {v: k for k, v in scales.SCALES.items()}
+    parts += [f"<li><i>{esc(names[s])}</i>: effect {esc(s.effect)}; drawn as "
+              f"{esc(s.drawn)}.</li>" for s in kinds]
+    parts.append("</ul>")
+    if flipped:
+        parts.append("<p><b>Labels that read against the axis</b>:</p><ul class='inverted'>"
+                     + "".join(f"<li><i>{esc(c)}</i>: {esc(t)}.</li>" for c, t in flipped)
+                     + "</ul>")
+    return "".join(parts)

@@ -1,0 +1,320 @@
+"""The report's first words: a plain answer per phenomenon of the paper.
+
+The paper's claims of its robots (``findings.reading``, the headline) are grouped by the
+phenomenon they test (``PHENOMENA``: data, each with the paper's section), and each phenomenon
+gets one answer at each budget from the verdicts of its claims (``answer``):
+
+- *reproduced*: at least one claim reproduced and none contradicted;
+- *partly reproduced*: some reproduced, some contradicted;
+- *not reproduced*: some contradicted and none reproduced, or every claim that could be
+  decided at this size is inconclusive (the data do not show it);
+- *not yet testable at this budget*: none decided and some underpowered or not run (the run
+  has too few replications, or lacks the conditions, to decide).
+
+Each answer comes with the one number that says why (``why``): the lead claim's effect with
+its interval, or the sample sizes that could not decide. A run too small to judge (no claim
+decided, or most claims underpowered: ``too_small``) says so, and names the run beside it whose
+saved findings (``findings.parquet``, ``report --findings``) decide the most claims
+(``reference_run``), so a reader of a demo's report knows where the paper is tested.
+"""
+
+from __future__ import annotations
+
+import html
+import math
+import os
+from collections.abc import Sequence
+from dataclasses import dataclass
+from pathlib import Path
+
+import polars as pl
+
+from . import budgets, findings, scales, verdicts
+from .verdict_core import one_mode
+
+
+@dataclass(frozen=True)
+class Phenomenon:
+    """A phenomenon of the paper in plain words, the paper's ``section`` that reports it, and
+    the ids of the claims (``claims.CLAIMS``) that test it, the most telling first."""
+
+    name: str
+    section: str
+    claims: tuple[str, ...]
+
+
+PHENOMENA: tuple[Phenomenon, ...] = (
+    Phenomenon("Pre-reaching: the ball touched in about half the trials, the arm oriented "
+               "toward it", "IV-A-1, Fig. 5; Table I",
+               ("F1 reach about half", "T1 arm orienting", "F1 arm extended")),
+    Phenomenon("Motor babbling: it emerges in pre-reaching, whether or not the ball is seen, "
+               "and fades later", "IV-A-1, Fig. 8; V",
+               ("F1 babbling", "V3 babbling appears in pre", "V4 babbling fades in gross",
+                "T4 babbling reduced in gross", "T4 babbling reduced in fine",
+                *[f"A1 ball absent, pre: {m} same"
+                  for m in ("babbling", "hand_amplitude", "hand_path", "var_shoulder")],
+                *[f"A3 no sight, pre: {m} same"
+                  for m in ("babbling", "hand_amplitude", "hand_path")])),
+    Phenomenon("DOF freezing: the elbow locked in pre-reaching, freed in fine-reaching",
+               "IV-A-1, IV-A-3, Fig. 6; V",
+               ("F1 elbow locked: elbow < shoulder", "F1 elbow locked: elbow < trunk",
+                "F1 hand-shoulder constant vs random", "F1 hand-shoulder constant vs fine",
+                "F3 elbow variability up", "F3 elbow un-freezes later",
+                "V2 elbow un-freezes in fine")),
+    Phenomenon("Gross-reaching: grasping rises while reaching regresses (fewer touches, "
+               "fewer sectors, slower and straighter swipes)", "IV-A-2, Figs. 5-7",
+               ("F2 grasp up", "F2 reach down", "F2 success in fewer sectors",
+                "F2 straighter", "F2 slower", "F2 shoulder variability down",
+                "F2 swipes again", "T11 palm-up swipes: gross > pre",
+                "T11 palm-up swipes: gross > fine", "P1 peri-personal space shrinks in gross")),
+    Phenomenon("Fine-reaching: reach and grasp rise again, in every sector, without faster or "
+               "straighter movements", "IV-A-3, Figs. 5-7",
+               ("F3 grasp up", "F3 reach up", "F3 all sectors", "P2 and re-expands in fine",
+                "F3 shoulder variability up", "F3 trunk variability up",
+                "F3 speed not better", "F3 straightness not better",
+                "T7 smoothness not better")),
+    Phenomenon("Senses: performance rises phase by phase; touch, then sight, become "
+               "necessary", "IV-B, Fig. 9; V",
+               ("F4 normal: fine > gross", "F4 normal: gross > pre",
+                "F4 senses differ (pre)", "F4 senses differ (gross)",
+                "F4 senses differ (fine)", "F4 no-touch: fine > gross",
+                "F4 no-touch: gross > pre", "F4 no-sight: gross > fine",
+                "F4 nothing: gross > fine", "D1 no-sight drop: fine > gross",
+                "D1 no-sight drop: fine > pre", "D2 no touch, pre: reach same",
+                "D3 no touch, gross: fitness down", "D3 no touch, fine: fitness down",
+                "D3 no-touch drop: gross > pre")),
+    Phenomenon("Maturational constraints: the incremental course beats training all at once "
+               "(Fig. 10), the other constraints matter little", "IV-C, Fig. 10",
+               ("F5 gross > gross^",
+                *[f"F6 {s} not better than {c}" for s, c in (
+                    ("pre", "pre-h"), ("gross", "gross-h"), ("pre", "pre*"),
+                    ("gross^", "gross^*"), ("fine^", "fine*"), ("fine", "fine^"))],
+                "F7 fine* never babbles", "F7 fine^ never babbles",
+                "V5 fine* never babbles during development",
+                "V5 fine^ never babbles during development",
+                *[f"C {a} vs {b}: {m} same" for a, b in (
+                    ("pre", "pre-h"), ("pre", "pre*"), ("gross^", "gross^*"),
+                    ("fine^", "fine*"))
+                  for m in ("babbling", "hand_amplitude", "heading", "hand_shoulder_cv")])),
+)
+
+#: The answers, and the CSS class of each in the report.
+REPRODUCED, PARTLY, NOT_REPRODUCED, NOT_TESTABLE = (
+    "reproduced", "partly reproduced", "not reproduced", "not yet testable at this budget")
+ANSWERS = {REPRODUCED: "yes", PARTLY: "partly", NOT_REPRODUCED: "no",
+           NOT_TESTABLE: "untestable"}
+#: The fewest replications a group at which a two-group rule can decide at all
+#: (``verdict_core.one_mode``: below it every such claim is underpowered).
+FEWEST_DECIDING = next(n for n in range(2, 100) if one_mode(n, n) <= verdicts.ALPHA)
+#: The paper's generations per phase (III-D).
+PAPER_GENERATIONS = 500
+
+
+def answer(verdicts_: Sequence[str]) -> str:
+    """The answer of a phenomenon from the verdicts of its claims (see the module's text)."""
+    n = {v: sum(x == v for x in verdicts_) for v in verdicts.VERDICTS}
+    yes, no = n[verdicts.REPRODUCED], n[verdicts.CONTRADICTED]
+    if yes and no:
+        return PARTLY
+    if yes:
+        return REPRODUCED
+    if no or (n[verdicts.INCONCLUSIVE] and not n[verdicts.UNDERPOWERED]
+              and not n[verdicts.NOT_RUN]):
+        return NOT_REPRODUCED
+    return NOT_TESTABLE
+
+
+def _effect(row: dict) -> str:
+    values = [math.nan if row[c] is None else row[c]
+              for c in ("effect", "effect_low", "effect_high")]
+    return (f"{scales.scale_of(row['claim'], row['kind']).symbol} = "
+            f"{budgets.effect_text(*values)}")
+
+
+def why(rows: pl.DataFrame, said: str) -> str:
+    """The one number behind the answer ``said`` of a phenomenon whose claims are ``rows``
+    (findings rows of one budget, in the phenomenon's order)."""
+    count = {v: rows.filter(pl.col("verdict") == v).height for v in verdicts.VERDICTS}
+    total = rows.height
+
+    def first(*wanted: str) -> dict:
+        return rows.filter(pl.col("verdict").is_in(list(wanted))).row(0, named=True)
+
+    if said in (REPRODUCED, PARTLY):
+        lead = first(verdicts.REPRODUCED)
+        extra = (f", {count[verdicts.CONTRADICTED]} contradicted" if said == PARTLY else "")
+        return (f"{count[verdicts.REPRODUCED]} of {total} claims reproduced{extra}; "
+                f"{lead['claim']}: {_effect(lead)}")
+    if said == NOT_REPRODUCED and count[verdicts.CONTRADICTED]:
+        lead = first(verdicts.CONTRADICTED)
+        return (f"{count[verdicts.CONTRADICTED]} of {total} claims contradicted, none "
+                f"reproduced; {lead['claim']}: {_effect(lead)}")
+    if said == NOT_REPRODUCED:
+        lead = first(verdicts.INCONCLUSIVE)
+        return (f"0 of {total} claims decided, {count[verdicts.INCONCLUSIVE]} inconclusive; "
+                f"{lead['claim']}: {_effect(lead)}")
+    missing = count[verdicts.UNDERPOWERED] + count[verdicts.NOT_RUN]
+    if count[verdicts.UNDERPOWERED]:
+        lead = first(verdicts.UNDERPOWERED)
+        return (f"{missing} of {total} claims underpowered or not run; "
+                f"{lead['claim']}: n = {lead['n']}")
+    lead = first(verdicts.NOT_RUN)
+    reason = lead["measured"].removeprefix("not run: ")
+    text = f"{missing} of {total} claims not run ({reason})"
+    ran = rows.filter(pl.col("verdict") != verdicts.NOT_RUN)
+    if ran.height:
+        r = ran.row(0, named=True)
+        text += f"; {r['claim']}: {r['verdict']}, {_effect(r)}"
+    return text
+
+
+def answers(by_budget: pl.DataFrame, phenomena: Sequence[Phenomenon] = PHENOMENA
+            ) -> pl.DataFrame:
+    """One row per phenomenon and budget (phenomena in order, then ``budgets.budgets``):
+    budget (its ``label``), phenomenon, section, claims (how many of its claims the frame
+    has), the count of each verdict, answer (``ANSWERS``) and why. ``by_budget``: the frame
+    of ``budgets.findings_by_budget``; only the paper's claims of its robots count."""
+    head = findings.reading(by_budget)
+    blocks = [(b, head.filter((pl.col("scene") == b.scene)
+                              & (pl.col("generations_per_phase") == b.generations_per_phase)
+                              & (pl.col("replications") == b.replications)))
+              for b in budgets.budgets(by_budget)]
+    out = []
+    for p in phenomena:
+        order = {c: i for i, c in enumerate(p.claims)}
+        for b, block in blocks:
+            rows = (block.filter(pl.col("claim").is_in(list(p.claims)))
+                    .with_columns(pl.col("claim").replace_strict(order, return_dtype=pl.Int64)
+                                  .alias("_order")).sort("_order").drop("_order"))
+            if rows.height == 0:
+                continue
+            said = answer(rows["verdict"].to_list())
+            out.append({"budget": b.label, "phenomenon": p.name, "section": p.section,
+                        "claims": rows.height,
+                        **{v: rows.filter(pl.col("verdict") == v).height
+                           for v in verdicts.VERDICTS},
+                        "answer": said, "why": why(rows, said)})
+    schema = {"budget": pl.Utf8, "phenomenon": pl.Utf8, "section": pl.Utf8, "claims": pl.Int64,
+              **{v: pl.Int64 for v in verdicts.VERDICTS}, "answer": pl.Utf8, "why": pl.Utf8}
+    return pl.DataFrame(out, schema=schema)
+
+
+def _largest(by_budget: pl.DataFrame) -> pl.DataFrame:
+    """The paper's claims of its robots at the frame's largest budget (generations per phase,
+    then replications; one scene)."""
+    head = findings.reading(by_budget)
+    top = head.select("generations_per_phase", "replications", "scene").unique().sort(
+        "generations_per_phase", "replications", "scene").row(-1)
+    return head.filter((pl.col("generations_per_phase") == top[0])
+                       & (pl.col("replications") == top[1]) & (pl.col("scene") == top[2]))
+
+
+def decided(by_budget: pl.DataFrame) -> tuple[int, int, int]:
+    """At the frame's largest budget: how many of the paper's claims of its robots were
+    decided (reproduced or contradicted), how many were underpowered, and how many were run."""
+    rows = _largest(by_budget)
+    run = rows.filter(pl.col("verdict") != verdicts.NOT_RUN)
+    return (run.filter(pl.col("verdict").is_in(list(verdicts.DECIDED))).height,
+            run.filter(pl.col("verdict") == verdicts.UNDERPOWERED).height, run.height)
+
+
+def too_small(by_budget: pl.DataFrame) -> bool:
+    """Whether the runs are too small to judge the paper: at their largest budget no claim
+    decided, or most of the claims run underpowered."""
+    yes, under, run = decided(by_budget)
+    return yes == 0 or under > run / 2
+
+
+@dataclass(frozen=True)
+class Reference:
+    """A run that can judge the paper: its directory, its budget (from its saved findings) and
+    how many of the paper's claims of its robots they decide."""
+
+    path: Path
+    generations_per_phase: int
+    replications: int
+    decided: int
+    claims: int
+
+
+def reference_run(run_dirs: Sequence, least: int = 1) -> Reference | None:
+    """Among the runs beside ``run_dirs`` (in their folders; themselves left out) whose saved
+    findings (``findings.parquet``, the frame of ``budgets.findings_by_budget``) exist, the
+    one that decides the most of the paper's claims of its robots at its largest budget (ties:
+    more replications, then more generations), if it decides at least ``least``; else None.
+    Unreadable findings are passed over."""
+    given = {Path(d).resolve() for d in run_dirs}
+    best = None
+    for folder in dict.fromkeys(Path(d).resolve().parent for d in run_dirs):
+        for d in sorted(folder.iterdir()):
+            saved = d / "findings.parquet"
+            if d in given or not (d / "manifest.json").is_file() or not saved.is_file():
+                continue
+            try:
+                found = pl.read_parquet(saved)
+                yes, _, _ = decided(found)
+                gens, reps = _largest(found).select("generations_per_phase",
+                                                     "replications").row(0)
+                claims = _largest(found).height
+            except (pl.exceptions.PolarsError, OSError, IndexError):
+                continue
+            candidate = Reference(d, int(gens), int(reps), yes, claims)
+            key = (yes, reps, gens)
+            if yes >= least and (best is None or key > (best.decided, best.replications,
+                                                       best.generations_per_phase)):
+                best = candidate
+    return best
+
+
+def _too_small_html(by_budget: pl.DataFrame, run_dirs: Sequence) -> str:
+    yes, under, run = decided(by_budget)
+    top = _largest(by_budget).row(0, named=True)
+    reps, gens = top["replications"], top["generations_per_phase"]
+    these = "These runs are" if len(run_dirs) > 1 else "This run is"
+    need = (f": a comparison of two groups needs at least {FEWEST_DECIDING} replications a "
+            "group before any data could decide it (the paper: 10)" if reps < FEWEST_DECIDING
+            else "")
+    text = (f"<p class='too-small'><b>{these} too small to test the paper.</b> At "
+            f"{gens} generations per phase ({gens / PAPER_GENERATIONS:.0%} of the paper's "
+            f"{PAPER_GENERATIONS}) and {reps} replications, {yes} of the {run} claims that "
+            f"were run are decided and {under} are underpowered{need}. The answers below say "
+            "what can and cannot be shown at this budget, not whether the paper holds.")
+    ref = reference_run(run_dirs, least=yes + 1)
+    if ref is not None:
+        text += (f" The run <code>{html.escape(str(ref.path.name))}</code> beside it "
+                 f"({ref.generations_per_phase} generations per phase, {ref.replications} "
+                 f"replications) can: its saved findings decide {ref.decided} of its "
+                 f"{ref.claims} claims; <code>dart-reach report "
+                 f"{html.escape(os.path.relpath(ref.path))}</code> writes its report.")
+    return text + "</p>"
+
+
+def answers_html(by_budget: pl.DataFrame, run_dirs: Sequence = ()) -> str:
+    """The report's first section: for a run too small to judge, a paragraph that says so
+    (and names ``reference_run``); then one row per phenomenon and budget: the phenomenon
+    and its section, the answer (its cell's class from ``ANSWERS``) and the number why."""
+    table = answers(by_budget)
+    several = table["budget"].n_unique() > 1
+    small = too_small(by_budget) if table.height else True
+    rows = []
+    for r in table.iter_rows(named=True):
+        budget = f"<td>{html.escape(r['budget'])}</td>" if several else ""
+        rows.append(f"<tr><td>{html.escape(r['phenomenon'])}</td>"
+                    f"<td>{html.escape(r['section'])}</td>{budget}"
+                    f"<td class='{ANSWERS[r['answer']]}'>{html.escape(r['answer'])}</td>"
+                    f"<td>{html.escape(r['why'])}</td></tr>")
+    head = ("<tr><th>phenomenon of the paper</th><th>section</th>"
+            + ("<th>budget</th>" if several else "") + "<th>answer</th><th>why</th></tr>")
+    return (f"<div class='answers{' too-small' if small else ''}'>"
+            + (_too_small_html(by_budget, run_dirs) if small and table.height else "")
+            + "<p>Each phenomenon of the paper is answered from the verdicts of the claims "
+              "that test it (the replication as the unit): <i>reproduced</i> when some are "
+              "reproduced and none contradicted, <i>partly</i> when both, <i>not "
+              "reproduced</i> when some are contradicted and none reproduced or all are "
+              "inconclusive, <i>not yet testable at this budget</i> when none is decided and "
+              "some are underpowered or not run. <i>Why</i>: the lead claim's effect [95 % "
+              "CI] (θ: the chance that a replication of the claim's group b is higher than one "
+              "of its group a, 0.5 for none; the forest's caption gives every scale), or the "
+              "sizes that could not decide.</p>"
+            + f"<div class='scroll'><table class='answers'><thead>{head}</thead>"
+              f"<tbody>{''.join(rows)}</tbody></table></div></div>")
