@@ -223,7 +223,11 @@ def arms_section() -> str:
              f"`recordings/levers/ARM/development.parquet` (`make levers-evaluate`). The "
              f"reference: today's model at generation {JUDGED}, {n_ref} populations "
              f"(`standard-500x10` at 50, `replication-50x10`): {k_ref} of {n_ref} are the "
-             f"paper's pre-reacher; still: {int((ref['strategy'] == STILL).sum())} of {n_ref}.",
+             f"paper's pre-reacher; still: {int((ref['strategy'] == STILL).sum())} of {n_ref}. "
+             f"Every arm trains from the one pinned revision its manifest names, in a checkout "
+             f"of it (`make levers-train`, resumable, with the four arms' `LEVER_ARMS` of this "
+             f"Makefile); `make levers-state LEVERS_FROM=that-checkout` copies their compact "
+             f"state here to commit.",
              "", "| arm | training | judged at 50: paper's pre-reacher | 95 % interval | "
              "Fisher p vs reference | reach ok | elbow locked | arm extended | babbling ok | "
              "still |", "|---|---|---:|---|---:|---:|---:|---:|---:|---:|"]
