@@ -71,8 +71,7 @@ PHENOMENA: tuple[Phenomenon, ...] = (
                "straighter movements", "IV-A-3, Figs. 5-7",
                ("F3 grasp up", "F3 reach up", "F3 all sectors", "P2 and re-expands in fine",
                 "F3 shoulder variability up", "F3 trunk variability up",
-                "F3 speed not better", "F3 straightness not better",
-                "T7 smoothness not better")),
+                "F3 speed not better", "F3 straightness not better")),
     Phenomenon("Senses: performance rises phase by phase; touch, then sight, become "
                "necessary", "IV-B, Fig. 9; V",
                ("F4 normal: fine > gross", "F4 normal: gross > pre",
