@@ -18,6 +18,7 @@ from pathlib import Path
 import polars as pl
 from scipy import stats
 
+from dart_reach.analysis.formatting import decimals
 from dart_reach.analysis.profile import CRITERIA, more_than_reference, profiles, share_interval
 from dart_reach.analysis.strategies import STILL, strategies
 from dart_reach.postevaluation.snapshots import load_development
@@ -101,10 +102,6 @@ def screen_profiles(screen: pl.DataFrame) -> pl.DataFrame:
             .sort("arm"))
 
 
-def _f(x, digits=3) -> str:
-    return "n/a" if x is None or x != x else f"{x:.{digits}f}"
-
-
 def screen_section(screen: pl.DataFrame) -> str:
     prof = screen_profiles(screen)
     choice, ref_arm, ref_babble = choose_arms(screen)
@@ -126,26 +123,26 @@ def screen_section(screen: pl.DataFrame) -> str:
     ]
     for r in prof.iter_rows(named=True):
         lines.append(
-            f"| {r['arm']} | {_f(r['reach'], 2)} | {_f(r['elbow_sd'])} | {_f(r['shoulder_sd'])} "
-            f"| {_f(r['trunk_sd'])} | {_f(r['hand_shoulder_m'])} | {_f(r['hand_shoulder_cv'])} "
-            f"| {_f(r['hand_path_m'], 2)} | {_f(r['babbling'], 2)} | "
-            f"{_f(r['babbling_no_ball'], 2)} | {_f(r['fitness'], 4)} | "
-            + " | ".join(_f(r[f'is_{c}'], 1) for c in CRITERIA) + f" | {_f(r['paper'], 1)} |")
+            f"| {r['arm']} | {decimals(r['reach'], 2)} | {decimals(r['elbow_sd'])} | {decimals(r['shoulder_sd'])} "
+            f"| {decimals(r['trunk_sd'])} | {decimals(r['hand_shoulder_m'])} | {decimals(r['hand_shoulder_cv'])} "
+            f"| {decimals(r['hand_path_m'], 2)} | {decimals(r['babbling'], 2)} | "
+            f"{decimals(r['babbling_no_ball'], 2)} | {decimals(r['fitness'], 4)} | "
+            + " | ".join(decimals(r[f'is_{c}'], 1) for c in CRITERIA) + f" | {decimals(r['paper'], 1)} |")
     lines += ["", "Fitness of the screened robots under each touch pay (today's trials scored "
               "again; mean over the robots' normal trials):", "",
               "| pay | fitness |", "|---|---:|"]
     today = screen.filter((pl.col("arm") == "today") & (pl.col("senses") == "normal"))
     for pay in ("faces", "binary", "capped"):
-        lines.append(f"| {pay} | {_f(today[f'fitness_{pay}'].mean(), 4)} |")
+        lines.append(f"| {pay} | {decimals(today[f'fitness_{pay}'].mean(), 4)} |")
     lines += ["", "**The two further arms, by the pre-registered rule** (Spearman correlation, "
               f"across the {n_robots} robots, of fitness under the candidate with the "
-              f"hand-shoulder distance; today's: {_f(ref_arm)}; with the babbling rate, the "
-              f"tie-break; today's: {_f(ref_babble)}):", "",
+              f"hand-shoulder distance; today's: {decimals(ref_arm)}; with the babbling rate, the "
+              f"tie-break; today's: {decimals(ref_babble)}):", "",
               "| candidate | rho, arm extension | rise | rho, babbling | rise | trained |",
               "|---|---:|---:|---:|---:|---|"]
     for r in choice.iter_rows(named=True):
-        lines.append(f"| {r['candidate']} | {_f(r['rho_arm'])} | {_f(r['rise_arm'])} | "
-                     f"{_f(r['rho_babbling'])} | {_f(r['rise_babbling'])} | "
+        lines.append(f"| {r['candidate']} | {decimals(r['rho_arm'])} | {decimals(r['rise_arm'])} | "
+                     f"{decimals(r['rho_babbling'])} | {decimals(r['rise_babbling'])} | "
                      f"{'yes' if r['chosen'] else 'no'} |")
     lines += ["", "What each screen predicts (robots evolved without the lever, run under it; a "
               "prediction of where training under it starts, not its result):", ""]
@@ -154,19 +151,19 @@ def screen_section(screen: pl.DataFrame) -> str:
     for arm, r in at.items():
         if arm == "today":
             continue
-        lines.append(f"- `{arm}`: reach {_f(base['reach'], 2)} -> {_f(r['reach'], 2)}, fitness "
-                     f"{_f(base['fitness'], 4)} -> {_f(r['fitness'], 4)} "
+        lines.append(f"- `{arm}`: reach {decimals(base['reach'], 2)} -> {decimals(r['reach'], 2)}, fitness "
+                     f"{decimals(base['fitness'], 4)} -> {decimals(r['fitness'], 4)} "
                      f"({r['fitness'] / base['fitness'] - 1:+.0%}), hand-shoulder "
-                     f"{_f(base['hand_shoulder_m'])} -> {_f(r['hand_shoulder_m'])} m, babbling "
-                     f"without the ball {_f(base['babbling_no_ball'], 2)} -> "
-                     f"{_f(r['babbling_no_ball'], 2)}.")
+                     f"{decimals(base['hand_shoulder_m'])} -> {decimals(r['hand_shoulder_m'])} m, babbling "
+                     f"without the ball {decimals(base['babbling_no_ball'], 2)} -> "
+                     f"{decimals(r['babbling_no_ball'], 2)}.")
     for r in choice.iter_rows(named=True):
         if r["candidate"] in ("binary", "capped"):
             paid = today[f"fitness_{r['candidate']}"].mean()
             lines.append(f"- `{r['candidate']}` touch pay: fitness "
-                         f"{_f(today['fitness_faces'].mean(), 4)} -> {_f(paid, 4)}; among the "
+                         f"{decimals(today['fitness_faces'].mean(), 4)} -> {decimals(paid, 4)}; among the "
                          f"robots it pays the extended arm {'more' if r['rise_arm'] > 0 else 'less'}"
-                         f" than today's pay (rho {_f(r['rho_arm'])} against {_f(ref_arm)}).")
+                         f" than today's pay (rho {decimals(r['rho_arm'])} against {decimals(ref_arm)}).")
     return "\n".join(lines) + "\n"
 
 

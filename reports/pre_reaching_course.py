@@ -12,7 +12,7 @@ from pathlib import Path
 import numpy as np
 import polars as pl
 
-from dart_reach.analysis import budgets, said, verdicts
+from dart_reach.analysis import formatting, said, verdicts
 from dart_reach.analysis import strategy_course as sc
 from dart_reach.analysis.figures import strategy_figure, training_by_strategy
 from dart_reach.analysis.strategies import BABBLING, STILL, STILL_SHARE, trained_trials
@@ -28,7 +28,7 @@ from dart_reach.studies import fitness_terms
 
 from . import stillness
 from .runs import FULL, JUDGED, TEN
-from .text import markdown_table, percent, training_text
+from .text import markdown_table, training_text
 
 
 #: What one trial costs is taken from the run's own records (``trial_core_s``): a
@@ -89,7 +89,7 @@ def cost_values(run: RunDirectory, generations: int) -> dict[str, str]:
             "snapshots": str(snapshots), "snapshots_core_h": f"{normal:.1f}",
             "judged_core_h": f"{judged:.1f}", "terms_core_h": f"{terms:.1f}",
             "pre_core_s": f"{median:.0f}", "pre_round_core_h": f"{training:.0f}",
-            "evaluation_share": percent((normal + judged + terms) / training)}
+            "evaluation_share": formatting.percent((normal + judged + terms) / training)}
 
 
 def outcome(babbling: int, still: int) -> str:
@@ -161,15 +161,15 @@ def fitness_values(course: pl.DataFrame, stats: pl.DataFrame) -> dict[str, str]:
         differ = tested.filter(pl.col(f"p_{column}") < ALPHA)["generation"].to_list()
         at_last = (f"; at {last['generation']} (n = {last['babbling']} babbling vs "
                    f"{last['still']} still, the smallest p possible "
-                   f"{budgets.number_text(last['smallest_p'])}) θ = P(babbling > still) = "
-                   f"{budgets.number_text(last[f'theta_{column}'])} "
-                   f"[{budgets.number_text(last[f'theta_{column}_low'])}, "
-                   f"{budgets.number_text(last[f'theta_{column}_high'])}], 95 %"
+                   f"{formatting.number(last['smallest_p'])}) θ = P(babbling > still) = "
+                   f"{formatting.number(last[f'theta_{column}'])} "
+                   f"[{formatting.number(last[f'theta_{column}_low'])}, "
+                   f"{formatting.number(last[f'theta_{column}_high'])}], 95 %"
                    if last else "")
         parts.append(f"the {heading} differs (p < {ALPHA}) at generation(s) "
                     f"{', '.join(map(str, differ))}{at_last}" if differ else
                     f"for the {heading} no difference detected at any (p "
-                    f"{budgets.number_text(tested[f'p_{column}'].min())} or more){at_last}"
+                    f"{formatting.number(tested[f'p_{column}'].min())} or more){at_last}"
                     if tested.height else
                     f"for the {heading} no snapshot where the test could find a difference"
                     f"{at_last}")
@@ -231,7 +231,7 @@ def values(recordings: Path) -> dict[str, str]:
     pre = run.status().filter(pl.col("phase") == "pre")
     trained = int(pre["generations"].min())
     out = {"run": FULL, "training": training_text(run), "pre_trained": str(trained),
-           "pre_of": str(int(pre["of"].max())), "still_share": percent(STILL_SHARE),
+           "pre_of": str(int(pre["of"].max())), "still_share": formatting.percent(STILL_SHARE),
            "judged": ", ".join(map(str, JUDGED)), "ten": TEN,
            "judged_list": ",".join(map(str, JUDGED)),
            **cost_values(run, int(pre["of"].max())), "fit_at_50": fit_at_50(recordings)}
@@ -301,8 +301,8 @@ def values(recordings: Path) -> dict[str, str]:
     grid = pl.DataFrame({"claim": claims})
     for g in found["generation"].unique().sort().to_list():
         cells = {r["claim"]: f"{r['verdict']}: "
-                 + budgets.effect_text(r["effect"], r["effect_low"], r["effect_high"])
-                 + (f", p {budgets.number_text(r['p'])}" if r["p"] == r["p"] else "")
+                 + formatting.effect(r["effect"], r["effect_low"], r["effect_high"])
+                 + (f", p {formatting.number(r['p'])}" if r["p"] == r["p"] else "")
                  + (f" ({r['note']})" if r["note"] else "")
                  for r in found.filter(pl.col("generation") == g).iter_rows(named=True)}
         grid = grid.with_columns(pl.Series(f"gen {g}", [cells[c] for c in claims]))

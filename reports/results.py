@@ -24,7 +24,7 @@ from typing import Callable
 import numpy as np
 import polars as pl
 
-from dart_reach.analysis import budgets, calibration, findings, report, said, verdicts
+from dart_reach.analysis import budgets, calibration, findings, formatting, report, said, verdicts
 from dart_reach.evolution.rundir import RunDirectory
 from dart_reach.model.scenes import scene_of
 from dart_reach.postevaluation import checks, results
@@ -100,8 +100,8 @@ def spreads_summary(run_dirs) -> pl.DataFrame:
         q1, q2, q3 = np.quantile(finite, [0.25, 0.5, 0.75]) if finite.size else [np.nan] * 3
         rows.append({"run": f"`{d.name}`", "phases x measures": found.height,
                      "within / between: median": float(q2),
-                     "quartiles": f"{budgets.number_text(float(q1))}–"
-                                  f"{budgets.number_text(float(q3))}",
+                     "quartiles": f"{formatting.number(float(q1))}–"
+                                  f"{formatting.number(float(q3))}",
                      "largest finite": float(finite.max()) if finite.size else np.nan,
                      "between s.d. 0": int((~np.isfinite(ratio)).sum())})
     return pl.DataFrame(rows) if rows else pl.DataFrame({"run": ["none post-evaluated yet"]})
@@ -202,7 +202,7 @@ def _pre_replications(table: pl.DataFrame | None) -> tuple[str, str, str]:
     is_still = pre["babbling rate"] == 0
     fit = {name: pre.filter(rows)["fitness"] for name, rows in
            (("still", is_still), ("babbling", ~is_still))}
-    fitness = "; ".join(f"{name} {budgets.number_text(float(f.mean()))} ({f.len()})"
+    fitness = "; ".join(f"{name} {formatting.number(float(f.mean()))} ({f.len()})"
                         if f.len() else f"{name}: none" for name, f in fit.items())
     fitness += ", " + said.two_groups(fit["still"].to_numpy(), fit["babbling"].to_numpy(),
                                       "still", "babbling")

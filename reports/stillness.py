@@ -25,10 +25,9 @@ import math
 import sys
 from pathlib import Path
 
-import numpy as np
 import polars as pl
 
-from dart_reach.analysis import budgets, said, strategies
+from dart_reach.analysis import budgets, formatting, said, strategies
 from dart_reach.evolution.rundir import RunDirectory
 from dart_reach.model.task import N_SEGMENTS
 from dart_reach.postevaluation import results
@@ -54,10 +53,6 @@ def tables(recordings: Path, run_name: str = RUN) -> dict[str, pl.DataFrame]:
             "by_replication": strategies.by_replication(trials, strategy)}
 
 
-def _number(value) -> str:
-    return f"{value:.3g}" if value is not None and np.isfinite(value) else "–"
-
-
 def _sectors(by_sector: pl.DataFrame) -> dict[str, str]:
     """``sectors.still_ahead`` / ``sectors.babbling_ahead``: the sectors in which each
     strategy's mean fitness is the higher, as a list ("none" when none)."""
@@ -81,7 +76,7 @@ def values(recordings: Path, markdown_table) -> dict[str, str]:
     robots_per = t["trials"].select("replication", "rank").unique().group_by("replication").len()
     evaluated = t["strategy"]["trials"].max() // t["trials"].group_by(
         "replication", "rank").len()["len"].max()
-    out = {"run": RUN, "still_share": f"{strategies.STILL_SHARE:.0%}".replace("%", " %"),
+    out = {"run": RUN, "still_share": formatting.percent(strategies.STILL_SHARE),
            "trials_per_robot": str(t["trials"].group_by("replication", "rank").len()["len"]
                                    .max()),
            "replications": str(t["strategy"].height), "steps": str(run.settings.steps),
@@ -104,14 +99,14 @@ def values(recordings: Path, markdown_table) -> dict[str, str]:
     p = dict(zip(compared["factor"], compared["p"]))
     counts = [t["strategy"].filter(pl.col("strategy") == s).height
               for s in (strategies.STILL, strategies.BABBLING)]
-    out["p.smallest"] = _number(2 / math.comb(sum(counts), counts[0]))
-    out["p.fitness"] = _number(p["fitness"])
+    out["p.smallest"] = formatting.significant(2 / math.comb(sum(counts), counts[0]))
+    out["p.fitness"] = formatting.significant(p["fitness"])
     fit = {s: t["by_replication"].filter(pl.col("strategy") == s)["fitness"].to_numpy()
            for s in (strategies.STILL, strategies.BABBLING)}
     out["said.fitness"] = said.two_groups(fit[strategies.STILL], fit[strategies.BABBLING],
                                           strategies.STILL, strategies.BABBLING)
-    out["p.touch_share"] = _number(p["steps in touch"])
-    out["p.touch_level"] = _number(p["p_touch in touch"])
+    out["p.touch_share"] = formatting.significant(p["steps in touch"])
+    out["p.touch_level"] = formatting.significant(p["p_touch in touch"])
     out.update(_sectors(t["by_sector"]))
     per = {r["strategy"]: r for r in t["by_strategy"].iter_rows(named=True)}
     still, babbling = per[strategies.STILL], per[strategies.BABBLING]
@@ -125,10 +120,10 @@ def values(recordings: Path, markdown_table) -> dict[str, str]:
     for row in t["by_strategy"].iter_rows(named=True):
         s = row["strategy"]
         for column in strategies.COLUMNS:
-            out[f"{s}.{column}"] = _number(row[column])
+            out[f"{s}.{column}"] = formatting.significant(row[column])
         for column in ("sight_share", "touch_share", "scoring_share", "touched",
                        "contact_after_first", "touch_limits"):
-            out[f"{s}.{column}_pc"] = f"{row[column]:.0%}".replace("%", " %")
+            out[f"{s}.{column}_pc"] = formatting.percent(row[column])
         out[f"{s}.segments"] = f"{row['touch_level'] * N_SEGMENTS:.1f}"
         reps = t["strategy"].filter(pl.col("strategy") == s)["replication"].to_list()
         out[f"{s}.replications"] = ", ".join(map(str, reps))
@@ -161,7 +156,7 @@ def budget_values(recordings: Path, markdown_table) -> dict[str, str]:
                           f"nothing to compare")
             continue
         counts = [r["replications"] for r in per.values()]
-        smallest.append(f"{_number(2 / math.comb(sum(counts), counts[0]))} at {generation}")
+        smallest.append(f"{formatting.significant(2 / math.comb(sum(counts), counts[0]))} at {generation}")
         still, babbling = per[strategies.STILL], per[strategies.BABBLING]
         wrong = strategies.contradicted(still, babbling)
         p = dict(zip(t["compare"]["factor"], t["compare"]["p"]))
@@ -171,8 +166,8 @@ def budget_values(recordings: Path, markdown_table) -> dict[str, str]:
             + f" (a still robot is in touch on "
             f"{still['touch_share'] / babbling['touch_share']:.1f} times as many steps as a "
             f"babbling one, with {still['touch_level'] / babbling['touch_level']:.2f} times "
-            f"the faces; fitness {_number(still['fitness'])} against "
-            f"{_number(babbling['fitness'])}, p = {_number(p['fitness'])} with the "
+            f"the faces; fitness {formatting.significant(still['fitness'])} against "
+            f"{formatting.significant(babbling['fitness'])}, p = {formatting.significant(p['fitness'])} with the "
             f"replication as the unit)")
     body = ("Means over each strategy's trials, as in \"Per strategy\" above:\n\n"
             + markdown_table(strategies.headed(by_strategy))

@@ -10,7 +10,7 @@ from typing import Mapping
 import numpy as np
 import polars as pl
 
-from dart_reach.analysis import budgets
+from dart_reach.analysis import formatting
 from dart_reach.evolution.rundir import RunDirectory
 
 _PLACEHOLDER = re.compile(r"\{\{\s*([A-Za-z0-9_.\-]+)\s*\}\}")
@@ -28,22 +28,15 @@ def render(template: str, values: Mapping[str, str], name: str = "template") -> 
 
 
 def number(value: float, measure: str = "") -> str:
-    """A value as the docs show it: a rate in whole per cent, else 3 significant digits; a
-    missing value as an en dash."""
-    if value is None or not np.isfinite(value):
-        return "–"
-    if measure in _RATES:
-        return percent(value)
-    return f"{value:.3g}"
-
-
-def percent(value: float) -> str:
-    """A share as the docs show it: whole per cent, with a space before the sign."""
-    return f"{value:.0%}".replace("%", " %")
+    """A value as the docs show it: a rate (``measure`` one of the rates) in whole per cent,
+    else 3 significant digits (``formatting``); a missing value as an en dash."""
+    if value is not None and np.isfinite(value) and measure in _RATES:
+        return formatting.percent(value)
+    return formatting.significant(value)
 
 
 def markdown_table(table: pl.DataFrame) -> str:
-    """``table`` as a markdown table: floats to 3 significant digits (``budgets.number_text``),
+    """``table`` as a markdown table: floats to 3 significant digits (``formatting.number``),
     booleans as yes/no, nulls as an en dash."""
     def cell(value) -> str:
         if value is None:
@@ -51,7 +44,7 @@ def markdown_table(table: pl.DataFrame) -> str:
         if isinstance(value, bool):
             return "yes" if value else "no"
         if isinstance(value, float):
-            return budgets.number_text(value)
+            return formatting.number(value)
         return str(value).replace("|", "\\|")
 
     lines = ["| " + " | ".join(table.columns) + " |", "|" + "---|" * table.width]

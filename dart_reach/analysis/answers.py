@@ -29,7 +29,7 @@ from pathlib import Path
 
 import polars as pl
 
-from . import budgets, findings, scales, verdicts
+from . import budgets, findings, formatting, scales, verdicts
 from .verdict_core import one_mode
 
 
@@ -127,7 +127,7 @@ def _effect(row: dict) -> str:
     values = [math.nan if row[c] is None else row[c]
               for c in ("effect", "effect_low", "effect_high")]
     return (f"{scales.scale_of(row['claim'], row['kind']).symbol} = "
-            f"{budgets.effect_text(*values)}")
+            f"{formatting.effect(*values)}")
 
 
 def why(rows: pl.DataFrame, said: str) -> str:

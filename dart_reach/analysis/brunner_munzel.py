@@ -87,10 +87,10 @@ def _splits(n_a: int, n_b: int) -> tuple[np.ndarray, bool]:
 TOLERANCE = 1e-9
 
 
-def statistics(pooled, in_b: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """theta, its standard error and T of every split: ``pooled`` the N values, ``in_b`` the
-    (splits, N) membership of group b. A unit's placement: its count of the other group's
-    units below it, ties 1/2."""
+def _placements(pooled, in_b: np.ndarray):
+    """theta and the variances of the placements of a's and b's units of every split, and
+    the group sizes: ``pooled`` the N values, ``in_b`` the (splits, N) membership of group b.
+    A unit's placement: its count of the other group's units below it, ties 1/2."""
     x = np.asarray(pooled, float)
     compare = (x[:, None] > x[None, :]) + 0.5 * (x[:, None] == x[None, :])
     below = compare.sum(axis=1) - 0.5  # every other unit below it, ties 1/2
@@ -102,12 +102,42 @@ def statistics(pooled, in_b: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.nda
     among_b = below - among_a        # ... and among its b (itself left out)
     mean_b = (b * among_a).sum(axis=1) / n_b
     mean_a = (a * among_b).sum(axis=1) / n_a
-    var_b = (b * (among_a - mean_b[:, None]) ** 2).sum(axis=1) / (n_b - 1)
-    var_a = (a * (among_b - mean_a[:, None]) ** 2).sum(axis=1) / (n_a - 1)
-    theta = mean_b / n_a
+    with np.errstate(divide="ignore", invalid="ignore"):  # a group of 1: no variance
+        var_b = (b * (among_a - mean_b[:, None]) ** 2).sum(axis=1) / (n_b - 1)
+        var_a = (a * (among_b - mean_a[:, None]) ** 2).sum(axis=1) / (n_a - 1)
+    return mean_b / n_a, var_a, var_b, n_a, n_b
+
+
+def statistics(pooled, in_b: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """theta, its standard error (never below ``smallest_se``) and T of every split:
+    ``pooled`` the N values, ``in_b`` the (splits, N) membership of group b."""
+    theta, var_a, var_b, n_a, n_b = _placements(pooled, in_b)
     se = np.maximum(np.sqrt(var_a / (n_a * n_b ** 2) + var_b / (n_b * n_a ** 2)),
                     smallest_se(int(n_a), int(n_b)))
     return theta, se, _logit(theta, int(n_a), int(n_b)) / se
+
+
+def probabilistic_index(a, b) -> tuple[float, float, float]:
+    """theta = P(B > A) + P(B = A) / 2 of b against a (the finite values), its Brunner-Munzel
+    standard error and Satterthwaite degrees of freedom (Brunner & Munzel 2000;
+    ``scipy.stats.brunnermunzel``'s, tested equal): the observed split of ``statistics``,
+    without its floor, for the rules that use theta on its own scale (``verdicts``). The
+    standard error is 0 under complete separation (degrees of freedom infinite), NaN with
+    fewer than 2 values in a group (theta is defined from 1)."""
+    a, b = np.asarray(a, float), np.asarray(b, float)
+    a, b = a[np.isfinite(a)], b[np.isfinite(b)]
+    observed = np.zeros((1, len(a) + len(b)), bool)
+    observed[0, len(a):] = True
+    theta, var_a, var_b, n_a, n_b = _placements(np.concatenate([a, b]), observed)
+    theta, var_a, var_b = float(theta[0]), float(var_a[0]), float(var_b[0])
+    if min(n_a, n_b) < 2:
+        return theta, math.nan, math.nan
+    if var_a == 0 and var_b == 0:
+        return theta, 0.0, math.inf
+    se = math.sqrt(var_a / (n_a * n_b ** 2) + var_b / (n_b * n_a ** 2))
+    df = (n_a * var_a + n_b * var_b) ** 2 / ((n_a * var_a) ** 2 / (n_a - 1)
+                                             + (n_b * var_b) ** 2 / (n_b - 1))
+    return theta, se, float(df)
 
 
 def _clip(theta, n_a: int, n_b: int):

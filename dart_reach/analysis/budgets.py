@@ -30,7 +30,7 @@ from pathlib import Path
 
 import polars as pl
 
-from . import findings, verdicts
+from . import findings, formatting, verdicts
 from ..evolution.rundir import RunDirectory
 from .claims import ABOUT_HALF, CLAIMS, Claim, Kind
 from ..model.scenes import scene_of
@@ -41,7 +41,7 @@ from .tables import load_runs
 
 __all__ = ["Budget", "Pooled", "MOVEMENTS", "TOWARD", "AWAY", "NO_CHANGE", "NOT_RUN",
            "budget_of", "budget_groups", "pooled", "label_findings", "findings_by_budget",
-           "budgets", "toward_paper", "movement", "side_by_side", "number_text", "effect_text",
+           "budgets", "toward_paper", "movement", "side_by_side",
            "REPLICATION_OUTCOMES", "replications_decide"]
 
 #: The movement of a claim's effect from the smallest to the largest budget of a scene:
@@ -371,22 +371,6 @@ def replications_decide(by_budget: pl.DataFrame) -> pl.DataFrame:
 
 
 # ------------------------------------------------------------------------------ the table
-def number_text(value: float) -> str:
-    """A number to 3 significant digits (small ones in exponent form; NaN: "–")."""
-    if math.isnan(value):
-        return "–"
-    return f"{value:.3g}" if abs(value) >= 1e-3 or value == 0 else f"{value:.1e}"
-
-
-def effect_text(effect: float, low: float, high: float) -> str:
-    """"effect [low, high]", the interval left out where there is none."""
-    if effect is None or math.isnan(effect):
-        return "–"
-    ci = (f" [{number_text(low)}, {number_text(high)}]"
-          if low is not None and not math.isnan(low) else "")
-    return number_text(effect) + ci
-
-
 def budget_column(budget: Budget, one_scene: bool, one_replications: bool = True) -> str:
     """The name of a budget's columns in ``side_by_side``: its generations per phase, with its
     scene and its replications where the frame has several."""
@@ -399,7 +383,7 @@ def budget_column(budget: Budget, one_scene: bool, one_replications: bool = True
 def side_by_side(by_budget: pl.DataFrame) -> pl.DataFrame:
     """One row per claim (in the frame's order): claim, section, kind; for each budget
     (``budgets``; named by ``budget_column``) its ``effect [CI]`` (the claim's own effect,
-    ``effect_text``), ``verdict`` (the replication as the unit; "not run" where the budget's
+    ``formatting.effect``), ``verdict`` (the replication as the unit; "not run" where the budget's
     runs lack it) and ``robots as units`` (the paper's analysis, never a headline); and the
     movement (``movement``) as "as the budget grows" (one column per series with two budgets or
     more, named after the series when there are several)."""
@@ -415,7 +399,7 @@ def side_by_side(by_budget: pl.DataFrame) -> pl.DataFrame:
                                  & (pl.col("replications") == b.replications))
         cells = pl.DataFrame(
             {"claim": block["claim"],
-             f"{name}: effect [CI]": [effect_text(*r) for r in block.select(
+             f"{name}: effect [CI]": [formatting.effect(*r) for r in block.select(
                  pl.col(c).fill_null(math.nan) for c in ("effect", "effect_low", "effect_high")
              ).iter_rows()],
              f"{name}: verdict": block["verdict"],

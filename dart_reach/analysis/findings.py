@@ -454,8 +454,8 @@ def reading(found: pl.DataFrame, who: str = ROBOTS) -> pl.DataFrame:
     if who not in READINGS:
         raise ValueError(f"unknown reading {who!r}; known: {READINGS}")
     own = pl.col("own")
-    infants = (pl.col("infants").fill_null(False) if "infants" in found.columns  # older tables
-               else pl.lit(False))
+    infants = (pl.col("infants").fill_null(False) if "infants" in found.columns  # a frame of
+               else pl.lit(False))  # findings without claims of infants
     return found.filter(~own & ~infants if who == ROBOTS else
                         ~own & infants if who == INFANTS else own)
 

@@ -33,7 +33,7 @@ from string import Template
 
 import polars as pl
 
-from . import answers, budgets, counts, figures, findings, summaries, verdicts
+from . import answers, budgets, counts, figures, findings, formatting, summaries, verdicts
 from ..errors import UsageError
 from ..postevaluation import results
 from ..postevaluation import snapshots as development
@@ -82,7 +82,7 @@ def _figure(fig) -> str:
 
 def _cell(value) -> str:
     if isinstance(value, float):
-        return budgets.number_text(value)
+        return formatting.number(value)
     if isinstance(value, bool):
         return "■" if value else ""
     return html.escape(str(value))
@@ -112,7 +112,7 @@ def table_html(df: pl.DataFrame, css: str = "", group: str | None = None,
 
 
 def _effect(r: dict) -> str:
-    return html.escape(budgets.effect_text(r["effect"], r["effect_low"], r["effect_high"]))
+    return html.escape(formatting.effect(r["effect"], r["effect_low"], r["effect_high"]))
 
 
 def _findings_html(found: pl.DataFrame) -> str:

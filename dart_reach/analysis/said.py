@@ -15,16 +15,10 @@ same.
 
 from __future__ import annotations
 
-import math
-
 import numpy as np
 from scipy import stats as sps
 
-from . import brunner_munzel, verdicts
-
-
-def _g(x: float) -> str:
-    return f"{x:.3g}" if math.isfinite(x) else "–"
+from . import brunner_munzel, formatting, verdicts
 
 
 def mann_whitney_p(a, b) -> float:
@@ -49,17 +43,17 @@ def two_groups(a, b, a_name: str, b_name: str) -> str:
     p = mann_whitney_p(a, b)
     smallest = verdicts.smallest_mann_whitney_p(len(a), len(b))
     bm = brunner_munzel.test(a, b)
-    theta = (f"θ = P({b_name} > {a_name}) = {_g(bm.theta)} [{_g(bm.low)}, {_g(bm.high)}], "
+    theta = (f"θ = P({b_name} > {a_name}) = {formatting.significant(bm.theta)} [{formatting.significant(bm.low)}, {formatting.significant(bm.high)}], "
              "95 %")
     rule = verdicts.equivalent(a, b)
     if p < verdicts.ALPHA:
-        return f"differs (Mann-Whitney p = {_g(p)}, {n}; {theta})"
+        return f"differs (Mann-Whitney p = {formatting.significant(p)}, {n}; {theta})"
     if rule.verdict == verdicts.REPRODUCED:
         return (f"the same within θ = 0.5 ± {verdicts.EQUIVALENCE_MARGIN:g} (equivalence p = "
-                f"{_g(rule.p)}, {n}; {theta})")
+                f"{formatting.significant(rule.p)}, {n}; {theta})")
     why = ("below 6 units a group the project's rule can show neither a difference nor the "
            "same" if rule.verdict == verdicts.UNDERPOWERED else
            f"the interval reaches beyond 0.5 ± {verdicts.EQUIVALENCE_MARGIN:g}, so this is no "
            "evidence that they are the same")
-    return (f"no difference detected (Mann-Whitney p = {_g(p)}, {n}; the smallest p possible "
-            f"is {_g(smallest)}; {theta}): {why}")
+    return (f"no difference detected (Mann-Whitney p = {formatting.significant(p)}, {n}; the smallest p possible "
+            f"is {formatting.significant(smallest)}; {theta}): {why}")

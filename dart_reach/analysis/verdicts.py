@@ -51,9 +51,9 @@ import math
 
 import numpy as np
 from scipy import special
-from scipy.stats import rankdata
 
 from . import brunner_munzel
+from .brunner_munzel import probabilistic_index
 from .paired_verdicts import (  # noqa: F401  (re-exported: the paired rules)
     paired_directional, paired_equivalent, paired_rate_equivalent, paired_tost, relative_changes,
     senses_differ, wilcoxon)
@@ -77,7 +77,7 @@ def directional(a, b, sign: int, level: float = ALPHA) -> Outcome:
     a, b = finite(a), finite(b)
     if min(len(a), len(b)) == 0:
         return Outcome(UNDERPOWERED, note=f"{len(b)} vs {len(a)} units")
-    theta = float(np.mean((b[None, :] > a[:, None]) + 0.5 * (b[None, :] == a[:, None])))
+    theta = probabilistic_index(a, b)[0]
     if min(len(a), len(b)) < 2 or smallest_directional_p(len(a), len(b)) >= ALPHA:
         return Outcome(UNDERPOWERED, effect=theta, note=f"{len(b)} vs {len(a)}: the smallest "
                        f"possible p is {smallest_directional_p(len(a), len(b)):.2g}")
@@ -95,24 +95,6 @@ def directional(a, b, sign: int, level: float = ALPHA) -> Outcome:
                    res.confidence, res.p if observed == -sign else 1.0,
                    bool(res.p < level and observed == sign),
                    f"{'exact' if res.exact else 'Monte Carlo'} over {res.splits} splits")
-
-
-def probabilistic_index(a, b) -> tuple[float, float, float]:
-    """theta = P(B > A) + P(B = A) / 2 from mid-ranks, its Brunner-Munzel standard error and
-    degrees of freedom (Brunner & Munzel 2000; ``scipy.stats.brunnermunzel``'s). Needs at
-    least 2 values per group; the standard error is 0 under complete separation."""
-    a, b = finite(a), finite(b)
-    n, m = len(a), len(b)
-    ranks = rankdata(np.concatenate([a, b]))
-    ra, rb = ranks[:n], ranks[n:]
-    theta = (rb.mean() - ra.mean()) / (n + m) + 0.5
-    sa = ((ra - rankdata(a) - ra.mean() + (n + 1) / 2) ** 2).sum() / (n - 1)
-    sb = ((rb - rankdata(b) - rb.mean() + (m + 1) / 2) ** 2).sum() / (m - 1)
-    if n * sa + m * sb == 0:
-        return float(theta), 0.0, math.inf
-    se = math.sqrt(n * sa + m * sb) / (n * m)
-    df = (n * sa + m * sb) ** 2 / ((n * sa) ** 2 / (n - 1) + (m * sb) ** 2 / (m - 1))
-    return float(theta), se, float(df)
 
 
 def equivalence_reachable(n_a: int, n_b: int, margin: float = EQUIVALENCE_MARGIN) -> bool:

@@ -44,6 +44,9 @@ def register_evaluate(subparsers) -> None:
                         "directory: the training holds the lock): its finished phases, the "
                         "random genomes of --baseline, and with --development the snapshots "
                         "saved so far")
+    p.add_argument("--migrate", action="store_true",
+                   help="only rewrite the run's post-evaluation tables stored in an older "
+                        "format in the current one (the same rows), once; nothing is evaluated")
     add_workers(p)
     p.set_defaults(func=cmd_evaluate)
 
@@ -51,7 +54,7 @@ def register_evaluate(subparsers) -> None:
 def cmd_evaluate(args) -> int:
     import polars as pl
 
-    from ..postevaluation.results import BASELINE, rows
+    from ..postevaluation.results import BASELINE, migrate, rows
     from ..postevaluation.systematic import (BLUEPRINT, RECORDINGS, TABLE, evaluate_run,
                                              finished_phases, parse_senses)
 
@@ -61,6 +64,11 @@ def cmd_evaluate(args) -> int:
         except ValueError as exc:
             raise ValueError(f"{option}: {exc}") from None
 
+    if args.migrate:
+        written = migrate(args.run_dir)
+        print("\n".join(f"rewrote {path} in the current format" for path in written)
+              or f"{args.run_dir}: every table is in the current format", file=sys.stderr)
+        return 0
     senses = senses_of("--sensors", args.sensors)
     development_senses = senses_of("--development-sensors", args.development_sensors)
     if args.snapshots and not args.development:

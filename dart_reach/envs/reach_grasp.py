@@ -5,7 +5,8 @@ III-C, III-D; docs/guides/gymnasium.md). The spaces, rewards and episode end are
 One episode is one trial of ``model.task.Trial``, stepped by the same code: ``Trial.begin``
 resets the world, ``Trial.observe`` reads the sensors and the fitness terms into the trial's
 record, the action is the motor targets ``ctrnn.motor_targets`` gives the network's motor
-outputs, and ``World.step`` runs one control step (0.1 s). Nothing of the task is implemented
+outputs, and ``Trial.control``, the control step ``Trial.run`` and ``Trial.fitness`` take,
+drives the world for 0.1 s and reads the state it reaches. Nothing of the task is implemented
 here a second time: a network stepped through the environment (``policy.NetworkPolicy``) earns
 the fitness ``Trial.run`` gives it, bit for bit (tests/envs/test_reach_grasp.py).
 """
@@ -316,15 +317,15 @@ class ReachGraspEnv(gym.Env):
             reflex = self._reflex.step(data.sensors[t])
             np.copyto(motor, reflex, where=_REFLEX_MASK)
             np.copyto(targets, motor_targets(reflex, out=self._reflex_targets), where=_REFLEX_MASK)
-        # as Trial.run: record, one control step, observe the next state
+        # as Trial.run: record, then its one control step (Trial.control); after the last
+        # step the state reached is read into a record of its own, the final observation
         data.motor[t] = motor
         data.targets[t] = targets
         data.steps_run = t + 1
         reward = float(data.p_multimodal[t])
-        self.world.step(targets)
         self._t = t = t + 1
         last = t == self.config.steps
-        ok = self.trial.observe(self._final if last else data, 0 if last else t)
+        ok = self.trial.control(targets, self._final if last else data, 0 if last else t)
         # a read-only view of the record's row (the last one: a copy, its buffer is reused)
         observation = self._final.sensors[0].copy() if last else data.sensors[t]
         observation.flags.writeable = False

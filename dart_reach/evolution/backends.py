@@ -33,6 +33,7 @@ import numpy as np
 
 from ..errors import UsageError
 from .genome import decode
+from .settings import seed_at
 from ..model.task import Trial, TrialConfig, network_for, trial_positions
 from ..model.world import World, WorldConfig
 
@@ -45,7 +46,7 @@ class Job:
     free_groups: frozenset
     trial: TrialConfig
     world: WorldConfig
-    seed: tuple[int, ...]  # SeedSequence entropy and spawn key, flattened: (entropy, *key)
+    seed: tuple[int, ...]  # where its seed sits in the run's tree (settings.seed_address)
 
 
 _WORLDS: dict[WorldConfig, World] = {}
@@ -63,7 +64,7 @@ def worker_trial(world: WorldConfig, trial: TrialConfig) -> Trial:
 
 
 def _rng(job: Job) -> np.random.Generator:
-    return np.random.default_rng(np.random.SeedSequence(job.seed[0], spawn_key=job.seed[1:]))
+    return np.random.default_rng(seed_at(job.seed))
 
 
 _NETWORK: list = [None, None]  # (genome bytes, groups, trial config), Network: the last built

@@ -99,9 +99,22 @@ def phase_id(phase: Phase) -> int:
     return int(phase.key[:8], 16)
 
 
+def seed_address(settings: Settings, phase: Phase, *path: int) -> tuple[int, ...]:
+    """Where the run's seed for ``phase`` at ``path`` (replication, purpose, generation, ...)
+    sits in its tree, as flat integers (what a ``backends.Job`` carries to a worker): the
+    root seed, then the spawn key (phase key, *path)."""
+    return (settings.seed, phase_id(phase), *path)
+
+
+def seed_at(address: tuple[int, ...]) -> np.random.SeedSequence:
+    """The seed at ``address`` (``seed_address``): the one place the tree's convention, the
+    root as entropy and the rest as spawn key, is written."""
+    return np.random.SeedSequence(address[0], spawn_key=tuple(address[1:]))
+
+
 def seed_sequence(settings: Settings, phase: Phase, *path: int) -> np.random.SeedSequence:
     """The run's seed for ``phase`` at ``path`` (replication, purpose, generation, ...)."""
-    return np.random.SeedSequence(settings.seed, spawn_key=(phase_id(phase), *path))
+    return seed_at(seed_address(settings, phase, *path))
 
 
 def baseline_genomes(settings: Settings, phase: Phase, n: int) -> np.ndarray:

@@ -46,7 +46,7 @@ from .provenance import cpu, git_state, machine, versions
 from .rundir import (STATS_SCHEMA, RunDirectory, RunError, check_same_run, described_run,
                      manifest_of, read_manifest)
 from .settings import (SEED_INIT, SEED_LIFETIME, SEED_MUTATE, SEED_RECORD, SNAPSHOT_ROBOTS,
-                       Settings, phase_id, seed_sequence, snapshot_due, trial_config)
+                       Settings, seed_address, seed_sequence, snapshot_due, trial_config)
 from ..files import LOCK_NAME, DirectoryLock, atomic_write, remove_temporaries
 from ..model.scenes import scene_of
 from ..model.task import TrialConfig, network_for, trial_positions
@@ -336,7 +336,7 @@ class Trainer(RunDirectory):
             asked.append(state)
             candidates.append(cands)
         jobs = [Job(genome=c, free_groups=frozenset(groups), trial=trial, world=s.world,
-                    seed=(s.seed, phase_id(phase), r, SEED_LIFETIME, states[r].generation, i))
+                    seed=seed_address(s, phase, r, SEED_LIFETIME, states[r].generation, i))
                 for r, cands in enumerate(candidates) for i, c in enumerate(cands)]
         fitness = backend.map(jobs)
         new_states, rows, k = [], [], 0

@@ -164,6 +164,7 @@ class Trial:
         self._proprio_lower = world.motor_limit_lower.tolist()
         self._proprio_span = (world.motor_limit_upper - world.motor_limit_lower).tolist()
         self._touch_segments = TOUCH_SEGMENTS.tolist()
+        self._steps = config.steps
         self._p = np.zeros(config.steps)  # p_multimodal per step of ``fitness``
         # the network's motor states at a trial's start (levers.NetworkStart)
         self._home_motor = ((world.home_targets + 1.0) / 2.0
@@ -239,6 +240,19 @@ class Trial:
         data.p_multimodal[t] = self._p_multimodal
         return finite
 
+    # ------------------------------------------------------------------ one control step
+    def control(self, targets: np.ndarray, data: TrialData | None, t: int) -> bool:
+        """One control step, the one ``run``, ``fitness`` and the Gymnasium environment take:
+        the world driven for one control period (0.1 s) toward ``targets`` (finite, in
+        [-1, 1]), then the state it reaches read as step ``t``'s input: into ``data``'s row
+        ``t`` (``observe``), or without a record into the sensor vector and the fitness terms
+        only (``sense``). After the trial's last step (``t`` = ``config.steps``) nothing is
+        read. False when the state read is not finite."""
+        self.world.step(targets)
+        if t == self._steps:
+            return True
+        return self.sense() if data is None else self.observe(data, t)
+
     # ------------------------------------------------------------------ one trial
     def _reset(self, ball_position) -> None:
         """The world at a trial's start: home posture, the ball at rest at ``ball_position``
@@ -249,7 +263,7 @@ class Trial:
     def begin(self, sector: int, ball_position) -> TrialData:
         """Start a trial: the world reset with the ball at ``ball_position`` (in ``sector``)
         and the trial's empty record. ``run`` and the Gymnasium environment (``envs``) then
-        step it: ``observe``, the motor targets, ``world.step``."""
+        step it: ``observe`` row 0, then per step the motor targets and ``control``."""
         self._reset(ball_position)
         return TrialData.empty(self.config.steps, sector, ball_position,
                                self.world.robot.getNumDofs())
@@ -258,12 +272,12 @@ class Trial:
         """One trial of ``config.steps`` steps with the ball at ``ball_position`` (in
         ``sector``), every per-step record kept. The network is reset to the state that holds
         the home posture."""
-        w = self.world
         data = self.begin(sector, ball_position)
         network.reset(motor=self._home_motor)
-        targets = self._targets
+        targets, control = self._targets, self.control
+        finite = self.observe(data, 0)
         for t in range(self.config.steps):
-            if not self.observe(data, t):  # the last physics step exploded
+            if not finite:  # the last physics step exploded
                 data.diverged = True
                 break
             motor = network.step(self._x)
@@ -275,25 +289,26 @@ class Trial:
             if not math.isfinite(targets.sum()):  # targets lie in [-1, 1] when finite
                 data.diverged = True
                 break
-            w.step(targets)
+            finite = control(targets, data, t + 1)
         return data
 
     def fitness(self, network: Network, ball_position) -> float:
         """The fitness of the trial ``run`` would run with the ball at ``ball_position`` (mean
         p_multimodal over its steps, 0 when it diverges; section III-C), to the last bit,
         keeping no record: what the genetic algorithm needs."""
-        w, x, p, targets = self.world, self._x, self._p, self._targets
+        x, p, targets, control = self._x, self._p, self._targets, self.control
         self._reset(ball_position)
         network.reset(motor=self._home_motor)
         step = network.step
+        finite = self.sense()
         for t in range(self.config.steps):
-            if not self.sense():
+            if not finite:
                 return 0.0
             p[t] = self._p_multimodal
             motor_targets(step(x), out=targets)
             if not math.isfinite(targets.sum()):
                 return 0.0
-            w.step(targets)
+            finite = control(targets, None, t + 1)
         return float(p.mean())
 
 

@@ -118,11 +118,6 @@ def table_status(run_dir) -> list[TableStatus]:
     for name in (results.EVALUATION, results.BASELINE):
         table = results.read_table(run.out / name)
         if table is not None:
-            if "baseline" in table.columns and name == results.EVALUATION:
-                chance = table.filter(pl.col("baseline"))  # the older format held both
-                table = table.filter(~pl.col("baseline"))
-                if chance.height:
-                    out.append(_evaluation_status(run, chance, results.BASELINE))
             out.append(_evaluation_status(run, table, name))
     development = results.read_table(run.out / results.DEVELOPMENT)
     if development is not None:
@@ -136,7 +131,7 @@ def _compare(stored: pl.DataFrame, rows: list[dict]) -> tuple[list[str], float]:
     largest absolute difference among their floats."""
     again = results.quantised(pl.DataFrame(rows, schema_overrides={"recording": pl.Utf8},
                                            infer_schema_length=None)).sort("trial")
-    stored = results.quantised(stored).sort("trial")  # a table of the older format: float64
+    stored = stored.sort("trial")
     if stored.height != again.height:
         return ["rows"], float("nan")
     columns = [c for c in again.columns if c in stored.columns and c != "recording"]

@@ -18,8 +18,9 @@ rewritten to add others. The last part holds the provenance of every session; an
 that of the sessions up to its own. Every floating-point measure is stored as float32 (7
 significant digits: far finer than any measure's meaning; it halves the files) and read back as
 float64, so a table evaluated anywhere and a committed one hold the same numbers to the last
-bit. Tables written before this format (float64; the baseline inside evaluation.parquet) are
-read as they are and rewritten in it the next time rows are added.
+bit. A table written before this format (float64; the baseline inside evaluation.parquet; no
+provenance) is not read: ``read_table`` names the command that rewrites it once, ``dart-reach
+evaluate RUN_DIR --migrate`` (``migrate``: the same rows, in the current format).
 
 Provenance: the parquet file's key-value metadata ``dart_reach`` holds a JSON object
 ``{"format": FORMAT, "sessions": [...]}``: one entry per session that added rows (``Session``:
@@ -99,10 +100,20 @@ def session(command: str | None = None) -> dict:
 
 def read_table(path: str | os.PathLike) -> pl.DataFrame | None:
     """The table at ``path`` (one file or its parts, read as one) with its float32 columns as
-    float64, or None when there is none; ``RunError`` when it cannot be read."""
+    float64, or None when there is none; ``RunError`` when it cannot be read, or when it is
+    stored in an older format (one line naming the command that migrates it)."""
     files = stored_files(path)
     if not files:
         return None
+    if not is_current(path):
+        raise RunError(f"{path}: stored in a format older than the current one ({FORMAT}); "
+                       f"rewrite it once with 'dart-reach evaluate {Path(path).parent} "
+                       f"--migrate' (the same rows)")
+    return _read(files)
+
+
+def _read(files: list[Path]) -> pl.DataFrame:
+    """The table in ``files``, whatever its format, float32 columns as float64."""
     frames = []
     for file in files:
         try:
@@ -215,8 +226,6 @@ def save_table(path: Path, table: pl.DataFrame | None, rows: list[dict], key: Se
     index = same[0] if same else len(entries)
     if not same:
         entries.append(dict(entry))
-    if table is not None and "session" not in table.columns:  # written before provenance
-        table = table.with_columns(pl.lit(None, pl.Int16).alias("session"))
     if rows:
         new = quantised(pl.DataFrame(rows, schema_overrides={"recording": pl.Utf8},
                                      infer_schema_length=None)
@@ -240,16 +249,19 @@ def migrate(run_dir, entry: dict | None = None) -> list[Path]:
                       "started": None, "machine": None, "pid": None,
                       "note": "written before provenance was recorded"}
     written = []
-    legacy = read_table(run_dir / EVALUATION) if not is_current(run_dir / EVALUATION) else None
+    legacy = (_read(stored_files(run_dir / EVALUATION))
+              if exists(run_dir / EVALUATION) and not is_current(run_dir / EVALUATION) else None)
     parts = {}
     if legacy is not None:
         if "baseline" not in legacy.columns:  # written before the baseline existed
             legacy = legacy.with_columns(pl.lit(False).alias("baseline"))
+        if "measures_version" not in legacy.columns:  # measured before version 2
+            legacy = legacy.with_columns(pl.lit(1).alias("measures_version"))
         parts[EVALUATION] = legacy.filter(~pl.col("baseline"))
         if legacy["baseline"].any():  # the new code writes both tables in the new format
             parts[BASELINE] = legacy.filter(pl.col("baseline"))
     if not is_current(run_dir / DEVELOPMENT) and exists(run_dir / DEVELOPMENT):
-        parts[DEVELOPMENT] = read_table(run_dir / DEVELOPMENT)
+        parts[DEVELOPMENT] = _read(stored_files(run_dir / DEVELOPMENT))
     for name, table in parts.items():
         write_table(run_dir / name, quantised(table).with_columns(
             pl.lit(0, pl.Int16).alias("session")), [dict(entry, rows=table.height)])

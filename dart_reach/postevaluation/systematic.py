@@ -28,8 +28,8 @@ groups and maturational state. ``load_evaluation`` leaves them out unless asked.
 
 Evaluating again adds only what is missing (another sensory condition, more robots); rows and
 recordings already saved are kept, except rows measured by an older version of the measures
-(``measures_version`` below ``MEASURES_VERSION``, or absent: tables written before version 2 of
-the measures), which are evaluated and measured again when their robot and condition are asked
+(``measures_version`` below ``MEASURES_VERSION``; ``results.migrate`` gives the rows of a table
+written before version 2 of the measures version 1), which are evaluated and measured again when their robot and condition are asked
 for. The table is saved every few seconds, so an interrupted evaluation keeps the robots it
 finished.
 """
@@ -235,10 +235,6 @@ def load_evaluation(run_dir, baseline: bool | None = False) -> pl.DataFrame:
     parts = [t for t in (results.read_table(run_dir / TABLE),
                          results.read_table(run_dir / results.BASELINE)) if t is not None]
     table = pl.concat(parts, how="diagonal_relaxed") if len(parts) > 1 else parts[0]
-    if "baseline" not in table.columns:  # written before the baseline existed
-        table = table.with_columns(pl.lit(False).alias("baseline"))
-    if "measures_version" not in table.columns:  # written before measures of version 2
-        table = table.with_columns(pl.lit(1).alias("measures_version"))
     return table if baseline is None else table.filter(pl.col("baseline") == baseline)
 
 
@@ -325,10 +321,9 @@ def _evaluate(run: RunDirectory, senses, robots, record, workers, ray_address, p
     paths = {False: run.out / TABLE, True: run.out / results.BASELINE}
 
     def save(rows: list[dict]) -> None:
-        for flag in (True, False):  # the baseline first: it may come out of evaluation.parquet
+        for flag in (True, False):
             part = [row for row in rows if row["baseline"] is flag]
-            old = tables[flag]
-            if part or (old is not None and old.height and not results.is_current(paths[flag])):
+            if part:
                 tables[flag] = results.save_table(paths[flag], tables[flag], part, _KEY, entry)
 
     if any(job.record for job in jobs) and not (run.out / BLUEPRINT).exists():

@@ -119,3 +119,24 @@ def test_the_verdict_and_its_interval_agree():
         decided = out.verdict in v.DECIDED
         assert decided == (not out.low <= 0.5 <= out.high), (a, b, out)
     assert {v.REPRODUCED, v.CONTRADICTED, v.INCONCLUSIVE} <= seen
+
+
+def test_the_probabilistic_index_is_scipys_brunner_munzel():
+    """theta, its standard error and degrees of freedom, the ones the verdicts use on theta's
+    own scale, are the observed split of the permutation test's and scipy's: its statistic is
+    (theta - 0.5) / se, its t p-value over the same degrees of freedom."""
+    rng = np.random.default_rng(2)
+    for a, b in _samples(rng):
+        theta, se, df = bm.probabilistic_index(a, b)
+        res = bm.test(a, b)
+        assert theta == pytest.approx(res.theta, abs=1e-12)
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")
+            ref = sps.brunnermunzel(a, b)
+        if se == 0:
+            assert not np.isfinite(ref.statistic) or theta in (0.0, 1.0)
+            continue
+        assert (theta - 0.5) / se == pytest.approx(ref.statistic, rel=1e-9, abs=1e-12)
+        p = 2 * sps.t.sf(abs(theta - 0.5) / se, df)
+        assert p == pytest.approx(ref.pvalue, rel=1e-7, abs=1e-12)
+    assert bm.probabilistic_index([1.0], [2.0, 3.0])[0] == 1.0

@@ -1,12 +1,16 @@
 """The post-evaluation's tables as results (results.py): float32 storage read as float64, the
-baseline in its own table, provenance per session, and tables of the older format kept."""
+baseline in its own table, provenance per session, and a table of an older format migrated
+once."""
 
 from __future__ import annotations
 
 import shutil
+from pathlib import Path
 
 import polars as pl
+import pytest
 
+from dart_reach.evolution.rundir import RunError
 from dart_reach.postevaluation import results
 from dart_reach.postevaluation.systematic import evaluate_run, load_evaluation
 
@@ -48,39 +52,39 @@ def test_tables_are_float32_apart_and_say_who_wrote_them(trained, tmp_path):
     assert len(results.sessions(out / results.BASELINE)) == 1  # no baseline rows added
 
 
-def test_a_table_of_the_older_format_loses_nothing(trained, tmp_path):
-    """A float64 evaluation.parquet holding the baseline too (written before results.py)
-    reads as it is; adding rows writes both tables in the current format, every old row
-    kept; ``migrate`` rewrites one with the provenance given."""
+def test_a_table_of_an_older_format_is_refused_in_one_line_and_migrated_once(trained, tmp_path):
+    """A float64 evaluation.parquet holding the baseline too (written before results.py, and
+    before the measures' version 2) is not read: one line names the command that rewrites
+    it; ``dart-reach evaluate RUN --migrate`` (``migrate``) rewrites it once, with the
+    provenance given, and the same rows read back; the committed tables are all current."""
     out = tmp_path / "run"
     shutil.copytree(trained, out)
     evaluate_run(out, senses=["normal"], robots=1, baseline=1, record="none", workers=1,
                  progress=False)
     every = load_evaluation(out, baseline=None).drop("session")
-    for copy in ("old", "migrated"):
-        shutil.copytree(out, tmp_path / copy)
-        (tmp_path / copy / results.BASELINE).unlink()
-        every.write_parquet(tmp_path / copy / results.EVALUATION)  # the old format
-        assert not results.is_current(tmp_path / copy / results.EVALUATION)
-        assert load_evaluation(tmp_path / copy, None).equals(every)
-
-    old = tmp_path / "old"
-    evaluate_run(old, senses=["no-ball"], robots=1, record="none", workers=1, progress=False)
-    key = ["phase", "baseline", "replication", "trial"]
-    kept = load_evaluation(old, None).filter(pl.col("senses") == "normal")
-    assert kept.drop("session").sort(key).equals(every.sort(key))
-    assert kept["session"].is_null().all()  # who wrote them is not known
-    assert pl.read_parquet(old / results.BASELINE)["senses"].to_list() == ["normal"] * 3 * 45
-    assert results.is_current(old / results.EVALUATION) and results.is_current(
-        old / results.BASELINE)
-
     migrated = tmp_path / "migrated"
+    shutil.copytree(out, migrated)
+    (migrated / results.BASELINE).unlink()
+    every.drop("measures_version").write_parquet(migrated / results.EVALUATION)  # the old format
+    assert not results.is_current(migrated / results.EVALUATION)
+    with pytest.raises(RunError) as refused:
+        load_evaluation(migrated, None)
+    message = str(refused.value)
+    assert "\n" not in message and f"dart-reach evaluate {migrated} --migrate" in message
+
     entry = {"revision": "abc", "command": "dart-reach evaluate run"}
     assert sorted(p.name for p in results.migrate(migrated, entry)) == [
         results.BASELINE, results.EVALUATION]
     assert results.sessions(migrated / results.BASELINE) == [dict(entry, rows=3 * 45)]
-    assert load_evaluation(migrated, None).drop("session").equals(every)
+    back = load_evaluation(migrated, None).drop("session")
+    assert back.drop("measures_version").equals(every.drop("measures_version"))
+    assert (back["measures_version"] == 1).all()  # measured before version 2
     assert results.migrate(migrated, entry) == []  # current: left alone
+
+    committed = [folder / name for folder in (Path(__file__).parents[2] / "recordings").iterdir()
+                 for name in (results.EVALUATION, results.BASELINE, results.DEVELOPMENT)
+                 if results.exists(folder / name)]
+    assert committed and all(results.is_current(path) for path in committed)
 
 
 def test_a_large_table_is_stored_in_parts_and_read_as_one(tmp_path, monkeypatch):

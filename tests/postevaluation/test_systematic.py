@@ -13,6 +13,7 @@ import polars as pl
 import pytest
 
 from dart_reach.measures import metrics
+from dart_reach.postevaluation import results
 from dart_reach.postevaluation.systematic import SENSES, evaluate_run, load_evaluation
 from dart_reach.recording.rrd import MEASURES, read_properties, read_rrd, verify
 
@@ -218,8 +219,8 @@ def test_the_finished_phases_of_an_unfinished_run_and_later_the_rest(trained, tm
 
 def test_rows_of_an_older_version_of_the_measures_are_measured_again(evaluated, tmp_path):
     """A table written before version 2 of the measures (no measures_version; reach on inner
-    faces) still opens, and evaluating its robots again replaces their rows instead of mixing
-    versions."""
+    faces) opens once migrated (version 1), and evaluating its robots again replaces their rows
+    instead of mixing versions."""
     src, _ = evaluated
     out = tmp_path / "run"
     shutil.copytree(src, out)
@@ -227,6 +228,7 @@ def test_rows_of_an_older_version_of_the_measures_are_measured_again(evaluated, 
     old = current.drop("measures_version", "reached_inner", "session").with_columns(
         pl.lit(False).alias("reached"))  # as an older version measured them
     old.write_parquet(out / "evaluation.parquet")
+    assert results.migrate(out) == [out / "evaluation.parquet"]
     assert (load_evaluation(out)["measures_version"] == 1).all()
     table = evaluate_run(out, senses=["no-touch"], robots=2, record="none", workers=1)
     assert table.height == current.height and (table["measures_version"] == 2).all()

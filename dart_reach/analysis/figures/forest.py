@@ -12,7 +12,7 @@ import polars as pl
 from matplotlib.figure import Figure
 from matplotlib.lines import Line2D
 
-from .. import budgets, findings, scales, verdicts
+from .. import budgets, findings, formatting, scales, verdicts
 from ..counts import never_run, section_part
 
 #: Colours of the verdicts (as the report's table).
@@ -131,9 +131,9 @@ def scale_table(by_budget: pl.DataFrame, own: bool = False) -> pl.DataFrame:
                   ("effect", "effect_low", "effect_high", "toward", "toward_low", "toward_high")]
         rows.append({"claim": r["claim"], "budget": f"{r['generations_per_phase']} gen/phase",
                      "scale": names[s],
-                     "effect [CI]": f"{s.symbol} {budgets.effect_text(*values[:3])}",
-                     "drawn [CI]": budgets.effect_text(*values[3:]),
-                     "1 on the axis": budgets.number_text(row_scale(*values[3:]))})
+                     "effect [CI]": f"{s.symbol} {formatting.effect(*values[:3])}",
+                     "drawn [CI]": formatting.effect(*values[3:]),
+                     "1 on the axis": formatting.number(row_scale(*values[3:]))})
     return pl.DataFrame(rows, schema=["claim", "budget", "scale", "effect [CI]", "drawn [CI]",
                                       "1 on the axis"])
 
