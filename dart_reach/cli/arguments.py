@@ -160,8 +160,6 @@ def add_levers(p: argparse.ArgumentParser) -> None:
 
 def levers(args):
     """The ``Levers`` of ``add_levers``'s options."""
-    from ..model.levers import Levers
+    from ..model.levers import TRIAL_LEVERS, Levers
 
-    return Levers(**{k: getattr(args, k) for k in ("reflex_inputs", "touch_pay",
-                                                    "network_start")
-                     if getattr(args, k) is not None})
+    return Levers(**{k: getattr(args, k) for k in TRIAL_LEVERS if getattr(args, k) is not None})

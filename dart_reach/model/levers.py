@@ -94,6 +94,25 @@ class NetworkStart(enum.Enum):
     ZERO = "zero"
 
 
+#: The trial's levers: field name -> its enum (``Levers``, ``task.TrialConfig``).
+TRIAL_LEVERS = {"reflex_inputs": ReflexInputs, "touch_pay": TouchPay,
+                "network_start": NetworkStart}
+
+
+def coerce_levers(config) -> None:
+    """In a frozen dataclass's ``__post_init__``: each field of ``TRIAL_LEVERS`` as its enum
+    (a value such as "binary" is taken); ``ValueError`` naming the choices otherwise."""
+    for name, kind in TRIAL_LEVERS.items():
+        value = getattr(config, name)
+        if not isinstance(value, kind):
+            try:
+                object.__setattr__(config, name, kind(value))
+            except ValueError:
+                raise ValueError(f"{name} must be one of "
+                                 f"{', '.join(repr(k.value) for k in kind)}, got {value!r}"
+                                 ) from None
+
+
 @dataclass(frozen=True)
 class Levers:
     """The trial's levers (see the enums); the defaults are model version 1's choices."""
@@ -103,26 +122,16 @@ class Levers:
     network_start: NetworkStart = NetworkStart.HOLD_HOME
 
     def __post_init__(self):
-        for name, kind in (("reflex_inputs", ReflexInputs), ("touch_pay", TouchPay),
-                           ("network_start", NetworkStart)):
-            value = getattr(self, name)
-            if not isinstance(value, kind):
-                try:
-                    object.__setattr__(self, name, kind(value))
-                except ValueError:
-                    raise ValueError(f"{name} must be one of "
-                                     f"{', '.join(repr(k.value) for k in kind)}, got {value!r}"
-                                     ) from None
+        coerce_levers(self)
 
     def to_json(self) -> dict:
-        return {k: getattr(self, k).value for k in ("reflex_inputs", "touch_pay",
-                                                     "network_start")}
+        return {k: getattr(self, k).value for k in TRIAL_LEVERS}
 
     @classmethod
     def from_json(cls, d: dict | None) -> "Levers":
         """The inverse of ``to_json``; None or missing keys: version 1's defaults."""
         d = dict(d or {})
-        unknown = sorted(set(d) - {"reflex_inputs", "touch_pay", "network_start"})
+        unknown = sorted(set(d) - set(TRIAL_LEVERS))
         if unknown:
             raise ValueError(f"unknown lever(s) {', '.join(unknown)}")
         return cls(**d)

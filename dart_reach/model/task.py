@@ -27,7 +27,7 @@ from . import sensors
 from .ctrnn import (N_HIDDEN, N_MOTORS, N_SENSORS, OFFSET, PROPRIO, SIGHT, TOUCH, Network,
                     NetworkParams, motor_targets)
 from .icub import HAND_SEGMENTS, TOUCH_BODIES
-from .levers import NetworkStart, ReflexInputs, TouchPay
+from .levers import NetworkStart, ReflexInputs, TouchPay, coerce_levers
 from .world import BALL_PARKED, N_SECTORS, World, palm_normal, palm_point
 
 #: Indices in ``HAND_SEGMENTS`` of the six touch-sensor bodies (palm, fingertips).
@@ -75,10 +75,7 @@ class TrialConfig:
     network_start: NetworkStart = NetworkStart.HOLD_HOME
 
     def __post_init__(self):
-        for name, kind in (("reflex_inputs", ReflexInputs), ("touch_pay", TouchPay),
-                           ("network_start", NetworkStart)):
-            if not isinstance(getattr(self, name), kind):
-                object.__setattr__(self, name, kind(getattr(self, name)))
+        coerce_levers(self)
         if not (self.acuity > 0 and math.isfinite(self.acuity)):
             raise ValueError(f"acuity must be a positive number, got {self.acuity!r}")
         if self.steps <= 0 or self.trials <= 0:
