@@ -105,6 +105,11 @@ def read_table(path: str | os.PathLike) -> pl.DataFrame | None:
     files = stored_files(path)
     if not files:
         return None
+    for file in files:  # a damaged file is unreadable, not old
+        try:
+            pl.read_parquet_metadata(file)
+        except Exception as exc:  # polars raises several kinds for a damaged file
+            raise RunError(f"{file}: unreadable ({exc})") from None
     if not is_current(path):
         raise RunError(f"{path}: stored in a format older than the current one ({FORMAT}); "
                        f"rewrite it once with 'dart-reach evaluate {Path(path).parent} "
