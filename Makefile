@@ -232,7 +232,7 @@ levers-train: $(VENV)/.installed
 levers-evaluate: $(VENV)/.installed
 	for a in $(LEVER_ARMS); do \
 		$(BIN)/dart-reach evaluate $(LEVERS)/$${a%%:*} --finished-only --development 5 \
-			--development-sensors normal,no-ball || exit $$?; \
+			--development-sensors normal,no-ball --snapshots 10,20,30,40,50 || exit $$?; \
 	done
 # The compact state of the levers arms trained in another checkout (the pinned worktree,
 # LEVERS_FROM=its path): manifest, statistics, checkpoints, finals and snapshots, to commit.

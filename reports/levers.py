@@ -212,6 +212,33 @@ def _progress(arm: str) -> str:
             f"{g.height} replications, revision {revision}")
 
 
+def course_lines(ref: pl.DataFrame) -> list[str]:
+    """Each arm's course over its post-evaluated snapshots beside the reference at 50: the
+    means over the replications, and how many meet each criterion and all four."""
+    head = ["", "The course over the snapshots (means over the replications; the criteria as "
+            "counts of replications):", "",
+            "| arm | generation | replications | reach | elbow SD | shoulder SD | trunk SD | "
+            "hand-shoulder (m) | CV | babbling | babbling, no ball | fitness | "
+            + " | ".join(CRITERIA) + " | paper's |", "|---|" + "---:|" * 16]
+    rows = []
+    tables = [("reference", ref.with_columns(generation=pl.lit(JUDGED)))]
+    tables += [(arm, p) for arm in ARMS if (p := arm_profiles(arm)) is not None]
+    for arm, prof in tables:
+        for g in sorted(prof["generation"].unique()):
+            at = prof.filter(pl.col("generation") == g)
+            m = {c: at[c].mean() for c in ("reach", "elbow_sd", "shoulder_sd", "trunk_sd",
+                                           "hand_shoulder_m", "hand_shoulder_cv", "babbling",
+                                           "babbling_no_ball", "fitness")}
+            rows.append(f"| {arm} | {g} | {at.height} | {decimals(m['reach'], 2)} | "
+                        f"{decimals(m['elbow_sd'])} | {decimals(m['shoulder_sd'])} | {decimals(m['trunk_sd'])} | "
+                        f"{decimals(m['hand_shoulder_m'])} | {decimals(m['hand_shoulder_cv'])} | "
+                        f"{decimals(m['babbling'], 2)} | {decimals(m['babbling_no_ball'], 2)} | "
+                        f"{decimals(m['fitness'], 4)} | "
+                        + " | ".join(str(int(at[f"is_{c}"].sum())) for c in CRITERIA)
+                        + f" | {int(at['paper'].sum())} |")
+    return head + rows if len(tables) > 1 else []
+
+
 def arms_section() -> str:
     ref = reference_profiles()
     k_ref, n_ref = int(ref["paper"].sum()), ref.height
@@ -243,6 +270,7 @@ def arms_section() -> str:
                                                    for c in CRITERIA)
                      + f" | {int((at['strategy'] == STILL).sum())} |")
         verdicts.append((arm, k, n, p))
+    lines += course_lines(ref)
     lines += ["", "Editorial, not a departure: the module the plan names for the strategy, "
               "`analysis.stillness`, has since been renamed `analysis.strategies`; its rule is "
               "unchanged.", ""]
