@@ -24,9 +24,10 @@ from gymnasium.error import ResetNeeded
 from ..evolution.conditions import Phase, condition_names, load_condition
 from ..evolution.settings import Settings, trial_config
 from ..measures.contacts import first_grasp, first_touch
-from ..model.ctrnn import N_MOTORS, N_SENSORS, Network, motor_targets, reflex_biases, zero_params
+from ..model.ctrnn import N_MOTORS, N_SENSORS, motor_targets, reflex_biases, zero_params
+from ..model.levers import CURRENT_MODEL_VERSION
 from ..model.scenes import load_scene
-from ..model.task import Senses, Trial, TrialData, trial_positions
+from ..model.task import Senses, Trial, TrialData, network_for, trial_positions
 from ..model.world import N_SECTORS, World, WorldConfig, check_sector
 
 _REFLEX_MASK = reflex_biases()[0]
@@ -173,6 +174,8 @@ class ReachGraspEnv(gym.Env):
     - ``senses``: a post-evaluation sensory condition (``task.Senses`` or its value).
     - ``steps``: control steps of 0.1 s per episode (200); with another value, pass the same
       ``max_episode_steps`` to ``gymnasium.make``.
+    - ``model_version``: the model version the trial runs under (``model.levers``; default
+      the version new runs train under); a robot trained under version 2 runs under 2.
     - ``render_mode``: None, ``"rgb_array"`` or ``"human"``. ``rgb_array``: ``render()``
       returns a camera image of the scene at the current step, (``height``, ``width``, 3)
       uint8, drawn in numpy from the DART world's shapes (``viewing.camera``: no GPU,
@@ -202,7 +205,8 @@ class ReachGraspEnv(gym.Env):
     def __init__(self, phase: str | Phase = "pre", scene: str | None = None,
                  reflexes: bool | None = None, senses: str | Senses = Senses.NORMAL,
                  steps: int = 200, render_mode: str | None = None, width: int = 320,
-                 height: int = 240, viewer: str | None = None):
+                 height: int = 240, viewer: str | None = None,
+                 model_version: int = CURRENT_MODEL_VERSION):
         if isinstance(phase, str):
             phases = shipped_phases()
             if phase not in phases:
@@ -228,9 +232,9 @@ class ReachGraspEnv(gym.Env):
         # kept for pickling: the environment is rebuilt from them (a DART world does not pickle)
         self._arguments = dict(phase=phase, scene=scene, reflexes=reflexes, senses=senses,
                                steps=int(steps), render_mode=render_mode, width=int(width),
-                               height=int(height), viewer=viewer)
+                               height=int(height), viewer=viewer, model_version=model_version)
         self.phase = phase
-        config = trial_config(phase, Settings(steps=int(steps)))
+        config = trial_config(phase, Settings(steps=int(steps), model_version=model_version))
         self.config = replace(config, senses=Senses(senses), reflexes=(
             config.reflexes if reflexes is None else reflexes))
         self.render_mode = render_mode
@@ -239,7 +243,7 @@ class ReachGraspEnv(gym.Env):
         self.world = World(world_config)
         self.trial = Trial(self.world, self.config)
         # the reflex arcs alone: hand-set weights and thresholds, no memory (tau 0)
-        self._reflex = (Network(zero_params(), reflexes=True, hidden_frozen=True)
+        self._reflex = (network_for(zero_params(), replace(self.config, hidden_frozen=True))
                         if self.config.reflexes else None)
         self.observation_space = spaces.Box(-1.0, 1.0, (N_SENSORS,), np.float64)
         self.action_space = spaces.Box(-1.0, 1.0, (N_MOTORS,), np.float32)

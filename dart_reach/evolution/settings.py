@@ -17,7 +17,7 @@ import numpy as np
 from .conditions import Phase, load_condition
 from .ga import GAConfig, Scheme
 from .genome import ParamGroup, as_groups, random_genome
-from ..model.levers import CURRENT_MODEL_VERSION, Levers, check_model_version
+from ..model.levers import CURRENT_MODEL_VERSION, Levers, check_model_version, numerics_of
 from ..model.task import TrialConfig
 from ..model.world import BallConfig, SectorConfig, WorldConfig
 
@@ -70,14 +70,16 @@ class Settings:
 
 
 def trial_config(phase: Phase, settings: Settings) -> TrialConfig:
-    """The maturational state of a phase as the task sees it."""
+    """The maturational state of a phase as the task sees it, with the run's levers and its
+    model version's numerics."""
     groups = as_groups(phase.free_groups)
     levers = settings.levers
     return TrialConfig(acuity=phase.acuity, offset_sensors=phase.offset_sensors,
                        hidden_frozen=ParamGroup.HIDDEN not in groups, reflexes=phase.reflexes,
                        steps=settings.steps, trials=settings.trials,
                        reflex_inputs=levers.reflex_inputs, touch_pay=levers.touch_pay,
-                       network_start=levers.network_start)
+                       network_start=levers.network_start,
+                       numerics=numerics_of(settings.model_version))
 
 
 def standard_trial(phase: str = "pre", **changes) -> TrialConfig:

@@ -24,9 +24,34 @@ from dataclasses import dataclass
 MODEL_VERSIONS = {
     1: "the model of November 2026: the defaults of Levers(), sphere radius 0.344 m "
        "(scene arm-length-shoulder), no self-collision, the numerics of dart_reach 0.x",
+    2: "version 1's model computed by compiled numerics (Numerics.COMPILED, model.compiled): "
+       "the same equations and physics, rounded alike on every processor, faster",
 }
 #: The version new runs are trained under.
 CURRENT_MODEL_VERSION = 1
+
+
+class Numerics(enum.Enum):
+    """How a model version computes the trial's Python around DART's step (the sensors, the
+    network, the fitness terms, the motor commands): the equations are the same, the rounding
+    is not.
+
+    - ``REFERENCE`` (version 1): numpy and Python floats (``ctrnn``, ``sensors``, ``task``).
+    - ``COMPILED`` (version 2): compiled with Numba, every operation in a fixed order and the
+      logistic's exponential written out (``model.compiled``).
+    """
+
+    REFERENCE = "reference"
+    COMPILED = "compiled"
+
+
+#: The numerics of each model version.
+VERSION_NUMERICS = {1: Numerics.REFERENCE, 2: Numerics.COMPILED}
+
+
+def numerics_of(version: int) -> Numerics:
+    """The numerics a model version computes with."""
+    return VERSION_NUMERICS[check_model_version(version)]
 
 
 def check_model_version(version) -> int:

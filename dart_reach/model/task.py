@@ -27,7 +27,7 @@ from . import sensors
 from .ctrnn import (N_HIDDEN, N_MOTORS, N_SENSORS, OFFSET, PROPRIO, SIGHT, TOUCH, Network,
                     NetworkParams, motor_targets)
 from .icub import HAND_SEGMENTS, TOUCH_BODIES
-from .levers import NetworkStart, ReflexInputs, TouchPay, coerce_levers
+from .levers import NetworkStart, Numerics, ReflexInputs, TouchPay, coerce_levers
 from .world import BALL_PARKED, N_SECTORS, World, palm_normal, palm_point
 
 #: Indices in ``HAND_SEGMENTS`` of the six touch-sensor bodies (palm, fingertips).
@@ -60,7 +60,8 @@ class TrialConfig:
     ``acuity`` is the exponent a of Eqs. 1-2: 3 in pre-reaching (low acuity), 1 afterwards, as
     the paper's text (section III-B) says; its Table I swaps the two values.
     ``reflex_inputs``, ``touch_pay`` and ``network_start`` are the trial's levers
-    (``levers.Levers``; the defaults are model version 1's).
+    (``levers.Levers``; the defaults are model version 1's); ``numerics`` how the model
+    version computes them (``levers.Numerics``; version 1's by default).
     """
 
     acuity: float = 1.0
@@ -73,9 +74,12 @@ class TrialConfig:
     reflex_inputs: ReflexInputs = ReflexInputs.HAND_SET
     touch_pay: TouchPay = TouchPay.FACES
     network_start: NetworkStart = NetworkStart.HOLD_HOME
+    numerics: Numerics = Numerics.REFERENCE
 
     def __post_init__(self):
         coerce_levers(self)
+        if not isinstance(self.numerics, Numerics):
+            object.__setattr__(self, "numerics", Numerics(self.numerics))
         if not (self.acuity > 0 and math.isfinite(self.acuity)):
             raise ValueError(f"acuity must be a positive number, got {self.acuity!r}")
         if self.steps <= 0 or self.trials <= 0:
@@ -146,7 +150,17 @@ class Trial:
     Two ways through the same steps: ``run`` keeps every per-step record (post-evaluation,
     recordings); ``fitness`` keeps only what the fitness needs (the genetic algorithm). Both
     compute the sensors and the fitness terms with the one ``sense``, so a trial's fitness is
-    the same to the last bit either way."""
+    the same to the last bit either way.
+
+    Under ``Numerics.COMPILED`` (model version 2) ``Trial(world, config)`` is a
+    ``compiled.CompiledTrial``: the same steps, sensing and driving the world by compiled
+    code."""
+
+    def __new__(cls, world: World, config: TrialConfig = TrialConfig()):
+        if cls is Trial and config.numerics is Numerics.COMPILED:
+            from .compiled import CompiledTrial  # loads Numba: only where version 2 runs
+            cls = CompiledTrial
+        return super().__new__(cls)
 
     def __init__(self, world: World, config: TrialConfig = TrialConfig()):
         self.world, self.config = world, config
@@ -168,6 +182,8 @@ class Trial:
                             if config.network_start is NetworkStart.HOLD_HOME
                             else np.zeros(N_MOTORS))
         self._pay_touch = sensors.p_touch_of(config.touch_pay)  # levers.TouchPay
+        #: the world's motors commanded toward 14 targets in [-1, 1], no physics yet
+        self.command = world.set_targets
         self._no_touch = config.senses in _NO_TOUCH
         self._no_sight = config.senses in _NO_SIGHT
         self._offsets = config.offset_sensors and not self._no_sight
@@ -245,7 +261,8 @@ class Trial:
         ``t`` (``observe``), or without a record into the sensor vector and the fitness terms
         only (``sense``). After the trial's last step (``t`` = ``config.steps``) nothing is
         read. False when the state read is not finite."""
-        self.world.step(targets)
+        self.command(targets)
+        self.world.advance()
         if t == self._steps:
             return True
         return self.sense() if data is None else self.observe(data, t)
@@ -321,8 +338,12 @@ def trial_positions(world: World, rng: np.random.Generator, trials: int = 18
 
 def network_for(params: NetworkParams, config: TrialConfig) -> Network:
     """The network of ``params`` in the maturational state of ``config`` (reflexes, frozen
-    internal neurons, the reflex motors' inputs)."""
-    return Network(params, reflexes=config.reflexes, hidden_frozen=config.hidden_frozen,
+    internal neurons, the reflex motors' inputs), computed by its numerics."""
+    kind = Network
+    if config.numerics is Numerics.COMPILED:
+        from .compiled import CompiledNetwork
+        kind = CompiledNetwork
+    return kind(params, reflexes=config.reflexes, hidden_frozen=config.hidden_frozen,
                    reflex_inputs=config.reflex_inputs)
 
 

@@ -30,6 +30,7 @@ from ..evolution.genome import ParamGroup, as_groups, decode, random_genome
 from ..evolution.rundir import RunDirectory
 from ..evolution.settings import Settings, standard_trial, trial_config
 from ..measures.metrics import trial_metrics
+from ..model.levers import MODEL_VERSIONS, numerics_of
 from ..model.scripted import ScriptedReach
 from ..model.task import Trial, network_for
 from ..model.world import World, WorldConfig
@@ -38,6 +39,8 @@ from ..robots import evolved_pre
 
 #: Robots of the closed-loop figures: random pre-reaching networks and evolved ones.
 PANEL = 5
+#: The model version ``run`` measures by default: the newest, the one the next runs use.
+LATEST_MODEL_VERSION = max(MODEL_VERSIONS)
 
 
 def machine(config: WorldConfig | None = None) -> dict:
@@ -121,7 +124,7 @@ def panel_genomes(kind: str, n: int = PANEL, seed: int = 0) -> np.ndarray:
 
 
 def closed_loop(kind: str, config: WorldConfig | None = None, trials: int = 9,
-                records: bool = True) -> dict:
+                records: bool = True, model_version: int = 1) -> dict:
     """A full trial (observation, network, touch; section III-C) against the bare physics
     replaying the same targets (the same motion to the last bit), in pairs over the sector
     centres, for ``PANEL`` robots of ``kind``: with every per-step record kept
@@ -130,9 +133,10 @@ def closed_loop(kind: str, config: WorldConfig | None = None, trials: int = 9,
     ``training_loop_*``). Figures (suffix ``_evolved`` for evolved robots): ``*_rtf``,
     ``*_over_limit`` (physics time over the whole loop's) and ``python_us_per_control_step``
     / ``training_python_us_per_control_step`` (what the loop adds to the physics per 0.1 s
-    step, µs)."""
+    step, µs). The trial computes with ``model_version``'s numerics; the replay commands the
+    motors as that trial does (``Trial.command``)."""
     world = World(config or WorldConfig())
-    cfg = standard_trial("pre")
+    cfg = standard_trial("pre", numerics=numerics_of(model_version))
     runner = Trial(world, cfg)
     networks = [network_for(decode(g, {ParamGroup.DIRECT}), cfg) for g in panel_genomes(kind)]
     centres = [world.sector_point(k, 0.5, 0.5) for k in range(9)]
@@ -149,7 +153,7 @@ def closed_loop(kind: str, config: WorldConfig | None = None, trials: int = 9,
                 runner.fitness(network, centres[k])
 
         def physics():
-            _replay(world, centres[k], targets, n)
+            _replay(runner, centres[k], targets, n)
 
         t_whole, t_physics = paired(whole, physics, 1) if i % 2 == 0 else \
             paired(physics, whole, 1)[::-1]
@@ -165,7 +169,7 @@ def closed_loop(kind: str, config: WorldConfig | None = None, trials: int = 9,
             * 1e6}
 
 
-def gym_env(trials: int = 9) -> dict:
+def gym_env(trials: int = 9, model_version: int = 1) -> dict:
     """The Gymnasium environment (``envs``, the ``gym`` extra) against the trial it wraps:
     the shipped evolved pre-reaching robots' networks stepped through ``ReachGraspEnv`` as
     ``envs.NetworkPolicy`` (with its reflexes off: the networks have theirs) and run by
@@ -175,7 +179,7 @@ def gym_env(trials: int = 9) -> dict:
     environment's (1: the wrapper costs nothing)."""
     from ..envs import NetworkPolicy, ReachGraspEnv  # the gym extra
 
-    env = ReachGraspEnv(phase="pre", reflexes=False)
+    env = ReachGraspEnv(phase="pre", reflexes=False, model_version=model_version)
     runner = Trial(World(env.world.config), env.config)
     networks = [network_for(decode(g, {ParamGroup.DIRECT}), replace(env.config, reflexes=True))
                 for g in panel_genomes("evolved")]
@@ -231,12 +235,14 @@ def env_render(frames: int = 100, width: int = 320, height: int = 240, seed: int
             "env_render_ms": float(np.median(times)) * 1e3}
 
 
-def _replay(world: World, ball: np.ndarray, targets: np.ndarray, steps: int) -> None:
-    """The bare physics of a trial: its first ``steps`` motor targets, nothing observed."""
-    world.reset(ball)
+def _replay(runner: Trial, ball: np.ndarray, targets: np.ndarray, steps: int) -> None:
+    """The bare physics of a trial: its first ``steps`` motor targets commanded as ``runner``
+    commands them, the physics substeps run, nothing observed."""
+    runner._reset(ball)
+    world, command = runner.world, runner.command
     substeps, step = world.config.substeps, world.world.step
     for t in range(steps):
-        world.set_targets(targets[t])
+        command(targets[t])
         for _ in range(substeps):
             step(False)
 
@@ -267,8 +273,8 @@ def physics_speedup(config: WorldConfig | None = None, trials: int = 45) -> dict
         k = i % 9
         ball = world.sector_point(k, 0.5, 0.5)
         data = runner.run(networks[i % len(networks)], k, ball)
-        old, new = (lambda w=w: _replay(w, ball, data.targets, data.steps_run)
-                    for w in (reference, world))
+        old, new = (lambda r=r: _replay(r, ball, data.targets, data.steps_run)
+                    for r in (Trial(reference, cfg), runner))
         t_ref, t_new = paired(old, new, 1) if i % 2 == 0 else paired(new, old, 1)[::-1]
         ratios.append(t_ref[0] / t_new[0])
     return ratio("physics_speedup", ratios)
@@ -388,13 +394,13 @@ def trial_cost(run_dir, generations: Sequence[int]) -> pl.DataFrame:
 
 
 # -------------------------------------------------------------------------------- recording
-def recording_overhead(robots: int = 2, seed: int = 0) -> dict:
+def recording_overhead(robots: int = 2, seed: int = 0, model_version: int = 1) -> dict:
     """``recording_overhead``: wall time of a post-evaluation trial (the trial and its
     measures) plus building and writing its .rrd file, over the time of the trial alone; the
     median over the 45 systematic positions of ``robots`` random gross-reaching robots. Each
     trial is timed and then immediately recorded, so that both see the same machine load.
     ``rrd_mb_per_sim_min``: size of the recordings per simulated minute."""
-    settings = Settings()
+    settings = Settings(model_version=model_version)
     phase = load_condition("standard").phases[1]
     trial = trial_config(phase, settings)
     runner = worker_trial(settings.world, trial)
@@ -446,17 +452,19 @@ def check(results: dict) -> dict[str, bool]:
     return {name: _meets(results[name], *TARGETS[name]) for name in TARGETS if name in results}
 
 
-def run(seconds: float = 2.0, pairs: int = 30) -> dict:
+def run(seconds: float = 2.0, pairs: int = 30, model_version: int = LATEST_MODEL_VERSION
+        ) -> dict:
     """Every figure, in one run: ``pairs`` pairs of ``seconds`` simulated seconds for the
     physics ratio; the closed loop over 45 trials of each kind; 10 pairs of generations on the
     pool, 5 on a local Ray cluster (when the ``cluster`` extra is installed); the Gymnasium
-    environment over 45 trials and its rgb_array frames (when the ``gym`` extra is)."""
-    results = {"machine": machine()}
+    environment over 45 trials and its rgb_array frames (when the ``gym`` extra is). The
+    trials compute with ``model_version``'s numerics (default the latest)."""
+    results = {"machine": machine(), "model_version": model_version}
     results.update(world_rtf(seconds=seconds, pairs=pairs))
     results.update(physics_speedup())
     for kind in ("random", "evolved"):
         for records in (True, False):
-            results.update(closed_loop(kind, records=records))
+            results.update(closed_loop(kind, records=records, model_version=model_version))
     results.update(parallel())
     try:
         import ray  # noqa: F401
@@ -464,11 +472,11 @@ def run(seconds: float = 2.0, pairs: int = 30) -> dict:
         results["ray_efficiency_skipped"] = "Ray is not installed (the 'cluster' extra)"
     else:
         results.update(ray_efficiency())
-    results.update(recording_overhead())
+    results.update(recording_overhead(model_version=model_version))
     if importlib.util.find_spec("gymnasium") is None:
         results["env_skipped"] = "Gymnasium is not installed (the 'gym' extra)"
     else:
-        results.update(gym_env())
+        results.update(gym_env(model_version=model_version))
         results.update(env_render())
     results["targets_met"] = check(results)
     return results

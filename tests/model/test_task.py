@@ -9,7 +9,8 @@ import pytest
 from dart_reach.model import ctrnn, sensors
 from dart_reach.model.ctrnn import SIGHT, TOUCH, OFFSET, Network, random_params, zero_params
 from dart_reach.model.scripted import ScriptedController
-from dart_reach.model.task import Senses, Trial, TrialConfig, lifetime
+from dart_reach.model.levers import Numerics
+from dart_reach.model.task import Senses, Trial, TrialConfig, lifetime, network_for
 from dart_reach.model.world import World
 
 
@@ -118,23 +119,25 @@ def test_grasp_reflex_closes_the_hand_on_a_palm_touch(world):
     assert world.motor_positions()[13] > 1.4
 
 
-def test_an_exploding_simulation_scores_zero_with_a_flag(world):
+@pytest.mark.parametrize("numerics", list(Numerics))
+def test_an_exploding_simulation_scores_zero_with_a_flag(world, numerics):
     params = random_params(np.random.default_rng(1))
-    trial = Trial(world, TrialConfig(steps=20))
-    net = Network(params)
-    original = world.step
+    config = TrialConfig(steps=20, numerics=numerics)
+    trial = Trial(world, config)
+    net = network_for(params, config)
+    original = world.advance
     calls = []
 
-    def exploding(targets):  # the real world, then its state blown up after 5 steps
-        original(targets)
+    def exploding():  # the real world, then its state blown up after 5 steps
+        original()
         calls.append(1)
         if len(calls) == 5:
             world.robot.setVelocities(np.full(world.robot.getNumDofs(), np.nan))
-    world.step = exploding
+    world.advance = exploding
     try:
         data = trial.run(net, 4, world.sector_point(4, 0.5, 0.5))
     finally:
-        del world.step
+        del world.advance
     # NaN velocities make the positions NaN in the next step; the observation after it stops
     # the trial
     assert data.diverged and data.steps_run == 6 and data.fitness == 0.0

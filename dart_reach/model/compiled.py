@@ -1,0 +1,315 @@
+"""The compiled numerics of model version 2 (``levers.Numerics.COMPILED``): the trial's Python
+around DART's step (the sensors, the network, the fitness terms and the motor commands of one
+0.1 s control step) compiled with Numba, so that a trial costs little more than its physics.
+
+Version 2 computes what version 1 computes (``ctrnn``, ``sensors``, ``task``; sections III-B,
+III-C): the same equations, the same physics, the same DART step. Only the rounding may differ,
+and it is the same on every processor, by construction:
+
+- every sum is taken in index order, every product and quotient as written: compiled without
+  ``fastmath``, LLVM may neither reorder nor fuse (no FMA) floating-point operations, so the
+  vector width of the processor (SSE, AVX2, AVX-512) cannot change a result (tested: the same
+  trials to the last bit compiled for the host and for a generic x86-64);
+- the logistic's exponential (``exp_nonpositive``) is written here from +, -, * and exact
+  scaling by powers of 2, not taken from the C library, whose implementations differ between
+  processors (glibc picks an FMA variant where the CPU has one) and between libraries;
+- distances use ``sqrt`` (correctly rounded by IEEE 754), not ``hypot``; the acuity's power
+  is a product for the paper's exponents 1 and 3 (section III-B), the C library's ``pow``
+  only for other exponents a user may set; the offset sensors' visual angles (fine-reaching,
+  Eq. 4) take the C library's ``atan2``, as version 1 does (Python's ``math.atan2``).
+
+Version 1 keeps its own code and digests (``ctrnn.Network``, ``task.Trial.sense``): every run
+trained under it reproduces bit for bit.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from numba import njit
+
+from . import sensors
+from .ctrnn import N_HIDDEN, N_MOTORS, N_SENSORS, Network, NetworkParams
+from .icub import PALM_POINT
+from .levers import TOUCH_CAP, ReflexInputs, TouchPay
+from .task import TOUCH_SEGMENTS, Trial, TrialConfig
+from .world import World
+
+# ------------------------------------------------------------------------------ exponential
+#: ln 2 split in two (fdlibm's constants): k * _LN2_HI is exact for |k| < 2^11.
+_LN2_HI = 6.93147180369123816490e-01
+_LN2_LO = 1.90821492927058770002e-10
+_INV_LN2 = 1.44269504088896338700e+00
+#: Below this exp(x) is 0 in float64 (the smallest subnormal is 4.9e-324 = exp(-744.4)).
+_EXP_UNDERFLOW = -745.2
+#: 1 / n! for n = 2..13: the Taylor series of exp(r) - 1 - r on |r| <= ln(2) / 2, whose
+#: truncation error (<= 0.347^14 / 14! = 4e-18) lies far below float64's half ulp.
+_INV_FACTORIALS = (1.0 / 2, 1.0 / 6, 1.0 / 24, 1.0 / 120, 1.0 / 720, 1.0 / 5040, 1.0 / 40320,
+                   1.0 / 362880, 1.0 / 3628800, 1.0 / 39916800, 1.0 / 479001600,
+                   1.0 / 6227020800)
+
+
+@njit(cache=True)
+def exp_nonpositive(x: float) -> float:
+    """exp(x) for x <= 0 from +, -, * and ``ldexp`` only (the same bits on every processor):
+    x = k ln 2 + r with |r| <= ln(2) / 2 (Cody and Waite's two-part ln 2), exp(r) by its
+    Taylor series to r^13 in Horner's form, times 2^k. Within 2 ulp of the correctly rounded
+    value (tested against ``math.exp``); 0.0 below -745.2; NaN for NaN."""
+    if x != x:
+        return x
+    if x < _EXP_UNDERFLOW:
+        return 0.0
+    k = math.floor(x * _INV_LN2 + 0.5)
+    r = (x - k * _LN2_HI) - k * _LN2_LO
+    c = _INV_FACTORIALS
+    p = c[11]
+    for i in range(10, -1, -1):
+        p = p * r + c[i]
+    return math.ldexp(1.0 + (r + r * r * p), int(k))
+
+
+@njit(cache=True)
+def logistic(z: float) -> float:
+    """sigma(z) = 1 / (1 + exp(-z)) of the update equation (section III-B), from
+    ``exp_nonpositive`` of -|z| (no overflow): 1 / (1 + e) for z >= 0, e / (1 + e) below."""
+    if z >= 0.0:
+        return 1.0 / (1.0 + exp_nonpositive(-z))
+    e = exp_nonpositive(z)
+    return e / (1.0 + e)
+
+
+# ------------------------------------------------------------------------------ the network
+@njit(cache=True)
+def _network_step(sensors_in, in_scale, w_sm, w_sh, w_hm, bias_h, bias_m, gain_h, tau_h, tau_m,
+                  hidden_frozen, x, hidden, motor):
+    """One 0.1 s update of the network (``ctrnn.Network.step``'s equation), in place on
+    ``hidden`` and ``motor``; every sum in index order: the sensors', then the internal
+    neurons'."""
+    for j in range(N_SENSORS):
+        x[j] = sensors_in[j] * in_scale[j]
+    if not hidden_frozen:
+        for i in range(N_HIDDEN):
+            s = 0.0
+            for j in range(N_SENSORS):
+                s += w_sh[i, j] * x[j]
+            s = gain_h[i] * logistic(s - bias_h[i])
+            hidden[i] = tau_h[i] * hidden[i] + (1.0 - tau_h[i]) * s
+    for i in range(N_MOTORS):
+        s = 0.0
+        for j in range(N_SENSORS):
+            s += w_sm[i, j] * x[j]
+        if not hidden_frozen:
+            for j in range(N_HIDDEN):
+                s += w_hm[i, j] * hidden[j]
+        motor[i] = tau_m[i] * motor[i] + (1.0 - tau_m[i]) * logistic(s - bias_m[i])
+
+
+class CompiledNetwork(Network):
+    """``ctrnn.Network`` (section III-B, Fig. 3) stepped by compiled code (model version 2):
+    the same parameters, reflexes, states and interface; ``step`` allocates nothing."""
+
+    def __init__(self, params: NetworkParams, *, reflexes: bool = False,
+                 hidden_frozen: bool = False, reflex_inputs: ReflexInputs = ReflexInputs.HAND_SET):
+        super().__init__(params, reflexes=reflexes, hidden_frozen=hidden_frozen,
+                         reflex_inputs=reflex_inputs)
+        self._args = (self._in_scale, self._w_sm, self._w_sh, self._w_hm, self._bias_h,
+                      self._bias_m, self._gain_h, self._tau_h, self._tau_m, self.hidden_frozen,
+                      self._x, self.hidden, self.motor)
+
+    def step(self, sensors: np.ndarray) -> np.ndarray:
+        """One 0.1 s update from the 25 sensor values; returns ``self.motor``."""
+        if type(sensors) is not np.ndarray or sensors.shape != (N_SENSORS,) \
+                or sensors.dtype != np.float64:
+            sensors = np.asarray(sensors, dtype=float)
+            if sensors.shape != (N_SENSORS,):
+                raise ValueError(f"expected {N_SENSORS} sensor values, got shape {sensors.shape}")
+        _network_step(sensors, *self._args)
+        return self.motor
+
+
+# ------------------------------------------------------------------------------ sensing
+#: ``TouchPay`` as the small integers the sensing kernel takes.
+PAY_CODES = {TouchPay.FACES: 0, TouchPay.BINARY: 1, TouchPay.CAPPED: 2}
+_TAN_X = math.tan(math.radians(sensors.HALF_FOV_X_DEG))
+_TAN_Y = math.tan(math.radians(sensors.HALF_FOV_Y_DEG))
+_SQRT2 = math.sqrt(2.0)
+_DEGREES = 180.0 / math.pi
+_NO_TOUCH, _TOUCHING, _NO_SIGHT = sensors.NO_TOUCH, sensors.TOUCHING, sensors.NO_SIGHT
+_SIGHT_RANGE, _OFFSET_D_MAX, _OFFSET_SCALE = (sensors.SIGHT_RANGE_M, sensors.OFFSET_D_MAX_DEG,
+                                              sensors.OFFSET_SCALE)
+_TOUCH_CAP = TOUCH_CAP
+
+
+@njit(cache=True)
+def _clip(v, lo, hi):
+    if v != v:
+        return v
+    v = v if v > lo else lo
+    return v if v < hi else hi
+
+
+@njit(cache=True)
+def _in_camera(p, cam, out):
+    """``out`` = R^T (p - o) of the 4x4 camera pose ``cam`` (rotation R, origin o)."""
+    d0, d1, d2 = p[0] - cam[0, 3], p[1] - cam[1, 3], p[2] - cam[2, 3]
+    for i in range(3):
+        out[i] = d0 * cam[0, i] + d1 * cam[1, i] + d2 * cam[2, i]
+
+
+@njit(cache=True)
+def _power(c, a):
+    """sgn(c) |c|^a of Eqs. 1-2: a product for a = 1 and a = 3, the C library's pow else."""
+    m = abs(c)
+    if a == 3.0:
+        m = m * m * m
+    elif a != 1.0:
+        m = m ** a
+    return m if c >= 0.0 else -m
+
+
+@njit(cache=True)
+def _sense(positions, ball, cam, hand, touching, motor_dofs, finger_dofs, lower, span,
+           touch_segments, acuity, no_touch, no_sight, offsets, pay, palm, q, x, p, scratch):
+    """The sensor vector ``x`` (25), the motor-space angles ``q`` (14) and the fitness terms
+    ``p`` = (p_sight, p_touch, p_multimodal) (Eq. 5) of one step, from the skeleton's joint
+    positions, the ball's centre, the camera's and (with ``offsets``) the hand's 4x4 poses and
+    the 16 hand segments' inner-face touches; as ``task.Trial.sense`` (sections III-B, III-C).
+    Returns whether the joint positions and the ball are finite."""
+    finite = True
+    for i in range(positions.shape[0]):
+        finite = finite and math.isfinite(positions[i])
+    for i in range(3):
+        finite = finite and math.isfinite(ball[i])
+    n_motor = motor_dofs.shape[0]
+    for i in range(n_motor):
+        q[i] = positions[motor_dofs[i]]
+    s = 0.0
+    for i in range(finger_dofs.shape[0]):
+        s += positions[finger_dofs[i]]
+    q[n_motor] = s / finger_dofs.shape[0]
+    for i in range(n_motor + 1):  # proprioception
+        x[i] = _clip((q[i] - lower[i]) / span[i] * 2.0 - 1.0, -1.0, 1.0)
+    n_touch = touch_segments.shape[0]
+    for i in range(n_touch):
+        x[14 + i] = _NO_TOUCH if no_touch or not touching[touch_segments[i]] else _TOUCHING
+    ball_cam = scratch[0:3]
+    _in_camera(ball, cam, ball_cam)
+    cx, cy, visible = 0.0, 0.0, False
+    if ball_cam[2] > 0.0:
+        cx = (ball_cam[0] / ball_cam[2]) / _TAN_X
+        cy = -(ball_cam[1] / ball_cam[2]) / _TAN_Y
+        visible = abs(cx) <= 1.0 and abs(cy) <= 1.0
+    if no_sight or not visible:
+        x[20] = x[21] = x[22] = _NO_SIGHT
+    else:
+        x[20] = _power(cx, acuity)
+        x[21] = _power(cy, acuity)
+        distance = math.sqrt(ball_cam[0] * ball_cam[0] + ball_cam[1] * ball_cam[1]
+                             + ball_cam[2] * ball_cam[2])
+        x[22] = 1.0 - 2.0 * distance if distance < _SIGHT_RANGE else 0.0
+    x[23] = x[24] = _NO_SIGHT
+    if offsets and not no_sight and visible:
+        palm_world, hand_cam = scratch[3:6], scratch[6:9]
+        for i in range(3):
+            palm_world[i] = (hand[i, 0] * palm[0] + hand[i, 1] * palm[1] + hand[i, 2] * palm[2]
+                             ) + hand[i, 3]
+        _in_camera(palm_world, cam, hand_cam)
+        if hand_cam[2] > 0.0:
+            hx = (hand_cam[0] / hand_cam[2]) / _TAN_X
+            hy = -(hand_cam[1] / hand_cam[2]) / _TAN_Y
+            if abs(hx) <= 1.0 and abs(hy) <= 1.0:
+                d = (math.atan2(ball_cam[0], ball_cam[2]) * _DEGREES
+                     - math.atan2(hand_cam[0], hand_cam[2]) * _DEGREES)
+                x[23] = _OFFSET_SCALE * min(max(d, -_OFFSET_D_MAX), _OFFSET_D_MAX)
+                d = (math.atan2(-ball_cam[1], ball_cam[2]) * _DEGREES
+                     - math.atan2(-hand_cam[1], hand_cam[2]) * _DEGREES)
+                x[24] = _OFFSET_SCALE * min(max(d, -_OFFSET_D_MAX), _OFFSET_D_MAX)
+    p_sight = 0.0
+    if visible:
+        p_sight = max(0.0, 1.0 - math.sqrt(cx * cx + cy * cy) / _SQRT2)
+    n = 0
+    for i in range(touching.shape[0]):
+        n += 1 if touching[i] else 0
+    if pay == 0:
+        p_touch = n / touching.shape[0]
+    elif pay == 1:
+        p_touch = 1.0 if n > 0 else 0.0
+    else:
+        p_touch = min(n, _TOUCH_CAP) / _TOUCH_CAP
+    p[0], p[1], p[2] = p_sight, p_touch, min(p_sight, p_touch)
+    return finite
+
+
+
+# ------------------------------------------------------------------------------ motor commands
+@njit(cache=True)
+def motor_commands(targets, half_range, mid_range, lower, upper, max_move, dof_motor, q_cmd, rest):
+    """The springs' rest positions (rad, per degree of freedom, ``rest``) for 14 motor
+    targets in [-1, 1]: as ``world.World.set_targets``, each target scaled into its motor's
+    range and the motor's commanded position ``q_cmd`` (rad) moved toward it by at most
+    ``max_move``; the same operations in the same order. Returns whether the targets are
+    finite (``q_cmd`` is left as it was when not)."""
+    for i in range(N_MOTORS):
+        if not math.isfinite(targets[i]):
+            return False
+    for i in range(N_MOTORS):
+        q = _clip(targets[i] * half_range[i] + mid_range[i], lower[i], upper[i])
+        q_cmd[i] += _clip(q - q_cmd[i], -max_move, max_move)
+    for i in range(dof_motor.shape[0]):
+        rest[i] = q_cmd[dof_motor[i]]
+    return True
+
+
+# ------------------------------------------------------------------------------ the trial
+class CompiledTrial(Trial):
+    """``task.Trial`` under ``Numerics.COMPILED`` (model version 2): the same trial, its
+    sensing (``_sense``) and motor commands (``motor_commands``) compiled; what ``Trial(world,
+    config)`` builds when ``config.numerics`` says so. Per control step it asks DART for the
+    joint positions, the ball's centre and the camera's pose (and the hand's, with the offset
+    sensors) once each."""
+
+    def __init__(self, world: World, config: TrialConfig = TrialConfig()):
+        super().__init__(world, config)
+        w = world
+        self._contacts = w._touch  # the world's own record of this control step's touches
+        self._p3 = np.zeros(3)
+        self._no_hand = np.eye(4)
+        self._sense_args = (
+            w._motor_dofs.astype(np.int64), w._finger_dofs.astype(np.int64),
+            np.asarray(w.motor_limit_lower, float),
+            np.asarray(w.motor_limit_upper - w.motor_limit_lower, float),
+            TOUCH_SEGMENTS.astype(np.int64), float(config.acuity), self._no_touch,
+            self._no_sight, self._offsets, PAY_CODES[config.touch_pay],
+            np.asarray(PALM_POINT, float), self._q, self._x, self._p3, np.zeros(9))
+        self._q_cmd = np.zeros(N_MOTORS)
+        self._rest = np.zeros(w.robot.getNumDofs())
+        self._command_args = (
+            np.asarray(w._half_range), np.asarray(w._mid_range), np.asarray(w._lower_list),
+            np.asarray(w._upper_list), float(w._max_move), w._dof_motor.astype(np.int64),
+            self._q_cmd, self._rest)
+        self.command = self._command
+
+    def _reset(self, ball_position) -> None:
+        super()._reset(ball_position)
+        self._q_cmd[:] = self.world.commanded
+
+    def _command(self, targets: np.ndarray) -> None:
+        """The world's motors commanded toward 14 finite targets in [-1, 1] (``command``)."""
+        if not motor_commands(targets, *self._command_args):
+            raise ValueError(f"motor targets must be finite, got {targets}")
+        self.world.drive(self._q_cmd, self._rest)
+
+    def sense(self) -> bool:
+        """``Trial.sense``, compiled (``_sense``)."""
+        w = self.world
+        positions = self._positions = w.robot.getPositions()
+        ball = self._ball = w.ball_body.getCOM()
+        cam = w.camera.getTransform().matrix()
+        if self._offsets:
+            hand = self._hand_pose = w.hand.getTransform().matrix()
+        else:
+            hand, self._hand_pose = self._no_hand, None
+        finite = _sense(positions, ball, cam, hand, self._contacts, *self._sense_args)
+        self._p_sight, self._p_touch, self._p_multimodal = self._p3.tolist()
+        return finite
