@@ -18,6 +18,10 @@ and it is the same on every processor, by construction:
   only for other exponents a user may set; the offset sensors' visual angles (fine-reaching,
   Eq. 4) take the C library's ``atan2``, as version 1 does (Python's ``math.atan2``).
 
+What stays numpy's in both versions (the scene's geometry: the sectors' points; the records'
+hand point and palm normal) rounds alike on every processor under the dispatch level that
+``import dart_reach`` pins, as in version 1.
+
 Version 1 keeps its own code and digests (``ctrnn.Network``, ``task.Trial.sense``): every run
 trained under it reproduces bit for bit.
 """

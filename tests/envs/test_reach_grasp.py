@@ -49,13 +49,17 @@ def episode(env, policy, **reset):
     return np.array(rewards), info
 
 
-def test_a_shipped_robot_earns_the_fitness_its_trial_gives_it_bit_for_bit():
+@pytest.mark.parametrize("model_version", [1, 2])
+def test_a_shipped_robot_earns_the_fitness_its_trial_gives_it_bit_for_bit(model_version):
     # fine-reaching: full acuity, offset sensors, internal neurons, reflexes (inside the
     # network, so the environment's are off and the network is the whole controller)
-    env = ReachGraspEnv(phase="fine", reflexes=False)
+    env = ReachGraspEnv(phase="fine", reflexes=False, model_version=model_version)
     robot, config, network = shipped_network(env, "fine")
-    # the robot as a policy (its network built by of_robot, the trial's by the GA's code)
-    rewards, info = episode(env, NetworkPolicy.of_robot(robot), seed=2013)
+    # the robot as a policy (version 1: its network built by of_robot, the trial's by the
+    # GA's code; version 2: the trial's network, computed by version 2's numerics)
+    policy = (NetworkPolicy.of_robot(robot) if model_version == 1
+              else NetworkPolicy(shipped_network(env, "fine")[2]))
+    rewards, info = episode(env, policy, seed=2013)
     sector, position = env.trial_data.sector, env.trial_data.ball_start
     # the position is a GA trial's, drawn from the seed
     k, p = trial_positions(World(), np.random.default_rng(2013), trials=1)[0]
@@ -92,11 +96,12 @@ def test_actions_are_used_as_given_float64_never_rounded_to_float32():
     assert (env.trial_data.targets[2] == 1.0).all() and (env.trial_data.motor[2] == 1.0).all()
 
 
-def test_the_reflexes_are_the_networks_and_override_the_action():
+@pytest.mark.parametrize("model_version", [1, 2])
+def test_the_reflexes_are_the_networks_and_override_the_action(model_version):
     """A pre-reaching robot whose reflex motor neurons have no memory (tau 0) moves its
     reflex motors exactly as the reflex arcs alone do: with the environment's reflexes on it
     earns its trial's fitness, and what the action says there does not matter."""
-    env = ReachGraspEnv(phase="pre", steps=40)
+    env = ReachGraspEnv(phase="pre", steps=40, model_version=model_version)
     assert env.config.reflexes and env.config.acuity == 3.0
     robot, config, _ = shipped_network(env, "pre")
     params = decode(robot.genome, env.phase.free_groups)
@@ -119,7 +124,7 @@ def test_the_reflexes_are_the_networks_and_override_the_action():
     again, _ = episode(env, Contrary(network), options=options)
     assert np.array_equal(again, rewards)
     # with the reflexes off the same nonsense drives the neck and hand: another trial
-    off = ReachGraspEnv(phase="pre", steps=40, reflexes=False)
+    off = ReachGraspEnv(phase="pre", steps=40, reflexes=False, model_version=model_version)
     episode(off, Contrary(network), options=options)
     assert not np.array_equal(off.trial_data.joints, env.trial_data.joints)
 

@@ -1,0 +1,163 @@
+"""Model version 2's compiled numerics (``model.compiled``): the same equations as version 1,
+its own rounding, the same bits on every processor."""
+
+from __future__ import annotations
+
+import hashlib
+import json
+import math
+import os
+import platform
+import subprocess
+import sys
+from importlib.metadata import version
+
+import numpy as np
+import pytest
+
+from dart_reach.evolution.genome import ParamGroup, decode
+from dart_reach.evolution.settings import Settings, standard_trial, trial_config
+from dart_reach.evolution.conditions import load_condition
+from dart_reach.model import compiled
+from dart_reach.model.ctrnn import N_SENSORS, Network, random_params
+from dart_reach.model.levers import Numerics, numerics_of
+from dart_reach.model.task import Trial, network_for
+from dart_reach.model.world import World
+from dart_reach.robots import robots
+
+
+@pytest.fixture(scope="module")
+def world():
+    return World()
+
+
+def _ulps(a: float, b: float) -> int:
+    ia, ib = (np.array([v]).view(np.int64)[0] for v in (a, b))
+    return abs(int(ia) - int(ib))
+
+
+def test_the_exponential_is_within_two_ulp_of_the_c_librarys():
+    rng = np.random.default_rng(0)
+    xs = np.concatenate([-rng.exponential(3.0, 20000), rng.uniform(-745.0, 0.0, 5000),
+                         [0.0, -0.0, -1e-300, -0.5 * math.log(2), -math.log(2), -700.0]])
+    worst = max(_ulps(compiled.exp_nonpositive(x), math.exp(x)) for x in xs)
+    assert worst <= 2
+    assert compiled.exp_nonpositive(-746.0) == 0.0 and compiled.exp_nonpositive(0.0) == 1.0
+    assert math.isnan(compiled.exp_nonpositive(float("nan")))
+
+
+def test_the_logistic_is_the_update_equations_sigma_without_overflow():
+    for z in (-800.0, -40.0, -3.0, -1e-9, 0.0, 1e-9, 2.5, 40.0, 800.0):
+        expected = 1.0 / (1.0 + math.exp(-z)) if z > -700 else 0.0
+        assert compiled.logistic(z) == pytest.approx(expected, rel=1e-15, abs=1e-300)
+    assert compiled.logistic(0.0) == 0.5
+    assert compiled.logistic(3.0) + compiled.logistic(-3.0) == pytest.approx(1.0, abs=3e-16)
+
+
+@pytest.mark.parametrize("reflexes, frozen", [(True, True), (False, False), (True, False)])
+def test_the_compiled_network_follows_version_1s_equation(reflexes, frozen):
+    rng = np.random.default_rng(3)
+    for _ in range(5):
+        params = random_params(rng)
+        a = Network(params, reflexes=reflexes, hidden_frozen=frozen)
+        b = compiled.CompiledNetwork(params, reflexes=reflexes, hidden_frozen=frozen)
+        for _ in range(30):
+            x = rng.uniform(-1, 1, N_SENSORS)
+            assert np.allclose(b.step(x), a.step(x), rtol=0, atol=1e-13)
+            assert np.allclose(b.hidden, a.hidden, rtol=0, atol=1e-13)
+    with pytest.raises(ValueError, match="25 sensor values"):
+        b.step(np.zeros(3))
+
+
+def test_model_version_2_computes_with_the_compiled_numerics(world):
+    pre = load_condition("standard").phases[0]
+    config = trial_config(pre, Settings(model_version=2))
+    assert config.numerics is Numerics.COMPILED is numerics_of(2)
+    assert trial_config(pre, Settings()).numerics is Numerics.REFERENCE
+    assert type(Trial(world, config)) is compiled.CompiledTrial
+    assert type(network_for(random_params(np.random.default_rng(0)), config)
+                ) is compiled.CompiledNetwork
+
+
+@pytest.mark.parametrize("phase", ["pre", "fine"])
+def test_a_version_2_trial_is_version_1s_trial_but_for_rounding(world, phase):
+    """The same robot, ball and steps under both numerics: the same trial to within rounding
+    over the first steps (later the two roundings part as any chaotic system's do)."""
+    robot = robots(phase, run="replication-50x10")[0]
+    groups = {ParamGroup.DIRECT} if phase == "pre" else set(ParamGroup)
+    runs = []
+    for numerics in Numerics:
+        cfg = standard_trial(phase, steps=15, numerics=numerics)
+        runs.append(Trial(world, cfg).run(network_for(decode(robot.genome, groups), cfg), 4,
+                                          world.sector_point(4, 0.4, 0.6)))
+    v1, v2 = runs
+    for name in ("sensors", "motor", "targets", "joints", "hand", "p_multimodal"):
+        assert np.allclose(getattr(v1, name), getattr(v2, name), rtol=0, atol=1e-9), name
+    assert np.array_equal(v1.contacts, v2.contacts)
+
+
+def test_run_and_fitness_agree_to_the_last_bit_under_version_2(world):
+    cfg = standard_trial("pre", steps=60, numerics=Numerics.COMPILED)
+    trial = Trial(world, cfg)
+    for robot in robots("pre", run="replication-50x10")[:2]:
+        network = network_for(decode(robot.genome, {ParamGroup.DIRECT}), cfg)
+        for k in (1, 4):
+            ball = world.sector_point(k, 0.5, 0.5)
+            assert trial.fitness(network, ball) == trial.run(network, k, ball).fitness
+
+
+# ------------------------------------------------------------------ the digest of version 2
+#: Digests of every record of 8 trials per phase (2 shipped robots x 4 sectors, 150 steps;
+#: pre-reaching and fine-reaching, whose offset sensors and internal neurons count), computed
+#: at the revision that introduced version 2, on x86_64 with dartpy 6.20.0 and numpy 2.4.6 at
+#: the dispatch level ``import dart_reach`` pins (X86_V3): the compiled code does not depend on
+#: the processor (tested below), but the scene's geometry (the sectors' points, numpy's sin and
+#: cos) and the records' products are numpy's, as in version 1.
+GOLDEN_V2 = {"pre": "4c41e118af4135b9", "fine": "e809f5f6aca92287"}
+GOLDEN_V2_PLATFORM = ("x86_64", "6.20.0", "2.4.6", "X86_V3")
+RECORDS = ("dofs", "joints", "hand", "shoulder", "ball", "contacts", "contacts_any", "sensors",
+           "hidden", "motor", "targets", "p_sight", "p_touch", "p_multimodal")
+
+
+def version_2_digests() -> dict[str, str]:
+    """The digests of ``GOLDEN_V2``, computed in this process."""
+    world, found = World(), {}
+    for phase in GOLDEN_V2:
+        cfg = standard_trial(phase, steps=150, numerics=Numerics.COMPILED)
+        trial = Trial(world, cfg)
+        groups = {ParamGroup.DIRECT} if phase == "pre" else set(ParamGroup)
+        h = hashlib.sha256()
+        for robot in robots(phase, run="replication-50x10")[:2]:
+            network = network_for(decode(robot.genome, groups), cfg)
+            for k in (0, 3, 4, 8):
+                data = trial.run(network, k, world.sector_point(k, 0.3, 0.6))
+                for name in RECORDS:
+                    h.update(np.ascontiguousarray(getattr(data, name)).tobytes())
+        found[phase] = h.hexdigest()[:16]
+    return found
+
+
+def _golden_platform() -> bool:
+    from dart_reach.evolution.provenance import simd
+
+    return (platform.machine(), version("dartpy"), np.__version__, simd()) == GOLDEN_V2_PLATFORM
+
+
+@pytest.mark.skipif(not _golden_platform(),
+                    reason=f"version 2's digests were recorded on {GOLDEN_V2_PLATFORM} "
+                           f"(machine, dartpy, numpy, numpy's dispatch level)")
+def test_version_2_trials_are_pinned_and_the_same_compiled_for_an_avx2_processor(tmp_path):
+    """The digests in this process (compiled for this processor) and in a process whose
+    compiled code targets Haswell (AVX2 and FMA, no AVX-512; Numba's ``NUMBA_CPU_NAME``):
+    the same, and the recorded ones. (Measured once more by hand at that revision: compiled
+    for a generic x86-64, the same digests.)"""
+    here = version_2_digests()
+    script = ("import importlib.util, json, dart_reach; "
+              f"spec = importlib.util.spec_from_file_location('t', {__file__!r}); "
+              "t = importlib.util.module_from_spec(spec); spec.loader.exec_module(t); "
+              "print(json.dumps(t.version_2_digests()))")
+    env = dict(os.environ, NUMBA_CPU_NAME="haswell", NUMBA_CACHE_DIR=str(tmp_path))
+    out = subprocess.run([sys.executable, "-c", script], env=env, capture_output=True,
+                         text=True, check=True)
+    assert json.loads(out.stdout.strip().splitlines()[-1]) == here
+    assert here == GOLDEN_V2
