@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import dataclasses
 import json
 import os
 import signal
@@ -65,6 +66,32 @@ def test_same_seed_same_result_whatever_the_backend(tmp_path):
     other = train(cond, Settings(replications=2, trials=1, steps=4, seed=4), tmp_path / "s4",
                   workers=1)
     assert not _same(a, _result(other.out))
+
+
+def test_model_version_2_trains_the_same_whatever_the_workers(tmp_path):
+    """Under version 2 the shipped robots' lifetimes (robots that touch: the fitness is not
+    0) are the same on one process and on a pool of two, and a tiny run records the version."""
+    from dart_reach.evolution.backends import Job, PoolBackend, SerialBackend
+    from dart_reach.evolution.genome import as_groups
+    from dart_reach.evolution.settings import trial_config
+    from dart_reach.model.world import WorldConfig
+    from dart_reach.robots import robots
+
+    pre = load_condition("standard").phases[0]
+    trial = trial_config(pre, Settings(trials=3, model_version=2))
+    jobs = [Job(r.genome, as_groups(pre.free_groups), trial, WorldConfig(), (7, i))
+            for i, r in enumerate(robots("pre", run="replication-50x10")[:4])]
+    serial = np.array(SerialBackend().map(jobs))
+    pool = PoolBackend(2)
+    try:
+        pooled = np.array(pool.map(jobs))
+    finally:
+        pool.close()
+    assert (serial > 0).sum() >= 2 and np.array_equal(serial, pooled)
+    run = train([scaled(load_condition("standard"), 1)],
+                dataclasses.replace(TINY, model_version=2), tmp_path / "v2", workers=1)
+    manifest = json.loads((run.out / "manifest.json").read_text())
+    assert manifest["settings"]["model_version"] == 2
 
 
 def test_transition_takes_the_best_of_each_replication(tmp_path):

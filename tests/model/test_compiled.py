@@ -94,6 +94,7 @@ def test_a_version_2_trial_is_version_1s_trial_but_for_rounding(world, phase):
     for name in ("sensors", "motor", "targets", "joints", "hand", "p_multimodal"):
         assert np.allclose(getattr(v1, name), getattr(v2, name), rtol=0, atol=1e-9), name
     assert np.array_equal(v1.contacts, v2.contacts)
+    assert not np.array_equal(v1.motor, v2.motor)  # two roundings indeed
 
 
 def test_run_and_fitness_agree_to_the_last_bit_under_version_2(world):
