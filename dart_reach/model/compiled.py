@@ -35,10 +35,10 @@ from numba import njit
 
 from . import sensors
 from .ctrnn import N_HIDDEN, N_MOTORS, N_SENSORS, Network, NetworkParams
-from .icub import PALM_POINT
+from .icub import HAND_SEGMENTS, INNER_FACES, PALM_POINT, segment_kind
 from .levers import TOUCH_CAP, ReflexInputs, TouchPay
 from .task import TOUCH_SEGMENTS, Trial, TrialConfig
-from .world import World
+from .world import SkeletonError, World
 
 # ------------------------------------------------------------------------------ exponential
 #: ln 2 split in two (fdlibm's constants): k * _LN2_HI is exact for |k| < 2^11.
@@ -265,6 +265,67 @@ def motor_commands(targets, half_range, mid_range, lower, upper, max_move, dof_m
     return True
 
 
+# ------------------------------------------------------------------------------ touch
+@njit(cache=True)
+def _body_rotations(positions, parent, dof, axis, before, after, out):
+    """World rotations (3x3) of every body of a skeleton of revolute and weld joints from its
+    joint positions (rad): a body's is its parent's, times its joint's fixed rotation from the
+    parent (``before``), the rotation by the joint's angle about its ``axis`` (Rodrigues's
+    formula; none where ``dof`` < 0, a weld) and the joint's fixed rotation to the body
+    (``after``). Bodies come after their parents."""
+    r = np.empty((3, 3))
+    t = np.empty((3, 3))
+    for b in range(parent.shape[0]):
+        if dof[b] >= 0:
+            q = positions[dof[b]]
+            c, s = math.cos(q), math.sin(q)
+            a0, a1, a2 = axis[b, 0], axis[b, 1], axis[b, 2]
+            r[0, 0], r[0, 1], r[0, 2] = c + (1 - c) * a0 * a0, (1 - c) * a0 * a1 - s * a2, \
+                (1 - c) * a0 * a2 + s * a1
+            r[1, 0], r[1, 1], r[1, 2] = (1 - c) * a1 * a0 + s * a2, c + (1 - c) * a1 * a1, \
+                (1 - c) * a1 * a2 - s * a0
+            r[2, 0], r[2, 1], r[2, 2] = (1 - c) * a2 * a0 - s * a1, \
+                (1 - c) * a2 * a1 + s * a0, c + (1 - c) * a2 * a2
+            _matmul3(before[b], r, t)
+            _matmul3(t, after[b], r)
+        else:
+            _matmul3(before[b], after[b], r)
+        if parent[b] >= 0:
+            _matmul3(out[parent[b]], r, out[b])
+        else:
+            out[b, :, :] = r
+
+
+@njit(cache=True)
+def _matmul3(a, b, out):
+    for i in range(3):
+        for j in range(3):
+            out[i, j] = a[i, 0] * b[0, j] + a[i, 1] * b[1, j] + a[i, 2] * b[2, j]
+
+
+@njit(cache=True)
+def _inner_touches(positions, ball, segments, points, n, parent, dof, axis, before, after,
+                   rotations, segment_body, direction, cos_limit, touch):
+    """Mark in ``touch`` the hand segments whose contacts with the ball (the first ``n`` of
+    ``segments``, ``points``: the segment's index, the contact point in m) touch it on their
+    inner face: the vector from the contact point to the ball's centre, in the segment's body
+    frame, lies within the face's cone (``direction`` in the body frame, ``cos_limit``), as
+    ``world.inner_face_touch`` decides in the shape's frame (a rotation keeps the angle)."""
+    _body_rotations(positions, parent, dof, axis, before, after, rotations)
+    for c in range(n):
+        i = segments[c]
+        if touch[i]:
+            continue
+        rot = rotations[segment_body[i]]
+        v0, v1, v2 = ball[0] - points[c, 0], ball[1] - points[c, 1], ball[2] - points[c, 2]
+        o0 = rot[0, 0] * v0 + rot[1, 0] * v1 + rot[2, 0] * v2
+        o1 = rot[0, 1] * v0 + rot[1, 1] * v1 + rot[2, 1] * v2
+        o2 = rot[0, 2] * v0 + rot[1, 2] * v1 + rot[2, 2] * v2
+        along = o0 * direction[i, 0] + o1 * direction[i, 1] + o2 * direction[i, 2]
+        if along >= cos_limit[i] * math.sqrt(o0 * o0 + o1 * o1 + o2 * o2):
+            touch[i] = True
+
+
 # ------------------------------------------------------------------------------ the trial
 class CompiledTrial(Trial):
     """``task.Trial`` under ``Numerics.COMPILED`` (model version 2): the same trial, its
@@ -293,6 +354,102 @@ class CompiledTrial(Trial):
             np.asarray(w._upper_list), float(w._max_move), w._dof_motor.astype(np.int64),
             self._q_cmd, self._rest)
         self.command = self._command
+        self._advance = self._advance_compiled
+        self._resolve_touch()
+
+    # ---------------------------------------------------------------- touch, compiled
+    def _resolve_touch(self) -> None:
+        """The skeleton's kinematic tree for ``_body_rotations`` (revolute and weld joints
+        only) and the hand segments' inner faces in their bodies' frames (``icub.INNER_FACES``)."""
+        r = self.world.robot
+        bodies = [r.getBodyNode(i) for i in range(r.getNumBodyNodes())]
+        index = {b.getName(): i for i, b in enumerate(bodies)}
+        n = len(bodies)
+        parent, dof = np.full(n, -1, np.int64), np.full(n, -1, np.int64)
+        axis, before, after = np.zeros((n, 3)), np.zeros((n, 3, 3)), np.zeros((n, 3, 3))
+        for i, body in enumerate(bodies):
+            up, joint = body.getParentBodyNode(), body.getParentJoint()
+            parent[i] = -1 if up is None else index[up.getName()]
+            kind = type(joint).__name__
+            if kind == "RevoluteJoint":
+                dof[i], axis[i] = joint.getIndexInSkeleton(0), joint.getAxis()
+            elif kind != "WeldJoint":
+                raise SkeletonError(f"model version 2 computes the hand's pose from revolute "
+                                    f"and weld joints; joint {joint.getName()} is a {kind}")
+            before[i] = joint.getTransformFromParentBodyNode().rotation()
+            after[i] = joint.getTransformFromChildBodyNode().rotation().T
+        m = len(HAND_SEGMENTS)
+        self._segment_body = np.array([index[name] for name in HAND_SEGMENTS], np.int64)
+        self._direction = np.array([INNER_FACES[segment_kind(name)][0] for name in HAND_SEGMENTS])
+        self._cos_limit = np.array([math.cos(math.radians(INNER_FACES[segment_kind(name)][1]))
+                                    for name in HAND_SEGMENTS])
+        self._kinematics = (parent, dof, axis, before, after, np.zeros((n, 3, 3)))
+        self._contact_segments, self._contact_points = np.zeros(4 * m, np.int64), np.zeros(
+            (4 * m, 3))
+        self._objects = {}  # a collision object -> (its hand segment or -1, is it the ball)
+
+    def _object(self, obj) -> tuple[int, bool]:
+        """What a collision object is to touch: (its hand segment's index or -1, the ball?);
+        remembered (dartpy hands back the same Python object for it while one is held)."""
+        frame = obj.getShapeFrame()
+        face = self.world._touch_faces.get(frame)
+        found = self._objects[obj] = (-1 if face is None else face[0],
+                                      frame in self.world._ball_shapes)
+        return found
+
+    def _advance_compiled(self) -> None:
+        """``world.World.advance`` with the inner-face touches decided by compiled code
+        (``_inner_touches``) from the skeleton's joint positions and the contacts' points."""
+        w = self.world
+        touch, touch_any, segment = w._touch, w._touch_any, w._segment_index
+        touch[:] = False
+        touch_any[:] = False
+        step, last_collisions = w.world.step, w.world.getLastCollisionResult
+        self_collision = w.config.self_collision
+        for _ in range(w.config.substeps):
+            step(False)
+            result = last_collisions()
+            if not result.getNumContacts():
+                continue
+            if not self_collision:  # only the ball collides with the robot (``advance``)
+                pending = False
+                for body in result.getCollidingBodyNodes():
+                    i = segment.get(body)
+                    if i is not None:
+                        touch_any[i] = True
+                        pending = pending or not touch[i]
+                if not pending:
+                    continue
+            self._gather(result, self_collision)
+
+    def _gather(self, result, self_collision: bool) -> None:
+        w, objects, lookup = self.world, self._objects, self._object
+        touch, touch_any = w._touch, w._touch_any
+        segments, points = self._contact_segments, self._contact_points
+        k = 0
+        for contact in result.getContacts():
+            o1, o2 = contact.collisionObject1, contact.collisionObject2
+            seg1, ball1 = objects.get(o1) or lookup(o1)
+            seg2, ball2 = objects.get(o2) or lookup(o2)
+            if seg1 >= 0 and (ball2 or not self_collision):
+                i = seg1
+            elif seg2 >= 0 and (ball1 or not self_collision):
+                i = seg2
+            else:  # not a hand segment with the ball
+                continue
+            touch_any[i] = True
+            if touch[i]:
+                continue
+            if k == len(segments):
+                segments, points = self._contact_segments, self._contact_points = (
+                    np.resize(segments, 2 * k), np.resize(points, (2 * k, 3)))
+            segments[k] = i
+            points[k] = contact.point
+            k += 1
+        if k:
+            _inner_touches(w.robot.getPositions(), w.ball_body.getCOM(), segments, points, k,
+                           *self._kinematics, self._segment_body, self._direction,
+                           self._cos_limit, touch)
 
     def _reset(self, ball_position) -> None:
         super()._reset(ball_position)

@@ -184,6 +184,8 @@ class Trial:
         self._pay_touch = sensors.p_touch_of(config.touch_pay)  # levers.TouchPay
         #: the world's motors commanded toward 14 targets in [-1, 1], no physics yet
         self.command = world.set_targets
+        #: the physics substeps of one control period, the touches gathered
+        self._advance = world.advance
         self._no_touch = config.senses in _NO_TOUCH
         self._no_sight = config.senses in _NO_SIGHT
         self._offsets = config.offset_sensors and not self._no_sight
@@ -262,7 +264,7 @@ class Trial:
         only (``sense``). After the trial's last step (``t`` = ``config.steps``) nothing is
         read. False when the state read is not finite."""
         self.command(targets)
-        self.world.advance()
+        self._advance()
         if t == self._steps:
             return True
         return self.sense() if data is None else self.observe(data, t)

@@ -22,7 +22,7 @@ from dart_reach.model import compiled
 from dart_reach.model.ctrnn import N_SENSORS, Network, random_params
 from dart_reach.model.levers import Numerics, numerics_of
 from dart_reach.model.task import Trial, network_for
-from dart_reach.model.world import World
+from dart_reach.model.world import World, WorldConfig
 from dart_reach.robots import robots
 
 
@@ -69,6 +69,22 @@ def test_the_compiled_network_follows_version_1s_equation(reflexes, frozen):
         b.step(np.zeros(3))
 
 
+def test_the_compiled_forward_kinematics_gives_darts_rotations_of_every_body(world):
+    trial = Trial(world, standard_trial("pre", numerics=Numerics.COMPILED))
+    robot, rng = world.robot, np.random.default_rng(5)
+    rotations = trial._kinematics[-1]
+    try:
+        for _ in range(20):
+            q = rng.uniform(world.lower, world.upper)
+            robot.setPositions(q)
+            compiled._body_rotations(q, *trial._kinematics[:-1], rotations)
+            for i in range(robot.getNumBodyNodes()):
+                assert np.allclose(rotations[i], robot.getBodyNode(i).getTransform().rotation(),
+                                   rtol=0, atol=1e-12)
+    finally:
+        world.reset(world.sector_point(4, 0.5, 0.5))
+
+
 def test_model_version_2_computes_with_the_compiled_numerics(world):
     pre = load_condition("standard").phases[0]
     config = trial_config(pre, Settings(model_version=2))
@@ -79,21 +95,27 @@ def test_model_version_2_computes_with_the_compiled_numerics(world):
                 ) is compiled.CompiledNetwork
 
 
-@pytest.mark.parametrize("phase", ["pre", "fine"])
-def test_a_version_2_trial_is_version_1s_trial_but_for_rounding(world, phase):
+@pytest.mark.parametrize("phase, self_collision", [("pre", False), ("fine", False),
+                                                    ("pre", True)])
+def test_a_version_2_trial_is_version_1s_trial_but_for_rounding(world, phase, self_collision):
     """The same robot, ball and steps under both numerics: the same trial to within rounding
-    over the first steps (later the two roundings part as any chaotic system's do)."""
+    over the first steps (later the two roundings part as any chaotic system's do); with
+    self-collision on, only the ball's contacts touch."""
+    if self_collision:
+        world = World(WorldConfig(self_collision=True))
     robot = robots(phase, run="replication-50x10")[0]
     groups = {ParamGroup.DIRECT} if phase == "pre" else set(ParamGroup)
     runs = []
     for numerics in Numerics:
-        cfg = standard_trial(phase, steps=15, numerics=numerics)
-        runs.append(Trial(world, cfg).run(network_for(decode(robot.genome, groups), cfg), 4,
-                                          world.sector_point(4, 0.4, 0.6)))
+        cfg = standard_trial(phase, steps=30, numerics=numerics)  # the hand meets the ball
+        k = 2 if phase == "pre" else 6
+        runs.append(Trial(world, cfg).run(network_for(decode(robot.genome, groups), cfg), k,
+                                          world.sector_point(k, 0.4, 0.6)))
     v1, v2 = runs
     for name in ("sensors", "motor", "targets", "joints", "hand", "p_multimodal"):
         assert np.allclose(getattr(v1, name), getattr(v2, name), rtol=0, atol=1e-9), name
     assert np.array_equal(v1.contacts, v2.contacts)
+    assert np.array_equal(v1.contacts_any, v2.contacts_any) and v1.contacts.any()
     assert not np.array_equal(v1.motor, v2.motor)  # two roundings indeed
 
 

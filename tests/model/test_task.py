@@ -125,7 +125,7 @@ def test_an_exploding_simulation_scores_zero_with_a_flag(world, numerics):
     config = TrialConfig(steps=20, numerics=numerics)
     trial = Trial(world, config)
     net = network_for(params, config)
-    original = world.advance
+    original = trial._advance
     calls = []
 
     def exploding():  # the real world, then its state blown up after 5 steps
@@ -133,11 +133,8 @@ def test_an_exploding_simulation_scores_zero_with_a_flag(world, numerics):
         calls.append(1)
         if len(calls) == 5:
             world.robot.setVelocities(np.full(world.robot.getNumDofs(), np.nan))
-    world.advance = exploding
-    try:
-        data = trial.run(net, 4, world.sector_point(4, 0.5, 0.5))
-    finally:
-        del world.advance
+    trial._advance = exploding
+    data = trial.run(net, 4, world.sector_point(4, 0.5, 0.5))
     # NaN velocities make the positions NaN in the next step; the observation after it stops
     # the trial
     assert data.diverged and data.steps_run == 6 and data.fitness == 0.0
