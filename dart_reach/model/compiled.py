@@ -35,6 +35,7 @@ from numba import njit
 
 from . import sensors
 from .ctrnn import N_HIDDEN, N_MOTORS, N_SENSORS, Network, NetworkParams
+from . import icub
 from .icub import HAND_SEGMENTS, INNER_FACES, PALM_POINT, segment_kind
 from .levers import TOUCH_CAP, ReflexInputs, TouchPay
 from .task import TOUCH_SEGMENTS, Trial, TrialConfig
@@ -246,6 +247,18 @@ def _sense(positions, ball, cam, hand, touching, motor_dofs, finger_dofs, lower,
 
 
 
+@njit(cache=True)
+def _sense_posed(positions, ball, touching, parent, dof, axis, before, after, scratch, poses,
+                 camera_body, hand_body, motor_dofs, finger_dofs, lower, span, touch_segments,
+                 acuity, no_touch, no_sight, offsets, pay, palm, q, x, p, sense_scratch):
+    """``_sense`` with the camera's and the hand's poses from the joint positions
+    (``body_poses`` into ``poses``)."""
+    body_poses(positions, parent, dof, axis, before, after, scratch, poses)
+    return _sense(positions, ball, poses[camera_body], poses[hand_body], touching, motor_dofs,
+                  finger_dofs, lower, span, touch_segments, acuity, no_touch, no_sight, offsets,
+                  pay, palm, q, x, p, sense_scratch)
+
+
 # ------------------------------------------------------------------------------ motor commands
 @njit(cache=True)
 def motor_commands(targets, half_range, mid_range, lower, upper, max_move, dof_motor, q_cmd, rest):
@@ -267,56 +280,63 @@ def motor_commands(targets, half_range, mid_range, lower, upper, max_move, dof_m
 
 # ------------------------------------------------------------------------------ touch
 @njit(cache=True)
-def _body_rotations(positions, parent, dof, axis, before, after, out):
-    """World rotations (3x3) of every body of a skeleton of revolute and weld joints from its
-    joint positions (rad): a body's is its parent's, times its joint's fixed rotation from the
-    parent (``before``), the rotation by the joint's angle about its ``axis`` (Rodrigues's
-    formula; none where ``dof`` < 0, a weld) and the joint's fixed rotation to the body
-    (``after``). Bodies come after their parents."""
-    r = np.empty((3, 3))
-    t = np.empty((3, 3))
+def body_poses(positions, parent, dof, axis, before, after, scratch, out):
+    """World poses (4x4, m) of every body of a skeleton of revolute and weld joints from its
+    joint positions (rad), as DART composes them: a body's pose is its parent's, times its
+    joint's fixed transform from the parent (``before``), the rotation by the joint's angle
+    about its ``axis`` (Rodrigues's formula; none where ``dof`` < 0, a weld) and the inverse
+    of the joint's fixed transform from the body (``after``). Bodies come after their
+    parents; ``scratch`` is (3, 4, 4)."""
+    joint, local, tmp = scratch[0], scratch[1], scratch[2]
+    for i in range(4):
+        for k in range(4):
+            joint[i, k] = 1.0 if i == k else 0.0
     for b in range(parent.shape[0]):
         if dof[b] >= 0:
             q = positions[dof[b]]
             c, s = math.cos(q), math.sin(q)
             a0, a1, a2 = axis[b, 0], axis[b, 1], axis[b, 2]
-            r[0, 0], r[0, 1], r[0, 2] = c + (1 - c) * a0 * a0, (1 - c) * a0 * a1 - s * a2, \
-                (1 - c) * a0 * a2 + s * a1
-            r[1, 0], r[1, 1], r[1, 2] = (1 - c) * a1 * a0 + s * a2, c + (1 - c) * a1 * a1, \
-                (1 - c) * a1 * a2 - s * a0
-            r[2, 0], r[2, 1], r[2, 2] = (1 - c) * a2 * a0 - s * a1, \
-                (1 - c) * a2 * a1 + s * a0, c + (1 - c) * a2 * a2
-            _matmul3(before[b], r, t)
-            _matmul3(t, after[b], r)
+            v = 1.0 - c
+            joint[0, 0], joint[0, 1], joint[0, 2] = c + v * a0 * a0, v * a0 * a1 - s * a2, \
+                v * a0 * a2 + s * a1
+            joint[1, 0], joint[1, 1], joint[1, 2] = v * a1 * a0 + s * a2, c + v * a1 * a1, \
+                v * a1 * a2 - s * a0
+            joint[2, 0], joint[2, 1], joint[2, 2] = v * a2 * a0 - s * a1, v * a2 * a1 + s * a0, \
+                c + v * a2 * a2
+            _compose(before[b], joint, tmp)
+            _compose(tmp, after[b], local)
         else:
-            _matmul3(before[b], after[b], r)
+            _compose(before[b], after[b], local)
         if parent[b] >= 0:
-            _matmul3(out[parent[b]], r, out[b])
+            _compose(out[parent[b]], local, out[b])
         else:
-            out[b, :, :] = r
+            out[b, :, :] = local
 
 
 @njit(cache=True)
-def _matmul3(a, b, out):
+def _compose(a, b, out):
+    """``out`` = a b for rigid 4x4 transforms (rotation products and a t_b + t_a)."""
     for i in range(3):
         for j in range(3):
             out[i, j] = a[i, 0] * b[0, j] + a[i, 1] * b[1, j] + a[i, 2] * b[2, j]
+        out[i, 3] = (a[i, 0] * b[0, 3] + a[i, 1] * b[1, 3] + a[i, 2] * b[2, 3]) + a[i, 3]
+    out[3, 0], out[3, 1], out[3, 2], out[3, 3] = 0.0, 0.0, 0.0, 1.0
 
 
 @njit(cache=True)
 def _inner_touches(positions, ball, segments, points, n, parent, dof, axis, before, after,
-                   rotations, segment_body, direction, cos_limit, touch):
+                   scratch, poses, segment_body, direction, cos_limit, touch):
     """Mark in ``touch`` the hand segments whose contacts with the ball (the first ``n`` of
     ``segments``, ``points``: the segment's index, the contact point in m) touch it on their
     inner face: the vector from the contact point to the ball's centre, in the segment's body
     frame, lies within the face's cone (``direction`` in the body frame, ``cos_limit``), as
     ``world.inner_face_touch`` decides in the shape's frame (a rotation keeps the angle)."""
-    _body_rotations(positions, parent, dof, axis, before, after, rotations)
+    body_poses(positions, parent, dof, axis, before, after, scratch, poses)
     for c in range(n):
         i = segments[c]
         if touch[i]:
             continue
-        rot = rotations[segment_body[i]]
+        rot = poses[segment_body[i]]
         v0, v1, v2 = ball[0] - points[c, 0], ball[1] - points[c, 1], ball[2] - points[c, 2]
         o0 = rot[0, 0] * v0 + rot[1, 0] * v1 + rot[2, 0] * v2
         o1 = rot[0, 1] * v0 + rot[1, 1] * v1 + rot[2, 1] * v2
@@ -339,9 +359,11 @@ class CompiledTrial(Trial):
         w = world
         self._contacts = w._touch  # the world's own record of this control step's touches
         self._p3 = np.zeros(3)
-        self._no_hand = np.eye(4)
+        self._resolve_kinematics()
+        #: the hand's pose as ``sense`` computed it last (a view of the poses)
+        self._hand_view = self._kinematics[-1][self._hand_body]
         self._sense_args = (
-            w._motor_dofs.astype(np.int64), w._finger_dofs.astype(np.int64),
+            *self._kinematics, self._camera_body, self._hand_body, w._motor_dofs.astype(np.int64), w._finger_dofs.astype(np.int64),
             np.asarray(w.motor_limit_lower, float),
             np.asarray(w.motor_limit_upper - w.motor_limit_lower, float),
             TOUCH_SEGMENTS.astype(np.int64), float(config.acuity), self._no_touch,
@@ -355,18 +377,17 @@ class CompiledTrial(Trial):
             self._q_cmd, self._rest)
         self.command = self._command
         self._advance = self._advance_compiled
-        self._resolve_touch()
 
     # ---------------------------------------------------------------- touch, compiled
-    def _resolve_touch(self) -> None:
-        """The skeleton's kinematic tree for ``_body_rotations`` (revolute and weld joints
+    def _resolve_kinematics(self) -> None:
+        """The skeleton's kinematic tree for ``body_poses`` (revolute and weld joints
         only) and the hand segments' inner faces in their bodies' frames (``icub.INNER_FACES``)."""
         r = self.world.robot
         bodies = [r.getBodyNode(i) for i in range(r.getNumBodyNodes())]
         index = {b.getName(): i for i, b in enumerate(bodies)}
         n = len(bodies)
         parent, dof = np.full(n, -1, np.int64), np.full(n, -1, np.int64)
-        axis, before, after = np.zeros((n, 3)), np.zeros((n, 3, 3)), np.zeros((n, 3, 3))
+        axis, before, after = np.zeros((n, 3)), np.zeros((n, 4, 4)), np.zeros((n, 4, 4))
         for i, body in enumerate(bodies):
             up, joint = body.getParentBodyNode(), body.getParentJoint()
             parent[i] = -1 if up is None else index[up.getName()]
@@ -374,16 +395,22 @@ class CompiledTrial(Trial):
             if kind == "RevoluteJoint":
                 dof[i], axis[i] = joint.getIndexInSkeleton(0), joint.getAxis()
             elif kind != "WeldJoint":
-                raise SkeletonError(f"model version 2 computes the hand's pose from revolute "
+                raise SkeletonError(f"model version 2 computes the bodies' poses from revolute "
                                     f"and weld joints; joint {joint.getName()} is a {kind}")
-            before[i] = joint.getTransformFromParentBodyNode().rotation()
-            after[i] = joint.getTransformFromChildBodyNode().rotation().T
+            before[i] = joint.getTransformFromParentBodyNode().matrix()
+            child = joint.getTransformFromChildBodyNode().matrix()
+            after[i, :3, :3] = child[:3, :3].T
+            after[i, :3, 3] = -child[:3, :3].T @ child[:3, 3]
+            after[i, 3, 3] = 1.0
         m = len(HAND_SEGMENTS)
         self._segment_body = np.array([index[name] for name in HAND_SEGMENTS], np.int64)
         self._direction = np.array([INNER_FACES[segment_kind(name)][0] for name in HAND_SEGMENTS])
         self._cos_limit = np.array([math.cos(math.radians(INNER_FACES[segment_kind(name)][1]))
                                     for name in HAND_SEGMENTS])
-        self._kinematics = (parent, dof, axis, before, after, np.zeros((n, 3, 3)))
+        #: the tree, a scratch and the poses ``body_poses`` computes (n, 4, 4)
+        self._kinematics = (parent, dof, axis, before, after, np.zeros((3, 4, 4)),
+                            np.zeros((n, 4, 4)))
+        self._camera_body, self._hand_body = index[icub.CAMERA], index[icub.HAND]
         self._contact_segments, self._contact_points = np.zeros(4 * m, np.int64), np.zeros(
             (4 * m, 3))
         self._objects = {}  # a collision object -> (its hand segment or -1, is it the ball)
@@ -462,15 +489,12 @@ class CompiledTrial(Trial):
         self.world.drive(self._q_cmd, self._rest)
 
     def sense(self) -> bool:
-        """``Trial.sense``, compiled (``_sense``)."""
+        """``Trial.sense``, compiled (``_sense_posed``): the camera's and the hand's poses
+        computed from the joint positions (``body_poses``), not asked of DART."""
         w = self.world
         positions = self._positions = w.robot.getPositions()
         ball = self._ball = w.ball_body.getCOM()
-        cam = w.camera.getTransform().matrix()
-        if self._offsets:
-            hand = self._hand_pose = w.hand.getTransform().matrix()
-        else:
-            hand, self._hand_pose = self._no_hand, None
-        finite = _sense(positions, ball, cam, hand, self._contacts, *self._sense_args)
+        finite = _sense_posed(positions, ball, self._contacts, *self._sense_args)
+        self._hand_pose = self._hand_view
         self._p_sight, self._p_touch, self._p_multimodal = self._p3.tolist()
         return finite

@@ -57,15 +57,17 @@ def machine(config: WorldConfig | None = None) -> dict:
 
 def paired(first: Callable[[], object], second: Callable[[], object], pairs: int
            ) -> tuple[np.ndarray, np.ndarray]:
-    """Wall times (s) of ``first()`` and ``second()`` run back to back ``pairs`` times, in
-    alternating order, so that pair i of both saw the same machine."""
+    """Times (s) of ``first()`` and ``second()`` run back to back ``pairs`` times, in
+    alternating order, so that pair i of both saw the same machine: the CPU time of this
+    process (``time.process_time``), which on an idle machine is the wall time and on a busy
+    one leaves out the time other processes held the core (a training beside the bench)."""
     a, b = np.empty(pairs), np.empty(pairs)
     for i in range(pairs):
         order = ((first, a), (second, b)) if i % 2 == 0 else ((second, b), (first, a))
         for fn, out in order:
-            t0 = time.perf_counter()
+            t0 = time.process_time()
             fn()
-            out[i] = time.perf_counter() - t0
+            out[i] = time.process_time() - t0
     return a, b
 
 
