@@ -248,18 +248,28 @@ def _sense(positions, ball, cam, hand, touching, motor_dofs, finger_dofs, lower,
 
 
 @njit(cache=True)
-def _sense_posed(positions, ball, touching, parent, dof, axis, before, after, scratch, poses,
-                 camera_body, hand_body, motor_dofs, finger_dofs, lower, span, touch_segments,
+def _sense_posed(positions, ball, touching, order, parent, dof, axis, before, after, scratch,
+                 poses, camera_body, hand_body, motor_dofs, finger_dofs, lower, span, touch_segments,
                  acuity, no_touch, no_sight, offsets, pay, palm, q, x, p, sense_scratch):
     """``_sense`` with the camera's and the hand's poses from the joint positions
-    (``body_poses`` into ``poses``)."""
-    body_poses(positions, parent, dof, axis, before, after, scratch, poses)
+    (``body_poses`` of the bodies of ``order`` into ``poses``)."""
+    body_poses(positions, order, parent, dof, axis, before, after, scratch, poses)
     return _sense(positions, ball, poses[camera_body], poses[hand_body], touching, motor_dofs,
                   finger_dofs, lower, span, touch_segments, acuity, no_touch, no_sight, offsets,
                   pay, palm, q, x, p, sense_scratch)
 
 
 # ------------------------------------------------------------------------------ motor commands
+@njit(cache=True)
+def _targets_of_motor(motor, targets):
+    """Motor targets 2 s - 1 (``ctrnn.motor_targets``); whether all are finite."""
+    finite = True
+    for i in range(N_MOTORS):
+        targets[i] = motor[i] * 2.0 - 1.0
+        finite = finite and math.isfinite(targets[i])
+    return finite
+
+
 @njit(cache=True)
 def motor_commands(targets, half_range, mid_range, lower, upper, max_move, dof_motor, q_cmd, rest):
     """The springs' rest positions (rad, per degree of freedom, ``rest``) for 14 motor
@@ -280,18 +290,18 @@ def motor_commands(targets, half_range, mid_range, lower, upper, max_move, dof_m
 
 # ------------------------------------------------------------------------------ touch
 @njit(cache=True)
-def body_poses(positions, parent, dof, axis, before, after, scratch, out):
+def body_poses(positions, order, parent, dof, axis, before, after, scratch, out):
     """World poses (4x4, m) of every body of a skeleton of revolute and weld joints from its
     joint positions (rad), as DART composes them: a body's pose is its parent's, times its
     joint's fixed transform from the parent (``before``), the rotation by the joint's angle
     about its ``axis`` (Rodrigues's formula; none where ``dof`` < 0, a weld) and the inverse
-    of the joint's fixed transform from the body (``after``). Bodies come after their
-    parents; ``scratch`` is (3, 4, 4)."""
+    of the joint's fixed transform from the body (``after``). Only the bodies of ``order``
+    (indices, each after its parent; every body: ``arange``); ``scratch`` is (3, 4, 4)."""
     joint, local, tmp = scratch[0], scratch[1], scratch[2]
     for i in range(4):
         for k in range(4):
             joint[i, k] = 1.0 if i == k else 0.0
-    for b in range(parent.shape[0]):
+    for b in order:
         if dof[b] >= 0:
             q = positions[dof[b]]
             c, s = math.cos(q), math.sin(q)
@@ -324,14 +334,14 @@ def _compose(a, b, out):
 
 
 @njit(cache=True)
-def _inner_touches(positions, ball, segments, points, n, parent, dof, axis, before, after,
-                   scratch, poses, segment_body, direction, cos_limit, touch):
+def _inner_touches(positions, ball, segments, points, n, order, parent, dof, axis, before,
+                   after, scratch, poses, segment_body, direction, cos_limit, touch):
     """Mark in ``touch`` the hand segments whose contacts with the ball (the first ``n`` of
     ``segments``, ``points``: the segment's index, the contact point in m) touch it on their
     inner face: the vector from the contact point to the ball's centre, in the segment's body
     frame, lies within the face's cone (``direction`` in the body frame, ``cos_limit``), as
     ``world.inner_face_touch`` decides in the shape's frame (a rotation keeps the angle)."""
-    body_poses(positions, parent, dof, axis, before, after, scratch, poses)
+    body_poses(positions, order, parent, dof, axis, before, after, scratch, poses)
     for c in range(n):
         i = segments[c]
         if touch[i]:
@@ -363,7 +373,8 @@ class CompiledTrial(Trial):
         #: the hand's pose as ``sense`` computed it last (a view of the poses)
         self._hand_view = self._kinematics[-1][self._hand_body]
         self._sense_args = (
-            *self._kinematics, self._camera_body, self._hand_body, w._motor_dofs.astype(np.int64), w._finger_dofs.astype(np.int64),
+            self._sensed_bodies, *self._kinematics, self._camera_body, self._hand_body,
+            w._motor_dofs.astype(np.int64), w._finger_dofs.astype(np.int64),
             np.asarray(w.motor_limit_lower, float),
             np.asarray(w.motor_limit_upper - w.motor_limit_lower, float),
             TOUCH_SEGMENTS.astype(np.int64), float(config.acuity), self._no_touch,
@@ -411,6 +422,19 @@ class CompiledTrial(Trial):
         self._kinematics = (parent, dof, axis, before, after, np.zeros((3, 4, 4)),
                             np.zeros((n, 4, 4)))
         self._camera_body, self._hand_body = index[icub.CAMERA], index[icub.HAND]
+
+        if (parent >= np.arange(n)).any():
+            raise SkeletonError("model version 2 needs the skeleton's bodies after their parents")
+
+        def chain(*ends):  # the bodies from the root to ``ends``, parents first
+            found = set()
+            for b in ends:
+                while b >= 0 and b not in found:
+                    found.add(b)
+                    b = parent[b]
+            return np.array(sorted(found), np.int64)  # a parent's index is below its child's
+        self._sensed_bodies = chain(self._camera_body, self._hand_body)
+        self._touch_bodies = chain(*self._segment_body)
         self._contact_segments, self._contact_points = np.zeros(4 * m, np.int64), np.zeros(
             (4 * m, 3))
         self._objects = {}  # a collision object -> (its hand segment or -1, is it the ball)
@@ -455,15 +479,17 @@ class CompiledTrial(Trial):
         segments, points = self._contact_segments, self._contact_points
         k = 0
         for contact in result.getContacts():
-            o1, o2 = contact.collisionObject1, contact.collisionObject2
-            seg1, ball1 = objects.get(o1) or lookup(o1)
-            seg2, ball2 = objects.get(o2) or lookup(o2)
-            if seg1 >= 0 and (ball2 or not self_collision):
-                i = seg1
-            elif seg2 >= 0 and (ball1 or not self_collision):
-                i = seg2
-            else:  # not a hand segment with the ball
-                continue
+            o1 = contact.collisionObject1
+            i, ball1 = objects.get(o1) or lookup(o1)
+            if i < 0 or self_collision:  # else the other one is the ball
+                o2 = contact.collisionObject2
+                seg2, ball2 = objects.get(o2) or lookup(o2)
+                if i >= 0 and not ball2:
+                    i = -1
+                if i < 0 and ball1:
+                    i = seg2
+                if i < 0:  # not a hand segment with the ball
+                    continue
             touch_any[i] = True
             if touch[i]:
                 continue
@@ -475,8 +501,11 @@ class CompiledTrial(Trial):
             k += 1
         if k:
             _inner_touches(w.robot.getPositions(), w.ball_body.getCOM(), segments, points, k,
-                           *self._kinematics, self._segment_body, self._direction,
+                           self._touch_bodies, *self._kinematics, self._segment_body, self._direction,
                            self._cos_limit, touch)
+
+    def _targets_of(self, motor: np.ndarray) -> bool:
+        return _targets_of_motor(motor, self._targets)
 
     def _reset(self, ball_position) -> None:
         super()._reset(ball_position)

@@ -255,6 +255,12 @@ class Trial:
         data.p_multimodal[t] = self._p_multimodal
         return finite
 
+    def _targets_of(self, motor: np.ndarray) -> bool:
+        """The motor targets (``self._targets``) of the network's motor states (``ctrnn.
+        motor_targets``); whether they are finite (they lie in [-1, 1] when they are)."""
+        motor_targets(motor, out=self._targets)
+        return math.isfinite(self._targets.sum())
+
     # ------------------------------------------------------------------ one control step
     def control(self, targets: np.ndarray, data: TrialData | None, t: int) -> bool:
         """One control step, the one ``run``, ``fitness`` and the Gymnasium environment take:
@@ -297,12 +303,12 @@ class Trial:
                 data.diverged = True
                 break
             motor = network.step(self._x)
-            motor_targets(motor, out=targets)
+            finite_targets = self._targets_of(motor)
             data.hidden[t] = network.hidden
             data.motor[t] = motor
             data.targets[t] = targets
             data.steps_run = t + 1
-            if not math.isfinite(targets.sum()):  # targets lie in [-1, 1] when finite
+            if not finite_targets:
                 data.diverged = True
                 break
             finite = control(targets, data, t + 1)
@@ -315,14 +321,13 @@ class Trial:
         x, p, targets, control = self._x, self._p, self._targets, self.control
         self._reset(ball_position)
         network.reset(motor=self._home_motor)
-        step = network.step
+        step, targets_of = network.step, self._targets_of
         finite = self.sense()
         for t in range(self.config.steps):
             if not finite:
                 return 0.0
             p[t] = self._p_multimodal
-            motor_targets(step(x), out=targets)
-            if not math.isfinite(targets.sum()):
+            if not targets_of(step(x)):
                 return 0.0
             finite = control(targets, None, t + 1)
         return float(p.mean())

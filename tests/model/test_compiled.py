@@ -77,7 +77,7 @@ def test_the_compiled_forward_kinematics_gives_darts_pose_of_every_body(world):
         for _ in range(20):
             q = rng.uniform(world.lower, world.upper)
             robot.setPositions(q)
-            compiled.body_poses(q, *trial._kinematics[:-1], poses)
+            compiled.body_poses(q, np.arange(len(poses)), *trial._kinematics[:-1], poses)
             for i in range(robot.getNumBodyNodes()):
                 assert np.allclose(poses[i], robot.getBodyNode(i).getTransform().matrix(),
                                    rtol=0, atol=1e-12)
