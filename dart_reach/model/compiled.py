@@ -38,8 +38,8 @@ from .ctrnn import N_HIDDEN, N_MOTORS, N_SENSORS, Network, NetworkParams
 from . import icub
 from .icub import HAND_SEGMENTS, INNER_FACES, PALM_POINT, segment_kind
 from .levers import TOUCH_CAP, ReflexInputs, TouchPay
-from .task import TOUCH_SEGMENTS, Trial, TrialConfig
-from .world import SkeletonError, World
+from .task import TOUCH_SEGMENTS, Senses, Trial, TrialConfig, TrialData
+from .world import PALM_NORMAL, SkeletonError, World
 
 # ------------------------------------------------------------------------------ exponential
 #: ln 2 split in two (fdlibm's constants): k * _LN2_HI is exact for |k| < 2^11.
@@ -259,6 +259,27 @@ def _sense_posed(positions, ball, touching, order, parent, dof, axis, before, af
                   pay, palm, q, x, p, sense_scratch)
 
 
+@njit(cache=True)
+def _record_row(t, positions, q, ball, touch, touch_any, x, p, poses, hand_body, shoulder_body,
+                palm, palm_normal, dofs, joints, hand, shoulder, ball_rec, contacts,
+                contacts_any, normal, sensors_rec, p_sight, p_touch, p_multimodal):
+    """Row ``t`` of a trial's record (``task.Trial.observe``) from what ``_sense_posed`` read
+    and computed: the hand's palm point and normal and the shoulder from the bodies' poses."""
+    dofs[t, :] = positions
+    joints[t, :] = q
+    h = poses[hand_body]
+    for i in range(3):
+        hand[t, i] = (h[i, 0] * palm[0] + h[i, 1] * palm[1] + h[i, 2] * palm[2]) + h[i, 3]
+        normal[t, i] = h[i, 0] * palm_normal[0] + h[i, 1] * palm_normal[1] \
+            + h[i, 2] * palm_normal[2]
+        shoulder[t, i] = poses[shoulder_body, i, 3]
+        ball_rec[t, i] = ball[i]
+    contacts[t, :] = touch
+    contacts_any[t, :] = touch_any
+    sensors_rec[t, :] = x
+    p_sight[t], p_touch[t], p_multimodal[t] = p[0], p[1], p[2]
+
+
 # ------------------------------------------------------------------------------ motor commands
 @njit(cache=True)
 def _targets_of_motor(motor, targets):
@@ -369,6 +390,8 @@ class CompiledTrial(Trial):
         w = world
         self._contacts = w._touch  # the world's own record of this control step's touches
         self._p3 = np.zeros(3)
+        self._palm = np.asarray(PALM_POINT, float)
+        self._no_ball = config.senses is Senses.NO_BALL
         self._resolve_kinematics()
         #: the hand's pose as ``sense`` computed it last (a view of the poses)
         self._hand_view = self._kinematics[-1][self._hand_body]
@@ -379,7 +402,7 @@ class CompiledTrial(Trial):
             np.asarray(w.motor_limit_upper - w.motor_limit_lower, float),
             TOUCH_SEGMENTS.astype(np.int64), float(config.acuity), self._no_touch,
             self._no_sight, self._offsets, PAY_CODES[config.touch_pay],
-            np.asarray(PALM_POINT, float), self._q, self._x, self._p3, np.zeros(9))
+            self._palm, self._q, self._x, self._p3, np.zeros(9))
         self._q_cmd = np.zeros(N_MOTORS)
         self._rest = np.zeros(w.robot.getNumDofs())
         self._command_args = (
@@ -422,6 +445,7 @@ class CompiledTrial(Trial):
         self._kinematics = (parent, dof, axis, before, after, np.zeros((3, 4, 4)),
                             np.zeros((n, 4, 4)))
         self._camera_body, self._hand_body = index[icub.CAMERA], index[icub.HAND]
+        self._shoulder_body = index[icub.SHOULDER]  # on the hand's chain
 
         if (parent >= np.arange(n)).any():
             raise SkeletonError("model version 2 needs the skeleton's bodies after their parents")
@@ -506,6 +530,18 @@ class CompiledTrial(Trial):
 
     def _targets_of(self, motor: np.ndarray) -> bool:
         return _targets_of_motor(motor, self._targets)
+
+    def observe(self, data: TrialData, t: int) -> bool:
+        """``Trial.observe``, compiled (``_record_row``)."""
+        finite = self.sense()
+        _record_row(t, self._positions, self._q,
+                    self._ball_at if self._no_ball else self._ball, self._contacts,
+                    self.world._touch_any, self._x, self._p3, self._kinematics[-1],
+                    self._hand_body, self._shoulder_body, self._palm, PALM_NORMAL, data.dofs,
+                    data.joints, data.hand, data.shoulder, data.ball, data.contacts,
+                    data.contacts_any, data.palm_normal, data.sensors, data.p_sight,
+                    data.p_touch, data.p_multimodal)
+        return finite
 
     def _reset(self, ball_position) -> None:
         super()._reset(ball_position)

@@ -55,19 +55,20 @@ def machine(config: WorldConfig | None = None) -> dict:
     }
 
 
-def paired(first: Callable[[], object], second: Callable[[], object], pairs: int
-           ) -> tuple[np.ndarray, np.ndarray]:
+def paired(first: Callable[[], object], second: Callable[[], object], pairs: int,
+           clock: Callable[[], float] = time.process_time) -> tuple[np.ndarray, np.ndarray]:
     """Times (s) of ``first()`` and ``second()`` run back to back ``pairs`` times, in
-    alternating order, so that pair i of both saw the same machine: the CPU time of this
-    process (``time.process_time``), which on an idle machine is the wall time and on a busy
-    one leaves out the time other processes held the core (a training beside the bench)."""
+    alternating order, so that pair i of both saw the same machine. By default the CPU time
+    of this process (``time.process_time``): on an idle machine the wall time, on a busy one
+    without the time other processes held the core (a training beside the bench); work in
+    other processes (a pool) needs the wall time (``clock=time.perf_counter``)."""
     a, b = np.empty(pairs), np.empty(pairs)
     for i in range(pairs):
         order = ((first, a), (second, b)) if i % 2 == 0 else ((second, b), (first, a))
         for fn, out in order:
-            t0 = time.process_time()
+            t0 = clock()
             fn()
-            out[i] = time.process_time() - t0
+            out[i] = clock() - t0
     return a, b
 
 
@@ -283,10 +284,10 @@ def physics_speedup(config: WorldConfig | None = None, trials: int = 45) -> dict
 
 
 # --------------------------------------------------------------------------------- parallel
-def _generation(kind: str, jobs: int, trials: int, seed: int) -> list:
+def _generation(kind: str, jobs: int, trials: int, seed: int, model_version: int = 1) -> list:
     """The jobs of one pre-reaching generation of ``jobs`` lifetimes of ``trials`` trials."""
     phase = load_condition("standard").phases[0]
-    trial = trial_config(phase, Settings(trials=trials))
+    trial = trial_config(phase, Settings(trials=trials, model_version=model_version))
     genomes = panel_genomes(kind, PANEL, seed)
     return [Job(genomes[i % len(genomes)], as_groups(phase.free_groups), trial, WorldConfig(),
                 (seed, 0, i)) for i in range(jobs)]
@@ -319,7 +320,8 @@ def _time_backends(a, b, batch: list, pairs: int, warm: int) -> tuple:
     b.map(batch[:warm])
     results = {}
     t_a, t_b = paired(lambda: results.__setitem__("a", a.map(batch)),
-                      lambda: results.__setitem__("b", b.map(batch)), pairs)
+                      lambda: results.__setitem__("b", b.map(batch)), pairs,
+                      clock=time.perf_counter)
     if not np.array_equal(results["a"], results["b"]):
         raise RuntimeError(f"{type(b).__name__}'s results differ from {type(a).__name__}'s")
     return t_a, t_b
@@ -346,6 +348,30 @@ def parallel(kind: str = "evolved", jobs: int = 40, trials: int = 2, pairs: int 
             * (40 / jobs),
             "worker_peak_rss_mb": worker_mb,
             "parent_peak_rss_mb": resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024}
+
+
+def numerics_speedup(jobs: int = 10, trials: int = 18, pairs: int = 5, seed: int = 0) -> dict:
+    """A generation of the evolved robots (``jobs`` lifetimes of ``trials`` trials, on one
+    core) under model version 1's numerics against the same under version 2's compiled
+    numerics, in alternating pairs: ``numerics_speedup`` (version 1's time over version
+    2's), and ``generation_core_s_v1`` and ``_v2``, the core-seconds of one replication-
+    generation of the paper (40 lifetimes of 18 trials) under each;
+    ``numerics_fitness_rel_diff``: the largest relative difference of a lifetime's fitness
+    between the two (the same equations: their trials part only as rounding differences grow
+    in a chaotic system)."""
+    serial = SerialBackend()
+    batches = [_generation("evolved", jobs, trials, seed, version) for version in (1, 2)]
+    for batch in batches:
+        serial.map(batch[:1])  # each version's world and trial built, its code compiled
+    results = {}
+    t1, t2 = paired(lambda: results.__setitem__(1, np.asarray(serial.map(batches[0]))),
+                    lambda: results.__setitem__(2, np.asarray(serial.map(batches[1]))), pairs)
+    scale = (18 / trials) * (40 / jobs)
+    diff = np.abs(results[1] - results[2]) / np.maximum(np.abs(results[1]), 1e-12)
+    return {**ratio("numerics_speedup", t1 / t2),
+            "generation_core_s_v1": float(np.median(t1)) * scale,
+            "generation_core_s_v2": float(np.median(t2)) * scale,
+            "numerics_fitness_rel_diff": float(diff.max())}
 
 
 # -------------------------------------------------------------------------------- a run's trials
@@ -433,13 +459,14 @@ TARGETS = {
     "physics_speedup": (1.5, ">="),
     "controlled_rtf": (300.0, ">="),
     "controlled_over_limit": (0.9, ">="),
-    "closed_loop_over_limit": (0.9, ">="),
-    "closed_loop_over_limit_evolved": (0.9, ">="),
+    "closed_loop_over_limit": (0.85, ">="),
+    "closed_loop_over_limit_evolved": (0.85, ">="),
     "training_loop_over_limit": (0.9, ">="),
     "training_loop_over_limit_evolved": (0.9, ">="),
     "parallel_efficiency": (0.95, ">="),
     "ray_efficiency": (0.8, ">="),
     "recording_overhead": (1.15, "<="),
+    "numerics_speedup": (1.3, ">="),
     "worker_peak_rss_mb": (300.0, "<="),
     "env_render_fps": (10.0, ">="),
 }
@@ -468,6 +495,7 @@ def run(seconds: float = 2.0, pairs: int = 30, model_version: int = LATEST_MODEL
         for records in (True, False):
             results.update(closed_loop(kind, records=records, model_version=model_version))
     results.update(parallel())
+    results.update(numerics_speedup())
     try:
         import ray  # noqa: F401
     except ImportError:
