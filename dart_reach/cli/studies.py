@@ -65,6 +65,9 @@ def register_bench(subparsers) -> None:
                    help="simulated s per block of the physics pairs (default 2)")
     p.add_argument("--repeats", type=positive, default=30,
                    help="pairs of blocks for the physics ratio (default 30)")
+    p.add_argument("--model-version", type=int, default=None, metavar="N",
+                   help="the model version whose numerics the trials compute with (default: "
+                        "the newest)")
     p.add_argument("--physics", action="store_true",
                    help="instead: the physics-step study (docs/results/physics-step.md): a panel of networks "
                         "post-evaluated at each candidate step and at a quarter of it")
@@ -96,7 +99,11 @@ def cmd_bench(args) -> int:
     else:
         if not (math.isfinite(args.seconds) and args.seconds > 0):
             raise ValueError(f"--seconds must be a positive number, got {args.seconds:g}")
-        results = bench.run(seconds=args.seconds, pairs=args.repeats)
+        from ..model.levers import check_model_version
+
+        version = (bench.LATEST_MODEL_VERSION if args.model_version is None
+                   else check_model_version(args.model_version))
+        results = bench.run(seconds=args.seconds, pairs=args.repeats, model_version=version)
         print(bench.format_table(results))
     if args.json:
         write_json(args.json, results)
