@@ -7,10 +7,17 @@ from dart_reach.studies import bench
 
 
 def test_pairs_alternate_their_order_and_time_each_side():
+    import time
+
     calls = []
     a, b = bench.paired(lambda: calls.append("a"), lambda: calls.append("b"), 4)
     assert calls == ["a", "b", "b", "a", "a", "b", "b", "a"]
-    assert a.shape == b.shape == (4,) and (a > 0).all() and (b > 0).all()
+    assert a.shape == b.shape == (4,) and (a >= 0).all() and (b >= 0).all()
+    # this process's CPU time by default: a side that sleeps costs it (almost) nothing
+    asleep, busy = bench.paired(lambda: time.sleep(0.02), lambda: sum(range(200000)), 2)
+    assert (asleep < 0.01).all() and (busy > 0).all()
+    wall, _ = bench.paired(lambda: time.sleep(0.02), lambda: None, 2, clock=time.perf_counter)
+    assert (wall >= 0.02).all()
 
 
 def test_ratio_is_the_median_with_quartiles():
@@ -29,6 +36,17 @@ def test_tiny_real_figures():
     p = bench.parallel(jobs=4, trials=1, pairs=1)
     assert p["parallel_efficiency"] > 0 and p["worker_peak_rss_mb"] > 50
     assert bench.panel_genomes("evolved", 3).shape == (3, bench.panel_genomes("random", 1).shape[1])
+
+
+def test_the_model_versions_numerics_are_timed_on_the_same_trials():
+    """The closed loop of version 2 against its own replay, and a generation of version 1
+    against version 2's (two roundings of the same equations: lifetimes close, not equal)."""
+    for version in (1, 2):
+        c = bench.closed_loop("evolved", trials=1, records=False, model_version=version)
+        assert 0 < c["training_loop_over_limit_evolved"] < 2
+    n = bench.numerics_speedup(jobs=2, trials=1, pairs=1)
+    assert n["numerics_speedup"] > 0 and n["generation_core_s_v2"] > 0
+    assert n["numerics_fitness_rel_diff"] < 0.5
 
 
 def test_the_tuned_physics_simulates_what_the_reference_does():
