@@ -380,10 +380,11 @@ def _inner_touches(positions, ball, segments, points, n, order, parent, dof, axi
 # ------------------------------------------------------------------------------ the trial
 class CompiledTrial(Trial):
     """``task.Trial`` under ``Numerics.COMPILED`` (model version 2): the same trial, its
-    sensing (``_sense``) and motor commands (``motor_commands``) compiled; what ``Trial(world,
-    config)`` builds when ``config.numerics`` says so. Per control step it asks DART for the
-    joint positions, the ball's centre and the camera's pose (and the hand's, with the offset
-    sensors) once each."""
+    sensing (``_sense_posed``), record (``_record_row``), motor commands (``motor_commands``)
+    and inner-face touches (``_inner_touches``) compiled; what ``Trial(world, config)`` builds
+    when ``config.numerics`` says so. Per control step it asks DART for the joint positions
+    and the ball's centre once each; the bodies' poses it needs come from them
+    (``body_poses``), and per physics substep in contact the contacts' points."""
 
     def __init__(self, world: World, config: TrialConfig = TrialConfig()):
         super().__init__(world, config)
@@ -412,7 +413,7 @@ class CompiledTrial(Trial):
         self.command = self._command
         self._advance = self._advance_compiled
 
-    # ---------------------------------------------------------------- touch, compiled
+    # ---------------------------------------------------------------- kinematics and touch
     def _resolve_kinematics(self) -> None:
         """The skeleton's kinematic tree for ``body_poses`` (revolute and weld joints
         only) and the hand segments' inner faces in their bodies' frames (``icub.INNER_FACES``)."""
