@@ -110,6 +110,25 @@ def _network_step(sensors_in, in_scale, w_sm, w_sh, w_hm, bias_h, bias_m, gain_h
         motor[i] = tau_m[i] * motor[i] + (1.0 - tau_m[i]) * logistic(s - bias_m[i])
 
 
+@njit(cache=True)
+def _targets_of_motor(motor, targets):
+    """Motor targets 2 s - 1 (``ctrnn.motor_targets``); whether all are finite."""
+    finite = True
+    for i in range(N_MOTORS):
+        targets[i] = motor[i] * 2.0 - 1.0
+        finite = finite and math.isfinite(targets[i])
+    return finite
+
+
+@njit(cache=True)
+def _network_targets(sensors_in, in_scale, w_sm, w_sh, w_hm, bias_h, bias_m, gain_h, tau_h,
+                     tau_m, hidden_frozen, x, hidden, motor, targets):
+    """``_network_step``, then the motor targets (``_targets_of_motor``); whether finite."""
+    _network_step(sensors_in, in_scale, w_sm, w_sh, w_hm, bias_h, bias_m, gain_h, tau_h, tau_m,
+                  hidden_frozen, x, hidden, motor)
+    return _targets_of_motor(motor, targets)
+
+
 class CompiledNetwork(Network):
     """``ctrnn.Network`` (section III-B, Fig. 3) stepped by compiled code (model version 2):
     the same parameters, reflexes, states and interface; ``step`` allocates nothing."""
@@ -281,15 +300,6 @@ def _record_row(t, positions, q, ball, touch, touch_any, x, p, poses, hand_body,
 
 
 # ------------------------------------------------------------------------------ motor commands
-@njit(cache=True)
-def _targets_of_motor(motor, targets):
-    """Motor targets 2 s - 1 (``ctrnn.motor_targets``); whether all are finite."""
-    finite = True
-    for i in range(N_MOTORS):
-        targets[i] = motor[i] * 2.0 - 1.0
-        finite = finite and math.isfinite(targets[i])
-    return finite
-
 
 @njit(cache=True)
 def motor_commands(targets, half_range, mid_range, lower, upper, max_move, dof_motor, q_cmd, rest):
@@ -531,6 +541,11 @@ class CompiledTrial(Trial):
 
     def _targets_of(self, motor: np.ndarray) -> bool:
         return _targets_of_motor(motor, self._targets)
+
+    def _act(self, network: Network) -> bool:
+        if type(network) is not CompiledNetwork:  # a version 1 network: its own step
+            return super()._act(network)
+        return _network_targets(self._x, *network._args, self._targets)
 
     def observe(self, data: TrialData, t: int) -> bool:
         """``Trial.observe``, compiled (``_record_row``)."""

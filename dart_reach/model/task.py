@@ -255,6 +255,11 @@ class Trial:
         data.p_multimodal[t] = self._p_multimodal
         return finite
 
+    def _act(self, network: Network) -> bool:
+        """The network's update from the sensors read last and its motor targets
+        (``self._targets``); whether they are finite."""
+        return self._targets_of(network.step(self._x))
+
     def _targets_of(self, motor: np.ndarray) -> bool:
         """The motor targets (``self._targets``) of the network's motor states (``ctrnn.
         motor_targets``); whether they are finite (they lie in [-1, 1] when they are)."""
@@ -318,16 +323,16 @@ class Trial:
         """The fitness of the trial ``run`` would run with the ball at ``ball_position`` (mean
         p_multimodal over its steps, 0 when it diverges; section III-C), to the last bit,
         keeping no record: what the genetic algorithm needs."""
-        x, p, targets, control = self._x, self._p, self._targets, self.control
+        p, targets, control = self._p, self._targets, self.control
         self._reset(ball_position)
         network.reset(motor=self._home_motor)
-        step, targets_of = network.step, self._targets_of
+        act = self._act
         finite = self.sense()
         for t in range(self.config.steps):
             if not finite:
                 return 0.0
             p[t] = self._p_multimodal
-            if not targets_of(step(x)):
+            if not act(network):
                 return 0.0
             finite = control(targets, None, t + 1)
         return float(p.mean())
