@@ -302,21 +302,35 @@ def _record_row(t, positions, q, ball, touch, touch_any, x, p, poses, hand_body,
 # ------------------------------------------------------------------------------ motor commands
 
 @njit(cache=True)
-def motor_commands(targets, half_range, mid_range, lower, upper, max_move, dof_motor, q_cmd, rest):
-    """The springs' rest positions (rad, per degree of freedom, ``rest``) for 14 motor
-    targets in [-1, 1]: as ``world.World.set_targets``, each target scaled into its motor's
-    range and the motor's commanded position ``q_cmd`` (rad) moved toward it by at most
-    ``max_move``; the same operations in the same order. Returns whether the targets are
-    finite (``q_cmd`` is left as it was when not)."""
+def motor_commands(targets, half_range, mid_range, lower, upper, max_move, dof_motor, stiffness,
+                   q_cmd, gravity, forces):
+    """The joint forces (N m, per degree of freedom, ``forces``) that drive the springs toward
+    14 motor targets in [-1, 1]: each target scaled into its motor's range and the motor's
+    commanded position ``q_cmd`` (rad) moved toward it by at most ``max_move``, as
+    ``world.World.set_targets`` does (the same operations in the same order); then
+    ``spring_forces``. Returns whether the targets are finite (``q_cmd`` is left as it was
+    when not)."""
     for i in range(N_MOTORS):
         if not math.isfinite(targets[i]):
             return False
     for i in range(N_MOTORS):
         q = _clip(targets[i] * half_range[i] + mid_range[i], lower[i], upper[i])
         q_cmd[i] += _clip(q - q_cmd[i], -max_move, max_move)
-    for i in range(dof_motor.shape[0]):
-        rest[i] = q_cmd[dof_motor[i]]
+    spring_forces(q_cmd, dof_motor, stiffness, gravity, forces)
     return True
+
+
+@njit(cache=True)
+def spring_forces(q_cmd, dof_motor, stiffness, gravity, forces):
+    """Each degree of freedom's command: the gravity compensation plus its spring's pull
+    toward its motor's commanded position, k q_cmd (the springs' rest positions held at 0).
+    DART integrates a spring's force -k (q - q_rest + h v) implicitly; q_rest enters it only
+    through k q_rest, so k q_cmd as a force with q_rest = 0 is the same force, rounded
+    apart, and changing a command, unlike a rest position, does not make DART prepare the
+    world again at the next substep (docs/results/benchmarks.md)."""
+    for i in range(dof_motor.shape[0]):
+        forces[i] = gravity[i] + stiffness[i] * q_cmd[dof_motor[i]]
+
 
 
 # ------------------------------------------------------------------------------ touch
@@ -415,11 +429,11 @@ class CompiledTrial(Trial):
             self._no_sight, self._offsets, PAY_CODES[config.touch_pay],
             self._palm, self._q, self._x, self._p3, np.zeros(9))
         self._q_cmd = np.zeros(N_MOTORS)
-        self._rest = np.zeros(w.robot.getNumDofs())
+        self._forces = np.zeros(w.robot.getNumDofs())
+        self._spring_args = (w._dof_motor.astype(np.int64), np.asarray(w.stiffness, float))
         self._command_args = (
             np.asarray(w._half_range), np.asarray(w._mid_range), np.asarray(w._lower_list),
-            np.asarray(w._upper_list), float(w._max_move), w._dof_motor.astype(np.int64),
-            self._q_cmd, self._rest)
+            np.asarray(w._upper_list), float(w._max_move), *self._spring_args, self._q_cmd)
         self.command = self._command
         self._advance = self._advance_compiled
 
@@ -560,14 +574,25 @@ class CompiledTrial(Trial):
         return finite
 
     def _reset(self, ball_position) -> None:
+        """``Trial._reset``, then the springs' rest positions at 0 and their pull toward the
+        home posture's commanded positions as forces (``spring_forces``)."""
         super()._reset(ball_position)
-        self._q_cmd[:] = self.world.commanded
+        w = self.world
+        for dof in w._dofs:
+            dof.setRestPosition(0.0)
+        self._q_cmd[:] = w.commanded
+        spring_forces(self._q_cmd, *self._spring_args, w.robot.getGravityForces(),
+                      self._forces)
+        w.robot.setCommands(self._forces)
 
     def _command(self, targets: np.ndarray) -> None:
-        """The world's motors commanded toward 14 finite targets in [-1, 1] (``command``)."""
-        if not motor_commands(targets, *self._command_args):
+        """The world's motors commanded toward 14 finite targets in [-1, 1]
+        (``motor_commands``)."""
+        robot = self.world.robot
+        if not motor_commands(targets, *self._command_args, robot.getGravityForces(),
+                              self._forces):
             raise ValueError(f"motor targets must be finite, got {targets}")
-        self.world.drive(self._q_cmd, self._rest)
+        robot.setCommands(self._forces)
 
     def sense(self) -> bool:
         """``Trial.sense``, compiled (``_sense_posed``): the camera's and the hand's poses

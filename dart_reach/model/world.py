@@ -330,16 +330,6 @@ class World:
         """The 14 motors' commanded positions (rad): the springs' rest positions per motor."""
         return np.array(self._q_cmd)
 
-    def drive(self, commanded: np.ndarray, rest_positions: np.ndarray) -> None:
-        """Set the motors' commanded positions (14, rad) and every degree of freedom's spring
-        rest position (``rest_positions``, rad, skeleton order: its motor's commanded
-        position) as ``set_targets`` does, computed elsewhere (``model.compiled.command``);
-        refresh the gravity compensation."""
-        self._q_cmd[:] = commanded.tolist()
-        for dof, q in zip(self._dofs, rest_positions.tolist()):
-            dof.setRestPosition(q)
-        self.robot.setCommands(self.robot.getGravityForces())
-
     def step(self, targets) -> None:
         """One control step (0.1 s): new targets (``set_targets``), then the physics substeps
         (``advance``)."""
