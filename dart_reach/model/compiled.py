@@ -22,6 +22,11 @@ What stays numpy's in both versions (the scene's geometry: the sectors' points; 
 hand point and palm normal) rounds alike on every processor under the dispatch level that
 ``import dart_reach`` pins, as in version 1.
 
+One thing is commanded differently, to the same effect: the springs that drive the joints
+are pulled toward the motors' commanded positions by joint forces k q_cmd, their rest
+positions held at 0 (``spring_forces``): the same force, and DART does not prepare its world
+again at every control step, as it does after a new rest position.
+
 Version 1 keeps its own code and digests (``ctrnn.Network``, ``task.Trial.sense``): every run
 trained under it reproduces bit for bit.
 """
