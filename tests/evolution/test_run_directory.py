@@ -1,4 +1,4 @@
-"""The run directory survives anything: a fault injected at every file rename of a tiny run
+"""The run directory survives anything: a fault injected at each kind of file rename of a tiny run
 (SIGKILL, SIGTERM, a full disk), a file-size limit, a second process, a deleted or damaged
 file, a killed parent's workers, a Ray address where nothing listens."""
 
@@ -128,11 +128,21 @@ def reference(condition, tmp_path_factory):
         trace = out.parent / "renames.txt"
         result = _cli(*_train_args(condition, out), prefix=[STRACE, "-f", "-qq", "-o",
                                                             str(trace), "-e", f"trace={RENAMES}"])
-        renames = sum(1 for line in trace.read_text().splitlines() if "rename" in line)
+        targets = [_kind(line, out) for line in trace.read_text().splitlines()
+                   if "rename" in line]
     else:
-        result, renames = _cli(*_train_args(condition, out)), 0
+        result, targets = _cli(*_train_args(condition, out)), []
     assert result.returncode == 0, result.stderr
-    return out, snapshot(out), renames
+    return out, snapshot(out), len(targets), targets
+
+
+def _kind(line: str, out: Path) -> str:
+    """What a rename in strace's output commits: its target in the run directory, with the
+    phase's directory and the generation left out (``phases/*/best/*.rrd``)."""
+    target = re.findall(r'"([^"]*)"', line)[-1]
+    name = Path(target).relative_to(out).as_posix()
+    name = re.sub(r"^phases/[^/]+/", "phases/*/", name)
+    return re.sub(r"gen\d+[^/]*$", "*" + Path(name).suffix, name)
 
 
 def _fault_then_resume(condition, root: Path, inject: str, n: int) -> tuple[int, str, dict]:
@@ -145,21 +155,45 @@ def _fault_then_resume(condition, root: Path, inject: str, n: int) -> tuple[int,
     return cut.returncode, cut.stderr, snapshot(out)
 
 
+def _kill_points(targets: list[str]) -> list[int]:
+    """Where to SIGKILL a run (1-based renames): every moment of its commit sequence once.
+    A phase commits the same files in the same order (asserted), so a kill at every rename of
+    the last phase meets every kind of file and every pair of consecutive commits (a data file
+    renamed but the manifest not yet, and the reverse), with a finished phase to keep besides.
+    What the last phase cannot show is added: the renames before any phase began (nothing to
+    resume from yet) and, in the first phase, its checkpoint and its final (a phase resumed
+    from its checkpoint with no phase finished; all of a phase's results in but its final not).
+    Here 17 of the run's 28 renames: a kill at each costs two processes."""
+    finals = [i for i, t in enumerate(targets) if t == "phases/*/final.npz"]
+    starts = [next(i for i, t in enumerate(targets) if t.startswith("phases/"))]
+    starts += [f + 2 for f in finals[:-1]]  # a phase ends with the manifest naming its final
+    phases = [targets[a:f + 2] for a, f in zip(starts, finals)]
+    assert finals[-1] + 2 == len(targets), targets
+    assert len(phases) >= 2 and all(p == phases[0] for p in phases), targets
+    first, last = starts[0], starts[-1]
+    in_first = [first + phases[0].index(k) for k in ("phases/*/checkpoint.npz",
+                                                     "phases/*/final.npz")]
+    return [n + 1 for n in sorted({*range(first), *in_first, *range(last, len(targets))})]
+
+
 @pytest.mark.skipif(not STRACE, reason="needs strace to inject faults at exact renames")
-def test_sigkill_at_every_rename_resumes_to_the_same_directory(condition, reference, tmp_path):
-    _, expected, renames = reference
+def test_sigkill_at_each_kind_of_rename_resumes_to_the_same_directory(condition, reference,
+                                                                       tmp_path):
+    _, expected, renames, targets = reference
     assert renames >= 10  # manifest, recordings, checkpoints, tables, finals
+    points = _kill_points(targets)
+    assert {targets[n - 1] for n in points} == set(targets)
     with ThreadPoolExecutor(2) as pool:
         results = list(pool.map(lambda n: _fault_then_resume(
-            condition, tmp_path, "signal=SIGKILL", n), range(1, renames + 1)))
-    for n, (code, err, snap) in enumerate(results, start=1):
+            condition, tmp_path, "signal=SIGKILL", n), points))
+    for n, (code, err, snap) in zip(points, results):
         assert code == -signal.SIGKILL, (n, err)
         assert same(snap, expected), f"killed at rename {n}: resumed run differs"
 
 
 @pytest.mark.skipif(not STRACE, reason="needs strace to inject faults at exact renames")
 def test_sigterm_and_full_disk_at_renames(condition, reference, tmp_path):
-    _, expected, renames = reference
+    _, expected, renames, _ = reference
     cases = [("signal=SIGTERM", n) for n in (2, renames // 2, renames - 1)]
     cases += [("error=ENOSPC", n) for n in (1, 3, renames // 2 + 1, renames)]
     with ThreadPoolExecutor(2) as pool:
@@ -175,7 +209,7 @@ def test_sigterm_and_full_disk_at_renames(condition, reference, tmp_path):
 
 
 def test_file_size_limit_is_one_line_and_resumable(condition, reference, tmp_path):
-    _, expected, _ = reference
+    _, expected, *_ = reference
     out = tmp_path / "run"
     cut = _cli(*_train_args(condition, out), prefix=["prlimit", "--fsize=12000"])
     assert cut.returncode == 2, cut.stderr
@@ -210,7 +244,7 @@ def test_lock_refuses_a_second_process_and_a_killed_holder_never_blocks(conditio
 
 
 def test_deleted_or_stale_files_are_rebuilt_or_refused(condition, reference, tmp_path):
-    src, expected, _ = reference
+    src, expected, *_ = reference
     out = tmp_path / "run"
     # a deleted table, training.rrd and best table, and a left-over temporary: rebuilt exactly
     shutil.copytree(src, out)
@@ -265,7 +299,7 @@ def test_manifest_with_a_null_ball_and_a_binary_manifest(reference, tmp_path):
 
 
 def test_snapshots_are_kept_and_a_damaged_one_is_named(reference, tmp_path):
-    src, expected, _ = reference
+    src, expected, *_ = reference
     shots = [f for f in expected["files"] if "/snapshots/" in f]
     assert len(shots) == 2, expected["files"]  # generation 1 of each phase
     out = tmp_path / "run"
