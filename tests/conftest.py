@@ -51,7 +51,7 @@ def _main_in_process(*args, cwd=None) -> subprocess.CompletedProcess:
                                        err.getvalue())
 
 
-@pytest.fixture
+@pytest.fixture(scope="session")
 def in_process():
     """``in_process(*args, cwd=None)``: ``dart-reach ARGS`` run in this process
     (``_main_in_process``)."""
