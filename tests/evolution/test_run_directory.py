@@ -220,7 +220,8 @@ def test_file_size_limit_is_one_line_and_resumable(condition, reference, tmp_pat
     assert same(snapshot(out), expected)
 
 
-def test_lock_refuses_a_second_process_and_a_killed_holder_never_blocks(condition, tmp_path):
+def test_lock_refuses_a_second_process_and_a_killed_holder_never_blocks(condition, tmp_path,
+                                                                        in_process):
     from dart_reach.files import DirectoryLock
 
     out = tmp_path / "run"
@@ -230,8 +231,8 @@ def test_lock_refuses_a_second_process_and_a_killed_holder_never_blocks(conditio
     deadline = time.monotonic() + 120
     while not (out / "manifest.json").exists() and time.monotonic() < deadline:
         time.sleep(0.05)
-    for args in (slow + ["--resume"], slow, ["evaluate", out]):
-        second = _cli(*args)
+    for i, args in enumerate((slow + ["--resume"], slow, ["evaluate", out])):
+        second = (_cli if i == 0 else in_process)(*args)  # the others: the same code, here
         assert second.returncode == 2, second.stderr
         assert f"PID {first.pid}" in second.stderr or "unfinished" in second.stderr, \
             second.stderr
@@ -243,7 +244,8 @@ def test_lock_refuses_a_second_process_and_a_killed_holder_never_blocks(conditio
         pass
 
 
-def test_deleted_or_stale_files_are_rebuilt_or_refused(condition, reference, tmp_path):
+def test_deleted_or_stale_files_are_rebuilt_or_refused(condition, reference, tmp_path,
+                                                       in_process):
     src, expected, *_ = reference
     out = tmp_path / "run"
     # a deleted table, training.rrd and best table, and a left-over temporary: rebuilt exactly
@@ -267,7 +269,7 @@ def test_deleted_or_stale_files_are_rebuilt_or_refused(condition, reference, tmp
             (gross / "final.npz").unlink()
             shutil.copy(pre / "checkpoint.npz", gross / "checkpoint.npz")
         before = {p: p.read_bytes() for p in out.rglob("*") if p.is_file() and p.name != ".lock"}
-        result = _cli(*_train_args(condition, out, "--resume"))
+        result = in_process(*_train_args(condition, out, "--resume"))
         assert result.returncode == 2 and "checkpoint.npz" in result.stderr, result.stderr
         assert result.stderr.count("\n") == 1
         after = {p: p.read_bytes() for p in out.rglob("*") if p.is_file() and p.name != ".lock"}
@@ -275,36 +277,37 @@ def test_deleted_or_stale_files_are_rebuilt_or_refused(condition, reference, tmp
 
 
 @pytest.mark.parametrize("content", ["[]", "null", '"x"'])
-def test_malformed_manifest_is_one_line(condition, reference, tmp_path, content):
+def test_malformed_manifest_is_one_line(condition, reference, tmp_path, content, in_process):
     out = tmp_path / "run"
     shutil.copytree(reference[0], out)
     (out / "manifest.json").write_text(content)
+    run = _cli if content == "[]" else in_process  # the others in this process: the same code
     for args in (_train_args(condition, out, "--resume"), ["evaluate", out]):
-        result = _cli(*args)
+        result = run(*args)
         assert result.returncode == 2 and "manifest.json" in result.stderr, result.stderr
         assert result.stderr.count("\n") == 1
 
 
-def test_manifest_with_a_null_ball_and_a_binary_manifest(reference, tmp_path):
+def test_manifest_with_a_null_ball_and_a_binary_manifest(reference, tmp_path, in_process):
     out = tmp_path / "run"
     shutil.copytree(reference[0], out)
     m = json.loads((out / "manifest.json").read_text())
     m["settings"]["world"]["ball"] = None
     (out / "manifest.json").write_text(json.dumps(m))
-    result = _cli("evaluate", out)
+    result = in_process("evaluate", out)
     assert result.returncode == 2 and "manifest.json" in result.stderr, result.stderr
     (out / "manifest.json").write_bytes(bytes(range(256)))
-    result = _cli("evaluate", out)
+    result = in_process("evaluate", out)
     assert result.returncode == 2 and "manifest.json" in result.stderr, result.stderr
 
 
-def test_snapshots_are_kept_and_a_damaged_one_is_named(reference, tmp_path):
+def test_snapshots_are_kept_and_a_damaged_one_is_named(reference, tmp_path, in_process):
     src, expected, *_ = reference
     shots = [f for f in expected["files"] if "/snapshots/" in f]
     assert len(shots) == 2, expected["files"]  # generation 1 of each phase
     out = tmp_path / "run"
     shutil.copytree(src, out)
-    result = _cli("evaluate", out, "--robots", "1", "--record", "none", "--development", "1",
+    result = in_process("evaluate", out, "--robots", "1", "--record", "none", "--development", "1",
                   "--workers", "1")
     assert result.returncode == 0, result.stderr
     assert pl.read_parquet(out / "development.parquet").height == 2 * 45
@@ -319,7 +322,7 @@ def test_snapshots_are_kept_and_a_damaged_one_is_named(reference, tmp_path):
     assert "Traceback" not in result.stderr
 
 
-def test_same_named_conditions_and_unfit_names_are_refused(condition, tmp_path):
+def test_same_named_conditions_and_unfit_names_are_refused(condition, tmp_path, in_process):
     copy = tmp_path / "copy.toml"
     copy.write_text(CONDITION.replace("generations_per_phase = 1", "generations_per_phase = 2"))
     result = _cli("train", condition, copy, "--out", tmp_path / "r")
@@ -327,7 +330,7 @@ def test_same_named_conditions_and_unfit_names_are_refused(condition, tmp_path):
     assert not (tmp_path / "r").exists()
     long = tmp_path / "long.toml"
     long.write_text(CONDITION.replace('name = "pre"', f'name = "{"p" * 260}"'))
-    result = _cli("train", long, "--out", tmp_path / "r")
+    result = in_process("train", long, "--out", tmp_path / "r")
     assert result.returncode == 2 and "at most 64 characters" in result.stderr, result.stderr
 
 
@@ -395,14 +398,14 @@ def test_ray_address_with_nothing_there_fails_fast(condition, tmp_path):
     assert result.stderr.count("\n") == 1
 
 
-def test_small_bad_inputs_name_the_option(tmp_path):
-    for args, fragment in ((["reach", "--seconds", "-1"], "--seconds"),
+def test_small_bad_inputs_name_the_option(tmp_path, in_process):
+    for i, (args, fragment) in enumerate(((["reach", "--seconds", "-1"], "--seconds"),
                            (["reach", "--seconds", "0"], "--seconds"),
                            (["reach", "--seconds", "inf"], "--seconds"),
                            (["bench", "--seconds", "-1"], "--seconds"),
                            (["bench", "--repeats", "0"], "--repeats"),
-                           (["read", tmp_path], "directory")):
-        result = _cli(*args)
+                           (["read", tmp_path], "directory"))):
+        result = (_cli if i == 0 else in_process)(*args)  # the others: the same code, here
         assert result.returncode == 2 and fragment in result.stderr, (args, result.stderr)
         assert result.stderr.count("\n") == 1, result.stderr
 
