@@ -134,6 +134,6 @@ def test_the_screen_runs_a_runs_robots_under_other_levers(run):
 def test_the_screen_command_refuses_a_bad_arm_name(run, tmp_path, in_process):
     _, out = run
     result = in_process("screen", out, "--generation", "2", "--arm", "a b", "--out",
-                  tmp_path / "s.parquet")
+                        tmp_path / "s.parquet")
     assert result.returncode == 2 and "--arm" in result.stderr, result.stderr
     assert not (tmp_path / "s.parquet").exists()

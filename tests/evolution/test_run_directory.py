@@ -307,8 +307,8 @@ def test_snapshots_are_kept_and_a_damaged_one_is_named(reference, tmp_path, in_p
     assert len(shots) == 2, expected["files"]  # generation 1 of each phase
     out = tmp_path / "run"
     shutil.copytree(src, out)
-    result = in_process("evaluate", out, "--robots", "1", "--record", "none", "--development", "1",
-                  "--workers", "1")
+    result = in_process("evaluate", out, "--robots", "1", "--record", "none",
+                        "--development", "1", "--workers", "1")
     assert result.returncode == 0, result.stderr
     assert pl.read_parquet(out / "development.parquet").height == 2 * 45
     (out / shots[0]).write_bytes(b"not a snapshot")
@@ -400,11 +400,11 @@ def test_ray_address_with_nothing_there_fails_fast(condition, tmp_path):
 
 def test_small_bad_inputs_name_the_option(tmp_path, in_process):
     for i, (args, fragment) in enumerate(((["reach", "--seconds", "-1"], "--seconds"),
-                           (["reach", "--seconds", "0"], "--seconds"),
-                           (["reach", "--seconds", "inf"], "--seconds"),
-                           (["bench", "--seconds", "-1"], "--seconds"),
-                           (["bench", "--repeats", "0"], "--repeats"),
-                           (["read", tmp_path], "directory"))):
+                                          (["reach", "--seconds", "0"], "--seconds"),
+                                          (["reach", "--seconds", "inf"], "--seconds"),
+                                          (["bench", "--seconds", "-1"], "--seconds"),
+                                          (["bench", "--repeats", "0"], "--repeats"),
+                                          (["read", tmp_path], "directory"))):
         result = (_cli if i == 0 else in_process)(*args)  # the others: the same code, here
         assert result.returncode == 2 and fragment in result.stderr, (args, result.stderr)
         assert result.stderr.count("\n") == 1, result.stderr
