@@ -123,16 +123,18 @@ def test_workers_above_the_cores_are_refused():
                          f"{cores()} cores")
 
 
-def test_report_needs_a_post_evaluation_and_an_existing_directory(tmp_path, monkeypatch):
+def test_report_needs_a_post_evaluation_and_an_existing_directory(tmp_path, monkeypatch,
+                                                                   in_process):
     run = tmp_path / "run"
-    assert _cli("train", "standard", "--generations", "1", *TINY, "--out", run).returncode == 0
+    assert in_process("train", "standard", "--generations", "1", *TINY,
+                      "--out", run).returncode == 0
     _one_line_exit_2(_cli("report", run), "not post-evaluated",
                      f"dart-reach evaluate {run} --sensors all")
     assert not (run / "report.html").exists()
     # with a post-evaluation, an --out in a directory that does not exist is refused
-    assert _cli("evaluate", run, "--robots", "1", "--record", "none",
-                "--workers", "1").returncode == 0
-    _one_line_exit_2(_cli("report", run, "--out", tmp_path / "nowhere" / "r.html"),
+    assert in_process("evaluate", run, "--robots", "1", "--record", "none",
+                      "--workers", "1").returncode == 0
+    _one_line_exit_2(in_process("report", run, "--out", tmp_path / "nowhere" / "r.html"),
                      "no such directory", "--out")
     assert not (tmp_path / "nowhere").exists()
     # a post-evaluation stored in parts (a large table) is one too
@@ -143,15 +145,16 @@ def test_report_needs_a_post_evaluation_and_an_existing_directory(tmp_path, monk
     monkeypatch.setattr(results, "PART_BYTES", 1_000)
     results.write_table(table, frame, entries)
     assert not table.exists() and len(results.stored_files(table)) >= 2
-    _one_line_exit_2(_cli("report", run, "--out", tmp_path / "nowhere" / "r.html"),
+    _one_line_exit_2(in_process("report", run, "--out", tmp_path / "nowhere" / "r.html"),
                      "no such directory", "--out")
     # and a resume with another budget names the setting that differs
-    _one_line_exit_2(_cli("train", "standard", "--generations", "1", *TINY[:-6],
-                          "--steps", "3", *TINY[-4:], "--out", run, "--resume"),
+    _one_line_exit_2(in_process("train", "standard", "--generations", "1", *TINY[:-6],
+                                "--steps", "3", *TINY[-4:], "--out", run, "--resume"),
                      "settings.steps is 2 in the run there, 3 now", "same command line")
-    _one_line_exit_2(_cli("train", "standard", "--generations", "2", *TINY, "--out", run,
-                          "--resume"), "conditions.standard.generations_per_phase is 1 in the run there, 2 now")
-    again = _cli("train", "standard", "--generations", "1", *TINY, "--out", run)
+    _one_line_exit_2(in_process("train", "standard", "--generations", "2", *TINY, "--out", run,
+                                "--resume"),
+                     "conditions.standard.generations_per_phase is 1 in the run there, 2 now")
+    again = in_process("train", "standard", "--generations", "1", *TINY, "--out", run)
     _one_line_exit_2(again, "--resume", "--out")
 
 
@@ -170,7 +173,7 @@ def test_python_errors_name_python_arguments(tmp_path):
     assert "--resume" in again.value.cli
 
 
-def test_a_long_run_says_its_size_and_cost_before_starting(tmp_path):
+def test_a_long_run_says_its_size_and_cost_before_starting(tmp_path, in_process):
     # the default budget: 15,000 replication-generations at the measured core-seconds each;
     # the run then stops at once on a directory that holds something else
     from dart_reach.evolution.cost import GENERATION_CORE_S
@@ -185,8 +188,8 @@ def test_a_long_run_says_its_size_and_cost_before_starting(tmp_path):
     assert f"{low:,.0f}-{high:,.0f} core-hours" in result.stderr
     assert "--generations" in result.stderr
     assert "[y/N]" not in result.stderr  # a script is not asked
-    small = _cli("train", "standard", "--generations", "1", "--replications", "1",
-                 "--trials", "1", "--steps", "2", "--workers", "1", "--out", out)
+    small = in_process("train", "standard", "--generations", "1", "--replications", "1",
+                       "--trials", "1", "--steps", "2", "--workers", "1", "--out", out)
     assert "replication-generations" not in small.stderr
 
 
@@ -212,15 +215,16 @@ def test_a_run_over_an_hour_asks_a_person_at_the_terminal_first(tmp_path):
 
 def test_a_json_file_that_is_not_a_runs_manifest_says_so(tmp_path):
     (tmp_path / "manifest.json").write_text('{"name": "my notes", "version": 3}')
-    _one_line_exit_2(_cli("status", tmp_path), "manifest.json: not a run's manifest")
-    assert "incompatible" not in _cli("status", tmp_path).stderr
+    result = _cli("status", tmp_path)
+    _one_line_exit_2(result, "manifest.json: not a run's manifest")
+    assert "incompatible" not in result.stderr
 
 
-def test_status_says_where_training_stands(tmp_path):
+def test_status_says_where_training_stands(tmp_path, in_process):
     out = tmp_path / "run"
     tiny = ["train", "standard", "--generations", "2", "--replications", "2", "--trials", "1",
             "--steps", "3", "--workers", "1", "--record-every", "0", "--out", str(out)]
-    assert _cli(*tiny).returncode == 0
+    assert in_process(*tiny).returncode == 0
     status = _cli("status", str(out))
     assert status.returncode == 0, status.stderr
     lines = status.stdout.splitlines()
@@ -230,7 +234,7 @@ def test_status_says_where_training_stands(tmp_path):
     assert "12 of 12 replication-generations (100%)" in total
     assert "1 session(s)" in total and "unfinished: none" in total
     assert lines[-1] == "results: no post-evaluation (dart-reach evaluate RUN)"
-    markdown = _cli("status", str(out), "--markdown").stdout.splitlines()
+    markdown = in_process("status", str(out), "--markdown").stdout.splitlines()
     assert markdown[0].startswith("| condition |") and markdown[1].startswith("|---|")
-    missing = _cli("status", str(tmp_path / "none"))
+    missing = in_process("status", str(tmp_path / "none"))
     assert missing.returncode == 2 and "no such run directory" in missing.stderr

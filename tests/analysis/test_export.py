@@ -32,19 +32,19 @@ def _hashes(out: Path) -> dict:
 
 
 @pytest.fixture(scope="module")
-def run(tmp_path_factory) -> Path:
+def run(tmp_path_factory, in_process) -> Path:
     """A tiny run, trained with snapshots and post-evaluated with its development (seconds)."""
     out = tmp_path_factory.mktemp("export") / "run"
-    assert _cli("train", "standard", "--generations", "2", "--replications", "2", "--trials",
-                "1", "--steps", "6", "--workers", "1", "--snapshot-every", "1",
-                "--record-every", "0", "--out", out).returncode == 0
-    result = _cli("evaluate", out, "--robots", "1", "--record", "none", "--workers", "1",
-                  "--development", "1")
+    assert in_process("train", "standard", "--generations", "2", "--replications", "2",
+                      "--trials", "1", "--steps", "6", "--workers", "1", "--snapshot-every", "1",
+                      "--record-every", "0", "--out", out).returncode == 0
+    result = in_process("evaluate", out, "--robots", "1", "--record", "none", "--workers", "1",
+                        "--development", "1")
     assert result.returncode == 0, result.stderr
     return out
 
 
-def test_export_writes_every_table_with_units_and_stored_values(run, tmp_path):
+def test_export_writes_every_table_with_units_and_stored_values(run, tmp_path, in_process):
     before = _hashes(run)
     result = _cli("export", run, "--csv", tmp_path / "csv")
     assert result.returncode == 0, result.stderr
@@ -74,25 +74,25 @@ def test_export_writes_every_table_with_units_and_stored_values(run, tmp_path):
     saved = _hashes(tmp_path / "csv")
     _one_line_exit_2(_cli("export", run, "--csv", tmp_path / "csv"), "the file exists")
     assert _hashes(tmp_path / "csv") == saved
-    _one_line_exit_2(_cli("export", run, "--csv", run / "csv"), "inside the run")
-    _one_line_exit_2(_cli("export", tmp_path / "none", "--csv", tmp_path / "x"),
+    _one_line_exit_2(in_process("export", run, "--csv", run / "csv"), "inside the run")
+    _one_line_exit_2(in_process("export", tmp_path / "none", "--csv", tmp_path / "x"),
                      "no such run directory")
-    _one_line_exit_2(_cli("export", run, "--csv", tmp_path / "no" / "where"),
+    _one_line_exit_2(in_process("export", run, "--csv", tmp_path / "no" / "where"),
                      "no such directory")
     assert not (run / "csv").exists() and not (tmp_path / "no").exists()
 
 
-def test_read_on_a_table_exports_it_or_says_how(run, tmp_path):
+def test_read_on_a_table_exports_it_or_says_how(run, tmp_path, in_process):
     result = _cli("read", run / "evaluation.parquet", "--csv", tmp_path / "e.csv")
     assert result.returncode == 0, result.stderr
-    assert _cli("export", run, "--csv", tmp_path / "all").returncode == 0
+    assert in_process("export", run, "--csv", tmp_path / "all").returncode == 0
     assert (tmp_path / "e.csv").read_bytes() == (tmp_path / "all" / "evaluation.csv").read_bytes()
-    result = _cli("read", run / "evaluation.parquet")
+    result = in_process("read", run / "evaluation.parquet")
     _one_line_exit_2(result, "dart-reach export RUN --csv DIR")
     assert "damaged .rrd" not in result.stderr
     # a committed run's findings table
     findings = ROOT / "recordings" / "replication-10" / "findings.parquet"
-    assert _cli("read", findings, "--csv", tmp_path / "f.csv").returncode == 0
+    assert in_process("read", findings, "--csv", tmp_path / "f.csv").returncode == 0
     csv = pl.read_csv(tmp_path / "f.csv", infer_schema_length=None)
     assert csv.height == pl.read_parquet(findings).height and "verdict" in csv.columns
 

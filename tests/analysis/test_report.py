@@ -102,12 +102,16 @@ def test_the_report_opens_on_its_answers_and_reads_on_a_phone(tiny_run, tmp_path
         + text.count("<div class='scroll'><table") > 10
 
 
-def test_cli_writes_the_report_and_never_overwrites_a_foreign_file(tiny_run, tmp_path):
-    def cli(*args):
+def test_cli_writes_the_report_and_never_overwrites_a_foreign_file(tiny_run, tmp_path,
+                                                                  in_process):
+    def process(*args):
         return subprocess.run([sys.executable, "-m", "dart_reach.cli", "report", *args],
                               capture_output=True, text=True, timeout=300, cwd=tmp_path)
 
-    r = cli(str(tiny_run))  # by default in the current directory, never in the run
+    def cli(*args):  # the rest in this process: the same command, without a process's imports
+        return in_process("report", *args, cwd=tmp_path)
+
+    r = process(str(tiny_run))  # by default in the current directory, never in the run
     assert r.returncode == 0, r.stderr
     assert (tmp_path / "tiny-report.html").is_file() and "tiny-report.html" in r.stdout
     assert not (tiny_run / "report.html").exists()
@@ -120,8 +124,9 @@ def test_cli_writes_the_report_and_never_overwrites_a_foreign_file(tiny_run, tmp
         assert not (tiny_run / "phases" / name).exists()
     foreign = tmp_path / "notes.html"
     foreign.write_text("<p>my notes</p>")
-    r = cli(str(tiny_run), "--out", str(foreign))
-    assert r.returncode == 2 and "not a dart_reach report" in r.stderr
+    r = process(str(tiny_run), "--out", str(foreign))
+    assert r.returncode == 2 and r.stderr.count("\n") == 1 and "Traceback" not in r.stderr
+    assert "not a dart_reach report" in r.stderr
     assert foreign.read_text() == "<p>my notes</p>"
     r = cli(str(tmp_path / "none"))
     assert r.returncode == 2 and "no such run directory" in r.stderr

@@ -30,11 +30,11 @@ def _cli(*args, cwd=None):
 
 
 @pytest.fixture(scope="module")
-def evaluated(tmp_path_factory) -> Path:
+def evaluated(tmp_path_factory, in_process) -> Path:
     """A tiny trained and post-evaluated run (a few seconds)."""
     out = tmp_path_factory.mktemp("integrity") / "run"
-    assert _cli(*TRAIN, "--out", out).returncode == 0
-    result = _cli("evaluate", out, "--robots", "1", "--record", "none", "--workers", "1")
+    assert in_process(*TRAIN, "--out", out).returncode == 0
+    result = in_process("evaluate", out, "--robots", "1", "--record", "none", "--workers", "1")
     assert result.returncode == 0, result.stderr
     return out
 
@@ -59,10 +59,12 @@ def _commands(out: Path, tmp_path: Path) -> dict[str, list]:
             "report": ["report", out, "--out", tmp_path / "report.html"]}
 
 
-def _refused_by_every_command(out: Path, damaged: Path, tmp_path: Path) -> None:
+def _refused_by_every_command(out: Path, damaged: Path, tmp_path: Path, in_process) -> None:
+    """Each command refuses ``damaged``: status in a process of its own, the others in this
+    one (the same code, without a process's imports)."""
     before = _hashes(out)
     for name, args in _commands(out, tmp_path).items():
-        result = _cli(*args)
+        result = _cli(*args) if name == "status" else in_process(*args)
         assert result.returncode == 2, (name, result.stdout, result.stderr)
         lines = result.stderr.strip().splitlines()
         assert len(lines) == 1, (name, result.stderr)
@@ -81,55 +83,55 @@ def test_a_new_run_records_the_hash_of_every_state_file(run):
         assert digests == [hashlib.sha256((run / name).read_bytes()).hexdigest()], name
 
 
-def test_a_truncated_final_is_refused_by_every_command(run, tmp_path):
+def test_a_truncated_final_is_refused_by_every_command(run, tmp_path, in_process):
     final = next(run.glob("phases/fine-*/final.npz"))
     final.write_bytes(final.read_bytes()[:200])
-    _refused_by_every_command(run, final, tmp_path)
+    _refused_by_every_command(run, final, tmp_path, in_process)
     with pytest.raises(DamagedFile, match="final.npz: damaged"):
         RunDirectory.open(run).load_final(RunDirectory.open(run).conditions[0].phases[-1])
 
 
-def test_a_truncated_checkpoint_is_refused_by_every_command(run, tmp_path):
+def test_a_truncated_checkpoint_is_refused_by_every_command(run, tmp_path, in_process):
     checkpoint = next(run.glob("phases/gross-*/checkpoint.npz"))
     checkpoint.write_bytes(checkpoint.read_bytes()[:-10])
-    _refused_by_every_command(run, checkpoint, tmp_path)
+    _refused_by_every_command(run, checkpoint, tmp_path, in_process)
     with pytest.raises(DamagedFile, match="checkpoint.npz: damaged"):
         RunDirectory.open(run)
 
 
-def test_a_changed_snapshot_is_refused(run, tmp_path):
+def test_a_changed_snapshot_is_refused(run, tmp_path, in_process):
     snapshot = next(run.glob("phases/pre-*/snapshots/gen0002.npz"))
     data = bytearray(snapshot.read_bytes())
     data[-30] ^= 1  # one bit, in the zip's directory: still a file of the same size
     snapshot.write_bytes(bytes(data))
-    result = _cli("status", run)
+    result = in_process("status", run)
     assert result.returncode == 2 and f"{snapshot}: damaged" in result.stderr
 
 
-def test_a_deleted_final_is_written_again_by_resuming(run):
+def test_a_deleted_final_is_written_again_by_resuming(run, in_process):
     final = next(run.glob("phases/fine-*/final.npz"))
     with np.load(final) as d:
         population = d["population"].copy()
     final.unlink()
-    result = _cli(*TRAIN, "--out", run, "--resume")
+    result = in_process(*TRAIN, "--out", run, "--resume")
     assert result.returncode == 0, result.stderr
     with np.load(final) as d:
         assert np.array_equal(d["population"], population)
-    assert _cli("status", run).returncode == 0
+    assert in_process("status", run).returncode == 0
 
 
-def test_a_run_without_recorded_hashes_is_read_as_before(run, tmp_path):
+def test_a_run_without_recorded_hashes_is_read_as_before(run, tmp_path, in_process):
     """Runs written before the ledger (the committed ones): read as they are; a file that
     cannot be read whole is still refused."""
     manifest = json.loads((run / "manifest.json").read_text())
     del manifest[integrity.LEDGER]
     (run / "manifest.json").write_text(json.dumps(manifest, indent=2))
-    result = _cli("status", run)
+    result = in_process("status", run)
     assert result.returncode == 0, result.stderr
     final = next(run.glob("phases/fine-*/final.npz"))
     final.write_bytes(final.read_bytes()[:200])
     before = _hashes(run)
-    result = _cli("status", run)
+    result = in_process("status", run)
     assert result.returncode == 2 and f"{final}: damaged, cannot be read" in result.stderr
     assert _hashes(run) == before
 

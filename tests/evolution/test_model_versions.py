@@ -100,14 +100,14 @@ def test_bad_lever_values_are_one_line_and_exit_2(tmp_path, bad, named):
     assert result.stderr.count("\n") == 1 and not (tmp_path / "r").exists()
 
 
-def test_an_unknown_model_version_in_a_manifest_is_refused(run, tmp_path):
+def test_an_unknown_model_version_in_a_manifest_is_refused(run, tmp_path, in_process):
     _, out = run
     copy = tmp_path / "copy"
     copy.mkdir()
     manifest = json.loads((out / "manifest.json").read_text())
     manifest["settings"]["model_version"] = 7
     (copy / "manifest.json").write_text(json.dumps(manifest))
-    result = _cli("status", copy)
+    result = in_process("status", copy)
     assert result.returncode == 2 and "model version 7" in result.stderr, result.stderr
 
 
@@ -131,9 +131,9 @@ def test_the_screen_runs_a_runs_robots_under_other_levers(run):
         screen(out, 9, arms)
 
 
-def test_the_screen_command_refuses_a_bad_arm_name(run, tmp_path):
+def test_the_screen_command_refuses_a_bad_arm_name(run, tmp_path, in_process):
     _, out = run
-    result = _cli("screen", out, "--generation", "2", "--arm", "a b", "--out",
-                  tmp_path / "s.parquet")
+    result = in_process("screen", out, "--generation", "2", "--arm", "a b", "--out",
+                        tmp_path / "s.parquet")
     assert result.returncode == 2 and "--arm" in result.stderr, result.stderr
     assert not (tmp_path / "s.parquet").exists()

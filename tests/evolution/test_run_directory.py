@@ -1,4 +1,4 @@
-"""The run directory survives anything: a fault injected at every file rename of a tiny run
+"""The run directory survives anything: a fault injected at each kind of file rename of a tiny run
 (SIGKILL, SIGTERM, a full disk), a file-size limit, a second process, a deleted or damaged
 file, a killed parent's workers, a Ray address where nothing listens."""
 
@@ -128,11 +128,21 @@ def reference(condition, tmp_path_factory):
         trace = out.parent / "renames.txt"
         result = _cli(*_train_args(condition, out), prefix=[STRACE, "-f", "-qq", "-o",
                                                             str(trace), "-e", f"trace={RENAMES}"])
-        renames = sum(1 for line in trace.read_text().splitlines() if "rename" in line)
+        targets = [_kind(line, out) for line in trace.read_text().splitlines()
+                   if "rename" in line]
     else:
-        result, renames = _cli(*_train_args(condition, out)), 0
+        result, targets = _cli(*_train_args(condition, out)), []
     assert result.returncode == 0, result.stderr
-    return out, snapshot(out), renames
+    return out, snapshot(out), len(targets), targets
+
+
+def _kind(line: str, out: Path) -> str:
+    """What a rename in strace's output commits: its target in the run directory, with the
+    phase's directory and the generation left out (``phases/*/best/*.rrd``)."""
+    target = re.findall(r'"([^"]*)"', line)[-1]
+    name = Path(target).relative_to(out).as_posix()
+    name = re.sub(r"^phases/[^/]+/", "phases/*/", name)
+    return re.sub(r"gen\d+[^/]*$", "*" + Path(name).suffix, name)
 
 
 def _fault_then_resume(condition, root: Path, inject: str, n: int) -> tuple[int, str, dict]:
@@ -145,21 +155,45 @@ def _fault_then_resume(condition, root: Path, inject: str, n: int) -> tuple[int,
     return cut.returncode, cut.stderr, snapshot(out)
 
 
+def _kill_points(targets: list[str]) -> list[int]:
+    """Where to SIGKILL a run (1-based renames): every moment of its commit sequence once.
+    A phase commits the same files in the same order (asserted), so a kill at every rename of
+    the last phase meets every kind of file and every pair of consecutive commits (a data file
+    renamed but the manifest not yet, and the reverse), with a finished phase to keep besides.
+    What the last phase cannot show is added: the renames before any phase began (nothing to
+    resume from yet) and, in the first phase, its checkpoint and its final (a phase resumed
+    from its checkpoint with no phase finished; all of a phase's results in but its final not).
+    Here 17 of the run's 28 renames: a kill at each costs two processes."""
+    finals = [i for i, t in enumerate(targets) if t == "phases/*/final.npz"]
+    starts = [next(i for i, t in enumerate(targets) if t.startswith("phases/"))]
+    starts += [f + 2 for f in finals[:-1]]  # a phase ends with the manifest naming its final
+    phases = [targets[a:f + 2] for a, f in zip(starts, finals)]
+    assert finals[-1] + 2 == len(targets), targets
+    assert len(phases) >= 2 and all(p == phases[0] for p in phases), targets
+    first, last = starts[0], starts[-1]
+    in_first = [first + phases[0].index(k) for k in ("phases/*/checkpoint.npz",
+                                                     "phases/*/final.npz")]
+    return [n + 1 for n in sorted({*range(first), *in_first, *range(last, len(targets))})]
+
+
 @pytest.mark.skipif(not STRACE, reason="needs strace to inject faults at exact renames")
-def test_sigkill_at_every_rename_resumes_to_the_same_directory(condition, reference, tmp_path):
-    _, expected, renames = reference
+def test_sigkill_at_each_kind_of_rename_resumes_to_the_same_directory(condition, reference,
+                                                                       tmp_path):
+    _, expected, renames, targets = reference
     assert renames >= 10  # manifest, recordings, checkpoints, tables, finals
+    points = _kill_points(targets)
+    assert {targets[n - 1] for n in points} == set(targets)
     with ThreadPoolExecutor(2) as pool:
         results = list(pool.map(lambda n: _fault_then_resume(
-            condition, tmp_path, "signal=SIGKILL", n), range(1, renames + 1)))
-    for n, (code, err, snap) in enumerate(results, start=1):
+            condition, tmp_path, "signal=SIGKILL", n), points))
+    for n, (code, err, snap) in zip(points, results):
         assert code == -signal.SIGKILL, (n, err)
         assert same(snap, expected), f"killed at rename {n}: resumed run differs"
 
 
 @pytest.mark.skipif(not STRACE, reason="needs strace to inject faults at exact renames")
 def test_sigterm_and_full_disk_at_renames(condition, reference, tmp_path):
-    _, expected, renames = reference
+    _, expected, renames, _ = reference
     cases = [("signal=SIGTERM", n) for n in (2, renames // 2, renames - 1)]
     cases += [("error=ENOSPC", n) for n in (1, 3, renames // 2 + 1, renames)]
     with ThreadPoolExecutor(2) as pool:
@@ -175,7 +209,7 @@ def test_sigterm_and_full_disk_at_renames(condition, reference, tmp_path):
 
 
 def test_file_size_limit_is_one_line_and_resumable(condition, reference, tmp_path):
-    _, expected, _ = reference
+    _, expected, *_ = reference
     out = tmp_path / "run"
     cut = _cli(*_train_args(condition, out), prefix=["prlimit", "--fsize=12000"])
     assert cut.returncode == 2, cut.stderr
@@ -186,7 +220,8 @@ def test_file_size_limit_is_one_line_and_resumable(condition, reference, tmp_pat
     assert same(snapshot(out), expected)
 
 
-def test_lock_refuses_a_second_process_and_a_killed_holder_never_blocks(condition, tmp_path):
+def test_lock_refuses_a_second_process_and_a_killed_holder_never_blocks(condition, tmp_path,
+                                                                        in_process):
     from dart_reach.files import DirectoryLock
 
     out = tmp_path / "run"
@@ -196,8 +231,8 @@ def test_lock_refuses_a_second_process_and_a_killed_holder_never_blocks(conditio
     deadline = time.monotonic() + 120
     while not (out / "manifest.json").exists() and time.monotonic() < deadline:
         time.sleep(0.05)
-    for args in (slow + ["--resume"], slow, ["evaluate", out]):
-        second = _cli(*args)
+    for i, args in enumerate((slow + ["--resume"], slow, ["evaluate", out])):
+        second = (_cli if i == 0 else in_process)(*args)  # the others: the same code, here
         assert second.returncode == 2, second.stderr
         assert f"PID {first.pid}" in second.stderr or "unfinished" in second.stderr, \
             second.stderr
@@ -209,8 +244,9 @@ def test_lock_refuses_a_second_process_and_a_killed_holder_never_blocks(conditio
         pass
 
 
-def test_deleted_or_stale_files_are_rebuilt_or_refused(condition, reference, tmp_path):
-    src, expected, _ = reference
+def test_deleted_or_stale_files_are_rebuilt_or_refused(condition, reference, tmp_path,
+                                                       in_process):
+    src, expected, *_ = reference
     out = tmp_path / "run"
     # a deleted table, training.rrd and best table, and a left-over temporary: rebuilt exactly
     shutil.copytree(src, out)
@@ -233,7 +269,7 @@ def test_deleted_or_stale_files_are_rebuilt_or_refused(condition, reference, tmp
             (gross / "final.npz").unlink()
             shutil.copy(pre / "checkpoint.npz", gross / "checkpoint.npz")
         before = {p: p.read_bytes() for p in out.rglob("*") if p.is_file() and p.name != ".lock"}
-        result = _cli(*_train_args(condition, out, "--resume"))
+        result = in_process(*_train_args(condition, out, "--resume"))
         assert result.returncode == 2 and "checkpoint.npz" in result.stderr, result.stderr
         assert result.stderr.count("\n") == 1
         after = {p: p.read_bytes() for p in out.rglob("*") if p.is_file() and p.name != ".lock"}
@@ -241,37 +277,38 @@ def test_deleted_or_stale_files_are_rebuilt_or_refused(condition, reference, tmp
 
 
 @pytest.mark.parametrize("content", ["[]", "null", '"x"'])
-def test_malformed_manifest_is_one_line(condition, reference, tmp_path, content):
+def test_malformed_manifest_is_one_line(condition, reference, tmp_path, content, in_process):
     out = tmp_path / "run"
     shutil.copytree(reference[0], out)
     (out / "manifest.json").write_text(content)
+    run = _cli if content == "[]" else in_process  # the others in this process: the same code
     for args in (_train_args(condition, out, "--resume"), ["evaluate", out]):
-        result = _cli(*args)
+        result = run(*args)
         assert result.returncode == 2 and "manifest.json" in result.stderr, result.stderr
         assert result.stderr.count("\n") == 1
 
 
-def test_manifest_with_a_null_ball_and_a_binary_manifest(reference, tmp_path):
+def test_manifest_with_a_null_ball_and_a_binary_manifest(reference, tmp_path, in_process):
     out = tmp_path / "run"
     shutil.copytree(reference[0], out)
     m = json.loads((out / "manifest.json").read_text())
     m["settings"]["world"]["ball"] = None
     (out / "manifest.json").write_text(json.dumps(m))
-    result = _cli("evaluate", out)
+    result = in_process("evaluate", out)
     assert result.returncode == 2 and "manifest.json" in result.stderr, result.stderr
     (out / "manifest.json").write_bytes(bytes(range(256)))
-    result = _cli("evaluate", out)
+    result = in_process("evaluate", out)
     assert result.returncode == 2 and "manifest.json" in result.stderr, result.stderr
 
 
-def test_snapshots_are_kept_and_a_damaged_one_is_named(reference, tmp_path):
-    src, expected, _ = reference
+def test_snapshots_are_kept_and_a_damaged_one_is_named(reference, tmp_path, in_process):
+    src, expected, *_ = reference
     shots = [f for f in expected["files"] if "/snapshots/" in f]
     assert len(shots) == 2, expected["files"]  # generation 1 of each phase
     out = tmp_path / "run"
     shutil.copytree(src, out)
-    result = _cli("evaluate", out, "--robots", "1", "--record", "none", "--development", "1",
-                  "--workers", "1")
+    result = in_process("evaluate", out, "--robots", "1", "--record", "none",
+                        "--development", "1", "--workers", "1")
     assert result.returncode == 0, result.stderr
     assert pl.read_parquet(out / "development.parquet").height == 2 * 45
     (out / shots[0]).write_bytes(b"not a snapshot")
@@ -285,7 +322,7 @@ def test_snapshots_are_kept_and_a_damaged_one_is_named(reference, tmp_path):
     assert "Traceback" not in result.stderr
 
 
-def test_same_named_conditions_and_unfit_names_are_refused(condition, tmp_path):
+def test_same_named_conditions_and_unfit_names_are_refused(condition, tmp_path, in_process):
     copy = tmp_path / "copy.toml"
     copy.write_text(CONDITION.replace("generations_per_phase = 1", "generations_per_phase = 2"))
     result = _cli("train", condition, copy, "--out", tmp_path / "r")
@@ -293,7 +330,7 @@ def test_same_named_conditions_and_unfit_names_are_refused(condition, tmp_path):
     assert not (tmp_path / "r").exists()
     long = tmp_path / "long.toml"
     long.write_text(CONDITION.replace('name = "pre"', f'name = "{"p" * 260}"'))
-    result = _cli("train", long, "--out", tmp_path / "r")
+    result = in_process("train", long, "--out", tmp_path / "r")
     assert result.returncode == 2 and "at most 64 characters" in result.stderr, result.stderr
 
 
@@ -361,14 +398,14 @@ def test_ray_address_with_nothing_there_fails_fast(condition, tmp_path):
     assert result.stderr.count("\n") == 1
 
 
-def test_small_bad_inputs_name_the_option(tmp_path):
-    for args, fragment in ((["reach", "--seconds", "-1"], "--seconds"),
-                           (["reach", "--seconds", "0"], "--seconds"),
-                           (["reach", "--seconds", "inf"], "--seconds"),
-                           (["bench", "--seconds", "-1"], "--seconds"),
-                           (["bench", "--repeats", "0"], "--repeats"),
-                           (["read", tmp_path], "directory")):
-        result = _cli(*args)
+def test_small_bad_inputs_name_the_option(tmp_path, in_process):
+    for i, (args, fragment) in enumerate(((["reach", "--seconds", "-1"], "--seconds"),
+                                          (["reach", "--seconds", "0"], "--seconds"),
+                                          (["reach", "--seconds", "inf"], "--seconds"),
+                                          (["bench", "--seconds", "-1"], "--seconds"),
+                                          (["bench", "--repeats", "0"], "--repeats"),
+                                          (["read", tmp_path], "directory"))):
+        result = (_cli if i == 0 else in_process)(*args)  # the others: the same code, here
         assert result.returncode == 2 and fragment in result.stderr, (args, result.stderr)
         assert result.stderr.count("\n") == 1, result.stderr
 

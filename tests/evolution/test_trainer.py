@@ -5,6 +5,7 @@ from __future__ import annotations
 import dataclasses
 import json
 import os
+import shutil
 import signal
 import subprocess
 import sys
@@ -121,9 +122,16 @@ def _train_cmd(out, *extra):
             "--steps", "6", "--seed", "5", "--workers", "1", "--out", str(out), *extra]
 
 
-def test_resume_after_sigkill_is_bit_identical(tmp_path):
-    whole = tmp_path / "whole"
-    assert _cli(*_train_cmd(whole)).returncode == 0
+@pytest.fixture(scope="module")
+def whole(tmp_path_factory, in_process) -> Path:
+    """``_train_cmd``'s run, uninterrupted (read only: copy it to write)."""
+    out = tmp_path_factory.mktemp("whole") / "run"
+    result = in_process(*_train_cmd(out))
+    assert result.returncode == 0, result.stderr
+    return out
+
+
+def test_resume_after_sigkill_is_bit_identical(whole, tmp_path):
     cut = tmp_path / "cut"
     proc = subprocess.Popen([sys.executable, "-m", "dart_reach.cli", *_train_cmd(cut)],
                             stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
@@ -203,26 +211,26 @@ def _saved(out):
     return {p: p.read_bytes() for p in out.rglob("*") if p.is_file() and p.name != ".lock"}
 
 
-def test_bad_input_is_refused_and_loses_nothing(tmp_path):
+def test_bad_input_is_refused_and_loses_nothing(whole, tmp_path, in_process):
     _one_error_line(_cli("train", "no-such-condition"), "no-such-condition")
     bad = tmp_path / "bad.toml"
     bad.write_text('name = "x"\nbogus = 1\n')
-    _one_error_line(_cli("train", str(bad)), "bad.toml")
-    _one_error_line(_cli("train", "standard", "--generations", "0"), ">= 1")
-    _one_error_line(_cli("train", "standard", "--replications", "-1"), ">= 1")
+    _one_error_line(in_process("train", str(bad)), "bad.toml")
+    _one_error_line(in_process("train", "standard", "--generations", "0"), ">= 1")
+    _one_error_line(in_process("train", "standard", "--replications", "-1"), ">= 1")
     out = tmp_path / "run"
-    assert _cli(*_train_cmd(out)).returncode == 0
+    shutil.copytree(whole, out)
     before = _saved(out)
-    _one_error_line(_cli(*_train_cmd(out)), "--resume")
+    _one_error_line(in_process(*_train_cmd(out)), "--resume")
     changed = _train_cmd(out, "--resume")
     changed[changed.index("--seed") + 1] = "6"
-    _one_error_line(_cli(*changed), "other settings")
+    _one_error_line(in_process(*changed), "other settings")
     ckpt = next(out.glob("phases/fine-*/checkpoint.npz"))
     (out / "phases" / ckpt.parent.name / "final.npz").unlink()
     before.pop(out / "phases" / ckpt.parent.name / "final.npz")
     ckpt.write_bytes(b"garbage")
     before[ckpt] = b"garbage"
-    _one_error_line(_cli(*_train_cmd(out, "--resume")), "checkpoint")
+    _one_error_line(in_process(*_train_cmd(out, "--resume")), "checkpoint")
     assert _saved(out) == before, "nothing saved was touched"
     with pytest.raises(RunError, match="nothing to resume"):
         Trainer(tmp_path / "empty", [load_condition("standard")], TINY, resume=True)

@@ -101,7 +101,7 @@ def _cli(*args, cwd=None):
                           text=True, cwd=cwd, timeout=600)
 
 
-def test_a_run_keeps_its_scene_and_resume_refuses_another(tmp_path):
+def test_a_run_keeps_its_scene_and_resume_refuses_another(tmp_path, in_process):
     out = tmp_path / "run"
     tiny = ["train", "docs/learning-check.toml", "--generations", "1", "--replications", "1",
             "--trials", "1", "--steps", "3", "--workers", "1", "--record-every", "0",
@@ -119,9 +119,9 @@ def test_a_run_keeps_its_scene_and_resume_refuses_another(tmp_path):
     world = World(load_scene(other).world())
     positions = table.sort("trial").select("ball_x", "ball_y", "ball_z").to_numpy()
     assert np.allclose(positions, world.systematic_points())
-    refused = _cli(*tiny, "--scene", DEFAULT_SCENE, "--resume", cwd=root)
+    refused = in_process(*tiny, "--scene", DEFAULT_SCENE, "--resume", cwd=root)
     assert refused.returncode == 2 and len(refused.stderr.strip().splitlines()) == 1
     assert "scene" in refused.stderr
-    bad = _cli(*tiny[:-1], str(tmp_path / "other"), "--scene", "nowhere", cwd=root)
+    bad = in_process(*tiny[:-1], str(tmp_path / "other"), "--scene", "nowhere", cwd=root)
     assert bad.returncode == 2 and "unknown scene 'nowhere'" in bad.stderr
     assert not (tmp_path / "other").exists()

@@ -172,7 +172,7 @@ def test_chosen_snapshots_under_chosen_senses(runs, tmp_path):
         table.drop("session").sort("senses", "phase", "replication", "trial"))
 
 
-def test_the_snapshots_of_a_run_still_training(runs, tmp_path):
+def test_the_snapshots_of_a_run_still_training(runs, tmp_path, in_process):
     """--finished-only --development: the snapshots saved so far in a run no phase of which
     has finished (on a copy: the training holds the lock), their rows those of the finished
     run, and --baseline's random genomes; without the option the run is refused in one line;
@@ -193,18 +193,18 @@ def test_the_snapshots_of_a_run_still_training(runs, tmp_path):
                       (("--development", "1", "--snapshots", "0"), "generations"),
                       (("--development", "1", "--development-sensors", "normal,dark"),
                        "unknown sensory condition 'dark'")):
-        result = _cli("evaluate", part, "--finished-only", *bad)
+        result = in_process("evaluate", part, "--finished-only", *bad)
         assert result.returncode == 2 and result.stderr.count("\n") == 1, result.stderr
         assert says in result.stderr, result.stderr
-    done = _cli("evaluate", part, "--finished-only", *args, "--development-sensors",
-                "normal,no-ball", "--baseline", "1")
+    done = in_process("evaluate", part, "--finished-only", *args, "--development-sensors",
+                      "normal,no-ball", "--baseline", "1")
     assert done.returncode == 0, done.stderr
     assert not (part / "evaluation.parquet").exists()  # no phase finished: no trained robot
     chance = load_evaluation(part, baseline=True)  # random genomes need no training
     assert sorted(set(chance["phase"])) == ["fine", "gross", "pre"]
     assert chance.height == 3 * 45 and set(chance["senses"]) == {"normal"}
-    more = _cli("evaluate", part, "--finished-only", "--baseline", "2", "--workers", "1",
-                "--development", "1", "--snapshots", "1")
+    more = in_process("evaluate", part, "--finished-only", "--baseline", "2", "--workers", "1",
+                      "--development", "1", "--snapshots", "1")
     assert more.returncode == 0, more.stderr
     again = load_evaluation(part, baseline=True)
     assert again.height == 2 * chance.height  # the first genome's rows kept, not redone

@@ -103,13 +103,14 @@ def test_evaluating_again_adds_only_what_is_missing(evaluated, tmp_path):
     assert again.equals(table) and (out / "evaluation.parquet").read_bytes() == saved
 
 
-def test_baseline_random_genomes_are_flagged_and_kept_apart(evaluated, trained, tmp_path):
+def test_baseline_random_genomes_are_flagged_and_kept_apart(evaluated, trained, tmp_path,
+                                                           in_process):
     src, _ = evaluated
     out = tmp_path / "run"
     shutil.copytree(src, out)
     before = load_evaluation(out)
-    result = _cli("evaluate", out, "--sensors", "no-touch", "--robots", "2", "--baseline", "2",
-                  "--workers", "1")
+    result = in_process("evaluate", out, "--sensors", "no-touch", "--robots", "2",
+                        "--baseline", "2", "--workers", "1")
     assert result.returncode == 0, result.stderr
     every = load_evaluation(out, baseline=None)
     chance = load_evaluation(out, baseline=True)
@@ -152,35 +153,37 @@ def _snapshot(path):
     return {p: p.read_bytes() for p in sorted(path.rglob("*")) if p.is_file()}
 
 
-def test_bad_input(trained, tmp_path):
+def test_bad_input(trained, tmp_path, in_process):
     _one_line_error(_cli("evaluate", tmp_path / "nowhere"), "nowhere: no such run directory")
     empty = tmp_path / "empty"
     empty.mkdir()
-    _one_line_error(_cli("evaluate", empty), "empty: not a run directory (no manifest.json)")
+    _one_line_error(in_process("evaluate", empty), "empty: not a run directory (no manifest.json)")
 
     future = tmp_path / "future"
     shutil.copytree(trained, future)
     manifest = json.loads((future / "manifest.json").read_text())
     (future / "manifest.json").write_text(json.dumps(dict(manifest, format=99)))
-    _one_line_error(_cli("evaluate", future), "manifest.json: written by an incompatible version")
+    _one_line_error(in_process("evaluate", future),
+                    "manifest.json: written by an incompatible version")
 
     unfinished = tmp_path / "unfinished"
     shutil.copytree(trained, unfinished)
     next((unfinished / "phases").glob("fine-*/final.npz")).unlink()
     before = _snapshot(unfinished)
-    _one_line_error(_cli("evaluate", unfinished), "unfinished run", "standard/fine")
+    _one_line_error(in_process("evaluate", unfinished), "unfinished run", "standard/fine")
     assert _snapshot(unfinished) == before  # nothing written
 
     run = tmp_path / "run"
     shutil.copytree(trained, run)
-    _one_line_error(_cli("evaluate", run, "--robots", "21"), "robots must be between 1 and")
-    _one_line_error(_cli("evaluate", run, "--sensors", "smell"), "--sensors")
+    _one_line_error(in_process("evaluate", run, "--robots", "21"), "robots must be between 1 and")
+    _one_line_error(in_process("evaluate", run, "--sensors", "smell"), "--sensors")
     (run / "evaluation.parquet").write_bytes(b"not parquet")
-    _one_line_error(_cli("evaluate", run), "evaluation.parquet: unreadable")
+    _one_line_error(in_process("evaluate", run), "evaluation.parquet: unreadable")
     assert (run / "evaluation.parquet").read_bytes() == b"not parquet"
 
 
-def test_the_finished_phases_of_an_unfinished_run_and_later_the_rest(trained, tmp_path):
+def test_the_finished_phases_of_an_unfinished_run_and_later_the_rest(trained, tmp_path,
+                                                                     in_process):
     """--finished-only evaluates the phases trained to the end (a look at a long run
     part-way); its table, kept once the run has finished, is completed with only the rest,
     and the rows (baseline and every sensory condition included) are those of a whole
@@ -195,8 +198,8 @@ def test_the_finished_phases_of_an_unfinished_run_and_later_the_rest(trained, tm
     fine = next((part / "phases").glob("fine-*/final.npz"))
     kept = fine.read_bytes()
     fine.unlink()
-    _one_line_error(_cli("evaluate", part, *args), "unfinished run", "--finished-only")
-    done = _cli("evaluate", part, "--finished-only", *args)
+    _one_line_error(in_process("evaluate", part, *args), "unfinished run", "--finished-only")
+    done = in_process("evaluate", part, "--finished-only", *args)
     assert done.returncode == 0, done.stderr
     table = load_evaluation(part, None)
     evolved = table.filter(~pl.col("baseline"))
@@ -206,7 +209,7 @@ def test_the_finished_phases_of_an_unfinished_run_and_later_the_rest(trained, tm
     assert sorted(set(chance["phase"])) == ["fine", "gross", "pre"]
     assert chance.height == 3 * (len(SENSES) + 1) * TRIALS
     fine.write_bytes(kept)  # the run finishes
-    assert _cli("evaluate", part, *args).returncode == 0
+    assert in_process("evaluate", part, *args).returncode == 0
     key = ("phase", "senses", "baseline", "replication", "rank", "trial")
     assert load_evaluation(part, None).drop("session").sort(key).equals(  # written in 2 sessions
         load_evaluation(whole, None).drop("session").sort(key))
@@ -214,7 +217,7 @@ def test_the_finished_phases_of_an_unfinished_run_and_later_the_rest(trained, tm
     shutil.copytree(trained, none)
     for f in (none / "phases").glob("*/final.npz"):
         f.unlink()
-    _one_line_error(_cli("evaluate", none, "--finished-only"), "no phase has finished yet")
+    _one_line_error(in_process("evaluate", none, "--finished-only"), "no phase has finished yet")
 
 
 def test_rows_of_an_older_version_of_the_measures_are_measured_again(evaluated, tmp_path):
@@ -237,7 +240,7 @@ def test_rows_of_an_older_version_of_the_measures_are_measured_again(evaluated, 
         current.sort(key).drop("recording", "session"))
 
 
-def test_the_ball_absent_test_is_a_condition_of_its_own(evaluated, tmp_path):
+def test_the_ball_absent_test_is_a_condition_of_its_own(evaluated, tmp_path, in_process):
     """no-ball (IV-A-1): stored and recorded like the senses; nothing is touched, the table
     holds where the ball would hang; Fig. 8 gets its row."""
     from dart_reach.analysis import figures
@@ -247,7 +250,8 @@ def test_the_ball_absent_test_is_a_condition_of_its_own(evaluated, tmp_path):
     src, _ = evaluated
     out = tmp_path / "run"
     shutil.copytree(src, out)
-    result = _cli("evaluate", out, "--sensors", "no-ball", "--robots", "1", "--workers", "1")
+    result = in_process("evaluate", out, "--sensors", "no-ball", "--robots", "1",
+                        "--workers", "1")
     assert result.returncode == 0, result.stderr
     table = load_evaluation(out)
     absent = table.filter(pl.col("senses") == "no-ball")

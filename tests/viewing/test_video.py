@@ -67,23 +67,27 @@ def test_bad_arguments_are_refused_before_rendering(recording, tmp_path):
     _one_line_exit_2(_video(recording, tmp_path / "missing" / "v.mp4"), "no such directory")
 
 
-def test_without_a_vulkan_driver_arguments_are_checked_first(recording, tmp_path, monkeypatch):
+def test_without_a_vulkan_driver_arguments_are_checked_first(recording, tmp_path, monkeypatch,
+                                                            in_process):
     """Where no Vulkan driver is installed, every mistake in the arguments is still named
     (not hidden behind the machine's problem); with right arguments, the missing driver is
-    one line and exit code 2, and nothing is written."""
+    one line and exit code 2, and nothing is written. The mistakes are tried in this process
+    (the same code, without a process's imports), the missing driver in a process of its
+    own."""
     out = tmp_path / "v.mp4"
+    monkeypatch.setattr(headless, "LAVAPIPE", tmp_path / "no-driver.json")
+    monkeypatch.delenv("VK_ICD_FILENAMES", raising=False)
     for args, fragment in (
             ((recording, tmp_path / "missing" / "v.mp4"), "no such directory"),
             ((recording, tmp_path / "v.avi"), "OUT.mp4 must end in .mp4"),
             ((recording, out, "--size", "big"), "--size must be WIDTHxHEIGHT"),
             ((tmp_path / "none.rrd", out), "no such recording"),
-            ((recording, out, "--layout", tmp_path / "none.rbl"), "no such layout file"),
-            ((recording, out), "cannot render a video here: no Vulkan driver")):
-        _one_line_exit_2(_video(*args, driver=False, tmp_path=tmp_path), fragment)
+            ((recording, out, "--layout", tmp_path / "none.rbl"), "no such layout file")):
+        _one_line_exit_2(in_process("video", *args), fragment)
+    _one_line_exit_2(_video(recording, out, driver=False, tmp_path=tmp_path),
+                     "cannot render a video here: no Vulkan driver")
     assert sorted(p.name for p in tmp_path.iterdir()) == []  # no video, no partial file
     # the library in the same order: the arguments, then CannotRender (a RuntimeError)
-    monkeypatch.setattr(headless, "LAVAPIPE", tmp_path / "no-driver.json")
-    monkeypatch.delenv("VK_ICD_FILENAMES", raising=False)
     with pytest.raises(FileNotFoundError, match="no such directory"):
         render_video(recording, tmp_path / "missing" / "v.mp4")
     with pytest.raises(CannotRender, match="no Vulkan driver") as missing:

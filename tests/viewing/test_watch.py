@@ -179,7 +179,16 @@ def test_watch_takes_one_shipped_runs_robots_the_longest_trained_by_default(tmp_
     assert _longest_trained(widened + chosen) == widened
 
 
-def test_cli_lists_the_shipped_robots_and_watches_one_shipped_run(tmp_path):
+@pytest.fixture
+def here(in_process, monkeypatch):
+    """``_cli``'s command in this process (the same code, without a process's imports), with no
+    display either."""
+    for name in ("DISPLAY", "WAYLAND_DISPLAY"):
+        monkeypatch.delenv(name, raising=False)
+    return in_process
+
+
+def test_cli_lists_the_shipped_robots_and_watches_one_shipped_run(tmp_path, here):
     result = _cli("robots")
     assert result.returncode == 0, result.stderr
     lines = result.stdout.splitlines()
@@ -187,13 +196,14 @@ def test_cli_lists_the_shipped_robots_and_watches_one_shipped_run(tmp_path):
     for row, line in zip(data.index(), lines[1:]):
         assert line.startswith(str(row["run"])) and line.endswith(row["file"])
         assert f"{row['condition']}/{row['phase']}" in line
-    result = _cli("watch", "pre", "--shipped", "arm-length-shoulder", "--out", tmp_path / "w.rrd")
+    result = here("watch", "pre", "--shipped", "arm-length-shoulder", "--out",
+                  tmp_path / "w.rrd")
     assert result.returncode == 0, result.stderr
     assert "evolved_pre.json" in result.stdout
-    result = _cli("watch", "--shipped", "no-such-run", "--out", tmp_path / "n.rrd")
+    result = here("watch", "--shipped", "no-such-run", "--out", tmp_path / "n.rrd")
     assert result.returncode == 2 and result.stderr.count("\n") == 1
     assert "--shipped no-such-run: no such shipped run" in result.stderr
-    result = _cli("watch", "--shipped", "arm-length-shoulder", "--run", tmp_path,
+    result = here("watch", "--shipped", "arm-length-shoulder", "--run", tmp_path,
                   "--out", tmp_path / "b.rrd")
     assert result.returncode == 2 and "not both" in result.stderr
     assert not (tmp_path / "n.rrd").exists() and not (tmp_path / "b.rrd").exists()
@@ -220,7 +230,7 @@ def test_the_learning_checks_robots_ship_as_the_standard_conditions(tmp_path):
     assert not (tmp_path / "x.json").exists()
 
 
-def test_cli_watch_without_a_display_writes_and_says_how_to_open(tmp_path):
+def test_cli_watch_without_a_display_writes_and_says_how_to_open(tmp_path, here):
     result = _cli("watch", "pre", "--out", tmp_path / "w.rrd")
     assert result.returncode == 0, result.stderr
     assert "shipped robot standard/pre" in result.stdout
@@ -232,16 +242,16 @@ def test_cli_watch_without_a_display_writes_and_says_how_to_open(tmp_path):
     version = subprocess.run([*command[:-2], "--version"], capture_output=True, text=True,
                              env=bare, cwd=tmp_path, timeout=60)
     assert version.returncode == 0 and "rerun" in version.stdout, version.stderr
-    result = _cli("watch", "gross", "--condition", "pre-star", "--out", tmp_path / "f.rrd")
+    result = here("watch", "gross", "--condition", "pre-star", "--out", tmp_path / "f.rrd")
     assert result.returncode == 2 and result.stderr.count("\n") == 1
     assert "gross: pre-star has no phase 'gross' (its phases: pre-star)" in result.stderr
-    result = _cli("watch", "medium", "--out", tmp_path / "f.rrd")
+    result = here("watch", "medium", "--out", tmp_path / "f.rrd")
     assert result.returncode == 2 and result.stderr.count("\n") == 1
     assert "standard has no phase 'medium' (its phases: pre, gross, fine)" in result.stderr
     assert not (tmp_path / "f.rrd").exists()
 
 
-def test_a_robot_that_does_not_ship_advises_a_small_training(tmp_path):
+def test_a_robot_that_does_not_ship_advises_a_small_training(tmp_path, here):
     result = _cli("watch", "--condition", "fine-hat", "--shipped", "replication-50",
                   "--out", tmp_path / "f.rrd")
     assert result.returncode == 2 and result.stderr.count("\n") == 1
@@ -256,7 +266,7 @@ def test_a_robot_that_does_not_ship_advises_a_small_training(tmp_path):
     busy = tmp_path / "busy"
     busy.mkdir()
     (busy / "x").write_text("x")
-    small = _cli(*train[1:-2], "--workers", "1", "--out", busy)
+    small = here(*train[1:-2], "--workers", "1", "--out", busy)
     assert small.returncode == 2 and "not empty" in small.stderr, small.stderr
     assert "core-hours" not in small.stderr
     assert not (tmp_path / "f.rrd").exists()
