@@ -24,6 +24,8 @@ MAX_LINES = 600
 
 #: Modules allowed to import inside functions, and why (checked to still need it).
 DEFERRED = {
+    "model.task": "Numba takes about 0.4 s to import and compiles (or loads from its cache) "
+                  "on first use; only model version 2's trial and network need it",
     "cli": "start-up: 'dart-reach --help' and every command load only what they run",
     "__init__": "the public names are loaded on first use (PEP 562)",
     "envs": "a render mode alone loads its renderer (human: rerun and polars, about a "

@@ -40,11 +40,7 @@ from numba import njit
 
 from . import sensors
 from .ctrnn import N_HIDDEN, N_MOTORS, N_SENSORS, Network, NetworkParams
-from . import icub
-from .icub import HAND_SEGMENTS, INNER_FACES, PALM_POINT, segment_kind
 from .levers import TOUCH_CAP, ReflexInputs, TouchPay
-from .task import TOUCH_SEGMENTS, Senses, Trial, TrialConfig, TrialData
-from .world import PALM_NORMAL, SkeletonError, World
 
 # ------------------------------------------------------------------------------ exponential
 #: ln 2 split in two (fdlibm's constants): k * _LN2_HI is exact for |k| < 2^11.
@@ -116,7 +112,7 @@ def _network_step(sensors_in, in_scale, w_sm, w_sh, w_hm, bias_h, bias_m, gain_h
 
 
 @njit(cache=True)
-def _targets_of_motor(motor, targets):
+def targets_of_motor(motor, targets):
     """Motor targets 2 s - 1 (``ctrnn.motor_targets``); whether all are finite."""
     finite = True
     for i in range(N_MOTORS):
@@ -126,12 +122,12 @@ def _targets_of_motor(motor, targets):
 
 
 @njit(cache=True)
-def _network_targets(sensors_in, in_scale, w_sm, w_sh, w_hm, bias_h, bias_m, gain_h, tau_h,
+def network_targets(sensors_in, in_scale, w_sm, w_sh, w_hm, bias_h, bias_m, gain_h, tau_h,
                      tau_m, hidden_frozen, x, hidden, motor, targets):
-    """``_network_step``, then the motor targets (``_targets_of_motor``); whether finite."""
+    """``_network_step``, then the motor targets (``targets_of_motor``); whether finite."""
     _network_step(sensors_in, in_scale, w_sm, w_sh, w_hm, bias_h, bias_m, gain_h, tau_h, tau_m,
                   hidden_frozen, x, hidden, motor)
-    return _targets_of_motor(motor, targets)
+    return targets_of_motor(motor, targets)
 
 
 class CompiledNetwork(Network):
@@ -272,7 +268,7 @@ def _sense(positions, ball, cam, hand, touching, motor_dofs, finger_dofs, lower,
 
 
 @njit(cache=True)
-def _sense_posed(positions, ball, touching, order, parent, dof, axis, before, after, scratch,
+def sense_posed(positions, ball, touching, order, parent, dof, axis, before, after, scratch,
                  poses, camera_body, hand_body, motor_dofs, finger_dofs, lower, span, touch_segments,
                  acuity, no_touch, no_sight, offsets, pay, palm, q, x, p, sense_scratch):
     """``_sense`` with the camera's and the hand's poses from the joint positions
@@ -284,10 +280,10 @@ def _sense_posed(positions, ball, touching, order, parent, dof, axis, before, af
 
 
 @njit(cache=True)
-def _record_row(t, positions, q, ball, touch, touch_any, x, p, poses, hand_body, shoulder_body,
+def record_row(t, positions, q, ball, touch, touch_any, x, p, poses, hand_body, shoulder_body,
                 palm, palm_normal, dofs, joints, hand, shoulder, ball_rec, contacts,
                 contacts_any, normal, sensors_rec, p_sight, p_touch, p_multimodal):
-    """Row ``t`` of a trial's record (``task.Trial.observe``) from what ``_sense_posed`` read
+    """Row ``t`` of a trial's record (``task.Trial.observe``) from what ``sense_posed`` read
     and computed: the hand's palm point and normal and the shoulder from the bodies' poses."""
     dofs[t, :] = positions
     joints[t, :] = q
@@ -384,7 +380,7 @@ def _compose(a, b, out):
 
 
 @njit(cache=True)
-def _inner_touches(positions, ball, segments, points, n, order, parent, dof, axis, before,
+def inner_touches(positions, ball, segments, points, n, order, parent, dof, axis, before,
                    after, scratch, poses, segment_body, direction, cos_limit, touch):
     """Mark in ``touch`` the hand segments whose contacts with the ball (the first ``n`` of
     ``segments``, ``points``: the segment's index, the contact point in m) touch it on their
@@ -404,208 +400,3 @@ def _inner_touches(positions, ball, segments, points, n, order, parent, dof, axi
         along = o0 * direction[i, 0] + o1 * direction[i, 1] + o2 * direction[i, 2]
         if along >= cos_limit[i] * math.sqrt(o0 * o0 + o1 * o1 + o2 * o2):
             touch[i] = True
-
-
-# ------------------------------------------------------------------------------ the trial
-class CompiledTrial(Trial):
-    """``task.Trial`` under ``Numerics.COMPILED`` (model version 2): the same trial, its
-    sensing (``_sense_posed``), record (``_record_row``), motor commands (``motor_commands``)
-    and inner-face touches (``_inner_touches``) compiled; what ``Trial(world, config)`` builds
-    when ``config.numerics`` says so. Per control step it asks DART for the joint positions
-    and the ball's centre once each; the bodies' poses it needs come from them
-    (``body_poses``), and per physics substep in contact the contacts' points."""
-
-    def __init__(self, world: World, config: TrialConfig = TrialConfig()):
-        super().__init__(world, config)
-        w = world
-        self._contacts = w._touch  # the world's own record of this control step's touches
-        self._p3 = np.zeros(3)
-        self._palm = np.asarray(PALM_POINT, float)
-        self._no_ball = config.senses is Senses.NO_BALL
-        self._resolve_kinematics()
-        #: the hand's pose as ``sense`` computed it last (a view of the poses)
-        self._hand_view = self._kinematics[-1][self._hand_body]
-        self._sense_args = (
-            self._sensed_bodies, *self._kinematics, self._camera_body, self._hand_body,
-            w._motor_dofs.astype(np.int64), w._finger_dofs.astype(np.int64),
-            np.asarray(w.motor_limit_lower, float),
-            np.asarray(w.motor_limit_upper - w.motor_limit_lower, float),
-            TOUCH_SEGMENTS.astype(np.int64), float(config.acuity), self._no_touch,
-            self._no_sight, self._offsets, PAY_CODES[config.touch_pay],
-            self._palm, self._q, self._x, self._p3, np.zeros(9))
-        self._q_cmd = np.zeros(N_MOTORS)
-        self._forces = np.zeros(w.robot.getNumDofs())
-        self._spring_args = (w._dof_motor.astype(np.int64), np.asarray(w.stiffness, float))
-        self._command_args = (
-            np.asarray(w._half_range), np.asarray(w._mid_range), np.asarray(w._lower_list),
-            np.asarray(w._upper_list), float(w._max_move), *self._spring_args, self._q_cmd)
-        self.command = self._command
-        self._advance = self._advance_compiled
-
-    # ---------------------------------------------------------------- kinematics and touch
-    def _resolve_kinematics(self) -> None:
-        """The skeleton's kinematic tree for ``body_poses`` (revolute and weld joints
-        only) and the hand segments' inner faces in their bodies' frames (``icub.INNER_FACES``)."""
-        r = self.world.robot
-        bodies = [r.getBodyNode(i) for i in range(r.getNumBodyNodes())]
-        index = {b.getName(): i for i, b in enumerate(bodies)}
-        n = len(bodies)
-        parent, dof = np.full(n, -1, np.int64), np.full(n, -1, np.int64)
-        axis, before, after = np.zeros((n, 3)), np.zeros((n, 4, 4)), np.zeros((n, 4, 4))
-        for i, body in enumerate(bodies):
-            up, joint = body.getParentBodyNode(), body.getParentJoint()
-            parent[i] = -1 if up is None else index[up.getName()]
-            kind = type(joint).__name__
-            if kind == "RevoluteJoint":
-                dof[i], axis[i] = joint.getIndexInSkeleton(0), joint.getAxis()
-            elif kind != "WeldJoint":
-                raise SkeletonError(f"model version 2 computes the bodies' poses from revolute "
-                                    f"and weld joints; joint {joint.getName()} is a {kind}")
-            before[i] = joint.getTransformFromParentBodyNode().matrix()
-            child = joint.getTransformFromChildBodyNode().matrix()
-            after[i, :3, :3] = child[:3, :3].T
-            after[i, :3, 3] = -child[:3, :3].T @ child[:3, 3]
-            after[i, 3, 3] = 1.0
-        m = len(HAND_SEGMENTS)
-        self._segment_body = np.array([index[name] for name in HAND_SEGMENTS], np.int64)
-        self._direction = np.array([INNER_FACES[segment_kind(name)][0] for name in HAND_SEGMENTS])
-        self._cos_limit = np.array([math.cos(math.radians(INNER_FACES[segment_kind(name)][1]))
-                                    for name in HAND_SEGMENTS])
-        #: the tree, a scratch and the poses ``body_poses`` computes (n, 4, 4)
-        self._kinematics = (parent, dof, axis, before, after, np.zeros((3, 4, 4)),
-                            np.zeros((n, 4, 4)))
-        self._camera_body, self._hand_body = index[icub.CAMERA], index[icub.HAND]
-        self._shoulder_body = index[icub.SHOULDER]  # on the hand's chain
-
-        if (parent >= np.arange(n)).any():
-            raise SkeletonError("model version 2 needs the skeleton's bodies after their parents")
-
-        def chain(*ends):  # the bodies from the root to ``ends``, parents first
-            found = set()
-            for b in ends:
-                while b >= 0 and b not in found:
-                    found.add(b)
-                    b = parent[b]
-            return np.array(sorted(found), np.int64)  # a parent's index is below its child's
-        self._sensed_bodies = chain(self._camera_body, self._hand_body)
-        self._touch_bodies = chain(*self._segment_body)
-        self._contact_segments, self._contact_points = np.zeros(4 * m, np.int64), np.zeros(
-            (4 * m, 3))
-        self._objects = {}  # a collision object -> (its hand segment or -1, is it the ball)
-
-    def _object(self, obj) -> tuple[int, bool]:
-        """What a collision object is to touch: (its hand segment's index or -1, the ball?);
-        remembered (dartpy hands back the same Python object for it while one is held)."""
-        frame = obj.getShapeFrame()
-        face = self.world._touch_faces.get(frame)
-        found = self._objects[obj] = (-1 if face is None else face[0],
-                                      frame in self.world._ball_shapes)
-        return found
-
-    def _advance_compiled(self) -> None:
-        """``world.World.advance`` with the inner-face touches decided by compiled code
-        (``_inner_touches``) from the skeleton's joint positions and the contacts' points."""
-        w = self.world
-        touch, touch_any, segment = w._touch, w._touch_any, w._segment_index
-        touch[:] = False
-        touch_any[:] = False
-        step, last_collisions = w.world.step, w.world.getLastCollisionResult
-        self_collision = w.config.self_collision
-        for _ in range(w.config.substeps):
-            step(False)
-            result = last_collisions()
-            if not result.getNumContacts():
-                continue
-            if not self_collision:  # only the ball collides with the robot (``advance``)
-                pending = False
-                for body in result.getCollidingBodyNodes():
-                    i = segment.get(body)
-                    if i is not None:
-                        touch_any[i] = True
-                        pending = pending or not touch[i]
-                if not pending:
-                    continue
-            self._gather(result, self_collision)
-
-    def _gather(self, result, self_collision: bool) -> None:
-        w, objects, lookup = self.world, self._objects, self._object
-        touch, touch_any = w._touch, w._touch_any
-        segments, points = self._contact_segments, self._contact_points
-        k = 0
-        for contact in result.getContacts():
-            o1 = contact.collisionObject1
-            i, ball1 = objects.get(o1) or lookup(o1)
-            if i < 0 or self_collision:  # else the other one is the ball
-                o2 = contact.collisionObject2
-                seg2, ball2 = objects.get(o2) or lookup(o2)
-                if i >= 0 and not ball2:
-                    i = -1
-                if i < 0 and ball1:
-                    i = seg2
-                if i < 0:  # not a hand segment with the ball
-                    continue
-            touch_any[i] = True
-            if touch[i]:
-                continue
-            if k == len(segments):
-                segments, points = self._contact_segments, self._contact_points = (
-                    np.resize(segments, 2 * k), np.resize(points, (2 * k, 3)))
-            segments[k] = i
-            points[k] = contact.point
-            k += 1
-        if k:
-            _inner_touches(w.robot.getPositions(), w.ball_body.getCOM(), segments, points, k,
-                           self._touch_bodies, *self._kinematics, self._segment_body, self._direction,
-                           self._cos_limit, touch)
-
-    def _targets_of(self, motor: np.ndarray) -> bool:
-        return _targets_of_motor(motor, self._targets)
-
-    def _act(self, network: Network) -> bool:
-        if type(network) is not CompiledNetwork:  # a version 1 network: its own step
-            return super()._act(network)
-        return _network_targets(self._x, *network._args, self._targets)
-
-    def observe(self, data: TrialData, t: int) -> bool:
-        """``Trial.observe``, compiled (``_record_row``)."""
-        finite = self.sense()
-        _record_row(t, self._positions, self._q,
-                    self._ball_at if self._no_ball else self._ball, self._contacts,
-                    self.world._touch_any, self._x, self._p3, self._kinematics[-1],
-                    self._hand_body, self._shoulder_body, self._palm, PALM_NORMAL, data.dofs,
-                    data.joints, data.hand, data.shoulder, data.ball, data.contacts,
-                    data.contacts_any, data.palm_normal, data.sensors, data.p_sight,
-                    data.p_touch, data.p_multimodal)
-        return finite
-
-    def _reset(self, ball_position) -> None:
-        """``Trial._reset``, then the springs' rest positions at 0 and their pull toward the
-        home posture's commanded positions as forces (``spring_forces``)."""
-        super()._reset(ball_position)
-        w = self.world
-        for dof in w._dofs:
-            dof.setRestPosition(0.0)
-        self._q_cmd[:] = w.commanded
-        spring_forces(self._q_cmd, *self._spring_args, w.robot.getGravityForces(),
-                      self._forces)
-        w.robot.setCommands(self._forces)
-
-    def _command(self, targets: np.ndarray) -> None:
-        """The world's motors commanded toward 14 finite targets in [-1, 1]
-        (``motor_commands``)."""
-        robot = self.world.robot
-        if not motor_commands(targets, *self._command_args, robot.getGravityForces(),
-                              self._forces):
-            raise ValueError(f"motor targets must be finite, got {targets}")
-        robot.setCommands(self._forces)
-
-    def sense(self) -> bool:
-        """``Trial.sense``, compiled (``_sense_posed``): the camera's and the hand's poses
-        computed from the joint positions (``body_poses``), not asked of DART."""
-        w = self.world
-        positions = self._positions = w.robot.getPositions()
-        ball = self._ball = w.ball_body.getCOM()
-        finite = _sense_posed(positions, ball, self._contacts, *self._sense_args)
-        self._hand_pose = self._hand_view
-        self._p_sight, self._p_touch, self._p_multimodal = self._p3.tolist()
-        return finite

@@ -152,15 +152,9 @@ class Trial:
     compute the sensors and the fitness terms with the one ``sense``, so a trial's fitness is
     the same to the last bit either way.
 
-    Under ``Numerics.COMPILED`` (model version 2) ``Trial(world, config)`` is a
-    ``compiled.CompiledTrial``: the same steps, sensing and driving the world by compiled
-    code."""
-
-    def __new__(cls, world: World, config: TrialConfig = TrialConfig()):
-        if cls is Trial and config.numerics is Numerics.COMPILED:
-            from .compiled import CompiledTrial  # loads Numba: only where version 2 runs
-            cls = CompiledTrial
-        return super().__new__(cls)
+    Under ``Numerics.COMPILED`` (model version 2) the trial takes the steps of a
+    ``compiled_trial.CompiledSteps`` in place of its own (``sense``, ``observe``, ``command``,
+    the substeps, the network's update): the same loops, computed by compiled code."""
 
     def __init__(self, world: World, config: TrialConfig = TrialConfig()):
         self.world, self.config = world, config
@@ -193,6 +187,15 @@ class Trial:
         # pose (None when the step did not need it) and the fitness terms of the step.
         self._positions = self._ball = self._hand_pose = None
         self._p_sight = self._p_touch = self._p_multimodal = 0.0
+        self._no_ball = config.senses is Senses.NO_BALL
+        #: model version 2's compiled steps (None: version 1's, below)
+        self._compiled = None
+        if config.numerics is Numerics.COMPILED:
+            from .compiled_trial import CompiledSteps  # loads Numba: only under version 2
+            steps = self._compiled = CompiledSteps(self)
+            self.sense, self.observe, self.command = steps.sense, steps.observe, steps.command
+            self._advance, self._act = steps.advance, steps.act
+            self._targets_of = steps.targets_of
 
     # ------------------------------------------------------------------ observation
     def sense(self) -> bool:
@@ -285,7 +288,9 @@ class Trial:
         """The world at a trial's start: home posture, the ball at rest at ``ball_position``
         (parked away when it is absent)."""
         self._ball_at[:] = ball_position
-        self.world.reset(BALL_PARKED if self.config.senses is Senses.NO_BALL else ball_position)
+        self.world.reset(BALL_PARKED if self._no_ball else ball_position)
+        if self._compiled is not None:
+            self._compiled.after_reset()
 
     def begin(self, sector: int, ball_position) -> TrialData:
         """Start a trial: the world reset with the ball at ``ball_position`` (in ``sector``)
@@ -353,7 +358,7 @@ def network_for(params: NetworkParams, config: TrialConfig) -> Network:
     internal neurons, the reflex motors' inputs), computed by its numerics."""
     kind = Network
     if config.numerics is Numerics.COMPILED:
-        from .compiled import CompiledNetwork
+        from .compiled import CompiledNetwork  # loads Numba: only under version 2
         kind = CompiledNetwork
     return kind(params, reflexes=config.reflexes, hidden_frozen=config.hidden_frozen,
                    reflex_inputs=config.reflex_inputs)

@@ -19,6 +19,7 @@ from dart_reach.evolution.genome import ParamGroup, decode
 from dart_reach.evolution.settings import Settings, standard_trial, trial_config
 from dart_reach.evolution.conditions import load_condition
 from dart_reach.model import compiled
+from dart_reach.model.compiled_trial import CompiledSteps
 from dart_reach.model.ctrnn import N_SENSORS, Network, random_params
 from dart_reach.model.levers import Numerics, numerics_of
 from dart_reach.model.task import Trial, network_for
@@ -70,14 +71,14 @@ def test_the_compiled_network_follows_version_1s_equation(reflexes, frozen):
 
 
 def test_the_compiled_forward_kinematics_gives_darts_pose_of_every_body(world):
-    trial = Trial(world, standard_trial("pre", numerics=Numerics.COMPILED))
+    steps = Trial(world, standard_trial("pre", numerics=Numerics.COMPILED))._compiled
     robot, rng = world.robot, np.random.default_rng(5)
-    poses = trial._kinematics[-1]
+    poses = steps._kinematics[-1]
     try:
         for _ in range(20):
             q = rng.uniform(world.lower, world.upper)
             robot.setPositions(q)
-            compiled.body_poses(q, np.arange(len(poses)), *trial._kinematics[:-1], poses)
+            compiled.body_poses(q, np.arange(len(poses)), *steps._kinematics[:-1], poses)
             for i in range(robot.getNumBodyNodes()):
                 assert np.allclose(poses[i], robot.getBodyNode(i).getTransform().matrix(),
                                    rtol=0, atol=1e-12)
@@ -90,7 +91,8 @@ def test_model_version_2_computes_with_the_compiled_numerics(world):
     config = trial_config(pre, Settings(model_version=2))
     assert config.numerics is Numerics.COMPILED is numerics_of(2)
     assert trial_config(pre, Settings()).numerics is Numerics.REFERENCE
-    assert type(Trial(world, config)) is compiled.CompiledTrial
+    assert isinstance(Trial(world, config)._compiled, CompiledSteps)
+    assert Trial(world, trial_config(pre, Settings()))._compiled is None
     assert type(network_for(random_params(np.random.default_rng(0)), config)
                 ) is compiled.CompiledNetwork
 
