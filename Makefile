@@ -238,11 +238,14 @@ levers-evaluate: $(VENV)/.installed
 			--development-sensors normal,no-ball --snapshots 10,20,30,40,50 || exit $$?; \
 	done
 # The compact state of the levers arms trained in another checkout (the pinned worktree,
-# LEVERS_FROM=its path): manifest, statistics, checkpoints, finals and snapshots, to commit.
+# LEVERS_FROM=its path): manifest, statistics, checkpoints, finals and snapshots, and the
+# post-evaluation of the snapshots as far as it has gone (its parts), to commit.
 levers-state:
 	@test -n "$(LEVERS_FROM)" || { echo "give LEVERS_FROM=the checkout that trains the arms"; exit 2; }
 	for d in $(LEVERS_FROM)/$(LEVERS)/*/; do a=$$(basename $$d); mkdir -p $(LEVERS)/$$a; \
 		cp $$d/manifest.json $$d/generations.parquet $(LEVERS)/$$a/; \
 		(cd $$d && find phases -name checkpoint.npz -o -name final.npz -o -path '*/snapshots/*.npz') | \
+			while read f; do mkdir -p $(LEVERS)/$$a/$$(dirname $$f); cp $$d/$$f $(LEVERS)/$$a/$$f; done; \
+		(cd $$d && find . -maxdepth 2 -name 'development.parquet' -o -path './development/part-*.parquet') | \
 			while read f; do mkdir -p $(LEVERS)/$$a/$$(dirname $$f); cp $$d/$$f $(LEVERS)/$$a/$$f; done; \
 	done
