@@ -163,7 +163,6 @@ _DEGREES = 180.0 / math.pi
 _NO_TOUCH, _TOUCHING, _NO_SIGHT = sensors.NO_TOUCH, sensors.TOUCHING, sensors.NO_SIGHT
 _SIGHT_RANGE, _OFFSET_D_MAX, _OFFSET_SCALE = (sensors.SIGHT_RANGE_M, sensors.OFFSET_D_MAX_DEG,
                                               sensors.OFFSET_SCALE)
-_TOUCH_CAP = TOUCH_CAP
 
 
 @njit(cache=True)
@@ -261,7 +260,7 @@ def _sense(positions, ball, cam, hand, touching, motor_dofs, finger_dofs, lower,
     elif pay == 1:
         p_touch = 1.0 if n > 0 else 0.0
     else:
-        p_touch = min(n, _TOUCH_CAP) / _TOUCH_CAP
+        p_touch = min(n, TOUCH_CAP) / TOUCH_CAP
     p[0], p[1], p[2] = p_sight, p_touch, min(p_sight, p_touch)
     return finite
 
