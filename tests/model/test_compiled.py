@@ -122,6 +122,19 @@ def test_a_version_2_trial_is_version_1s_trial_but_for_rounding(world, phase, se
     assert not np.array_equal(v1.motor, v2.motor)  # two roundings indeed
 
 
+@pytest.mark.parametrize("pay", ["binary", "capped"])
+def test_version_2_pays_touch_as_version_1_under_every_pay(world, pay):
+    robot = robots("pre", run="replication-50x10")[0]
+    runs = []
+    for numerics in Numerics:
+        cfg = standard_trial("pre", steps=30, numerics=numerics, touch_pay=pay)
+        runs.append(Trial(world, cfg).run(network_for(decode(robot.genome, {ParamGroup.DIRECT}),
+                                                      cfg), 2, world.sector_point(2, 0.4, 0.6)))
+    v1, v2 = runs
+    assert v1.contacts.any() and np.array_equal(v1.contacts, v2.contacts)
+    assert np.array_equal(v1.p_touch, v2.p_touch) and len(set(v1.p_touch.tolist())) > 1
+
+
 def test_run_and_fitness_agree_to_the_last_bit_under_version_2(world):
     cfg = standard_trial("pre", steps=60, numerics=Numerics.COMPILED)
     trial = Trial(world, cfg)
