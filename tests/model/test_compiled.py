@@ -135,6 +135,20 @@ def test_version_2_pays_touch_as_version_1_under_every_pay(world, pay):
     assert np.array_equal(v1.p_touch, v2.p_touch) and len(set(v1.p_touch.tolist())) > 1
 
 
+@pytest.mark.parametrize("senses", ["no-ball", "nothing"])
+def test_version_2_deprives_the_senses_as_version_1(world, senses):
+    robot = robots("fine", run="replication-50x10")[0]
+    runs = []
+    for numerics in Numerics:
+        cfg = standard_trial("fine", steps=20, numerics=numerics, senses=senses)
+        runs.append(Trial(world, cfg).run(network_for(decode(robot.genome, set(ParamGroup)),
+                                                      cfg), 5, world.sector_point(5, 0.5, 0.5)))
+    v1, v2 = runs
+    assert np.array_equal(v1.sensors[:, 14:], v2.sensors[:, 14:])  # touch, sight, offsets
+    assert np.array_equal(v1.ball, v2.ball) and not v2.contacts.any()
+    assert np.allclose(v1.joints, v2.joints, rtol=0, atol=1e-9)
+
+
 def test_run_and_fitness_agree_to_the_last_bit_under_version_2(world):
     cfg = standard_trial("pre", steps=60, numerics=Numerics.COMPILED)
     trial = Trial(world, cfg)
