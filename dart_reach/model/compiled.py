@@ -379,14 +379,23 @@ def _compose(a, b, out):
 
 
 @njit(cache=True)
-def inner_touches(positions, ball, segments, points, n, order, parent, dof, axis, before,
+def inner_touches(positions, ball, segments, points, n, need, parent, dof, axis, before,
                    after, scratch, poses, segment_body, direction, cos_limit, touch):
     """Mark in ``touch`` the hand segments whose contacts with the ball (the first ``n`` of
     ``segments``, ``points``: the segment's index, the contact point in m) touch it on their
     inner face: the vector from the contact point to the ball's centre, in the segment's body
     frame, lies within the face's cone (``direction`` in the body frame, ``cos_limit``), as
-    ``world.inner_face_touch`` decides in the shape's frame (a rotation keeps the angle)."""
-    body_poses(positions, order, parent, dof, axis, before, after, scratch, poses)
+    ``world.inner_face_touch`` decides in the shape's frame (a rotation keeps the angle).
+    Only the poses of those segments' bodies and their ancestors are computed (``need``: a
+    scratch of one bool per body)."""
+    need[:] = False
+    for c in range(n):
+        b = segment_body[segments[c]]
+        while b >= 0 and not need[b]:
+            need[b] = True
+            b = parent[b]
+    body_poses(positions, np.nonzero(need)[0], parent, dof, axis, before, after, scratch,
+               poses)
     for c in range(n):
         i = segments[c]
         if touch[i]:

@@ -107,7 +107,7 @@ class CompiledSteps:
                     b = parent[b]
             return np.array(sorted(found), np.int64)  # a parent's index is below its child's
         self._sensed_bodies = chain(self._camera_body, self._hand_body)
-        self._touch_bodies = chain(*self._segment_body)
+        self._need = np.zeros(n, bool)  # the bodies whose poses a touch decision needs
         self._contact_segments, self._contact_points = np.zeros(4 * m, np.int64), np.zeros(
             (4 * m, 3))
         self._objects = {}  # a collision object -> (its hand segment or -1, is it the ball)
@@ -130,12 +130,14 @@ class CompiledSteps:
         touch_any[:] = False
         step, last_collisions = w.world.step, w.world.getLastCollisionResult
         self_collision = w.config.self_collision
+        deciding = False  # the last substep had contacts to decide: it is likely this one has
         for _ in range(w.config.substeps):
             step(False)
             result = last_collisions()
             if not result.getNumContacts():
+                deciding = False
                 continue
-            if not self_collision:  # only the ball collides with the robot (``advance``)
+            if not (self_collision or deciding):  # only the ball collides with the robot
                 pending = False
                 for body in result.getCollidingBodyNodes():
                     i = segment.get(body)
@@ -144,9 +146,11 @@ class CompiledSteps:
                         pending = pending or not touch[i]
                 if not pending:
                     continue
-            self._gather(result, self_collision)
+            deciding = self._gather(result, self_collision)
 
-    def _gather(self, result, self_collision: bool) -> None:
+    def _gather(self, result, self_collision: bool) -> bool:
+        """Mark the touches of one substep's contacts (``touch_any``: any face; ``touch``: the
+        inner face, ``inner_touches``); whether any contact had an inner face to decide."""
         w, objects, lookup = self.world, self._objects, self._object
         touch, touch_any = w._touch, w._touch_any
         segments, points = self._contact_segments, self._contact_points
@@ -174,8 +178,9 @@ class CompiledSteps:
             k += 1
         if k:
             inner_touches(w.robot.getPositions(), w.ball_body.getCOM(), segments, points, k,
-                           self._touch_bodies, *self._kinematics, self._segment_body, self._direction,
+                           self._need, *self._kinematics, self._segment_body, self._direction,
                            self._cos_limit, touch)
+        return k > 0
 
     def targets_of(self, motor: np.ndarray) -> bool:
         return targets_of_motor(motor, self._targets)
