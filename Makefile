@@ -232,9 +232,12 @@ levers-train: $(VENV)/.installed
 			$$(echo $${a#*:} | tr ',' ' ') \
 			$$(test -f $(LEVERS)/$${a%%:*}/manifest.json && echo --resume) || exit $$?; \
 	done
+# LEVERS_RUNS: where the arms' runs are (default here; the pinned checkout's recordings/levers
+# to post-evaluate them where they train, with this checkout's CLI: version 1's trial is the same)
+LEVERS_RUNS ?= $(LEVERS)
 levers-evaluate: $(VENV)/.installed
 	for a in $(LEVER_ARMS); do \
-		$(BIN)/dart-reach evaluate $(LEVERS)/$${a%%:*} --finished-only --development 5 \
+		$(BIN)/dart-reach evaluate $(LEVERS_RUNS)/$${a%%:*} --finished-only --development 5 \
 			--development-sensors normal,no-ball --snapshots 10,20,30,40,50 || exit $$?; \
 	done
 # The compact state of the levers arms trained in another checkout (the pinned worktree,
