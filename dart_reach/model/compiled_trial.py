@@ -125,9 +125,8 @@ class CompiledSteps:
         """``world.World.advance`` with the inner-face touches decided by compiled code
         (``inner_touches``) from the skeleton's joint positions and the contacts' points."""
         w = self.world
-        touch, touch_any, segment = w._touch, w._touch_any, w._segment_index
-        touch[:] = False
-        touch_any[:] = False
+        w._touch[:] = False
+        w._touch_any[:] = False
         step, last_collisions = w.world.step, w.world.getLastCollisionResult
         self_collision = w.config.self_collision
         deciding = False  # the last substep had contacts to decide: it is likely this one has
@@ -137,15 +136,8 @@ class CompiledSteps:
             if not result.getNumContacts():
                 deciding = False
                 continue
-            if not (self_collision or deciding):  # only the ball collides with the robot
-                pending = False
-                for body in result.getCollidingBodyNodes():
-                    i = segment.get(body)
-                    if i is not None:
-                        touch_any[i] = True
-                        pending = pending or not touch[i]
-                if not pending:
-                    continue
+            if not (self_collision or deciding or w.mark_colliding_segments(result)):
+                continue
             deciding = self._gather(result, self_collision)
 
     def _gather(self, result, self_collision: bool) -> bool:

@@ -340,9 +340,9 @@ class World:
         """The physics substeps of one control step toward the targets set. The touches of
         every substep are gathered: on the inner faces (``hand_contacts``) and on any face
         (``hand_contacts_any``)."""
-        touch, segment, touch_any = self._touch, self._segment_index, self._touch_any
+        touch = self._touch
         touch[:] = False
-        touch_any[:] = False
+        self._touch_any[:] = False
         step, last_collisions = self.world.step, self.world.getLastCollisionResult
         self_collision = self.config.self_collision
         for _ in range(self._substeps):
@@ -357,14 +357,22 @@ class World:
                 # segment among the colliding bodies touches the ball on some face. List the
                 # contacts (costly) only when a segment not yet marked as touching on its inner
                 # face collides.
-                gather = False
-                for body in result.getCollidingBodyNodes():
-                    i = segment.get(body)
-                    if i is not None:
-                        touch_any[i] = True
-                        gather = gather or not touch[i]
-                if gather:
+                if self.mark_colliding_segments(result):
                     self._gather_touch(result, touch)
+
+    def mark_colliding_segments(self, result) -> bool:
+        """With self-collision off (only the ball collides with the robot): mark the hand
+        segments among a substep's colliding bodies as touching on some face
+        (``hand_contacts_any``); whether one of them is not yet marked as touching on its
+        inner face, so that the contacts must be read."""
+        touch, touch_any, segment = self._touch, self._touch_any, self._segment_index
+        pending = False
+        for body in result.getCollidingBodyNodes():
+            i = segment.get(body)
+            if i is not None:
+                touch_any[i] = True
+                pending = pending or not touch[i]
+        return pending
 
     def _gather_ball_touch(self, result) -> None:
         """With self-collision on: mark the hand segments in one substep's contacts with the

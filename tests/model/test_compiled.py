@@ -97,6 +97,19 @@ def test_model_version_2_computes_with_the_compiled_numerics(world):
                 ) is compiled.CompiledNetwork
 
 
+def _both_versions(world, phase: str, k: int, u: float, v: float, **changes):
+    """The best shipped robot of ``phase`` in one trial (sector ``k`` at fractions u, v)
+    under version 1's numerics and under version 2's."""
+    robot = robots(phase, run="replication-50x10")[0]
+    groups = {ParamGroup.DIRECT} if phase == "pre" else set(ParamGroup)
+    runs = []
+    for numerics in Numerics:
+        cfg = standard_trial(phase, numerics=numerics, **changes)
+        runs.append(Trial(world, cfg).run(network_for(decode(robot.genome, groups), cfg), k,
+                                          world.sector_point(k, u, v)))
+    return runs
+
+
 @pytest.mark.parametrize("phase, self_collision", [("pre", False), ("fine", False),
                                                     ("pre", True)])
 def test_a_version_2_trial_is_version_1s_trial_but_for_rounding(world, phase, self_collision):
@@ -105,15 +118,8 @@ def test_a_version_2_trial_is_version_1s_trial_but_for_rounding(world, phase, se
     self-collision on, only the ball's contacts touch."""
     if self_collision:
         world = World(WorldConfig(self_collision=True))
-    robot = robots(phase, run="replication-50x10")[0]
-    groups = {ParamGroup.DIRECT} if phase == "pre" else set(ParamGroup)
-    runs = []
-    for numerics in Numerics:
-        cfg = standard_trial(phase, steps=30, numerics=numerics)  # the hand meets the ball
-        k = 2 if phase == "pre" else 6
-        runs.append(Trial(world, cfg).run(network_for(decode(robot.genome, groups), cfg), k,
-                                          world.sector_point(k, 0.4, 0.6)))
-    v1, v2 = runs
+    # 30 steps: the hand meets the ball
+    v1, v2 = _both_versions(world, phase, 2 if phase == "pre" else 6, 0.4, 0.6, steps=30)
     for name in ("sensors", "motor", "targets", "joints", "dofs", "hand", "shoulder", "ball",
                  "palm_normal", "p_multimodal"):
         assert np.allclose(getattr(v1, name), getattr(v2, name), rtol=0, atol=1e-9), name
@@ -124,26 +130,14 @@ def test_a_version_2_trial_is_version_1s_trial_but_for_rounding(world, phase, se
 
 @pytest.mark.parametrize("pay", ["binary", "capped"])
 def test_version_2_pays_touch_as_version_1_under_every_pay(world, pay):
-    robot = robots("pre", run="replication-50x10")[0]
-    runs = []
-    for numerics in Numerics:
-        cfg = standard_trial("pre", steps=30, numerics=numerics, touch_pay=pay)
-        runs.append(Trial(world, cfg).run(network_for(decode(robot.genome, {ParamGroup.DIRECT}),
-                                                      cfg), 2, world.sector_point(2, 0.4, 0.6)))
-    v1, v2 = runs
+    v1, v2 = _both_versions(world, "pre", 2, 0.4, 0.6, steps=30, touch_pay=pay)
     assert v1.contacts.any() and np.array_equal(v1.contacts, v2.contacts)
     assert np.array_equal(v1.p_touch, v2.p_touch) and len(set(v1.p_touch.tolist())) > 1
 
 
 @pytest.mark.parametrize("senses", ["no-ball", "nothing"])
 def test_version_2_deprives_the_senses_as_version_1(world, senses):
-    robot = robots("fine", run="replication-50x10")[0]
-    runs = []
-    for numerics in Numerics:
-        cfg = standard_trial("fine", steps=20, numerics=numerics, senses=senses)
-        runs.append(Trial(world, cfg).run(network_for(decode(robot.genome, set(ParamGroup)),
-                                                      cfg), 5, world.sector_point(5, 0.5, 0.5)))
-    v1, v2 = runs
+    v1, v2 = _both_versions(world, "fine", 5, 0.5, 0.5, steps=20, senses=senses)
     assert np.array_equal(v1.sensors[:, 14:], v2.sensors[:, 14:])  # touch, sight, offsets
     assert np.array_equal(v1.ball, v2.ball) and not v2.contacts.any()
     assert np.allclose(v1.joints, v2.joints, rtol=0, atol=1e-9)
