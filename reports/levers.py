@@ -4,6 +4,13 @@ the trained arms against the reference.
 
     python -m reports.levers            # rewrites the page's generated part (below "## Results")
     python -m reports.levers --check    # exit 1 when the page differs from the tables
+    python -m reports.levers --terms    # each arm's robots at 50 run again for Eq. 5's terms
+
+``--terms`` runs the 45 systematic trials (normal senses) of the robots that an arm's
+development.parquet post-evaluated at generation 50 (best 5 of 6 replications, 1,350 trials,
+a few CPU-minutes per arm) and writes them to the arm's ``fitness_terms.TABLE``
+(``studies.fitness_terms``, as ``reports.stillness`` does for the reference's runs); arms
+already done or not yet post-evaluated at 50 are skipped.
 """
 
 from __future__ import annotations
@@ -15,13 +22,16 @@ import sys
 import warnings
 from pathlib import Path
 
+import dart_reach  # noqa: F401  first: it pins numpy's kernels before numpy loads (--terms)
 import polars as pl
 from scipy import stats
 
 from dart_reach.analysis.formatting import decimals
 from dart_reach.analysis.profile import CRITERIA, more_than_reference, profiles, share_interval
 from dart_reach.analysis.strategies import STILL, strategies
+from dart_reach.postevaluation import results
 from dart_reach.postevaluation.snapshots import load_development
+from dart_reach.studies import fitness_terms
 
 ROOT = Path(__file__).resolve().parents[1]
 PAGE = ROOT / "docs" / "results" / "levers.md"
@@ -214,12 +224,13 @@ def _progress(arm: str) -> str:
 
 def course_lines(ref: pl.DataFrame) -> list[str]:
     """Each arm's course over its post-evaluated snapshots beside the reference at 50: the
-    means over the replications, and how many meet each criterion and all four."""
+    means over the replications, how many meet each criterion and all four, and how many
+    are still (the split between the strategies)."""
     head = ["", "The course over the snapshots (means over the replications; the criteria as "
             "counts of replications):", "",
             "| arm | generation | replications | reach | elbow SD | shoulder SD | trunk SD | "
             "hand-shoulder (m) | CV | babbling | babbling, no ball | fitness | "
-            + " | ".join(CRITERIA) + " | paper's |", "|---|" + "---:|" * 16]
+            + " | ".join(CRITERIA) + " | paper's | still |", "|---|" + "---:|" * 17]
     rows = []
     tables = [("reference", ref.with_columns(generation=pl.lit(JUDGED)))]
     tables += [(arm, p) for arm in ARMS if (p := arm_profiles(arm)) is not None]
@@ -235,7 +246,7 @@ def course_lines(ref: pl.DataFrame) -> list[str]:
                         f"{decimals(m['babbling'], 2)} | {decimals(m['babbling_no_ball'], 2)} | "
                         f"{decimals(m['fitness'], 4)} | "
                         + " | ".join(str(int(at[f"is_{c}"].sum())) for c in CRITERIA)
-                        + f" | {int(at['paper'].sum())} |")
+                        + f" | {int(at['paper'].sum())} | {int((at['strategy'] == STILL).sum())} |")
     return head + rows if len(tables) > 1 else []
 
 
@@ -286,6 +297,72 @@ def arms_section() -> str:
     return "\n".join(lines) + "\n"
 
 
+#: Eq. 5's terms the page shows (``measures.fitness.fitness_terms``), with their headings.
+TERMS = {"fitness": "fitness", "sight_share": "in sight", "touch_share": "in touch",
+         "touch_level": "touch level", "scoring_share": "scoring", "touch_limits":
+         "touch limits", "contact_after_first": "in touch after first"}
+
+
+def build_terms(progress=print) -> list[str]:
+    """Eq. 5's terms of every arm's robots at ``JUDGED`` (``fitness_terms.build``) where the
+    arm's development.parquet has them and its table does not yet; the arms done."""
+    done = []
+    for arm in ARMS:
+        run_dir = LEVERS / arm
+        if fitness_terms.missing(run_dir, (JUDGED,)) != [JUDGED]:
+            continue
+        rows = fitness_terms.build(run_dir, progress=lambda m: progress(f"{arm}: {m}"),
+                                   generation=JUDGED).to_dicts()
+        path = run_dir / fitness_terms.TABLE
+        results.save_table(path, results.read_table(path), rows, fitness_terms.SNAPSHOT_KEY,
+                           results.session())
+        done.append(arm)
+    return done
+
+
+def _terms_by_replication(terms: pl.DataFrame, strategy: pl.DataFrame) -> pl.DataFrame:
+    """Per replication: the means of ``TERMS`` over its trials (a level over the trials that
+    have one), with its strategy."""
+    return (terms.group_by("replication")
+            .agg(*[pl.col(c).fill_nan(None).mean() for c in TERMS])
+            .join(strategy.select("replication", "strategy"), on="replication"))
+
+
+def terms_section() -> str:
+    """What each arm does to what Eq. 5 pays: the means over the replications (of the means
+    over each replication's trials) at generation 50, beside the reference's."""
+    ref_terms = []
+    for run, generation in REFERENCE:
+        table = results.read_table(ROOT / "recordings" / run / fitness_terms.TABLE)
+        if generation is not None:
+            table = table.filter(pl.col("generation") == generation)
+        prof = reference_profiles().filter(pl.col("run") == run)
+        ref_terms.append(_terms_by_replication(table, prof))
+    rows = [("reference", pl.concat(ref_terms))]
+    for arm in ARMS:
+        table = results.read_table(LEVERS / arm / fitness_terms.TABLE)
+        prof = arm_profiles(arm)
+        if table is None or prof is None:
+            continue
+        table = table.filter(pl.col("generation") == JUDGED)
+        rows.append((arm, _terms_by_replication(
+            table, prof.filter(pl.col("generation") == JUDGED))))
+    lines = ["### What each lever does to what Eq. 5 pays", "",
+             f"At generation {JUDGED}, generated from each arm's `{fitness_terms.TABLE}`, `python -m reports.levers --terms`: its "
+             "post-evaluated robots' 45 normal trials run again; means over the replications "
+             "of each one's trial means; `measures.fitness.fitness_terms`. In sight, in touch "
+             "and scoring are shares of the steps; touch level is the mean p_touch over the "
+             "steps in touch (n/16 under today's pay, min(n, 4)/4 under `capped`); touch "
+             "limits is the share of scoring steps on which touch, not sight, sets the score.",
+             "", "| arm | replications | still | " + " | ".join(TERMS.values()) + " |",
+             "|---|---:|---:|" + "---:|" * len(TERMS)]
+    for arm, by_rep in rows:
+        still = int((by_rep["strategy"] == STILL).sum())
+        lines.append(f"| {arm} | {by_rep.height} | {still} | " + " | ".join(
+            decimals(by_rep[c].mean(), 4 if c == "fitness" else 3) for c in TERMS) + " |")
+    return "\n".join(lines) + "\n" if len(rows) > 1 else ""
+
+
 def page() -> str:
     text = PAGE.read_text()
     head = text[: text.index(MARK) + len(MARK)]
@@ -295,13 +372,18 @@ def page() -> str:
     else:
         parts.append("Not yet: the screen and the training follow the pre-registration.\n")
     parts.append(arms_section())
+    parts.append(terms_section())
     return head + "\n" + "\n".join(parts)
 
 
 def main(argv=None) -> int:
     p = argparse.ArgumentParser(prog="python -m reports.levers", description=__doc__)
     p.add_argument("--check", action="store_true", help="exit 1 when the page is stale")
+    p.add_argument("--terms", action="store_true",
+                   help=f"run each arm's robots at {JUDGED} again for Eq. 5's terms first")
     args = p.parse_args(argv)
+    if args.terms:
+        print(f"Eq. 5's terms at {JUDGED}: {', '.join(build_terms()) or 'no arm missing'}")
     new = page()
     if args.check:
         stale = PAGE.read_text() != new

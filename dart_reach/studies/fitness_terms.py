@@ -33,15 +33,27 @@ TABLE = "fitness-terms.parquet"
 SNAPSHOT_KEY = ("generation", "replication", "rank")
 
 
+def pre_phase_key(run: RunDirectory) -> str:
+    """The key of the pre-reaching phase ``run`` trained: the standard condition's, or that of
+    the run's one condition with a phase ``pre`` (the levers arms' ``pre-only``); ValueError
+    when there is none or the choice is not clear."""
+    found = {c.name: p.key for c, p in run.unique_phases() if p.name == "pre"}
+    if "standard" in found:
+        return found["standard"]
+    if len(found) != 1:
+        raise ValueError(f"{run.out}: no single pre-reaching phase to take apart "
+                         f"(conditions with one: {sorted(found) or 'none'})")
+    return next(iter(found.values()))
+
+
 def robot_trials(run: RunDirectory, replication: int, rank: int,
                  positions: int | None = None, generation: int | None = None) -> list[dict]:
     """One row per systematic trial of a pre-reacher of ``run``'s final population (its
     ``replication`` and ``rank``; ``generation``: of that generation's snapshot) under normal
     senses, run as the post-evaluation runs it (``systematic.run_robot``): who, where,
     ``fitness_terms``; ``positions``: only the first so many of the 45 (a check)."""
-    phase_key = next(p.key for c, p in run.unique_phases()
-                     if c.name == "standard" and p.name == "pre")
-    job = stored_robot_job(run, phase_key, "normal", replication, rank, generation=generation)
+    job = stored_robot_job(run, pre_phase_key(run), "normal", replication, rank,
+                           generation=generation)
     runner = worker_trial(job.world, job.trial)
     network = network_for(decode(job.genome, as_groups(job.phase.free_groups)), job.trial)
     rows = []

@@ -10,6 +10,7 @@ import pytest
 
 from dart_reach.analysis.profile import (Criteria, more_than_reference, profiles,
                                          share_interval)
+from dart_reach.postevaluation.snapshots import load_development
 from reports import levers
 
 
@@ -78,3 +79,55 @@ def test_the_screen_rule_picks_the_levers_that_pay_the_extended_arm():
     assert ref_arm < -0.9
     chosen = set(choice.filter(pl.col("chosen"))["candidate"])
     assert chosen == {"self-collision", "capped"}
+
+
+def test_each_arms_eq5_table_is_its_robots_at_50_with_their_post_evaluated_fitness():
+    """An arm's robots at 50 run again under the arm's own levers (read from its manifest):
+    every robot its development.parquet post-evaluated there, on every position, with the
+    fitness it stored there, to the last bit (the far arm's would differ under today's scene);
+    and every arm post-evaluated at 50 has its table."""
+    from dart_reach.postevaluation import results
+    from dart_reach.studies import fitness_terms
+
+    keys = ["generation", "replication", "rank", "trial", "sector"]
+    checked = 0
+    for arm in levers.ARMS:
+        run_dir = levers.LEVERS / arm
+        assert fitness_terms.missing(run_dir, (levers.JUDGED,)) == [], \
+            f"run 'python -m reports.levers --terms' ({arm})"
+        table = results.read_table(run_dir / fitness_terms.TABLE)
+        if table is None:
+            continue
+        assert table["generation"].unique().to_list() == [levers.JUDGED]
+        assert (sorted(table.select("replication", "rank").unique().iter_rows())
+                == fitness_terms.snapshot_pre(run_dir, levers.JUDGED))
+        development = load_development(run_dir)
+        joined = table.join(development.select(*keys, pl.col("fitness").alias("evaluated")),
+                            on=keys)
+        assert joined.height == table.height == 45 * 30
+        assert (joined["fitness"] == joined["evaluated"]).all()
+        checked += 1
+    assert checked >= 1
+
+
+def test_the_pre_reaching_phase_taken_apart_is_the_runs_own(tmp_path):
+    """The levers arms train the condition ``pre-only``, the reference's runs the standard
+    one; a run with a ``pre`` phase in two conditions, neither standard, is refused."""
+    from dart_reach.evolution.conditions import load_condition
+    from dart_reach.evolution.rundir import RunDirectory
+    from dart_reach.evolution.settings import Settings
+    from dart_reach.studies import fitness_terms
+
+    far = RunDirectory.open(levers.LEVERS / "far")
+    assert [c.name for c in far.conditions] == ["pre-only"]
+    assert fitness_terms.pre_phase_key(far) == far.conditions[0].phases[0].key
+    standard = load_condition("standard")
+    pre_only = far.conditions[0]
+    both = RunDirectory(tmp_path / "both", [pre_only, standard], Settings())
+    assert fitness_terms.pre_phase_key(both) == standard.phases[0].key
+    text = (levers.ROOT / "docs" / "learning-check.toml").read_text()
+    other = tmp_path / "other.toml"
+    other.write_text(text.replace('name = "pre-only"', 'name = "pre-other"'))
+    two = RunDirectory(tmp_path / "two", [pre_only, load_condition(str(other))], Settings())
+    with pytest.raises(ValueError, match="no single pre-reaching phase.*'pre-only', 'pre-other'"):
+        fitness_terms.pre_phase_key(two)
