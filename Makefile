@@ -7,7 +7,7 @@ BIN := $(VENV)/bin
 
 .PHONY: demo test bench skeleton clean notebooks screenshots scene-study pythons replication-50 replication-50x10 \
 	replication-10 replication-report results full-budget full-budget-snapshots \
-	levers-screen levers-train levers-evaluate levers-state
+	levers-screen levers-train levers-evaluate levers-state levers-terms
 
 $(BIN)/python:
 	$(PY) -m venv $(VENV)
@@ -240,6 +240,9 @@ levers-evaluate: $(VENV)/.installed
 		$(BIN)/dart-reach evaluate $(LEVERS_RUNS)/$${a%%:*} --finished-only --development 5 \
 			--development-sensors normal,no-ball --snapshots 10,20,30,40,50 || exit $$?; \
 	done
+# Each arm's robots post-evaluated at 50 run again for Eq. 5's terms (once per arm), and the page.
+levers-terms: $(VENV)/.installed
+	$(BIN)/python -m reports.levers --terms
 # The compact state of the levers arms trained in another checkout (the pinned worktree,
 # LEVERS_FROM=its path): manifest, statistics, checkpoints, finals and snapshots, and the
 # post-evaluation of the snapshots as far as it has gone (its parts), to commit.

@@ -348,9 +348,10 @@ def terms_section() -> str:
         rows.append((arm, _terms_by_replication(
             table, prof.filter(pl.col("generation") == JUDGED))))
     lines = ["### What each lever does to what Eq. 5 pays", "",
-             f"At generation {JUDGED}, generated from each arm's `{fitness_terms.TABLE}`, `python -m reports.levers --terms`: its "
-             "post-evaluated robots' 45 normal trials run again; means over the replications "
-             "of each one's trial means; `measures.fitness.fitness_terms`. In sight, in touch "
+             f"At generation {JUDGED}, generated from each arm's `{fitness_terms.TABLE}` "
+             "(`make levers-terms`: its post-evaluated robots' 45 normal trials run again), "
+             "and the reference's; means over the replications "
+             "of each one's trial means (`measures.fitness.fitness_terms`). In sight, in touch "
              "and scoring are shares of the steps; touch level is the mean p_touch over the "
              "steps in touch (n/16 under today's pay, min(n, 4)/4 under `capped`); touch "
              "limits is the share of scoring steps on which touch, not sight, sets the score.",
