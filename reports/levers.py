@@ -289,12 +289,22 @@ def arms_section() -> str:
         lines.append("**Decision: not yet.** The rule is applied when every arm has been "
                      f"post-evaluated at generation {JUDGED}.")
     else:
-        good = sorted([v for v in verdicts if v[1] >= RECOMMEND_AT_LEAST and v[3] < RECOMMEND_P],
-                      key=lambda v: -v[1])
-        lines.append(f"**Decision: spend the paper's budget on `{good[0][0]}`.**" if good else
+        chosen = recommended(verdicts)
+        lines.append(f"**Decision: spend the paper's budget on `{chosen}`.**" if chosen else
                      "**Decision: none of these levers gives the paper's pre-reacher at "
                      f"{JUDGED} generations.**")
     return "\n".join(lines) + "\n"
+
+
+def recommended(verdicts: list[tuple[str, int, int, float]]) -> str | None:
+    """The pre-registered decision rule (docs/results/levers.md, "Decision rule") on each
+    arm's (name, replications that are the paper's pre-reacher, replications, Fisher p
+    against the reference), in the pre-registered order: an arm qualifies with at least
+    ``RECOMMEND_AT_LEAST`` and p < ``RECOMMEND_P``; of those, the larger share; on a tie the
+    one that changes fewer levers from version 1 (every arm here changes one: then the
+    earlier); None when no arm qualifies."""
+    good = [v for v in verdicts if v[1] >= RECOMMEND_AT_LEAST and v[3] < RECOMMEND_P]
+    return max(good, key=lambda v: v[1] / v[2], default=(None,))[0]
 
 
 #: Eq. 5's terms the page shows (``measures.fitness.fitness_terms``), with their headings.

@@ -131,3 +131,18 @@ def test_the_pre_reaching_phase_taken_apart_is_the_runs_own(tmp_path):
     two = RunDirectory(tmp_path / "two", [pre_only, load_condition(str(other))], Settings())
     with pytest.raises(ValueError, match="no single pre-reaching phase.*'pre-only', 'pre-other'"):
         fitness_terms.pre_phase_key(two)
+
+
+def test_the_decision_rule_is_the_pre_registered_one():
+    """At least 3 of 6 and Fisher's p < 0.05 against the reference's 0 of 20; the larger
+    share among those that qualify; on a tie (every arm changes one lever) the earlier arm."""
+    def verdict(arm, k, n=6, k_ref=0, n_ref=20):
+        return arm, k, n, more_than_reference(k, n, k_ref, n_ref)
+
+    assert levers.recommended([verdict("far", 2), verdict("capped", 1)]) is None  # p 0.046, k 2
+    assert levers.recommended([verdict("far", 3), verdict("capped", 2)]) == "far"
+    assert levers.recommended([verdict("far", 3), verdict("capped", 4)]) == "capped"
+    assert levers.recommended([verdict("far", 4), verdict("capped", 4)]) == "far"
+    # 3 of 6 is not enough against a reference that has them too
+    assert levers.recommended([verdict("far", 3, k_ref=8)]) is None
+    assert levers.recommended([]) is None
