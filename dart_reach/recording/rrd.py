@@ -240,7 +240,7 @@ def trial_rrd(data: TrialData, info: TrialInfo, model: RobotModel, dt: float = 0
     instead (``write_blueprint``). ``measures``: the trial's ``metrics.trial_metrics`` if
     already computed; the recording's property ``trial`` holds those of ``MEASURES`` beside the
     trial's ``TrialInfo``."""
-    return _encoded(info.name(),
+    return encoded(info.name(),
                     lambda rec: _send_trial(rec, data, info, model, dt, blueprint, measures))
 
 
@@ -254,15 +254,15 @@ def _send_trial(rec: rr.RecordingStream, data: TrialData, info: TrialInfo, model
     measures = measures if measures is not None else metrics.trial_metrics(data, dt)
     rec.send_property("trial", rr.AnyValues(layout=LAYOUT, **asdict(info),
                                             **{m: measures[m] for m in MEASURES}))
-    _send_static(rec, info, model)
-    _send_rows(rec, data, model, dt, 0, T)
+    send_static(rec, info, model)
+    send_rows(rec, data, model, dt, 0, T)
     # the pendulum's fixed pivot above the ball's start; the whole paths of hand and ball
     rec.log("world/pendulum/pivot", rr.Points3D([_pivot(data, model)], radii=0.006,
                                                 colors=[_STRING]), static=True)
     rec.log("world/paths", _paths(data, T), static=True)
 
 
-def _send_static(rec: rr.RecordingStream, info: TrialInfo, model: RobotModel) -> None:
+def send_static(rec: rr.RecordingStream, info: TrialInfo, model: RobotModel) -> None:
     """What a trial's recording holds for all time: series names, the scene's frame, the
     robot's box sizes, the round things' sizes and colours, the string's style."""
     for entity, names, _ in SIGNALS:
@@ -293,8 +293,8 @@ def _paths(data: TrialData, stop: int) -> rr.LineStrips3D:
                            colors=[_HAND_COLOUR, _RED], labels=["hand path", "ball path"])
 
 
-def _send_rows(rec: rr.RecordingStream, data: TrialData, model: RobotModel, dt: float,
-               start: int, stop: int, first: int = 0) -> None:
+def send_rows(rec: rr.RecordingStream, data: TrialData, model: RobotModel, dt: float,
+              start: int, stop: int, first: int = 0) -> None:
     """Send rows ``start``..``stop`` of a trial's record: every signal and the scene's poses,
     at steps ``first + start``.. of the timelines (``first``: where a live stream's episode
     begins)."""
@@ -365,18 +365,18 @@ def send_live_step(rec: rr.RecordingStream, data: TrialData, info: TrialInfo,
     steps (``first`` 0: as static; later trials: at their first step)."""
     if row == 0:
         if first == 0:
-            _send_static(rec, info, model)
+            send_static(rec, info, model)
         rec.set_time("step", sequence=first)
         rec.set_time("sim_time", duration=first * dt)
         rec.log("world/pendulum/pivot", rr.Points3D([_pivot(data, model)], radii=0.006,
                                                     colors=[_STRING]))
-    _send_rows(rec, data, model, dt, row, row + 1, first)
+    send_rows(rec, data, model, dt, row, row + 1, first)
     rec.set_time("step", sequence=first + row)
     rec.set_time("sim_time", duration=(first + row) * dt)
     rec.log("world/paths", _paths(data, row + 1))
 
 
-def _encoded(recording_id: str, send) -> bytes:
+def encoded(recording_id: str, send) -> bytes:
     """The .rrd bytes of what ``send(rec)`` sends to a new recording ``recording_id``. A rerun
     0.41 stream keeps its two threads (batcher, sink) until it is disconnected or cleaned up
     as an orphan: without the clean-up here and ``_send_blueprint`` every recording left two
@@ -414,7 +414,7 @@ def training_rrd(stats: pl.DataFrame, run_name: str) -> bytes:
     (``<condition>/<phase>``), with the series ``best rep<r>``, ``mean rep<r>`` and ``min
     rep<r>`` of each replication: a replication has one colour, its best line is thick, its
     mean thin, its min hidden (shown from the legend)."""
-    return _encoded(f"training {run_name}", lambda rec: _send_training(rec, stats, run_name))
+    return encoded(f"training {run_name}", lambda rec: _send_training(rec, stats, run_name))
 
 
 def _send_training(rec: rr.RecordingStream, stats: pl.DataFrame, run_name: str) -> None:

@@ -34,6 +34,7 @@ from ..model.levers import MODEL_VERSIONS, numerics_of
 from ..model.scripted import ScriptedReach
 from ..model.task import Trial, network_for
 from ..model.world import World, WorldConfig
+from ..recording import rrd
 from ..recording.rrd import RobotModel, TrialInfo, trial_rrd, write_rrd
 from ..robots import evolved_pre
 
@@ -453,6 +454,53 @@ def recording_overhead(robots: int = 2, seed: int = 0, model_version: int = 1) -
     minutes = steps * settings.world.control_dt / 60
     return {**ratio("recording_overhead", ratios),
             "rrd_mb_per_sim_min": size / 1e6 / minutes}
+
+
+def recording_parts(trials: int = 6, rounds: int = 9, seed: int = 0,
+                    model_version: int = LATEST_MODEL_VERSION) -> dict:
+    """Where a trial recording's CPU time goes (``recording_overhead``'s recording, ms a
+    trial, the median over ``rounds`` rounds in alternating order of ``trials`` trials of a
+    random gross-reaching robot): ``rrd_ms`` the whole .rrd built (``trial_rrd``, no layout);
+    of it ``rrd_stream_ms`` an empty recording's stream, ``rrd_static_ms`` what it holds for
+    all time (series names, the scene's sizes: 19 small entities), ``rrd_rows_ms`` the
+    time series and the scene per step (18 entities' columns), ``rrd_poses_ms`` the scene's
+    poses computed (in ``rrd_rows_ms``), and ``rrd_rest_ms`` the rest (the trial's
+    property of 51 values, the paths). The static part and the rows are each timed in a
+    stream of their own, less ``rrd_stream_ms``."""
+    settings = Settings(model_version=model_version)
+    phase = load_condition("standard").phases[1]
+    trial = trial_config(phase, settings)
+    runner = worker_trial(settings.world, trial)
+    model = RobotModel(runner.world)
+    network = network_for(decode(random_genome(np.random.default_rng(seed), 1)[0],
+                                 as_groups(phase.free_groups)), trial)
+    data = [runner.run(network, k // 5, position)
+            for k, position in enumerate(runner.world.systematic_points()[:trials])]
+    measures = [trial_metrics(d) for d in data]
+    info = TrialInfo("bench", phase.name, 0, 0, 0, 0, "systematic")
+    dt = settings.world.control_dt
+    parts = {
+        "rrd_ms": lambda i: trial_rrd(data[i], info, model, blueprint=False,
+                                      measures=measures[i]),
+        "rrd_stream_ms": lambda i: rrd.encoded("stream", lambda rec: None),
+        "rrd_static_ms": lambda i: rrd.encoded("static", lambda rec: rrd.send_static(
+            rec, info, model)),
+        "rrd_rows_ms": lambda i: rrd.encoded("rows", lambda rec: rrd.send_rows(
+            rec, data[i], model, dt, 0, data[i].steps_run)),
+        "rrd_poses_ms": lambda i: model.shape_poses(data[i].dofs)}
+    times = {name: [] for name in parts}
+    for r in range(rounds):
+        for name, part in (parts.items() if r % 2 == 0 else reversed(parts.items())):
+            t0 = time.process_time()
+            for i in range(trials):
+                part(i)
+            times[name].append((time.process_time() - t0) / trials * 1e3)
+    out = {name: float(np.median(t)) for name, t in times.items()}
+    for name in ("rrd_static_ms", "rrd_rows_ms"):  # each sent in a stream of its own
+        out[name] -= out["rrd_stream_ms"]
+    out["rrd_rest_ms"] = out["rrd_ms"] - sum(out[n] for n in (
+        "rrd_stream_ms", "rrd_static_ms", "rrd_rows_ms"))
+    return out
 
 
 #: name -> (target, comparison) checked by ``check``; ratios are the headline figures.

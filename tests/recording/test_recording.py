@@ -142,7 +142,7 @@ def _threads() -> int:
 @pytest.mark.skipif(not sys.platform.startswith("linux"), reason="counts threads in /proc")
 def test_recordings_written_leave_no_threads_behind(world, trial):
     """rerun keeps a recording stream's batcher and sink threads until it is disconnected or
-    cleaned up as an orphan: without ``rrd._encoded`` and ``rrd._send_blueprint`` each of
+    cleaned up as an orphan: without ``rrd.encoded`` and ``rrd._send_blueprint`` each of
     these 20 recordings (and the blueprint of each) left two threads behind."""
     model = rec.RobotModel(world)
     stats = pl.DataFrame({"condition": ["c"], "phase": ["pre"], "replication": [0],
@@ -174,7 +174,7 @@ def test_the_blueprint_sent_is_rerun_s_own(tmp_path):
                 rec._send_blueprint(stream, rec.trial_blueprint())
             else:
                 stream.send_blueprint(rec.trial_blueprint())
-        return _blueprint_chunks(rec._encoded("r", write), tmp_path)
+        return _blueprint_chunks(rec.encoded("r", write), tmp_path)
     theirs = send(False)
     assert len(theirs) > 50 and send(True) == theirs
 

@@ -3,6 +3,8 @@ tiny real runs of its figures (their values are for `dart-reach bench`, not for 
 
 from __future__ import annotations
 
+import pytest
+
 from dart_reach.studies import bench
 
 
@@ -114,3 +116,13 @@ def test_a_run_s_trial_cost_times_its_snapshots_and_its_population(tmp_path):
     assert table["trials"].to_list() == [9, 9, 20] * 2 and (table["cpu_s"] > 0).all()
     with pytest.raises(ValueError, match=r"no snapshot of generation\(s\) \[7\]"):
         bench.trial_cost(run.out, [1, 7])
+
+
+def test_a_recordings_parts_add_up_to_it():
+    """``recording_parts`` times the parts of a real recording (CPU times, so no comparison
+    between them is asserted: a loaded machine may reorder them): every part, and the rest
+    is what the parts leave of the whole."""
+    r = bench.recording_parts(trials=1, rounds=1, model_version=1)
+    assert r["rrd_ms"] > 0 and r["rrd_stream_ms"] > 0 and r["rrd_poses_ms"] > 0
+    assert r["rrd_rest_ms"] == pytest.approx(
+        r["rrd_ms"] - r["rrd_stream_ms"] - r["rrd_static_ms"] - r["rrd_rows_ms"])
