@@ -246,7 +246,8 @@ def course_lines(ref: pl.DataFrame) -> list[str]:
                         f"{decimals(m['babbling'], 2)} | {decimals(m['babbling_no_ball'], 2)} | "
                         f"{decimals(m['fitness'], 4)} | "
                         + " | ".join(str(int(at[f"is_{c}"].sum())) for c in CRITERIA)
-                        + f" | {int(at['paper'].sum())} | {int((at['strategy'] == STILL).sum())} |")
+                        + f" | {int(at['paper'].sum())} | "
+                        f"{int((at['strategy'] == STILL).sum())} |")
     return head + rows if len(tables) > 1 else []
 
 
