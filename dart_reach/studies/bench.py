@@ -423,6 +423,17 @@ def trial_cost(run_dir, generations: Sequence[int]) -> pl.DataFrame:
 
 
 # -------------------------------------------------------------------------------- recording
+def _gross_recorded(model_version: int):
+    """The recording benchmarks' trial: the standard condition's gross-reaching phase under
+    ``model_version`` (settings, phase, trial config, its trial runner, the robot's drawing
+    model)."""
+    settings = Settings(model_version=model_version)
+    phase = load_condition("standard").phases[1]
+    trial = trial_config(phase, settings)
+    runner = worker_trial(settings.world, trial)
+    return settings, phase, trial, runner, RobotModel(runner.world)
+
+
 def recording_overhead(robots: int = 2, seed: int = 0, model_version: int = 1) -> dict:
     """``recording_overhead``: the CPU time of this process (its threads included) for a
     post-evaluation trial (the trial and its measures) plus building and writing its .rrd
@@ -430,11 +441,7 @@ def recording_overhead(robots: int = 2, seed: int = 0, model_version: int = 1) -
     median over the 45 systematic positions of ``robots`` random gross-reaching robots. Each
     trial is timed and then immediately recorded, so that both see the same machine load.
     ``rrd_mb_per_sim_min``: size of the recordings per simulated minute."""
-    settings = Settings(model_version=model_version)
-    phase = load_condition("standard").phases[1]
-    trial = trial_config(phase, settings)
-    runner = worker_trial(settings.world, trial)
-    model = RobotModel(runner.world)
+    settings, phase, trial, runner, model = _gross_recorded(model_version)
     ratios, size, steps = [], 0, 0
     with tempfile.TemporaryDirectory() as tmp:
         for i, genome in enumerate(random_genome(np.random.default_rng(seed), robots)):
@@ -467,11 +474,7 @@ def recording_parts(trials: int = 6, rounds: int = 9, seed: int = 0,
     poses computed (in ``rrd_rows_ms``), and ``rrd_rest_ms`` the rest (the trial's
     property of 51 values, the paths). The static part and the rows are each timed in a
     stream of their own, less ``rrd_stream_ms``."""
-    settings = Settings(model_version=model_version)
-    phase = load_condition("standard").phases[1]
-    trial = trial_config(phase, settings)
-    runner = worker_trial(settings.world, trial)
-    model = RobotModel(runner.world)
+    settings, phase, trial, runner, model = _gross_recorded(model_version)
     network = network_for(decode(random_genome(np.random.default_rng(seed), 1)[0],
                                  as_groups(phase.free_groups)), trial)
     data = [runner.run(network, k // 5, position)
