@@ -233,12 +233,14 @@ levers-train: $(VENV)/.installed
 			$$(test -f $(LEVERS)/$${a%%:*}/manifest.json && echo --resume) || exit $$?; \
 	done
 # LEVERS_RUNS: where the arms' runs are (default here; the pinned checkout's recordings/levers
-# to post-evaluate them where they train, with this checkout's CLI: version 1's trial is the same)
+# to post-evaluate them where they train, with this checkout's CLI: version 1's trial is the same;
+# run from that checkout, so that the tables' provenance names the run by its relative path)
 LEVERS_RUNS ?= $(LEVERS)
 levers-evaluate: $(VENV)/.installed
 	for a in $(LEVER_ARMS); do \
-		$(BIN)/dart-reach evaluate $(LEVERS_RUNS)/$${a%%:*} --finished-only --development 5 \
-			--development-sensors normal,no-ball --snapshots 10,20,30,40,50 || exit $$?; \
+		(cd $(LEVERS_RUNS)/../.. && $(CURDIR)/$(BIN)/dart-reach evaluate $(LEVERS)/$${a%%:*} \
+			--finished-only --development 5 \
+			--development-sensors normal,no-ball --snapshots 10,20,30,40,50) || exit $$?; \
 	done
 # Each arm's robots post-evaluated at 50 run again for Eq. 5's terms (once per arm), and the page.
 levers-terms: $(VENV)/.installed
