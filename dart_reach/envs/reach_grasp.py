@@ -357,7 +357,7 @@ class ReachGraspEnv(gym.Env):
 
     # ------------------------------------------------------------------ seeing
     def recording_info(self):
-        """What a recording of the current episode is about (``recording.rrd.TrialInfo``): the
+        """What a recording of the current episode is about (``recording.layout.TrialInfo``): the
         phase, the sector, the reset's seed ("drawn": the environment's generator went on)."""
         from ..recording.rrd import TrialInfo  # rerun and polars: about a second to import
 

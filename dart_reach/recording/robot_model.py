@@ -4,9 +4,10 @@
 from __future__ import annotations
 
 import numpy as np
+from numba import njit
 
 from ..model.icub import HAND_SEGMENTS
-from .quaternion import quaternions
+from .quaternion import quaternion_of
 
 
 class RobotModel:
@@ -41,6 +42,8 @@ class RobotModel:
             self.dof.append(j.getIndexInSkeleton(0) if kind == "RevoluteJoint" else -1)
             self.terms.append(np.stack([before @ after, before @ K @ after,
                                         before @ K @ K @ after]))
+        self.parent, self.dof = np.array(self.parent), np.array(self.dof)
+        self.terms = np.stack(self.terms)
         self.names = [b.getName() for b in bodies]
         segment = {name: i for i, name in enumerate(HAND_SEGMENTS)}
         boxes, spheres = [], []
@@ -68,25 +71,58 @@ class RobotModel:
     def body_transforms(self, dofs: np.ndarray) -> np.ndarray:
         """World transforms (T, B, 4, 4) of every body for joint positions ``dofs`` (T, ndof)."""
         dofs = np.asarray(dofs, float)
-        n = dofs.shape[0]
-        out = np.empty((n, len(self.names), 4, 4))
         # (T, ndof, 3): the coefficients 1, sin q, 1 - cos q of each joint's three terms
         coefficients = np.stack([np.ones_like(dofs), np.sin(dofs), 1.0 - np.cos(dofs)], axis=-1)
-        for i, (p, d, terms) in enumerate(zip(self.parent, self.dof, self.terms)):
-            if d >= 0:
-                local = (coefficients[:, d] @ terms.reshape(3, 16)).reshape(n, 4, 4)
-            else:
-                local = np.broadcast_to(terms[0], (n, 4, 4))
-            if p < 0:
-                out[:, i] = local
-            else:
-                np.matmul(out[:, p], local, out=out[:, i])
+        out = np.empty((len(dofs), len(self.names), 4, 4))
+        _body_transforms(coefficients, self.parent, self.dof, self.terms, out)
         return out
 
     def shape_poses(self, dofs: np.ndarray):
         """Centres (T, n, 3) and xyzw quaternions (T, n, 4) of the boxes, and the sphere centres
         (T, m, 3)."""
         bodies = self.body_transforms(dofs)
-        box = bodies[:, self.box_body] @ self.box_local
-        sphere = bodies[:, self.sphere_body] @ self.sphere_local
-        return box[..., :3, 3], quaternions(box[..., :3, :3]), sphere[..., :3, 3]
+        T = len(bodies)
+        centres, quats = np.empty((T, len(self.box_body), 3)), np.empty((T, len(self.box_body), 4))
+        spheres = np.empty((T, len(self.sphere_body), 3))
+        _shape_poses(bodies, self.box_body, self.box_local, self.sphere_body, self.sphere_local,
+                     centres, quats, spheres)
+        return centres, quats, spheres
+
+
+@njit(cache=True)
+def _compose(a, b, out):
+    """``out = a @ b`` for 4 x 4 rigid transforms (each sum in index order)."""
+    for r in range(4):
+        for c in range(4):
+            out[r, c] = a[r, 0] * b[0, c] + a[r, 1] * b[1, c] + a[r, 2] * b[2, c] + a[r, 3] * b[3, c]
+
+
+@njit(cache=True)
+def _body_transforms(coefficients, parent, dof, terms, out):
+    local = np.empty((4, 4))
+    for t in range(out.shape[0]):
+        for i in range(out.shape[1]):
+            d = dof[i]
+            for r in range(4):
+                for c in range(4):
+                    local[r, c] = terms[i, 0, r, c] if d < 0 else (
+                        coefficients[t, d, 0] * terms[i, 0, r, c]
+                        + coefficients[t, d, 1] * terms[i, 1, r, c]
+                        + coefficients[t, d, 2] * terms[i, 2, r, c])
+            if parent[i] < 0:
+                out[t, i] = local
+            else:
+                _compose(out[t, parent[i]], local, out[t, i])
+
+
+@njit(cache=True)
+def _shape_poses(bodies, box_body, box_local, sphere_body, sphere_local, centres, quats, spheres):
+    pose = np.empty((4, 4))
+    for t in range(bodies.shape[0]):
+        for k in range(box_body.shape[0]):
+            _compose(bodies[t, box_body[k]], box_local[k], pose)
+            centres[t, k] = pose[:3, 3]
+            quaternion_of(pose[:3, :3], quats[t, k])
+        for k in range(sphere_body.shape[0]):
+            _compose(bodies[t, sphere_body[k]], sphere_local[k], pose)
+            spheres[t, k] = pose[:3, 3]

@@ -468,12 +468,12 @@ def recording_parts(trials: int = 6, rounds: int = 9, seed: int = 0,
     """Where a trial recording's CPU time goes (``recording_overhead``'s recording, ms a
     trial, the median over ``rounds`` rounds in alternating order of ``trials`` trials of a
     random gross-reaching robot): ``rrd_ms`` the whole .rrd built (``trial_rrd``, no layout);
-    of it ``rrd_stream_ms`` an empty recording's stream, ``rrd_static_ms`` what it holds for
-    all time (series names, the scene's sizes: 19 small entities), ``rrd_rows_ms`` the
-    time series and the scene per step (18 entities' columns), ``rrd_poses_ms`` the scene's
-    poses computed (in ``rrd_rows_ms``), and ``rrd_rest_ms`` the rest (the trial's
-    property of 51 values, the paths). The static part and the rows are each timed in a
-    stream of their own, less ``rrd_stream_ms``."""
+    of it ``rrd_chunks_ms`` its 41 chunks built (``trial_chunks``), of which
+    ``rrd_rows_ms`` the time series and the scene per step (18 entities' chunks, from one
+    record batch), of which ``rrd_poses_ms`` the scene's poses computed; ``rrd_write_ms`` the
+    chunks written by rerun's chunk writer (``chunks_rrd``); ``rrd_rest_ms`` what these leave
+    of the whole. Beside it, ``rrd_streamed_ms``: the same chunks sent through a recording
+    stream instead (``streamed_rrd``, what a recording with its layout costs)."""
     settings, phase, trial, runner, model = _gross_recorded(model_version)
     network = network_for(decode(random_genome(np.random.default_rng(seed), 1)[0],
                                  as_groups(phase.free_groups)), trial)
@@ -482,15 +482,15 @@ def recording_parts(trials: int = 6, rounds: int = 9, seed: int = 0,
     measures = [trial_metrics(d) for d in data]
     info = TrialInfo("bench", phase.name, 0, 0, 0, 0, "systematic")
     dt = settings.world.control_dt
+    chunks = [rrd.trial_chunks(d, info, model, dt, m) for d, m in zip(data, measures)]
     parts = {
-        "rrd_ms": lambda i: trial_rrd(data[i], info, model, blueprint=False,
+        "rrd_ms": lambda i: trial_rrd(data[i], info, model, dt, blueprint=False,
                                       measures=measures[i]),
-        "rrd_stream_ms": lambda i: rrd.encoded("stream", lambda rec: None),
-        "rrd_static_ms": lambda i: rrd.encoded("static", lambda rec: rrd.send_static(
-            rec, info, model)),
-        "rrd_rows_ms": lambda i: rrd.encoded("rows", lambda rec: rrd.send_rows(
-            rec, data[i], model, dt, 0, data[i].steps_run)),
-        "rrd_poses_ms": lambda i: model.shape_poses(data[i].dofs)}
+        "rrd_chunks_ms": lambda i: rrd.trial_chunks(data[i], info, model, dt, measures[i]),
+        "rrd_rows_ms": lambda i: rrd.row_chunks(data[i], model, dt, 0, data[i].steps_run),
+        "rrd_poses_ms": lambda i: model.shape_poses(data[i].dofs),
+        "rrd_write_ms": lambda i: rrd.chunks_rrd(info.name(), chunks[i]),
+        "rrd_streamed_ms": lambda i: rrd.streamed_rrd(info.name(), chunks[i])}
     times = {name: [] for name in parts}
     for r in range(rounds):
         for name, part in (parts.items() if r % 2 == 0 else reversed(parts.items())):
@@ -499,10 +499,7 @@ def recording_parts(trials: int = 6, rounds: int = 9, seed: int = 0,
                 part(i)
             times[name].append((time.process_time() - t0) / trials * 1e3)
     out = {name: float(np.median(t)) for name, t in times.items()}
-    for name in ("rrd_static_ms", "rrd_rows_ms"):  # each sent in a stream of its own
-        out[name] -= out["rrd_stream_ms"]
-    out["rrd_rest_ms"] = out["rrd_ms"] - sum(out[n] for n in (
-        "rrd_stream_ms", "rrd_static_ms", "rrd_rows_ms"))
+    out["rrd_rest_ms"] = out["rrd_ms"] - out["rrd_chunks_ms"] - out["rrd_write_ms"]
     return out
 
 

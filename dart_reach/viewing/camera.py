@@ -23,7 +23,7 @@ from ..model.world import World
 
 #: Where the camera stands and what it looks at (m, the world frame: +x backward, +y the
 #: robot's right, +z up): in front of the robot, to its right and above, on the sector area,
-#: as the 3D view of the trial layout (``recording.rrd.CAMERA``).
+#: as the 3D view of the trial layout (``recording.layout.CAMERA``).
 POSITION = (-0.85, 0.55, 0.45)
 TARGET = (-0.18, 0.1, 0.12)
 UP = (0.0, 0.0, 1.0)

@@ -89,6 +89,80 @@ def test_movement_variability_per_step_ends_at_the_trials_measures(tmp_path, wor
         measures["hand_ball_min"], rel=1e-12)
 
 
+def _chunks(data: bytes, tmp_path) -> dict:
+    """entity -> [its chunks' columns (row ids left out): name -> (Arrow type, metadata,
+    values as Python's)]."""
+    path = tmp_path / "c.rrd"
+    path.write_bytes(data)
+    out = {}
+    for c in RrdReader(path).stream().to_chunks():
+        batch = c.to_record_batch()
+        out.setdefault(c.entity_path, []).append({
+            f.name: (str(f.type), f.metadata, batch.column(f.name).to_pylist())
+            for f in batch.schema if "RowId" not in f.name})
+    return out
+
+
+def _same(a, b) -> bool:
+    """Equal, NaN equal to NaN, to the last bit."""
+    if isinstance(a, dict):
+        return a.keys() == b.keys() and all(_same(a[k], b[k]) for k in a)
+    if isinstance(a, (list, tuple)):
+        return len(a) == len(b) and all(_same(x, y) for x, y in zip(a, b))
+    if isinstance(a, float) and isinstance(b, float) and a != a and b != b:
+        return True
+    return type(a) is type(b) and a == b
+
+
+def test_the_rows_and_property_are_what_rerun_s_own_builders_make(tmp_path, world, trial):
+    """``trial_rrd`` builds its rows as one Arrow record batch and its property from typed
+    Arrow values, not through rerun's archetypes: every entity's rows and the property
+    ``trial`` hold what ``send_columns`` of rerun's archetypes and ``AnyValues`` hold."""
+    import dataclasses
+    import rerun as rr
+    model, dt = rec.RobotModel(world), 0.1
+    info = dataclasses.replace(INFO, senses="normal")
+    data = dataclasses.replace(trial, contacts=trial.contacts.copy())
+    data.contacts[::3, :4] = True  # touching segments are drawn in another colour
+    measures = metrics.trial_metrics(data)
+    T = data.steps_run
+
+    def reference(stream):
+        steps = np.arange(T)
+        index = [rr.TimeColumn("step", sequence=steps),
+                 rr.TimeColumn("sim_time", duration=steps * dt)]
+        for entity, _, get in rec.SIGNALS:
+            stream.send_columns(entity, indexes=index,
+                                columns=rr.Scalars.columns(scalars=np.asarray(get(data), float)))
+        centres, quats, spheres = model.shape_poses(data.dofs[:T])
+        n = centres.shape[1]
+        touching = np.zeros((T, n), bool)
+        on_hand = model.box_segment >= 0
+        touching[:, on_hand] = data.contacts[:T][:, model.box_segment[on_hand]]
+        colours = np.where(touching[..., None], rec._TOUCH, rec._GREY).astype(np.uint8)
+        stream.send_columns("world/robot", indexes=index, columns=rr.Boxes3D.columns(
+            centers=centres.reshape(-1, 3), quaternions=quats.reshape(-1, 4),
+            colors=colours.reshape(-1, 4)).partition([n] * T))
+        rounds = np.concatenate([spheres, data.ball[:T, None], data.hand[:T, None]], axis=1)
+        stream.send_columns("world/spheres", indexes=index, columns=rr.Ellipsoids3D.columns(
+            centers=rounds.reshape(-1, 3)).partition([rounds.shape[1]] * T))
+        pivot = np.asarray(data.ball_start) + [0, 0, model.string_length]
+        stream.send_columns("world/pendulum/string", indexes=index, columns=rr.LineStrips3D.columns(
+            strips=np.stack([np.broadcast_to(pivot, (T, 3)), data.ball[:T]], axis=1)))
+        stream.send_property("trial", rr.AnyValues(layout=rec.LAYOUT, **dataclasses.asdict(info),
+                                                   **{m: measures[m] for m in rec.MEASURES}))
+
+    expected = _chunks(rec.encoded("reference", reference), tmp_path)
+    written = _chunks(rec.trial_rrd(data, info, model, dt, blueprint=False), tmp_path)
+    assert len(expected) == len(rec.SIGNALS) + 4
+    for entity, chunks in expected.items():
+        (mine,) = [c for c in written[entity] if "step" in c or entity == "/__properties/trial"]
+        assert _same(chunks[0], mine), entity
+    (rows,) = [c for c in written["/world/robot"] if "step" in c]
+    assert any(rec._rgba32(np.array(rec._TOUCH, np.uint8)) in row
+               for row in rows["Boxes3D:colors"][2])
+
+
 def test_a_diverged_trial_records_only_the_steps_it_ran(tmp_path, world, trial):
     import dataclasses
     short = dataclasses.replace(trial, steps_run=13, diverged=True)

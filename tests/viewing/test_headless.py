@@ -8,6 +8,7 @@ import numpy as np
 import pytest
 
 from dart_reach.recording import rrd as rec
+from dart_reach.recording.layout import PANELS
 from dart_reach.robots import evolved_pre
 from dart_reach.evolution.settings import standard_trial
 from dart_reach.evolution.genome import ParamGroup, decode
@@ -33,11 +34,11 @@ def test_every_view_of_the_layout_has_data_and_no_error(tmp_path):
         shot = viewer.screenshot(tmp_path / "shot.png")
         schema = viewer.client.get_recording_schema()
     views = {v.name: v for v in state.views}
-    expected = {name for name, _ in rec.PANELS} | {"robot and ball", "hand and ball paths"}
+    expected = {name for name, _ in PANELS} | {"robot and ball", "hand and ball paths"}
     assert set(views) == expected
     assert all(not v.reports for v in views.values()), {n: v.reports for n, v in views.items()}
     logged = str(schema)
-    for name, entities in rec.PANELS:
+    for name, entities in PANELS:
         assert all(f"/{e}" in logged for e in entities), name  # each panel's data is there
     from matplotlib.image import imread
 
