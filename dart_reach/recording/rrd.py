@@ -3,10 +3,10 @@ only modules that import rerun).
 
 A trial is recorded after it has run, from its ``TrialData``, in the entity layout of
 ``layout``: its rows go as one Arrow record batch that rerun cuts into a chunk per entity, and
-the chunks are written by rerun's chunk writer, with no recording stream (converting a
-signal through rerun's archetypes costs ~60 µs a call, a stream ~40 µs a chunk in its own
-threads: see ``dart-reach bench``, ``recording_overhead`` and ``recording_parts``). Timelines:
-``step`` (control step, 0.1 s) and ``sim_time`` (s).
+the chunks are written by rerun's chunk writer, with no recording stream: a trial's 41
+chunks cost about 6 ms of CPU so, against 9 sent entity by entity through rerun's archetypes
+to a stream (docs/results/benchmarks.md: ``recording_overhead``, ``recording_parts``).
+Timelines: ``step`` (control step, 0.1 s) and ``sim_time`` (s).
 
 The run-level ``training.rrd`` holds best/mean/min fitness per phase and replication on the
 timeline ``generation``.
@@ -177,8 +177,8 @@ _SCENE_ROWS = ("world/robot", "world/spheres", "world/pendulum/string")
 def _row_schema() -> pa.Schema:
     """The Arrow schema of a trial's rows as one record batch: the timelines ``step`` and
     ``sim_time``, then a component column per entity, each with its entity path, in the
-    order of ``SIGNALS`` and then ``_SCENE_ROWS`` (for the robot: centres, quaternions,
-    colours). The fields are rerun's own (``Chunk.from_columns``), built once."""
+    order of ``SIGNALS`` and then ``_SCENE_ROWS``. The fields are rerun's own
+    (``Chunk.from_columns``), built once."""
     index = [rr.TimeColumn("step", sequence=[0]), rr.TimeColumn("sim_time", duration=[0.0])]
     columns = [rr.Scalars.columns(scalars=np.zeros((1, len(names)))) for _, names, _ in SIGNALS]
     columns += [rr.Boxes3D.columns(centers=np.zeros((1, 3)), quaternions=[[0.0, 0, 0, 1]],
@@ -224,10 +224,10 @@ def send_rows(rec: rr.RecordingStream, data: TrialData, model: RobotModel, dt: f
 
 
 def row_chunks(data: TrialData, model: RobotModel, dt: float, start: int, stop: int,
-                first: int = 0) -> list[Chunk]:
+               first: int = 0) -> list[Chunk]:
     """``send_rows``' chunks, one per entity: built from one record batch (``_row_schema``)
     that rerun cuts by entity, they hold what ``send_columns`` per entity would send, without
-    its ~60 µs of conversion per call."""
+    a conversion through rerun's archetypes per entity."""
     T = stop - start
     steps = np.arange(start, stop) + first
     values = {f"/{entity}:Scalars:scalars": np.asarray(get(data)[start:stop], dtype=float)
