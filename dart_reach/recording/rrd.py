@@ -4,7 +4,7 @@ only modules that import rerun).
 A trial is recorded after it has run, from its ``TrialData``, in the entity layout of
 ``layout``: its rows go as one Arrow record batch that rerun cuts into a chunk per entity, and
 the chunks are written by rerun's chunk writer, with no recording stream: a trial's 41
-chunks cost about 6 ms of CPU so, against 9 sent entity by entity through rerun's archetypes
+chunks cost 5-7 ms of CPU so, against 8-9 sent entity by entity through rerun's archetypes
 to a stream (docs/results/benchmarks.md: ``recording_overhead``, ``recording_parts``).
 Timelines: ``step`` (control step, 0.1 s) and ``sim_time`` (s).
 
@@ -87,8 +87,9 @@ def trial_chunks(data: TrialData, info: TrialInfo, model: RobotModel, dt: float,
 
 def chunks_rrd(recording_id: str, chunks: list[Chunk]) -> bytes:
     """The .rrd bytes of the recording ``recording_id`` of ``chunks``, written by rerun's
-    chunk writer: no recording stream and none of its threads, for less CPU than
-    ``streamed_rrd`` (docs/results/benchmarks.md, ``recording_parts``)."""
+    chunk writer: no recording stream and none of its threads; as cheap as ``streamed_rrd``
+    on an idle machine, cheaper under load (docs/results/benchmarks.md,
+    ``recording_parts``)."""
     with tempfile.TemporaryDirectory(prefix="dart-reach-rrd-") as tmp:
         path = Path(tmp) / "recording.rrd"
         LazyChunkStream.from_iter(chunks).write_rrd(path, application_id=APP_ID,
