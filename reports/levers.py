@@ -270,7 +270,7 @@ def arms_section() -> str:
              "", "| arm | training | judged at 50: paper's pre-reacher | 95 % interval | "
              "Fisher p vs reference | reach ok | elbow locked | arm extended | babbling ok | "
              "still |", "|---|---|---:|---|---:|---:|---:|---:|---:|---:|"]
-    verdicts = []
+    verdicts, met = [], []  # per judged arm: the verdict; the replications meeting each criterion
     for arm, what in ARMS.items():
         prof = arm_profiles(arm)
         at = None if prof is None else prof.filter(pl.col("generation") == JUDGED)
@@ -285,6 +285,7 @@ def arms_section() -> str:
                                                    for c in CRITERIA)
                      + f" | {int((at['strategy'] == STILL).sum())} |")
         verdicts.append((arm, k, n, p))
+        met.append([int(at[f"is_{c}"].sum()) for c in CRITERIA])
     lines += course_lines(ref)
     lines += ["", "Editorial, not a departure: the module the plan names for the strategy, "
               "`analysis.stillness`, has since been renamed `analysis.strategies`; its rule is "
@@ -296,8 +297,23 @@ def arms_section() -> str:
         chosen = recommended(verdicts)
         lines.append(f"**Decision: spend the paper's budget on `{chosen}`.**" if chosen else
                      "**Decision: none of these levers gives the paper's pre-reacher at "
-                     f"{JUDGED} generations.**")
+                     f"{JUDGED} generations**, so the model's default stays as it is (the "
+                     "rule changes it only on a recommendation).")
+        lines += ["", _criteria_sentence(met, sum(v[2] for v in verdicts), ref)]
     return "\n".join(lines) + "\n"
+
+
+def _criteria_sentence(met: list[list[int]], reps: int, ref: pl.DataFrame) -> str:
+    """How many of the judged arms' ``reps`` replications meet each criterion at ``JUDGED``
+    (``met``: per arm, per criterion), beside the reference's, and the one met least."""
+    totals = [sum(counts) for counts in zip(*met)]
+    ref_counts = [int(ref[f"is_{c}"].sum()) for c in CRITERIA]
+    least = CRITERIA[totals.index(min(totals))]
+    return (f"Replications meeting each criterion at {JUDGED}, over the {reps} of the four "
+            f"arms (the reference's {ref.height} in brackets): "
+            + ", ".join(f"{c.replace('_', ' ')} {t} ({r})"
+                        for c, t, r in zip(CRITERIA, totals, ref_counts))
+            + f"; the one met least: {least.replace('_', ' ')}.")
 
 
 def recommended(verdicts: list[tuple[str, int, int, float]]) -> str | None:
