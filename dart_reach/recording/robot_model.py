@@ -94,7 +94,8 @@ def _compose(a, b, out):
     """``out = a @ b`` for 4 x 4 rigid transforms (each sum in index order)."""
     for r in range(4):
         for c in range(4):
-            out[r, c] = a[r, 0] * b[0, c] + a[r, 1] * b[1, c] + a[r, 2] * b[2, c] + a[r, 3] * b[3, c]
+            out[r, c] = (a[r, 0] * b[0, c] + a[r, 1] * b[1, c] + a[r, 2] * b[2, c]
+                         + a[r, 3] * b[3, c])
 
 
 @njit(cache=True)
