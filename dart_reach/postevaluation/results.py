@@ -37,6 +37,7 @@ import os
 import platform
 import sys
 import time
+import uuid
 from pathlib import Path
 from typing import Sequence
 
@@ -86,8 +87,9 @@ def rows(path: str | os.PathLike) -> int:
 def session(command: str | None = None) -> dict:
     """This process's provenance entry: ``revision`` (git commit of the package's source, or
     None outside a git tree), ``dirty``, ``version``, ``command`` (default: the command line),
-    ``started`` (UTC, ISO 8601), ``machine``, ``simd`` (numpy's dispatch level,
-    ``provenance.simd``) and ``pid``; ``rows`` is filled in on saving."""
+    ``started`` (UTC, ISO 8601, to the second), ``machine``, ``simd`` (numpy's dispatch
+    level, ``provenance.simd``), ``pid`` and ``id`` (this call's own: two sessions of one
+    process in the same second are two entries); ``rows`` is filled in on saving."""
     git = git_state()
     return {"revision": git["git_revision"], "dirty": git["git_dirty"],
             "version": __version__,
@@ -95,7 +97,7 @@ def session(command: str | None = None) -> dict:
                 [Path(sys.argv[0]).name, *sys.argv[1:]]),
             "started": time.strftime("%Y-%m-%dT%H:%M:%SZ", time.gmtime()),
             "machine": f"{platform.machine()} {platform.processor() or ''}".strip(),
-            "simd": simd(), "pid": os.getpid(), "rows": 0}
+            "simd": simd(), "pid": os.getpid(), "id": uuid.uuid4().hex, "rows": 0}
 
 
 def read_table(path: str | os.PathLike) -> pl.DataFrame | None:
@@ -226,8 +228,8 @@ def save_table(path: Path, table: pl.DataFrame | None, rows: list[dict], key: Se
     older version of the measures), written atomically; returns the new table as it now reads
     back."""
     entries = sessions(path)
-    same = [i for i, e in enumerate(entries)
-            if e.get("pid") == entry["pid"] and e.get("started") == entry["started"]]
+    same = [i for i, e in enumerate(entries) if all(
+        e.get(k) == entry.get(k) for k in ("pid", "started", "id"))]
     index = same[0] if same else len(entries)
     if not same:
         entries.append(dict(entry))

@@ -172,3 +172,17 @@ def test_every_committed_table_file_is_under_5_mb():
     assert files
     assert max(f.stat().st_size for f in files) < 5_000_000, \
         [f for f in files if f.stat().st_size >= 5_000_000]
+
+
+def test_two_sessions_of_one_process_in_the_same_second_are_two_entries(tmp_path):
+    """A session adds its rows to its own entry however many times it saves; another session
+    of the same process, started in the same second, gets an entry of its own (which the
+    start time, to the second, and the pid alone would not tell apart)."""
+    path, key = tmp_path / results.EVALUATION, ("trial",)
+    first, second = results.session("one"), results.session("two")
+    second["started"] = first["started"]
+    table = results.save_table(path, None, [{"trial": 0, "speed": 1.0}], key, first)
+    table = results.save_table(path, table, [{"trial": 1, "speed": 2.0}], key, first)
+    table = results.save_table(path, table, [{"trial": 2, "speed": 3.0}], key, second)
+    assert [(e["command"], e["rows"]) for e in results.sessions(path)] == [("one", 2), ("two", 1)]
+    assert table["session"].to_list() == [0, 0, 1]
