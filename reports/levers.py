@@ -280,12 +280,11 @@ def arms_section() -> str:
         k, n = int(at["paper"].sum()), at.height
         low, high = share_interval(k, n)
         p = more_than_reference(k, n, k_ref, n_ref)
+        met.append([int(at[f"is_{c}"].sum()) for c in CRITERIA])
         lines.append(f"| {arm}: {what} | {_progress(arm)} | {k} of {n} | {low:.2f}-{high:.2f} "
-                     f"| {p:.3f} | " + " | ".join(str(int(at[f"is_{c}"].sum()))
-                                                   for c in CRITERIA)
+                     f"| {p:.3f} | " + " | ".join(map(str, met[-1]))
                      + f" | {int((at['strategy'] == STILL).sum())} |")
         verdicts.append((arm, k, n, p))
-        met.append([int(at[f"is_{c}"].sum()) for c in CRITERIA])
     lines += course_lines(ref)
     lines += ["", "Editorial, not a departure: the module the plan names for the strategy, "
               "`analysis.stillness`, has since been renamed `analysis.strategies`; its rule is "

@@ -49,12 +49,6 @@ class RecordingError(ValueError):
     """A .rrd file is missing, truncated, or not a recording this version can read."""
 
 
-@functools.cache
-def _series_names(names: tuple[str, ...]) -> rr.SeriesLines:
-    """The static series names of an entity (built once: ~0.1 ms each)."""
-    return rr.SeriesLines(names=list(names))
-
-
 # ------------------------------------------------------------------------------ writing
 def trial_rrd(data: TrialData, info: TrialInfo, model: RobotModel, dt: float = 0.1,
               blueprint: bool = True, measures: dict | None = None) -> bytes:
@@ -80,8 +74,7 @@ def trial_chunks(data: TrialData, info: TrialInfo, model: RobotModel, dt: float,
     return [_static_chunk("/__properties", rr.archetypes.RecordingInfo(name=info.name())),
             Chunk.from_property("trial", _trial_property(info, measures)),
             *_static_chunks(model, info.senses), *row_chunks(data, model, dt, 0, T),
-            _static_chunk("world/pendulum/pivot", rr.Points3D(
-                [_pivot(data, model)], radii=0.006, colors=[_STRING])),
+            _static_chunk("world/pendulum/pivot", _pivot_point(data, model)),
             _static_chunk("world/paths", _paths(data, T))]
 
 
@@ -138,7 +131,7 @@ def _static_chunks(model: RobotModel, senses: str) -> tuple[Chunk, ...]:
     """``send_static``'s chunks, one per entity. Converting an archetype to Arrow costs
     ~50 µs; these 19 are the same in every trial of a process, so they are converted once
     and sent as they are (a chunk takes the identity of the recording it is sent to)."""
-    parts = [(entity, _series_names(tuple(names))) for entity, names, _ in SIGNALS]
+    parts = [(entity, rr.SeriesLines(names=list(names))) for entity, names, _ in SIGNALS]
     # the 3D scene (the iCub root frame: +x backward, +y right, +z up)
     parts.append(("world", rr.ViewCoordinates.RIGHT_HAND_Z_UP))
     parts.append(("world/robot", rr.Boxes3D(half_sizes=model.box_half, fill_mode="solid")))
@@ -163,6 +156,11 @@ def _static_chunk(entity: str, archetype) -> Chunk:
 
 def _pivot(data: TrialData, model: RobotModel) -> np.ndarray:
     return np.asarray(data.ball_start, float) + [0.0, 0.0, model.string_length]
+
+
+def _pivot_point(data: TrialData, model: RobotModel) -> rr.Points3D:
+    """The pendulum's fixed pivot, drawn."""
+    return rr.Points3D([_pivot(data, model)], radii=0.006, colors=[_STRING])
 
 
 def _paths(data: TrialData, stop: int) -> rr.LineStrips3D:
@@ -216,6 +214,10 @@ def _rgba32(colours: np.ndarray) -> np.ndarray:
     return (c[..., 0] << 24) | (c[..., 1] << 16) | (c[..., 2] << 8) | c[..., 3]
 
 
+#: The robot's boxes drawn touching the ball, and not, as rerun's packed colours.
+_TOUCH_RGBA32, _GREY_RGBA32 = _rgba32(np.array([_TOUCH, _GREY], np.uint8))
+
+
 def send_rows(rec: rr.RecordingStream, data: TrialData, model: RobotModel, dt: float,
               start: int, stop: int, first: int = 0) -> None:
     """Send rows ``start``..``stop`` of a trial's record: every signal and the scene's poses,
@@ -239,8 +241,7 @@ def row_chunks(data: TrialData, model: RobotModel, dt: float, start: int, stop: 
     touching[:, on_hand] = data.contacts[start:stop][:, model.box_segment[on_hand]]
     values["/world/robot:Boxes3D:centers"] = centres
     values["/world/robot:Boxes3D:quaternions"] = quats
-    values["/world/robot:Boxes3D:colors"] = np.where(
-        touching, *_rgba32(np.array([_TOUCH, _GREY], np.uint8)))
+    values["/world/robot:Boxes3D:colors"] = np.where(touching, _TOUCH_RGBA32, _GREY_RGBA32)
     # the round things (the head's spheres, the ball, the palm point); the pendulum's string,
     # from its fixed pivot to the ball (one strip of two points a step)
     values["/world/spheres:Ellipsoids3D:centers"] = np.concatenate(
@@ -298,8 +299,7 @@ def send_live_step(rec: rr.RecordingStream, data: TrialData, info: TrialInfo,
             send_static(rec, info, model)
         rec.set_time("step", sequence=first)
         rec.set_time("sim_time", duration=first * dt)
-        rec.log("world/pendulum/pivot", rr.Points3D([_pivot(data, model)], radii=0.006,
-                                                    colors=[_STRING]))
+        rec.log("world/pendulum/pivot", _pivot_point(data, model))
     send_rows(rec, data, model, dt, row, row + 1, first)
     rec.set_time("step", sequence=first + row)
     rec.set_time("sim_time", duration=(first + row) * dt)
