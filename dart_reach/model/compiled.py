@@ -37,6 +37,8 @@ import math
 
 import numpy as np
 from numba import njit
+from numba.core import types
+from numba.experimental import structref
 
 from . import sensors
 from .ctrnn import N_HIDDEN, N_MOTORS, N_SENSORS, Network, NetworkParams
@@ -333,6 +335,74 @@ def spring_forces(q_cmd, dof_motor, stiffness, gravity, forces):
 
 
 
+# ------------------------------------------------------------------------------ one control step
+@structref.register
+class _ControlStateType(types.StructRef):
+    def preprocess_fields(self, fields):
+        return tuple((name, types.unliteral(kind)) for name, kind in fields)
+
+
+class ControlState(structref.StructRefProxy):
+    """What ``control_step`` reads and writes besides DART's state, in one object: a compiled
+    call costs ~40 ns for each array it is passed, so the ~55 arrays of the sensing, the
+    network and the motor commands are passed as one (built by ``control_state``)."""
+
+
+_CONTROL_FIELDS = (
+    "touching", "order", "parent", "dof", "axis", "before", "after", "scratch", "poses",
+    "camera_body", "hand_body", "motor_dofs", "finger_dofs", "lower", "span", "touch_segments",
+    "acuity", "no_touch", "no_sight", "offsets", "pay", "palm", "q", "x", "p", "sense_scratch",
+    "in_scale", "w_sm", "w_sh", "w_hm", "bias_h", "bias_m", "gain_h", "tau_h", "tau_m",
+    "hidden_frozen", "x_net", "hidden", "motor", "targets", "half_range", "mid_range",
+    "motor_lower", "motor_upper", "max_move", "dof_motor", "stiffness", "q_cmd", "p_series",
+    "forces")
+structref.define_proxy(ControlState, _ControlStateType, _CONTROL_FIELDS)
+
+
+@njit(cache=True)
+def control_state(touching, order, parent, dof, axis, before, after, scratch, poses,
+                  camera_body, hand_body, motor_dofs, finger_dofs, lower, span, touch_segments,
+                  acuity, no_touch, no_sight, offsets, pay, palm, q, x, p, sense_scratch,
+                  in_scale, w_sm, w_sh, w_hm, bias_h, bias_m, gain_h, tau_h, tau_m,
+                  hidden_frozen, x_net, hidden, motor, targets, half_range, mid_range,
+                  motor_lower, motor_upper, max_move, dof_motor, stiffness, q_cmd, p_series,
+                  forces):
+    """The ``ControlState`` of these arrays (shared, not copied): ``sense_posed``'s after the
+    positions and the ball, ``network_targets``'s after the sensors, ``motor_commands``'s
+    but the gravity forces, the series of p_multimodal and the forces out. Built by compiled
+    code, so that its constructor is compiled once and cached, not in every process."""
+    return ControlState(touching, order, parent, dof, axis, before, after, scratch, poses,
+                        camera_body, hand_body, motor_dofs, finger_dofs, lower, span,
+                        touch_segments, acuity, no_touch, no_sight, offsets, pay, palm, q, x, p,
+                        sense_scratch, in_scale, w_sm, w_sh, w_hm, bias_h, bias_m, gain_h, tau_h,
+                        tau_m, hidden_frozen, x_net, hidden, motor, targets, half_range,
+                        mid_range, motor_lower, motor_upper, max_move, dof_motor, stiffness,
+                        q_cmd, p_series, forces)
+
+
+@njit(cache=True)
+def control_step(t, positions, ball, gravity, s):
+    """One control step of the genetic algorithm's trial (``task.Trial.fitness``) in one call,
+    from what DART gives after the last (the joint positions, the ball's centre, the gravity
+    forces) and the ``ControlState`` ``s``: ``sense_posed``, step ``t``'s p_multimodal into
+    ``s.p_series[t]``, the network's update and targets (``network_targets``) and the joint
+    forces that command them into ``s.forces`` (``motor_commands``): the same kernels in the
+    same order as the trial's own steps. Whether the state read and the targets are finite
+    (the trial's fitness is 0 when not)."""
+    if not sense_posed(positions, ball, s.touching, s.order, s.parent, s.dof, s.axis, s.before,
+                       s.after, s.scratch, s.poses, s.camera_body, s.hand_body, s.motor_dofs,
+                       s.finger_dofs, s.lower, s.span, s.touch_segments, s.acuity, s.no_touch,
+                       s.no_sight, s.offsets, s.pay, s.palm, s.q, s.x, s.p, s.sense_scratch):
+        return False
+    s.p_series[t] = s.p[2]
+    if not network_targets(s.x, s.in_scale, s.w_sm, s.w_sh, s.w_hm, s.bias_h, s.bias_m,
+                           s.gain_h, s.tau_h, s.tau_m, s.hidden_frozen, s.x_net, s.hidden,
+                           s.motor, s.targets):
+        return False
+    return motor_commands(s.targets, s.half_range, s.mid_range, s.motor_lower, s.motor_upper,
+                          s.max_move, s.dof_motor, s.stiffness, s.q_cmd, gravity, s.forces)
+
+
 # ------------------------------------------------------------------------------ touch
 @njit(cache=True)
 def body_poses(positions, order, parent, dof, axis, before, after, scratch, out):
@@ -379,23 +449,27 @@ def _compose(a, b, out):
 
 
 @njit(cache=True)
-def inner_touches(positions, ball, segments, points, n, need, parent, dof, axis, before,
+def inner_touches(positions, ball, segments, points, n, need, order, parent, dof, axis, before,
                    after, scratch, poses, segment_body, direction, cos_limit, touch):
     """Mark in ``touch`` the hand segments whose contacts with the ball (the first ``n`` of
     ``segments``, ``points``: the segment's index, the contact point in m) touch it on their
     inner face: the vector from the contact point to the ball's centre, in the segment's body
     frame, lies within the face's cone (``direction`` in the body frame, ``cos_limit``), as
     ``world.inner_face_touch`` decides in the shape's frame (a rotation keeps the angle).
-    Only the poses of those segments' bodies and their ancestors are computed (``need``: a
-    scratch of one bool per body)."""
+    Only the poses of those segments' bodies and their ancestors are computed (``need`` and
+    ``order``: scratches of one bool and one index per body)."""
     need[:] = False
     for c in range(n):
         b = segment_body[segments[c]]
         while b >= 0 and not need[b]:
             need[b] = True
             b = parent[b]
-    body_poses(positions, np.nonzero(need)[0], parent, dof, axis, before, after, scratch,
-               poses)
+    m = 0
+    for b in range(need.shape[0]):  # parents first: a parent's index is below its child's
+        if need[b]:
+            order[m] = b
+            m += 1
+    body_poses(positions, order[:m], parent, dof, axis, before, after, scratch, poses)
     for c in range(n):
         i = segments[c]
         if touch[i]:

@@ -10,8 +10,8 @@ import math
 import numpy as np
 
 from . import icub
-from .compiled import (PAY_CODES, CompiledNetwork, inner_touches, network_targets,
-                       record_row, sense_posed, targets_of_motor,
+from .compiled import (PAY_CODES, CompiledNetwork, control_state, control_step, inner_touches,
+                       network_targets, record_row, sense_posed, targets_of_motor,
                        motor_commands, spring_forces)
 from .ctrnn import N_MOTORS, Network
 from .icub import HAND_SEGMENTS, INNER_FACES, PALM_POINT, TOUCH_BODIES, segment_kind
@@ -107,10 +107,13 @@ class CompiledSteps:
                     b = parent[b]
             return np.array(sorted(found), np.int64)  # a parent's index is below its child's
         self._sensed_bodies = chain(self._camera_body, self._hand_body)
-        self._need = np.zeros(n, bool)  # the bodies whose poses a touch decision needs
+        # the bodies whose poses a touch decision needs, and their indices
+        self._need, self._order = np.zeros(n, bool), np.zeros(n, np.int64)
         self._contact_segments, self._contact_points = np.zeros(4 * m, np.int64), np.zeros(
             (4 * m, 3))
         self._objects = {}  # a collision object -> (its hand segment or -1, is it the ball)
+        self._touch_args = (self._need, self._order, *self._kinematics, self._segment_body,
+                            self._direction, self._cos_limit, self.world._touch)
 
     def _object(self, obj) -> tuple[int, bool]:
         """What a collision object is to touch: (its hand segment's index or -1, the ball?);
@@ -150,15 +153,15 @@ class CompiledSteps:
         for contact in result.getContacts():
             o1 = contact.collisionObject1
             i, ball1 = objects.get(o1) or lookup(o1)
-            if i < 0 or self_collision:  # else the other one is the ball
+            if self_collision or ball1:  # else the other one is the ball: a touch if i >= 0
                 o2 = contact.collisionObject2
                 seg2, ball2 = objects.get(o2) or lookup(o2)
                 if i >= 0 and not ball2:
                     i = -1
                 if i < 0 and ball1:
                     i = seg2
-                if i < 0:  # not a hand segment with the ball
-                    continue
+            if i < 0:  # not a hand segment with the ball
+                continue
             touch_any[i] = True
             if touch[i]:
                 continue
@@ -170,8 +173,7 @@ class CompiledSteps:
             k += 1
         if k:
             inner_touches(w.robot.getPositions(), w.ball_body.getCOM(), segments, points, k,
-                           self._need, *self._kinematics, self._segment_body, self._direction,
-                           self._cos_limit, touch)
+                          *self._touch_args)
         return k > 0
 
     def targets_of(self, motor: np.ndarray) -> bool:
@@ -182,6 +184,25 @@ class CompiledSteps:
         if type(network) is not CompiledNetwork:  # a version 1 network: its own step
             return targets_of_motor(network.step(self._x), self._targets)
         return network_targets(self._x, *network._args, self._targets)
+
+    def fitness(self, network: Network, p: np.ndarray) -> float | None:
+        """``Trial.fitness``'s steps after the reset, to the last bit, with a control step's
+        sensing, network and motor commands in one compiled call (``control_step``) and
+        p_multimodal into ``p`` (one per step); None for a network of version 1, which the
+        trial steps by its own loop."""
+        if type(network) is not CompiledNetwork:
+            return None
+        robot, ball = self.world.robot, self.world.ball_body
+        positions, centre, gravity = robot.getPositions, ball.getCOM, robot.getGravityForces
+        set_commands, advance, forces = robot.setCommands, self.advance, self._forces
+        state = control_state(self._contacts, *self._sense_args, *network._args,
+                              self._targets, *self._command_args, p, forces)
+        for t in range(self.config.steps):
+            if not control_step(t, positions(), centre(), gravity(), state):
+                return 0.0
+            set_commands(forces)
+            advance()
+        return float(p.mean())
 
     def observe(self, data, t: int) -> bool:
         """``Trial.observe``, compiled (``record_row``)."""

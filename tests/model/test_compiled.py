@@ -143,14 +143,59 @@ def test_version_2_deprives_the_senses_as_version_1(world, senses):
     assert np.allclose(v1.joints, v2.joints, rtol=0, atol=1e-9)
 
 
-def test_run_and_fitness_agree_to_the_last_bit_under_version_2(world):
-    cfg = standard_trial("pre", steps=60, numerics=Numerics.COMPILED)
+def _fitness_and_run(trial, network, k, ball):
+    """A trial's fitness, then its run: (fitness, p per step, the joint positions and motor
+    states at the end) of each."""
+    ends = []
+    for way in ("fitness", "run"):
+        if way == "fitness":
+            f = trial.fitness(network, ball)
+            p = trial._p.copy()
+        else:
+            data = trial.run(network, k, ball)
+            f, p = data.fitness, data.p_multimodal
+        ends.append((f, p, trial.world.robot.getPositions(), network.motor.copy()))
+    return ends
+
+
+@pytest.mark.parametrize("phase, k", [("pre", 2), ("fine", 6)])
+def test_run_and_fitness_agree_to_the_last_bit_under_version_2(world, phase, k):
+    """``fitness`` takes a control step in one compiled call (``control_step``), ``run`` in
+    the trial's own steps: the same trials to the last bit (every step's p_multimodal, the
+    end's joints and motor states), the offset sensors and internal neurons of
+    fine-reaching included."""
+    cfg = standard_trial(phase, steps=60, numerics=Numerics.COMPILED)
     trial = Trial(world, cfg)
-    for robot in robots("pre", run="replication-50x10")[:2]:
-        network = network_for(decode(robot.genome, {ParamGroup.DIRECT}), cfg)
-        for k in (1, 4):
-            ball = world.sector_point(k, 0.5, 0.5)
-            assert trial.fitness(network, ball) == trial.run(network, k, ball).fitness
+    groups = {ParamGroup.DIRECT} if phase == "pre" else set(ParamGroup)
+    for robot in robots(phase, run="replication-50x10")[:2]:
+        network = network_for(decode(robot.genome, groups), cfg)
+        for kk, (u, v) in ((k, (0.4, 0.6)), (4, (0.5, 0.5))):
+            (f1, p1, q1, m1), (f2, p2, q2, m2) = _fitness_and_run(
+                trial, network, kk, world.sector_point(kk, u, v))
+            assert f1 == f2 and np.array_equal(p1, p2)
+            assert np.array_equal(q1, q2) and np.array_equal(m1, m2)
+    assert f1 > 0  # the hand met the ball
+
+
+def test_version_2s_fitness_scores_an_explosion_zero_and_steps_a_version_1_network(world):
+    cfg = standard_trial("pre", steps=30, numerics=Numerics.COMPILED)
+    trial = Trial(world, cfg)
+    params = decode(robots("pre", run="replication-50x10")[0].genome, {ParamGroup.DIRECT})
+    ball = world.sector_point(2, 0.4, 0.6)
+    v1_network = network_for(params, standard_trial("pre", numerics=Numerics.REFERENCE))
+    (f1, p1, q1, _), (f2, p2, q2, _) = _fitness_and_run(trial, v1_network, 2, ball)
+    assert f1 == f2 > 0 and np.array_equal(p1, p2) and np.array_equal(q1, q2)
+    network, steps = network_for(params, cfg), trial._compiled
+    assert trial.fitness(network, ball) > 0
+    original, calls = steps.advance, []
+
+    def exploding():  # the real world, then its state blown up after 5 control steps
+        original()
+        calls.append(1)
+        if len(calls) == 5:
+            world.robot.setVelocities(np.full(world.robot.getNumDofs(), np.nan))
+    steps.advance = exploding
+    assert trial.fitness(network, ball) == 0.0 and len(calls) == 6
 
 
 # ------------------------------------------------------------------ the digest of version 2
