@@ -349,7 +349,7 @@ class ControlState(structref.StructRefProxy):
 
 
 _CONTROL_FIELDS = (
-    "touching", "order", "parent", "dof", "axis", "before", "after", "scratch", "poses",
+    "touching", "touching_any", "order", "parent", "dof", "axis", "before", "after", "scratch", "poses",
     "camera_body", "hand_body", "motor_dofs", "finger_dofs", "lower", "span", "touch_segments",
     "acuity", "no_touch", "no_sight", "offsets", "pay", "palm", "q", "x", "p", "sense_scratch",
     "in_scale", "w_sm", "w_sh", "w_hm", "bias_h", "bias_m", "gain_h", "tau_h", "tau_m",
@@ -360,22 +360,23 @@ structref.define_proxy(ControlState, _ControlStateType, _CONTROL_FIELDS)
 
 
 @njit(cache=True)
-def control_state(touching, order, parent, dof, axis, before, after, scratch, poses,
-                  camera_body, hand_body, motor_dofs, finger_dofs, lower, span, touch_segments,
-                  acuity, no_touch, no_sight, offsets, pay, palm, q, x, p, sense_scratch,
-                  in_scale, w_sm, w_sh, w_hm, bias_h, bias_m, gain_h, tau_h, tau_m,
-                  hidden_frozen, x_net, hidden, motor, targets, half_range, mid_range,
+def control_state(touching, touching_any, order, parent, dof, axis, before, after, scratch,
+                  poses, camera_body, hand_body, motor_dofs, finger_dofs, lower, span,
+                  touch_segments, acuity, no_touch, no_sight, offsets, pay, palm, q, x, p,
+                  sense_scratch, in_scale, w_sm, w_sh, w_hm, bias_h, bias_m, gain_h, tau_h,
+                  tau_m, hidden_frozen, x_net, hidden, motor, targets, half_range, mid_range,
                   motor_lower, motor_upper, max_move, dof_motor, stiffness, q_cmd, p_series,
                   forces):
-    """The ``ControlState`` of these arrays (shared, not copied): ``sense_posed``'s after the
-    positions and the ball, ``network_targets``'s after the sensors, ``motor_commands``'s
-    but the gravity forces, the series of p_multimodal and the forces out. Built by compiled
-    code, so that its constructor is compiled once and cached, not in every process."""
-    return ControlState(touching, order, parent, dof, axis, before, after, scratch, poses,
-                        camera_body, hand_body, motor_dofs, finger_dofs, lower, span,
-                        touch_segments, acuity, no_touch, no_sight, offsets, pay, palm, q, x, p,
-                        sense_scratch, in_scale, w_sm, w_sh, w_hm, bias_h, bias_m, gain_h, tau_h,
-                        tau_m, hidden_frozen, x_net, hidden, motor, targets, half_range,
+    """The ``ControlState`` of these arrays (shared, not copied): the touches on the inner
+    face and on any, ``sense_posed``'s after them, ``network_targets``'s after the sensors,
+    ``motor_commands``'s but the gravity forces, the series of p_multimodal and the forces
+    out. Built by compiled code, so that its constructor is compiled once and cached, not in
+    every process."""
+    return ControlState(touching, touching_any, order, parent, dof, axis, before, after,
+                        scratch, poses, camera_body, hand_body, motor_dofs, finger_dofs, lower,
+                        span, touch_segments, acuity, no_touch, no_sight, offsets, pay, palm, q,
+                        x, p, sense_scratch, in_scale, w_sm, w_sh, w_hm, bias_h, bias_m, gain_h,
+                        tau_h, tau_m, hidden_frozen, x_net, hidden, motor, targets, half_range,
                         mid_range, motor_lower, motor_upper, max_move, dof_motor, stiffness,
                         q_cmd, p_series, forces)
 
@@ -385,10 +386,11 @@ def control_step(t, positions, ball, gravity, s):
     """One control step of the genetic algorithm's trial (``task.Trial.fitness``) in one call,
     from what DART gives after the last (the joint positions, the ball's centre, the gravity
     forces) and the ``ControlState`` ``s``: ``sense_posed``, step ``t``'s p_multimodal into
-    ``s.p_series[t]``, the network's update and targets (``network_targets``) and the joint
-    forces that command them into ``s.forces`` (``motor_commands``): the same kernels in the
-    same order as the trial's own steps. Whether the state read and the targets are finite
-    (the trial's fitness is 0 when not)."""
+    ``s.p_series[t]``, the network's update and targets (``network_targets``), the touches
+    cleared for the next period's substeps to gather, and the joint forces that command the
+    targets into ``s.forces`` (``motor_commands``): the same kernels in the same order as the
+    trial's own steps. Whether the state read and the targets are finite (the trial's fitness
+    is 0 when not)."""
     if not sense_posed(positions, ball, s.touching, s.order, s.parent, s.dof, s.axis, s.before,
                        s.after, s.scratch, s.poses, s.camera_body, s.hand_body, s.motor_dofs,
                        s.finger_dofs, s.lower, s.span, s.touch_segments, s.acuity, s.no_touch,
@@ -399,6 +401,8 @@ def control_step(t, positions, ball, gravity, s):
                            s.gain_h, s.tau_h, s.tau_m, s.hidden_frozen, s.x_net, s.hidden,
                            s.motor, s.targets):
         return False
+    s.touching[:] = False  # for the substeps to gather the next period's
+    s.touching_any[:] = False
     return motor_commands(s.targets, s.half_range, s.mid_range, s.motor_lower, s.motor_upper,
                           s.max_move, s.dof_motor, s.stiffness, s.q_cmd, gravity, s.forces)
 
@@ -448,16 +452,42 @@ def _compose(a, b, out):
     out[3, 0], out[3, 1], out[3, 2], out[3, 3] = 0.0, 0.0, 0.0, 1.0
 
 
+@structref.register
+class _TouchStateType(types.StructRef):
+    def preprocess_fields(self, fields):
+        return tuple((name, types.unliteral(kind)) for name, kind in fields)
+
+
+class TouchState(structref.StructRefProxy):
+    """What ``inner_touches`` reads and writes besides the joint positions and the ball, in
+    one object (built by ``touch_state``): the contacts' buffers, the skeleton's tree and
+    poses, the segments' inner faces and the touches."""
+
+
+_TOUCH_FIELDS = ("segments", "points", "need", "order", "parent", "dof", "axis", "before",
+                 "after", "scratch", "poses", "segment_body", "direction", "cos_limit", "touch")
+structref.define_proxy(TouchState, _TouchStateType, _TOUCH_FIELDS)
+
+
 @njit(cache=True)
-def inner_touches(positions, ball, segments, points, n, need, order, parent, dof, axis, before,
-                   after, scratch, poses, segment_body, direction, cos_limit, touch):
-    """Mark in ``touch`` the hand segments whose contacts with the ball (the first ``n`` of
-    ``segments``, ``points``: the segment's index, the contact point in m) touch it on their
-    inner face: the vector from the contact point to the ball's centre, in the segment's body
-    frame, lies within the face's cone (``direction`` in the body frame, ``cos_limit``), as
-    ``world.inner_face_touch`` decides in the shape's frame (a rotation keeps the angle).
-    Only the poses of those segments' bodies and their ancestors are computed (``need`` and
-    ``order``: scratches of one bool and one index per body)."""
+def touch_state(segments, points, need, order, parent, dof, axis, before, after, scratch, poses,
+                segment_body, direction, cos_limit, touch):
+    """The ``TouchState`` of these arrays (shared, not copied), as ``control_state``."""
+    return TouchState(segments, points, need, order, parent, dof, axis, before, after, scratch,
+                      poses, segment_body, direction, cos_limit, touch)
+
+
+@njit(cache=True)
+def inner_touches(positions, ball, n, s):
+    """Mark in ``s.touch`` the hand segments whose contacts with the ball (the first ``n`` of
+    ``s.segments``, ``s.points``: the segment's index, the contact point in m) touch it on
+    their inner face: the vector from the contact point to the ball's centre, in the segment's
+    body frame, lies within the face's cone (``s.direction`` in the body frame,
+    ``s.cos_limit``), as ``world.inner_face_touch`` decides in the shape's frame (a rotation
+    keeps the angle). Only the poses of those segments' bodies and their ancestors are
+    computed (``s.need`` and ``s.order``: scratches of one bool and one index per body)."""
+    need, order, parent, segment_body = s.need, s.order, s.parent, s.segment_body
+    segments, points, touch = s.segments, s.points, s.touch
     need[:] = False
     for c in range(n):
         b = segment_body[segments[c]]
@@ -469,16 +499,17 @@ def inner_touches(positions, ball, segments, points, n, need, order, parent, dof
         if need[b]:
             order[m] = b
             m += 1
-    body_poses(positions, order[:m], parent, dof, axis, before, after, scratch, poses)
+    body_poses(positions, order[:m], parent, s.dof, s.axis, s.before, s.after, s.scratch,
+               s.poses)
     for c in range(n):
         i = segments[c]
         if touch[i]:
             continue
-        rot = poses[segment_body[i]]
+        rot = s.poses[segment_body[i]]
         v0, v1, v2 = ball[0] - points[c, 0], ball[1] - points[c, 1], ball[2] - points[c, 2]
         o0 = rot[0, 0] * v0 + rot[1, 0] * v1 + rot[2, 0] * v2
         o1 = rot[0, 1] * v0 + rot[1, 1] * v1 + rot[2, 1] * v2
         o2 = rot[0, 2] * v0 + rot[1, 2] * v1 + rot[2, 2] * v2
-        along = o0 * direction[i, 0] + o1 * direction[i, 1] + o2 * direction[i, 2]
-        if along >= cos_limit[i] * math.sqrt(o0 * o0 + o1 * o1 + o2 * o2):
+        along = o0 * s.direction[i, 0] + o1 * s.direction[i, 1] + o2 * s.direction[i, 2]
+        if along >= s.cos_limit[i] * math.sqrt(o0 * o0 + o1 * o1 + o2 * o2):
             touch[i] = True

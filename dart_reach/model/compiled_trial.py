@@ -11,8 +11,8 @@ import numpy as np
 
 from . import icub
 from .compiled import (PAY_CODES, CompiledNetwork, control_state, control_step, inner_touches,
-                       network_targets, record_row, sense_posed, targets_of_motor,
-                       motor_commands, spring_forces)
+                       motor_commands, network_targets, record_row, sense_posed,
+                       spring_forces, targets_of_motor, touch_state)
 from .ctrnn import N_MOTORS, Network
 from .icub import HAND_SEGMENTS, INNER_FACES, PALM_POINT, TOUCH_BODIES, segment_kind
 from .world import PALM_NORMAL, SkeletonError
@@ -44,6 +44,7 @@ class CompiledSteps:
         self._palm = np.asarray(PALM_POINT, float)
         self._no_ball = trial._no_ball
         self._resolve_kinematics()
+        self._substeps = self._substeps_of()
         #: the hand's pose as ``sense`` computed it last (a view of the poses)
         self._hand_view = self._kinematics[-1][self._hand_body]
         self._sense_args = (
@@ -109,11 +110,17 @@ class CompiledSteps:
         self._sensed_bodies = chain(self._camera_body, self._hand_body)
         # the bodies whose poses a touch decision needs, and their indices
         self._need, self._order = np.zeros(n, bool), np.zeros(n, np.int64)
-        self._contact_segments, self._contact_points = np.zeros(4 * m, np.int64), np.zeros(
-            (4 * m, 3))
         self._objects = {}  # a collision object -> (its hand segment or -1, is it the ball)
-        self._touch_args = (self._need, self._order, *self._kinematics, self._segment_body,
-                            self._direction, self._cos_limit, self.world._touch)
+        self._hold_contacts(4 * m)
+
+    def _hold_contacts(self, n: int) -> None:
+        """Buffers for ``n`` contacts' hand segments and points, and the ``TouchState`` of
+        ``inner_touches`` that holds them."""
+        self._contact_segments, self._contact_points = np.zeros(n, np.int64), np.zeros((n, 3))
+        self._touch_state = touch_state(
+            self._contact_segments, self._contact_points, self._need, self._order,
+            *self._kinematics, self._segment_body, self._direction, self._cos_limit,
+            self.world._touch)
 
     def _object(self, obj) -> tuple[int, bool]:
         """What a collision object is to touch: (its hand segment's index or -1, the ball?);
@@ -130,23 +137,36 @@ class CompiledSteps:
         w = self.world
         w._touch[:] = False
         w._touch_any[:] = False
-        step, last_collisions = w.world.step, w.world.getLastCollisionResult
-        self_collision = w.config.self_collision
-        deciding = False  # the last substep had contacts to decide: it is likely this one has
-        for _ in range(w.config.substeps):
-            step(False)
-            result = last_collisions()
-            if not result.getNumContacts():
-                deciding = False
-                continue
-            if not (self_collision or deciding or w.mark_colliding_segments(result)):
-                continue
-            deciding = self._gather(result, self_collision)
+        self._substeps()
 
-    def _gather(self, result, self_collision: bool) -> bool:
-        """Mark the touches of one substep's contacts (``touch_any``: any face; ``touch``: the
-        inner face, ``inner_touches``); whether any contact had an inner face to decide."""
+    def _substeps_of(self):
+        """The physics substeps of one control period, the touches gathered into the world's
+        (cleared) records; a closure over what it calls."""
+        w = self.world
+        step, last_collisions = w.world.step, w.world.getLastCollisionResult
+        mark, gather = w.mark_colliding_segments, self._gather
+        self_collision, substeps = w.config.self_collision, w.config.substeps
+
+        def run_substeps() -> None:
+            deciding = False  # the last substep had contacts to decide: likely this one has
+            for _ in range(substeps):
+                step(False)
+                result = last_collisions()
+                n = result.getNumContacts()
+                if not n:
+                    deciding = False
+                elif self_collision or deciding or mark(result):
+                    deciding = gather(result, n)
+        return run_substeps
+
+    def _gather(self, result, n: int) -> bool:
+        """Mark the touches of one substep's ``n`` contacts (``touch_any``: any face;
+        ``touch``: the inner face, ``inner_touches``); whether any contact had an inner face to
+        decide."""
+        if n > len(self._contact_segments):
+            self._hold_contacts(2 * n)
         w, objects, lookup = self.world, self._objects, self._object
+        self_collision = w.config.self_collision
         touch, touch_any = w._touch, w._touch_any
         segments, points = self._contact_segments, self._contact_points
         k = 0
@@ -165,15 +185,11 @@ class CompiledSteps:
             touch_any[i] = True
             if touch[i]:
                 continue
-            if k == len(segments):
-                segments, points = self._contact_segments, self._contact_points = (
-                    np.resize(segments, 2 * k), np.resize(points, (2 * k, 3)))
             segments[k] = i
             points[k] = contact.point
             k += 1
         if k:
-            inner_touches(w.robot.getPositions(), w.ball_body.getCOM(), segments, points, k,
-                          *self._touch_args)
+            inner_touches(w.robot.getPositions(), w.ball_body.getCOM(), k, self._touch_state)
         return k > 0
 
     def targets_of(self, motor: np.ndarray) -> bool:
@@ -192,16 +208,17 @@ class CompiledSteps:
         trial steps by its own loop."""
         if type(network) is not CompiledNetwork:
             return None
-        robot, ball = self.world.robot, self.world.ball_body
+        w = self.world
+        robot, ball = w.robot, w.ball_body
         positions, centre, gravity = robot.getPositions, ball.getCOM, robot.getGravityForces
-        set_commands, advance, forces = robot.setCommands, self.advance, self._forces
-        state = control_state(self._contacts, *self._sense_args, *network._args,
+        set_commands, substeps, forces = robot.setCommands, self._substeps, self._forces
+        state = control_state(self._contacts, w._touch_any, *self._sense_args, *network._args,
                               self._targets, *self._command_args, p, forces)
         for t in range(self.config.steps):
             if not control_step(t, positions(), centre(), gravity(), state):
                 return 0.0
             set_commands(forces)
-            advance()
+            substeps()
         return float(p.mean())
 
     def observe(self, data, t: int) -> bool:
