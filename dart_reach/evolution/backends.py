@@ -68,6 +68,7 @@ def _rng(job: Job) -> np.random.Generator:
 
 
 _NETWORK: list = [None, None]  # (genome bytes, groups, trial config), Network: the last built
+_POSITIONS: list = [None, None]  # (seed, world, trials), the ball's positions: the last drawn
 
 
 def run_trial(unit: tuple[Job, int]) -> float:
@@ -75,7 +76,10 @@ def run_trial(unit: tuple[Job, int]) -> float:
     trial, at the same position, as trial k of ``task.lifetime`` with the job's generator."""
     job, k = unit
     trial = worker_trial(job.world, job.trial)
-    position = trial_positions(trial.world, _rng(job), job.trial.trials)[k][1]
+    key = (job.seed, job.world, job.trial.trials)
+    if _POSITIONS[0] != key:
+        _POSITIONS[:] = key, trial_positions(trial.world, _rng(job), job.trial.trials)
+    position = _POSITIONS[1][k][1]
     key = (job.genome.tobytes(), job.free_groups, job.trial)
     if _NETWORK[0] != key:
         _NETWORK[:] = key, network_for(decode(job.genome, job.free_groups), job.trial)
