@@ -211,21 +211,27 @@ RECORDS = ("dofs", "joints", "hand", "shoulder", "ball", "contacts", "contacts_a
            "hidden", "motor", "targets", "p_sight", "p_touch", "p_multimodal")
 
 
-def version_2_digests() -> dict[str, str]:
-    """The digests of ``GOLDEN_V2``, computed in this process."""
-    world, found = World(), {}
+def version_2_trials() -> dict:
+    """Computed in this process: the digests of ``GOLDEN_V2`` (``run``'s records), and per
+    phase the same trials' fitness as ``run`` and as ``fitness`` (the genetic algorithm's
+    trial, one compiled call a control step) gives it, as hex floats."""
+    world, found = World(), {"digests": {}, "run": {}, "fitness": {}}
     for phase in GOLDEN_V2:
         cfg = standard_trial(phase, steps=150, numerics=Numerics.COMPILED)
         trial = Trial(world, cfg)
         groups = {ParamGroup.DIRECT} if phase == "pre" else set(ParamGroup)
-        h = hashlib.sha256()
+        h, run, fitness = hashlib.sha256(), [], []
         for robot in robots(phase, run="replication-50x10")[:2]:
             network = network_for(decode(robot.genome, groups), cfg)
             for k in (0, 3, 4, 8):
-                data = trial.run(network, k, world.sector_point(k, 0.3, 0.6))
+                ball = world.sector_point(k, 0.3, 0.6)
+                data = trial.run(network, k, ball)
                 for name in RECORDS:
                     h.update(np.ascontiguousarray(getattr(data, name)).tobytes())
-        found[phase] = h.hexdigest()[:16]
+                run.append(data.fitness.hex())
+                fitness.append(trial.fitness(network, ball).hex())
+        found["digests"][phase] = h.hexdigest()[:16]
+        found["run"][phase], found["fitness"][phase] = run, fitness
     return found
 
 
@@ -241,15 +247,17 @@ def _golden_platform() -> bool:
 def test_version_2_trials_are_pinned_and_the_same_compiled_for_an_avx2_processor(tmp_path):
     """The digests in this process (compiled for this processor) and in a process whose
     compiled code targets Haswell (AVX2 and FMA, no AVX-512; Numba's ``NUMBA_CPU_NAME``):
-    the same, and the recorded ones. (Measured once more by hand at that revision: compiled
-    for a generic x86-64, the same digests.)"""
-    here = version_2_digests()
+    the same, and the recorded ones; the genetic algorithm's trials of the same robots give
+    the same fitness as ``run`` in both. (Measured once more by hand at the revision that
+    introduced version 2: compiled for a generic x86-64, the same digests.)"""
+    here = version_2_trials()
     script = ("import importlib.util, json, dart_reach; "
               f"spec = importlib.util.spec_from_file_location('t', {__file__!r}); "
               "t = importlib.util.module_from_spec(spec); spec.loader.exec_module(t); "
-              "print(json.dumps(t.version_2_digests()))")
+              "print(json.dumps(t.version_2_trials()))")
     env = dict(os.environ, NUMBA_CPU_NAME="haswell", NUMBA_CACHE_DIR=str(tmp_path))
     out = subprocess.run([sys.executable, "-c", script], env=env, capture_output=True,
                          text=True, check=True)
     assert json.loads(out.stdout.strip().splitlines()[-1]) == here
-    assert here == GOLDEN_V2
+    assert here["digests"] == GOLDEN_V2
+    assert here["fitness"] == here["run"] and len(set(here["run"]["pre"])) > 1
