@@ -270,8 +270,9 @@ def _sense(positions, ball, cam, hand, touching, motor_dofs, finger_dofs, lower,
 
 @njit(cache=True)
 def sense_posed(positions, ball, touching, order, parent, dof, axis, before, after, scratch,
-                 poses, camera_body, hand_body, motor_dofs, finger_dofs, lower, span, touch_segments,
-                 acuity, no_touch, no_sight, offsets, pay, palm, q, x, p, sense_scratch):
+                poses, camera_body, hand_body, motor_dofs, finger_dofs, lower, span,
+                touch_segments, acuity, no_touch, no_sight, offsets, pay, palm, q, x, p,
+                sense_scratch):
     """``_sense`` with the camera's and the hand's poses from the joint positions
     (``body_poses`` of the bodies of ``order`` into ``poses``)."""
     body_poses(positions, order, parent, dof, axis, before, after, scratch, poses)
@@ -336,10 +337,17 @@ def spring_forces(q_cmd, dof_motor, stiffness, gravity, forces):
 
 
 # ------------------------------------------------------------------------------ one control step
-@structref.register
-class _ControlStateType(types.StructRef):
+class _State(types.StructRef):
+    """A Numba structure of arrays and scalars, each field typed as the value it is built
+    with."""
+
     def preprocess_fields(self, fields):
         return tuple((name, types.unliteral(kind)) for name, kind in fields)
+
+
+@structref.register
+class _ControlStateType(_State):
+    pass
 
 
 class ControlState(structref.StructRefProxy):
@@ -349,11 +357,11 @@ class ControlState(structref.StructRefProxy):
 
 
 _CONTROL_FIELDS = (
-    "touching", "touching_any", "order", "parent", "dof", "axis", "before", "after", "scratch", "poses",
-    "camera_body", "hand_body", "motor_dofs", "finger_dofs", "lower", "span", "touch_segments",
-    "acuity", "no_touch", "no_sight", "offsets", "pay", "palm", "q", "x", "p", "sense_scratch",
-    "in_scale", "w_sm", "w_sh", "w_hm", "bias_h", "bias_m", "gain_h", "tau_h", "tau_m",
-    "hidden_frozen", "x_net", "hidden", "motor", "targets", "half_range", "mid_range",
+    "touching", "touching_any", "order", "parent", "dof", "axis", "before", "after", "scratch",
+    "poses", "camera_body", "hand_body", "motor_dofs", "finger_dofs", "lower", "span",
+    "touch_segments", "acuity", "no_touch", "no_sight", "offsets", "pay", "palm", "q", "x", "p",
+    "sense_scratch", "in_scale", "w_sm", "w_sh", "w_hm", "bias_h", "bias_m", "gain_h", "tau_h",
+    "tau_m", "hidden_frozen", "x_net", "hidden", "motor", "targets", "half_range", "mid_range",
     "motor_lower", "motor_upper", "max_move", "dof_motor", "stiffness", "q_cmd", "p_series",
     "forces")
 structref.define_proxy(ControlState, _ControlStateType, _CONTROL_FIELDS)
@@ -453,9 +461,8 @@ def _compose(a, b, out):
 
 
 @structref.register
-class _TouchStateType(types.StructRef):
-    def preprocess_fields(self, fields):
-        return tuple((name, types.unliteral(kind)) for name, kind in fields)
+class _TouchStateType(_State):
+    pass
 
 
 class TouchState(structref.StructRefProxy):

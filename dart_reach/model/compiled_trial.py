@@ -26,10 +26,12 @@ class CompiledSteps:
     ``Trial`` takes in place of its own when ``config.numerics`` says so: its sensing
     (``sense_posed``), record (``record_row``), network update (``network_targets``),
     motor commands (``motor_commands``) and inner-face touches (``inner_touches``),
-    compiled (``model.compiled``). It shares the trial's buffers and writes what the trial
-    reads after a step (the positions, the ball, the hand's pose, the fitness terms). Per control step it asks DART for the joint positions
-    and the ball's centre once each; the bodies' poses it needs come from them
-    (``body_poses``), and per physics substep in contact the contacts' points."""
+    compiled (``model.compiled``); and the genetic algorithm's trial (``fitness``) with
+    each control step in one compiled call (``control_step``). It shares the trial's buffers
+    and writes what the trial reads after a step (the positions, the ball, the hand's pose,
+    the fitness terms). Per control step it asks DART for the joint positions and the ball's
+    centre once each; the bodies' poses it needs come from them (``body_poses``), and per
+    physics substep in contact the contacts' points."""
 
     def __init__(self, trial):
         self.trial = trial

@@ -198,6 +198,22 @@ def test_version_2s_fitness_scores_an_explosion_zero_and_steps_a_version_1_netwo
     assert trial.fitness(network, ball) == 0.0 and len(calls) == 6
 
 
+def test_version_2_grows_its_contact_buffers_and_decides_the_same_touches(world):
+    """A substep with more contacts than the buffers hold: they grow (with the touch
+    decisions' state), and the trial is the same to the last bit."""
+    cfg = standard_trial("pre", steps=30, numerics=Numerics.COMPILED)
+    params = decode(robots("pre", run="replication-50x10")[0].genome, {ParamGroup.DIRECT})
+    ball, runs = world.sector_point(2, 0.4, 0.6), []
+    for size in (None, 1):
+        trial = Trial(world, cfg)
+        if size:
+            trial._compiled._hold_contacts(size)
+        runs.append(trial.run(network_for(params, cfg), 2, ball))
+    assert len(trial._compiled._contact_segments) > 1 and runs[0].contacts.any()
+    for name in ("contacts", "contacts_any", "dofs", "sensors"):
+        assert np.array_equal(getattr(runs[0], name), getattr(runs[1], name)), name
+
+
 # ------------------------------------------------------------------ the digest of version 2
 #: Digests of every record of 8 trials per phase (2 shipped robots x 4 sectors, 150 steps;
 #: pre-reaching and fine-reaching, whose offset sensors and internal neurons count), computed
