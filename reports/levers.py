@@ -308,8 +308,8 @@ def _criteria_sentence(met: list[list[int]], reps: int, ref: pl.DataFrame) -> st
     totals = [sum(counts) for counts in zip(*met)]
     ref_counts = [int(ref[f"is_{c}"].sum()) for c in CRITERIA]
     least = CRITERIA[totals.index(min(totals))]
-    return (f"Replications meeting each criterion at {JUDGED}, over the {reps} of the four "
-            f"arms (the reference's {ref.height} in brackets): "
+    return (f"Replications meeting each criterion at {JUDGED}, over the {reps} of the "
+            f"{len(met)} arms (the reference's {ref.height} in brackets): "
             + ", ".join(f"{c.replace('_', ' ')} {t} ({r})"
                         for c, t, r in zip(CRITERIA, totals, ref_counts))
             + f"; the one met least: {least.replace('_', ' ')}.")

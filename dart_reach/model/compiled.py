@@ -368,25 +368,13 @@ structref.define_proxy(ControlState, _ControlStateType, _CONTROL_FIELDS)
 
 
 @njit(cache=True)
-def control_state(touching, touching_any, order, parent, dof, axis, before, after, scratch,
-                  poses, camera_body, hand_body, motor_dofs, finger_dofs, lower, span,
-                  touch_segments, acuity, no_touch, no_sight, offsets, pay, palm, q, x, p,
-                  sense_scratch, in_scale, w_sm, w_sh, w_hm, bias_h, bias_m, gain_h, tau_h,
-                  tau_m, hidden_frozen, x_net, hidden, motor, targets, half_range, mid_range,
-                  motor_lower, motor_upper, max_move, dof_motor, stiffness, q_cmd, p_series,
-                  forces):
-    """The ``ControlState`` of these arrays (shared, not copied): the touches on the inner
-    face and on any, ``sense_posed``'s after them, ``network_targets``'s after the sensors,
-    ``motor_commands``'s but the gravity forces, the series of p_multimodal and the forces
-    out. Built by compiled code, so that its constructor is compiled once and cached, not in
-    every process."""
-    return ControlState(touching, touching_any, order, parent, dof, axis, before, after,
-                        scratch, poses, camera_body, hand_body, motor_dofs, finger_dofs, lower,
-                        span, touch_segments, acuity, no_touch, no_sight, offsets, pay, palm, q,
-                        x, p, sense_scratch, in_scale, w_sm, w_sh, w_hm, bias_h, bias_m, gain_h,
-                        tau_h, tau_m, hidden_frozen, x_net, hidden, motor, targets, half_range,
-                        mid_range, motor_lower, motor_upper, max_move, dof_motor, stiffness,
-                        q_cmd, p_series, forces)
+def control_state(*fields):
+    """The ``ControlState`` of ``fields`` (in ``_CONTROL_FIELDS``' order; arrays shared, not
+    copied): the touches on the inner face and on any, ``sense_posed``'s arrays after them,
+    ``network_targets``'s after the sensors, ``motor_commands``'s but the gravity forces, the
+    series of p_multimodal and the forces out. Built by compiled code, so that its
+    constructor is compiled once and cached, not in every process."""
+    return ControlState(*fields)
 
 
 @njit(cache=True)
@@ -477,11 +465,9 @@ structref.define_proxy(TouchState, _TouchStateType, _TOUCH_FIELDS)
 
 
 @njit(cache=True)
-def touch_state(segments, points, need, order, parent, dof, axis, before, after, scratch, poses,
-                segment_body, direction, cos_limit, touch):
-    """The ``TouchState`` of these arrays (shared, not copied), as ``control_state``."""
-    return TouchState(segments, points, need, order, parent, dof, axis, before, after, scratch,
-                      poses, segment_body, direction, cos_limit, touch)
+def touch_state(*fields):
+    """The ``TouchState`` of ``fields`` (in ``_TOUCH_FIELDS``' order), as ``control_state``."""
+    return TouchState(*fields)
 
 
 @njit(cache=True)
