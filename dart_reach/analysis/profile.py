@@ -80,3 +80,64 @@ def more_than_reference(k: int, n: int, k_ref: int, n_ref: int) -> float:
     """One-sided p of Fisher's exact test that the share k / n exceeds k_ref / n_ref."""
     return float(stats.fisher_exact([[k, n - k], [k_ref, n_ref - k_ref]],
                                     alternative="greater").pvalue)
+
+
+#: The paper's pre-reacher judged in the paper's own units (docs/results/campaign.md, (a)):
+#: criterion -> what it asks.
+PAPER_UNITS = {
+    "A1 reach": "mean reach of the best robots in the band (Fig. 5: a mean over 50 robots)",
+    "A2 elbow locked": "mean elbow SD below the mean shoulder and trunk SDs (Fig. 6 bottom)",
+    "A3 arm extended": "the best robot's palm-shoulder distance, from 2 s on, long and "
+                       "constant (Fig. 6 top)",
+    "A4 babbling": "at least half of the best robots babble in at least half of their trials "
+                   "without the ball (Fig. 8)",
+}
+
+
+def robot_profiles(table: pl.DataFrame, criteria: Criteria = Criteria()) -> pl.DataFrame:
+    """One row per robot (replication, rank) of a post-evaluation table: ``profiles``'s means
+    and, per robot, ``is_babbling_no_ball`` (babbling in at least ``criteria.babbling_share``
+    of its trials without the ball) and ``moves_as_paper`` (elbow locked, arm extended and
+    babbling without the ball: every criterion but reach)."""
+    return (profiles(table, ("replication", "rank"), criteria)
+            .with_columns(is_babbling_no_ball=pl.col("babbling_no_ball").fill_nan(0.0)
+                          >= criteria.babbling_share)
+            .with_columns(moves_as_paper=pl.col("is_elbow_locked") & pl.col("is_arm_extended")
+                          & pl.col("is_babbling_no_ball")))
+
+
+def paper_units(table: pl.DataFrame, extension: tuple[float, float],
+                criteria: Criteria = Criteria()) -> dict:
+    """The paper's pre-reacher judged in its own units (``PAPER_UNITS``) for one population:
+    ``table`` holds its best robots' trials (every replication's, normal and no-ball), and
+    ``extension`` is the best robot's (mean palm-shoulder distance in m, mean CV) from 2 s on
+    (``measures.metrics.arm_extension``). Returns the measures, each criterion as a bool
+    (``A1``-``A4``), ``paper`` (all four), and A5: ``still`` replications of ``replications``
+    (``analysis.strategies``: babbling in fewer than 1 in 20 normal trials) with the share's
+    exact 95 % interval."""
+    from .strategies import STILL, strategies
+
+    normal = table.filter(pl.col("senses") == "normal")
+    if normal.is_empty():
+        raise ValueError("no trial with the ball (senses 'normal') in the table")
+    robots = robot_profiles(table, criteria)
+    if robots["babbling_no_ball"].is_nan().any():
+        raise ValueError("A4 needs every robot's trials without the ball (senses 'no-ball')")
+    mean = {c: float(normal[c].cast(pl.Float64).mean())
+            for c in ("reached", "var_elbow", "var_shoulder", "var_trunk")}
+    babblers = int(robots["is_babbling_no_ball"].sum())
+    strat = strategies(table, by=("replication",))
+    still = int((strat["strategy"] == STILL).sum())
+    low, high = criteria.reach_band
+    hs, cv = extension
+    out = {"reach": mean["reached"], "elbow_sd": mean["var_elbow"],
+           "shoulder_sd": mean["var_shoulder"], "trunk_sd": mean["var_trunk"],
+           "hand_shoulder_m": hs, "hand_shoulder_cv": cv, "robots": robots.height,
+           "babbling_robots": babblers, "replications": strat.height, "still": still,
+           "still_interval": share_interval(still, strat.height),
+           "A1": low <= mean["reached"] <= high,
+           "A2": mean["var_elbow"] < min(mean["var_shoulder"], mean["var_trunk"]),
+           "A3": bool(hs >= criteria.extended_m and cv < criteria.constant_cv),
+           "A4": babblers >= robots.height * criteria.babbling_share}
+    out["paper"] = all(out[k] for k in ("A1", "A2", "A3", "A4"))
+    return out

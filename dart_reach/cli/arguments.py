@@ -134,8 +134,10 @@ def world_config(args, base=None):
 
 
 def add_levers(p: argparse.ArgumentParser) -> None:
-    """The model's levers (docs/model/levers.md) and its version, for a new run."""
-    from ..model.levers import MODEL_VERSIONS, NetworkStart, ReflexInputs, TouchPay
+    """The model's levers (docs/model/levers.md) and its version, for a new run: a lever given
+    beside a version makes the run a named variant of it (``model.versions``)."""
+    from ..model.levers import NetworkStart, ReflexInputs, TouchPay
+    from ..model.versions import CURRENT_MODEL_VERSION, MODEL_VERSIONS
 
     def choices(kind):
         return [k.value for k in kind]
@@ -143,23 +145,28 @@ def add_levers(p: argparse.ArgumentParser) -> None:
     p.add_argument("--reflex-inputs", choices=choices(ReflexInputs), default=None,
                    help="what drives the reflex motors besides the reflex arcs: 'hand-set' "
                         "(only the reflex weights) or 'evolved' (every sensor, evolved weights "
-                        "x 0.1, as Fig. 3's caption reads) (default: hand-set)")
+                        "x 0.1, as Fig. 3's caption reads) (default: the model version's)")
     p.add_argument("--touch-pay", choices=choices(TouchPay), default=None,
                    help="p_touch of Eq. 5: 'faces' (touching inner faces / 16), 'binary' (any "
-                        "touch = 1) or 'capped' (min(n, 4) / 4) (default: faces)")
+                        "touch = 1) or 'capped' (min(n, 4) / 4) (default: the model version's)")
     p.add_argument("--network-start", choices=choices(NetworkStart), default=None,
                    help="the network's state at a trial's start: 'hold-home' (motor states "
                         "holding the home posture) or 'zero' (every state 0) "
-                        "(default: hold-home)")
+                        "(default: the model version's)")
     p.add_argument("--self-collision", choices=["on", "off"], default=None,
-                   help="the arm collides with the body (default: off)")
+                   help="the arm collides with the body (default: the model version's)")
     p.add_argument("--model-version", type=int, choices=sorted(MODEL_VERSIONS), default=None,
-                   help="the model version of a new run (default: the newest; a resumed run "
-                        "keeps its own)")
+                   help=f"the model version of a new run, a whole model: numerics, scene, "
+                        f"self-collision and levers (default: {CURRENT_MODEL_VERSION}, the "
+                        f"version new runs use; 'dart-reach versions' lists them; a resumed "
+                        f"run keeps its own)")
 
 
-def levers(args):
-    """The ``Levers`` of ``add_levers``'s options."""
+def levers(args, base=None):
+    """``base`` (default ``Levers()``) with the levers ``add_levers``'s options give."""
+    from dataclasses import replace
+
     from ..model.levers import TRIAL_LEVERS, Levers
 
-    return Levers(**{k: getattr(args, k) for k in TRIAL_LEVERS if getattr(args, k) is not None})
+    return replace(base or Levers(),
+                   **{k: getattr(args, k) for k in TRIAL_LEVERS if getattr(args, k) is not None})

@@ -99,7 +99,7 @@ def cmd_bench(args) -> int:
     else:
         if not (math.isfinite(args.seconds) and args.seconds > 0):
             raise ValueError(f"--seconds must be a positive number, got {args.seconds:g}")
-        from ..model.levers import check_model_version
+        from ..model.versions import check_model_version
 
         version = (bench.LATEST_MODEL_VERSION if args.model_version is None
                    else check_model_version(args.model_version))
@@ -144,7 +144,7 @@ def cmd_screen(args) -> int:
     if args.model_version is not None:
         raise ValueError("--model-version: a screen runs the robots under their run's version")
     run = RunDirectory.open(args.run_dir)
-    arm = Arm(args.arm, world_config(args, run.settings.world), levers(args))
+    arm = Arm(args.arm, world_config(args, run.settings.world), levers(args, run.settings.levers))
     table = screen(run.out, args.generation, [arm], args.phase, args.robots,
                    workers=args.workers)
     total = save_screen(table, args.out)

@@ -22,19 +22,24 @@ def register_train(subparsers) -> None:
                    help="run directory (default recordings/<conditions>-s<seed>)")
     p.add_argument("--generations", type=positive, default=None,
                    help="generations per standard phase (default: the condition's, 500)")
-    p.add_argument("--replications", type=positive, default=10,
-                   help="independent runs of the GA per phase")
-    p.add_argument("--trials", type=positive, default=18, help="trials per evaluation")
-    p.add_argument("--steps", type=positive, default=200, help="0.1 s steps per trial")
-    p.add_argument("--seed", type=non_negative, default=0,
-                   help="root of the run's seed tree (same seed, same result)")
+    p.add_argument("--replications", type=positive, default=None,
+                   help="independent runs of the GA per phase (default 10)")
+    p.add_argument("--trials", type=positive, default=None,
+                   help="trials per evaluation (default 18)")
+    p.add_argument("--steps", type=positive, default=None,
+                   help="0.1 s steps per trial (default 200)")
+    p.add_argument("--seed", type=non_negative, default=None,
+                   help="root of the run's seed tree (same seed, same result; default 0)")
     p.add_argument("--physics-dt", type=physics_dt, default=None, metavar="DT",
                    help="physics step in s, a divisor of 0.1 (default 0.02, the step chosen "
                         "in docs/model/world.md)")
     add_scene(p)
     add_levers(p)
     add_workers(p)
-    p.add_argument("--resume", action="store_true", help="continue the run in --out")
+    p.add_argument("--resume", action="store_true",
+                   help="continue the run in --out under the settings its manifest records "
+                        "(model version, levers, scene, budgets: nothing is typed again; an "
+                        "option given that differs from the run's is refused)")
     p.add_argument("--yes", action="store_true",
                    help="start a run estimated at over an hour without asking (the question is "
                         "asked only when stdin is a terminal; scripts are never asked)")
@@ -50,22 +55,14 @@ def register_train(subparsers) -> None:
 
 def cmd_train(args) -> int:
     from ..evolution.conditions import load_condition, scaled
-    from ..evolution.settings import Settings
     from ..evolution.trainer import train
-    from ..model.world import WorldConfig
 
     conditions = [load_condition(c) for c in args.conditions]
     if args.generations is not None:
         conditions = [scaled(c, args.generations) for c in conditions]
-    world = world_config(args, None if args.physics_dt is None
-                         else WorldConfig(physics_dt=args.physics_dt))
-    out = args.out or Path("recordings") / f"{'+'.join(c.name for c in conditions)}-s{args.seed}"
-    version = args.model_version
-    if version is None and args.resume and (out / "manifest.json").is_file():
-        version = _model_version_of(out)  # a run resumes under the version it was made with
-    settings = Settings(replications=args.replications, trials=args.trials, steps=args.steps,
-                        seed=args.seed, world=world, levers=levers(args),
-                        **({} if version is None else {"model_version": version}))
+    out = args.out or (Path("recordings")
+                       / f"{'+'.join(c.name for c in conditions)}-s{args.seed or 0}")
+    settings = run_settings(args, out)
     if not args.resume:
         hours = announce_cost(conditions, settings, None if args.ray else args.workers or cores())
         if hours > ASK_HOURS and not args.yes and sys.stdin.isatty() and not _agreed():
@@ -93,11 +90,43 @@ def cmd_train(args) -> int:
     return 0
 
 
-def _model_version_of(out: Path) -> int:
-    """The model version a run's manifest records (1 when it predates versions)."""
-    from ..evolution.rundir import read_manifest
+#: ``train``'s budget options and their defaults for a new run.
+BUDGETS = {"replications": 10, "trials": 18, "steps": 200, "seed": 0}
 
-    return read_manifest(out / "manifest.json").get("settings", {}).get("model_version", 1)
+
+def run_settings(args, out: Path):
+    """The ``Settings`` a ``train`` command line asks for. A new run: its model version's
+    whole record (``--model-version``, default the current one), with the scene,
+    self-collision and levers given beside it (a named variant, recorded in the manifest).
+    ``--resume`` of a run in ``out``: the settings its manifest records; an option given that
+    differs from them raises ``ValueError`` naming it (nothing is typed twice)."""
+    from ..evolution.rundir import described_run
+    from ..evolution.settings import Settings
+    from ..model.versions import CURRENT_MODEL_VERSION, model_version
+    from ..model.world import WorldConfig
+
+    budgets = {k: getattr(args, k) for k in BUDGETS if getattr(args, k) is not None}
+    if args.resume and (out / "manifest.json").is_file():
+        settings = described_run(out)[2]
+        asked = dict(budgets, model_version=args.model_version,
+                     physics_dt=args.physics_dt)
+        have = dict(vars(settings), physics_dt=settings.world.physics_dt)
+        given = {k: v for k, v in asked.items() if v is not None and have[k] != v}
+        if world_config(args, settings.world) != settings.world:
+            given["scene/self-collision"] = "as given"
+        if levers(args, settings.levers) != settings.levers:
+            given["levers"] = "as given"
+        if given:
+            raise ValueError(f"{out}: --resume continues the run under the settings its "
+                             f"manifest records, and {', '.join(sorted(given))} differ from "
+                             f"them: leave {'them' if len(given) > 1 else 'it'} out")
+        return settings
+    version = model_version(CURRENT_MODEL_VERSION if args.model_version is None
+                            else args.model_version)
+    base = version.world(None if args.physics_dt is None
+                         else WorldConfig(physics_dt=args.physics_dt))
+    return Settings(**{**BUDGETS, **budgets}, world=world_config(args, base),
+                    levers=levers(args, version.levers), model_version=version.number)
 
 
 #: Core-hours from which ``train`` announces the size of a run before starting it.

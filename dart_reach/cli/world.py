@@ -57,9 +57,25 @@ def register_scenes(subparsers) -> None:
     p.set_defaults(func=cmd_scenes)
 
 
+def register_versions(subparsers) -> None:
+    p = command(subparsers, "versions", "list the model versions (each a whole model: "
+                                        "numerics, scene, self-collision, levers) and the one "
+                                        "new runs use")
+    p.set_defaults(func=cmd_versions)
+
+
+def cmd_versions(args) -> int:
+    """The table of model versions (``model.versions.versions_table``)."""
+    from ..model.versions import versions_table
+
+    print(versions_table(), end="")
+    return 0
+
+
 def cmd_scenes(args) -> int:
     """The shipped scenes and where their ball positions lie relative to the right arm."""
-    from ..model.scenes import DEFAULT_SCENE, load_scene, scene_names
+    from ..model.scenes import load_scene, scene_names
+    from ..model.versions import CURRENT_MODEL_VERSION, model_version
     from ..studies.validate import scene_geometry
     from ..model.world import World
 
@@ -68,7 +84,7 @@ def cmd_scenes(args) -> int:
     for name in scene_names():
         scene = load_scene(name)
         g = scene_geometry(World(scene.world()))
-        mark = " *" if name == DEFAULT_SCENE else ""
+        mark = " *" if name == model_version(CURRENT_MODEL_VERSION).scene else ""
         print(f"{name + mark:<22}{scene.sectors.radius:>6.3f}m  "
               f"{g['arm_fraction_min']:.2f} / {g['arm_fraction_median']:.2f} / "
               f"{g['arm_fraction_max']:.2f}{'':<8}"
@@ -77,5 +93,6 @@ def cmd_scenes(args) -> int:
               f"{g['lateral_min_m'] * 100:.0f} to {g['lateral_max_m'] * 100:.0f} cm{'':<10}"
               f"{scene.description}")
     print(f"(min / median / max over a 7 x 7 grid of every sector; arm length "
-          f"{g['arm_length_m']:.3f} m, shoulder to palm centre, elbow straight; * the default)")
+          f"{g['arm_length_m']:.3f} m, shoulder to palm centre, elbow straight; * the scene "
+          f"of model version {CURRENT_MODEL_VERSION}, the one new runs use)")
     return 0

@@ -25,7 +25,7 @@ from ..evolution.conditions import Phase, condition_names, load_condition
 from ..evolution.settings import Settings, trial_config
 from ..measures.contacts import first_grasp, first_touch
 from ..model.ctrnn import N_MOTORS, N_SENSORS, motor_targets, reflex_biases, zero_params
-from ..model.levers import CURRENT_MODEL_VERSION
+from ..model.versions import CURRENT_MODEL_VERSION
 from ..model.scenes import load_scene
 from ..model.task import Senses, Trial, TrialData, network_for, trial_positions
 from ..model.world import N_SECTORS, World, WorldConfig, check_sector

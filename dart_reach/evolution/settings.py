@@ -17,7 +17,8 @@ import numpy as np
 from .conditions import Phase, load_condition
 from .ga import GAConfig, Scheme
 from .genome import ParamGroup, as_groups, random_genome
-from ..model.levers import CURRENT_MODEL_VERSION, Levers, check_model_version, numerics_of
+from ..model.levers import Levers
+from ..model.versions import CURRENT_MODEL_VERSION, model_version, numerics_of, variant_name
 from ..model.task import TrialConfig
 from ..model.world import BallConfig, SectorConfig, WorldConfig
 
@@ -25,19 +26,28 @@ from ..model.world import BallConfig, SectorConfig, WorldConfig
 @dataclass(frozen=True)
 class Settings:
     """Budgets and seeds of a run: everything besides the conditions that defines its result:
-    the model version it runs under and the trial's levers (``model.levers``) among them."""
+    the model version it runs under, the world (scene, self-collision, physics step) and the
+    trial's levers (``model.levers``) among them. ``world`` and ``levers`` left out are the
+    version's own (``model.versions``); set away from it, the run is a named variant of its
+    version (``variant``)."""
 
     replications: int = 10
     trials: int = 18  # trials per lifetime: 2 per sector (section III-C)
     steps: int = 200  # control steps per trial (20 s)
     seed: int = 0
     ga: GAConfig = field(default_factory=GAConfig)
-    world: WorldConfig = field(default_factory=WorldConfig)
-    levers: Levers = field(default_factory=Levers)
+    world: WorldConfig | None = None
+    levers: Levers | None = None
     model_version: int = CURRENT_MODEL_VERSION
 
     def __post_init__(self):
-        check_model_version(self.model_version)
+        version = model_version(self.model_version)
+        if self.world is None:
+            object.__setattr__(self, "world", version.world())
+        if self.levers is None:
+            object.__setattr__(self, "levers", version.levers)
+        if not isinstance(self.world, WorldConfig):
+            raise ValueError(f"world must be a model.world.WorldConfig, got {self.world!r}")
         if not isinstance(self.levers, Levers):
             raise ValueError(f"levers must be a model.levers.Levers, got {self.levers!r}")
         for name in ("replications", "trials", "steps"):
@@ -45,6 +55,20 @@ class Settings:
                 raise ValueError(f"{name} must be a positive integer, got {getattr(self, name)}")
         if self.seed < 0:
             raise ValueError(f"seed must be a non-negative integer, got {self.seed}")
+
+    @property
+    def variant(self) -> dict[str, str]:
+        """What this run changes from its model version's record (empty: the version
+        itself), name -> value."""
+        return model_version(self.model_version).variant(self.world, self.levers)
+
+    def model_record(self) -> dict:
+        """The manifest's ``model`` entry: the version's whole record, and the variant's name
+        and changes when the run sets anything away from it."""
+        changes = self.variant
+        return {**model_version(self.model_version).to_json(),
+                "variant": ({"name": variant_name(self.model_version, changes),
+                             "changes": changes} if changes else None)}
 
     def to_json(self) -> dict:
         d = asdict(self)

@@ -110,6 +110,7 @@ class Trainer(RunDirectory):
                         versions=versions(), **git_state(),
                         machine=machine(), command=command,
                         scene=scene_of(settings.world.sectors) or "custom (see settings.world)",
+                        model=settings.model_record(),
                         seeds={"root": settings.seed,
                                "tree": "SeedSequence(seed, spawn_key=(phase key[:8] as int, "
                                        "replication, purpose 0 init|1 mutate|2 evaluate, "

@@ -145,6 +145,18 @@ def elbow_freezing(hand, shoulder) -> float:
     return float(d.std()) if len(d) else math.nan
 
 
+def arm_extension(hand, shoulder, first_step: int = 0) -> tuple[float, float]:
+    """(mean in m, CV) of the palm-shoulder distance over the steps from ``first_step`` on:
+    the arm "extended" with "the distance between the shoulder and the hand ... almost
+    constant" of IV-A-1 (Fig. 6 top), leaving out the arm's first extension from the home
+    posture when ``first_step`` > 0. The CV is the distance's s.d. (ddof = 0) over its mean.
+    (NaN, NaN) when no step is left."""
+    d = hand_shoulder_distance(hand, shoulder)[first_step:]
+    if not len(d) or d.mean() <= 0:
+        return math.nan, math.nan
+    return float(d.mean()), float(d.std() / d.mean())
+
+
 # ---------------------------------------------------------------------------------------------
 # One trial as a table row
 # ---------------------------------------------------------------------------------------------

@@ -1,4 +1,4 @@
-"""The compiled numerics of model version 2 (``levers.Numerics.COMPILED``): the trial's Python
+"""The compiled numerics of model version 2 (``versions.Numerics.COMPILED``): the trial's Python
 around DART's step (the sensors, the network, the fitness terms and the motor commands of one
 0.1 s control step) compiled with Numba, so that a trial costs little more than its physics.
 

@@ -1,4 +1,4 @@
-"""The steps of a trial under model version 2's compiled numerics (``levers.Numerics.
+"""The steps of a trial under model version 2's compiled numerics (``versions.Numerics.
 COMPILED``; the kernels: ``model.compiled``): ``task.Trial`` takes them in place of its own,
 so that ``Trial(world, config)``, ``run``, ``fitness`` and the environment's ``control`` are
 the same code under both versions."""

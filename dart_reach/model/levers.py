@@ -5,63 +5,14 @@ makes one, and the choices that decide what evolution finds are *levers* a user 
 scene or a ``Levers`` value in a run's settings), documented with their units in
 docs/model/levers.md. The ball's distance is the scene's sphere radius (``model.scenes``);
 self-collision of the robot's body is a physics setting (``world.WorldConfig.self_collision``);
-the three levers of the trial are here.
-
-A **model version** names the model's defaults and numerics as a whole. Every run writes the
-version it was trained with into its manifest (``settings.model_version``; a manifest without
-one was written by version 1), and resumes, evaluates and reproduces under it, so the default
-can change without losing a committed result.
+the three levers of the trial are here. A model version (``model.versions``) names a value of
+every lever, the scene, self-collision and the numerics as one record.
 """
 
 from __future__ import annotations
 
 import enum
 from dataclasses import dataclass
-
-#: Model versions this package can run, with what each is. A run trained under a version
-#: always runs under it (its digests are pinned by tests/model/test_task.py and
-#: tests/evolution/test_training_digest.py).
-MODEL_VERSIONS = {
-    1: "the model of November 2026: the defaults of Levers(), sphere radius 0.344 m "
-       "(scene arm-length-shoulder), no self-collision, the numerics of dart_reach 0.x",
-    2: "version 1's model computed by compiled numerics (Numerics.COMPILED, model.compiled): "
-       "the same equations and physics, rounded alike on every processor, faster",
-}
-#: The version new runs are trained under.
-CURRENT_MODEL_VERSION = 1
-
-
-class Numerics(enum.Enum):
-    """How a model version computes the trial's Python around DART's step (the sensors, the
-    network, the fitness terms, the motor commands): the equations are the same, the rounding
-    is not.
-
-    - ``REFERENCE`` (version 1): numpy and Python floats (``ctrnn``, ``sensors``, ``task``).
-    - ``COMPILED`` (version 2): compiled with Numba, every operation in a fixed order and the
-      logistic's exponential written out (``model.compiled``).
-    """
-
-    REFERENCE = "reference"
-    COMPILED = "compiled"
-
-
-#: The numerics of each model version.
-VERSION_NUMERICS = {1: Numerics.REFERENCE, 2: Numerics.COMPILED}
-
-
-def numerics_of(version: int) -> Numerics:
-    """The numerics a model version computes with."""
-    return VERSION_NUMERICS[check_model_version(version)]
-
-
-def check_model_version(version) -> int:
-    """``version`` as an int if this package can run it; ``ValueError`` naming the versions
-    it knows otherwise."""
-    if isinstance(version, bool) or not isinstance(version, int) or version not in MODEL_VERSIONS:
-        raise ValueError(f"model version {version!r} is not one this dart_reach can run (it "
-                         f"knows {', '.join(map(str, MODEL_VERSIONS))}); a run made by a newer "
-                         f"dart_reach needs that version of the package")
-    return version
 
 
 class ReflexInputs(enum.Enum):

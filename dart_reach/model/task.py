@@ -27,7 +27,8 @@ from . import sensors
 from .ctrnn import (N_HIDDEN, N_MOTORS, N_SENSORS, OFFSET, PROPRIO, SIGHT, TOUCH, Network,
                     NetworkParams, motor_targets)
 from .icub import HAND_SEGMENTS, TOUCH_BODIES
-from .levers import NetworkStart, Numerics, ReflexInputs, TouchPay, coerce_levers
+from .levers import NetworkStart, ReflexInputs, TouchPay, coerce_levers
+from .versions import Numerics
 from .world import BALL_PARKED, N_SECTORS, World, palm_normal, palm_point
 
 #: Indices in ``HAND_SEGMENTS`` of the six touch-sensor bodies (palm, fingertips).
@@ -61,7 +62,7 @@ class TrialConfig:
     the paper's text (section III-B) says; its Table I swaps the two values.
     ``reflex_inputs``, ``touch_pay`` and ``network_start`` are the trial's levers
     (``levers.Levers``; the defaults are model version 1's); ``numerics`` how the model
-    version computes them (``levers.Numerics``; version 1's by default).
+    version computes them (``versions.Numerics``; version 1's by default).
     """
 
     acuity: float = 1.0

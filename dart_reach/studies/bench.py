@@ -30,7 +30,7 @@ from ..evolution.genome import ParamGroup, as_groups, decode, random_genome
 from ..evolution.rundir import RunDirectory
 from ..evolution.settings import Settings, standard_trial, trial_config
 from ..measures.metrics import trial_metrics
-from ..model.levers import MODEL_VERSIONS, numerics_of
+from ..model.versions import MODEL_VERSIONS, numerics_of
 from ..model.scripted import ScriptedReach
 from ..model.task import Trial, network_for
 from ..model.world import World, WorldConfig

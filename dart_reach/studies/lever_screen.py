@@ -83,11 +83,13 @@ def _run(job: _Job) -> list[dict]:
 
 
 def screen(run_dir, generation: int, arms: list[Arm], phase: str = "pre", robots: int = 2,
-           senses: tuple[str, ...] = ("normal", "no-ball"), workers: int | None = None
-           ) -> pl.DataFrame:
+           senses: tuple[str, ...] = ("normal", "no-ball"), workers: int | None = None,
+           only=None) -> pl.DataFrame:
     """The best ``robots`` of every replication of ``phase`` at ``generation`` (a snapshot of
     the run in ``run_dir``) run on the 45 positions under each arm and each of ``senses``:
-    one row per trial (the module's docstring). Same input, same table, whatever ``workers``."""
+    one row per trial (the module's docstring). ``only``: a collection of (replication, rank)
+    pairs, the robots to run among those (default all). Same input, same table, whatever
+    ``workers``."""
     run = RunDirectory.open(run_dir)
     found = [(c, p) for c, p in run.unique_phases() if p.name == phase]
     if not found:

@@ -21,7 +21,7 @@ from dart_reach.evolution.conditions import load_condition
 from dart_reach.model import compiled
 from dart_reach.model.compiled_trial import CompiledSteps
 from dart_reach.model.ctrnn import N_SENSORS, Network, random_params
-from dart_reach.model.levers import Numerics, numerics_of
+from dart_reach.model.versions import Numerics, numerics_of
 from dart_reach.model.task import Trial, network_for
 from dart_reach.model.world import World, WorldConfig
 from dart_reach.robots import robots

@@ -9,7 +9,7 @@ import pytest
 from dart_reach.model import ctrnn, sensors
 from dart_reach.model.ctrnn import SIGHT, TOUCH, OFFSET, Network, random_params, zero_params
 from dart_reach.model.scripted import ScriptedController
-from dart_reach.model.levers import Numerics
+from dart_reach.model.versions import Numerics
 from dart_reach.model.task import Senses, Trial, TrialConfig, lifetime, network_for
 from dart_reach.model.world import World
 

@@ -1,0 +1,313 @@
+"""The campaign's page (docs/results/campaign.md, pre-registered): the paper's pre-reacher judged
+in the paper's units on the committed populations, the scene calibrated on Fig. 5's reach, and
+where the campaign on version 3 stands.
+
+    python -m reports.campaign              # rewrites the page's generated part (below "## Results")
+    python -m reports.campaign --check      # exit 1 when the page differs from the tables
+    python -m reports.campaign --extension  # the best robots run again for A3 (a minute)
+    python -m reports.campaign --screen     # the calibration's screen (minutes on 2 cores)
+
+``--extension`` and ``--screen`` write their tables under ``recordings/campaign/`` (committed);
+the page is generated from those and the committed post-evaluation tables only.
+"""
+
+from __future__ import annotations
+
+import argparse
+import sys
+from dataclasses import replace
+from pathlib import Path
+
+import dart_reach  # noqa: F401  first: it pins numpy's kernels before numpy loads
+import numpy as np
+import polars as pl
+
+from dart_reach.analysis.profile import PAPER_UNITS, paper_units, profiles, robot_profiles
+from dart_reach.evolution.backends import worker_trial
+from dart_reach.evolution.genome import as_groups, decode
+from dart_reach.evolution.rundir import RunDirectory
+from dart_reach.evolution.settings import trial_config
+from dart_reach.files import atomic_write
+from dart_reach.measures.metrics import arm_extension
+from dart_reach.model.scenes import load_scene
+from dart_reach.model.task import Senses, network_for
+from dart_reach.model.world import POINTS_PER_SECTOR, SectorConfig
+from dart_reach.postevaluation.snapshots import load_development
+from dart_reach.postevaluation.systematic import load_evaluation
+from dart_reach.studies.lever_screen import Arm, screen
+
+ROOT = Path(__file__).resolve().parents[1]
+PAGE = ROOT / "docs" / "results" / "campaign.md"
+MARK = "## Results\n"
+STUDY = ROOT / "recordings" / "campaign"
+EXTENSION = STUDY / "extension.parquet"
+SCREEN = STUDY / "scene-screen.parquet"
+#: The committed populations at generation 50 of pre-reaching (name -> run, and the
+#: generation of its development table, or None for its final post-evaluation).
+JUDGED = 50
+POPULATIONS = {"far": ("levers/far", JUDGED), "reflex-evolved": ("levers/reflex-evolved", JUDGED),
+               "self-collision": ("levers/self-collision", JUDGED),
+               "capped": ("levers/capped", JUDGED),
+               "standard-500x10": ("standard-500x10", JUDGED),
+               "replication-50x10": ("replication-50x10", None)}
+#: A3's window: the palm-shoulder distance from this step on (2 s at 0.1 s a step).
+FROM_STEP = 20
+#: The calibration's grid (pre-registered): radii (m) and widening factors of the patch.
+RADII = (0.42, 0.44, 0.46, 0.48, 0.50)
+WIDENINGS = (1.0, 1.25, 1.5, 2.0)
+#: The patch widened: ``beyond-arm-length``'s, about its centre (deg).
+BASE_SCENE = "beyond-arm-length"
+AZIMUTH_CENTRE, ELEVATION_CENTRE = 22.5, -13.4
+#: The rule: mean reach closest to this; tied within TIE of the closest.
+TARGET, TIE = 0.5, 0.02
+#: At least this many robots must qualify for the screen to run.
+MIN_ROBOTS = 5
+
+
+def population_table(name: str) -> pl.DataFrame:
+    """The best 5 robots' trials (every replication, every senses) of a committed population
+    at generation 50 of pre-reaching."""
+    run, generation = POPULATIONS[name]
+    path = ROOT / "recordings" / run
+    if generation is None:
+        table = load_evaluation(path)
+    else:
+        table = load_development(path, senses=None)
+        table = table.filter(pl.col("generation") == generation)
+    return table.filter((pl.col("phase") == "pre") & ~pl.col("baseline")
+                        & pl.col("senses").is_in(["normal", "no-ball"]))
+
+
+def best_robot(run_dir: Path, generation: int, phase: str = "pre"):
+    """(run, phase, replication, genome) of the best robot of the best replication (highest
+    lifetime fitness of its rank-0 robot) in a snapshot."""
+    run = RunDirectory.open(run_dir)
+    ph = next(p for _, p in run.unique_phases() if p.name == phase)
+    snaps = {g: (genomes, fit) for g, genomes, fit in run.snapshots(ph)}
+    genomes, fit = snaps[generation]
+    best = int(np.argmax(fit[:, 0]))
+    return run, ph, best, genomes[best, 0]
+
+
+def best_robot_extension(run_dir: Path, generation: int, phase: str = "pre") -> dict:
+    """A3's measure: the best robot of the best replication run again on the 45 positions,
+    normal senses; the means over its trials of the palm-shoulder distance's mean (m) and CV
+    from ``FROM_STEP`` on (``measures.metrics.arm_extension``)."""
+    run, ph, replication, genome = best_robot(run_dir, generation, phase)
+    trial = replace(trial_config(ph, run.settings), senses=Senses("normal"))
+    runner = worker_trial(run.settings.world, trial)
+    network = network_for(decode(genome, as_groups(ph.free_groups)), trial)
+    means, cvs = [], []
+    for k, position in enumerate(runner.world.systematic_points()):
+        data = runner.run(network, k // POINTS_PER_SECTOR, position)
+        n = int(data.steps_run)
+        m, cv = arm_extension(data.hand[:n], data.shoulder[:n], FROM_STEP)
+        means.append(m)
+        cvs.append(cv)
+    return {"replication": replication, "hand_shoulder_m": float(np.mean(means)),
+            "hand_shoulder_cv": float(np.mean(cvs)), "trials": len(means)}
+
+
+def build_extension() -> pl.DataFrame:
+    """A3's measure for every committed population, written to ``EXTENSION``."""
+    rows = [{"population": name, "generation": JUDGED,
+             **best_robot_extension(ROOT / "recordings" / run, JUDGED)}
+            for name, (run, _) in POPULATIONS.items()]
+    table = pl.DataFrame(rows)
+    STUDY.mkdir(parents=True, exist_ok=True)
+    atomic_write(EXTENSION, lambda p: table.write_parquet(p, compression="zstd"))
+    return table
+
+
+def selected_robots() -> pl.DataFrame:
+    """Every robot of the committed populations with its per-robot profile and
+    ``moves_as_paper``; ``selected`` marks the calibration's robots (the pre-registered rule,
+    with its fallback when fewer than ``MIN_ROBOTS`` qualify)."""
+    robots = pl.concat([robot_profiles(population_table(name)).with_columns(
+        population=pl.lit(name)) for name in POPULATIONS], how="diagonal_relaxed")
+    rule = "moves_as_paper"
+    if robots[rule].sum() < MIN_ROBOTS:
+        rule = "arm_and_babbling"
+        robots = robots.with_columns(
+            arm_and_babbling=pl.col("is_arm_extended") & pl.col("is_babbling_no_ball"))
+    return robots.with_columns(selected=pl.col(rule), rule=pl.lit(rule))
+
+
+def grid() -> list[tuple[float, float, SectorConfig]]:
+    """The calibration's scenes: (radius, widening, sectors), ``BASE_SCENE`` first."""
+    base = load_scene(BASE_SCENE).sectors
+    out = []
+    for w in WIDENINGS:
+        az = tuple(round(AZIMUTH_CENTRE + w * (a - AZIMUTH_CENTRE), 4)
+                   for a in base.azimuth_edges)
+        el = tuple(round(ELEVATION_CENTRE + w * (e - ELEVATION_CENTRE), 4)
+                   for e in base.elevation_edges)
+        out += [(r, w, SectorConfig(radius=r, azimuth_edges=az, elevation_edges=el))
+                for r in RADII]
+    return sorted(out, key=lambda x: (x[1], x[0]))
+
+
+def arm_name(radius: float, widening: float) -> str:
+    return f"r{radius:.2f}-w{widening:g}"
+
+
+def build_screen(workers: int | None = None) -> pl.DataFrame:
+    """The calibration's screen: every selected robot on the 45 positions of every scene of
+    ``grid``, normal senses, under its own run's version and levers; written to ``SCREEN``."""
+    robots = selected_robots().filter(pl.col("selected"))
+    parts = []
+    for name, (run, _) in POPULATIONS.items():
+        mine = robots.filter(pl.col("population") == name)
+        if mine.is_empty():
+            continue
+        run_dir = ROOT / "recordings" / run
+        settings = RunDirectory.open(run_dir).settings
+        arms = [Arm(arm_name(r, w), replace(settings.world, sectors=sectors), settings.levers)
+                for r, w, sectors in grid()]
+        only = {(int(a), int(b)) for a, b in mine.select("replication", "rank").iter_rows()}
+        parts.append(screen(run_dir, JUDGED, arms, robots=5, senses=("normal",),
+                            workers=workers, only=only)
+                     .with_columns(population=pl.lit(name)))
+    table = pl.concat(parts, how="diagonal_relaxed")
+    STUDY.mkdir(parents=True, exist_ok=True)
+    atomic_write(SCREEN, lambda p: table.write_parquet(p, compression="zstd"))
+    return table
+
+
+def scene_reach(table: pl.DataFrame) -> pl.DataFrame:
+    """Per scene of the screen: radius, widening, the robots' mean reach (each robot's rate
+    over its trials, averaged over robots), the robots, and the change from ``BASE_SCENE``."""
+    per_robot = (table.group_by("arm", "population", "replication", "rank")
+                 .agg(pl.col("reached").cast(pl.Float64).mean().alias("reach")))
+    names = {arm_name(r, w): (r, w) for r, w, _ in grid()}
+    return (per_robot.group_by("arm")
+            .agg(pl.col("reach").mean(), pl.len().alias("robots"),
+                 pl.col("reach").min().alias("reach_min"),
+                 pl.col("reach").max().alias("reach_max"))
+            .with_columns(radius=pl.col("arm").replace_strict({k: v[0] for k, v in names.items()}),
+                          widening=pl.col("arm").replace_strict({k: v[1] for k, v in
+                                                                 names.items()}))
+            .with_columns(change=(pl.col("radius") - RADII[0]) / (RADII[-1] - RADII[0])
+                          + (pl.col("widening") - 1.0) / (WIDENINGS[-1] - 1.0))
+            .sort("widening", "radius"))
+
+
+def choose_scene(by_scene: pl.DataFrame) -> dict:
+    """The pre-registered rule: the scene whose mean reach is closest to ``TARGET``; scenes
+    within ``TIE`` of the closest are tied, and among them the smallest change from
+    ``BASE_SCENE``, then the smaller widening, then the smaller radius."""
+    gap = (by_scene["reach"] - TARGET).abs()
+    tied = by_scene.filter(gap <= gap.min() + TIE)
+    return tied.sort("change", "widening", "radius").row(0, named=True)
+
+
+# ------------------------------------------------------------------------------ the page
+def _f(x: float, d: int = 3) -> str:
+    return "n/a" if x is None or x != x else f"{x:.{d}f}"
+
+
+def criteria_section() -> str:
+    ext = pl.read_parquet(EXTENSION) if EXTENSION.exists() else None
+    lines = ["### (a) The committed populations at generation 50, in the paper's units", "",
+             "Generated from the committed post-evaluation tables (best 5 robots of every "
+             "replication, 45 positions, normal and no-ball) and "
+             "`recordings/campaign/extension.parquet` (`python -m reports.campaign "
+             "--extension`: the best robot of the best replication run again, A3). "
+             + " ".join(f"{k}: {v}." for k, v in PAPER_UNITS.items()), "",
+             "| population | replications | reach (A1) | elbow / shoulder / trunk SD (A2) | "
+             "best robot's hand-shoulder from 2 s, m / CV (A3) | robots babbling without the "
+             "ball (A4) | still replications (A5) | A1 | A2 | A3 | A4 | paper's | replications "
+             "meeting the levers study's conjunction |",
+             "|---|---:|---:|---|---|---:|---|---|---|---|---|---|---:|"]
+    yes = {True: "yes", False: "no"}
+    for name in POPULATIONS:
+        table = population_table(name)
+        extension = (float("nan"), float("nan"))
+        if ext is not None and name in ext["population"].to_list():
+            row = ext.filter(pl.col("population") == name).row(0, named=True)
+            extension = (row["hand_shoulder_m"], row["hand_shoulder_cv"])
+        j = paper_units(table, extension)
+        per_rep = profiles(table)
+        lo, hi = j["still_interval"]
+        lines.append(
+            f"| {name} | {j['replications']} | {_f(j['reach'], 2)} | "
+            f"{_f(j['elbow_sd'])} / {_f(j['shoulder_sd'])} / {_f(j['trunk_sd'])} | "
+            f"{_f(j['hand_shoulder_m'])} / {_f(j['hand_shoulder_cv'])} | "
+            f"{j['babbling_robots']} of {j['robots']} | {j['still']} of {j['replications']} "
+            f"[{lo:.2f}, {hi:.2f}] | {yes[j['A1']]} | {yes[j['A2']]} | {yes[j['A3']]} | "
+            f"{yes[j['A4']]} | **{yes[j['paper']]}** | {int(per_rep['paper'].sum())} of "
+            f"{per_rep.height} |")
+    return "\n".join(lines) + "\n"
+
+
+def calibration_section() -> str:
+    robots = selected_robots()
+    chosen = robots.filter(pl.col("selected"))
+    rule = robots["rule"][0]
+    lines = ["### (b) The calibration", "",
+             f"Robots whose movement is the paper's by every criterion but reach (per robot, "
+             f"committed tables): **{chosen.height} of {robots.height}**"
+             + ("" if rule == "moves_as_paper" else
+                " (fewer than 5 met all three: the pre-registered fallback dropped the elbow "
+                "criterion)") + ". By population: "
+             + ", ".join(f"{p} {int(chosen.filter(pl.col('population') == p).height)} of "
+                         f"{robots.filter(pl.col('population') == p).height}"
+                         for p in POPULATIONS) + ".", ""]
+    if chosen.height:
+        lines += [f"Their own reach (committed, under their own scene): mean "
+                  f"{chosen['reach'].mean():.2f}, range {chosen['reach'].min():.2f}-"
+                  f"{chosen['reach'].max():.2f}.", ""]
+    if not SCREEN.exists():
+        return "\n".join(lines + ["The screen has not run yet (`python -m reports.campaign "
+                                  "--screen`).", ""])
+    by_scene = scene_reach(pl.read_parquet(SCREEN))
+    pick = choose_scene(by_scene)
+    lines += ["Mean reach of those robots under each scene of the grid (`recordings/campaign/"
+              "scene-screen.parquet`; 45 positions, normal senses; rows: widening w of the "
+              f"patch, columns: radius; `r = 0.42, w = 1` is `{BASE_SCENE}`):", "",
+              "| w \\ r | " + " | ".join(f"{r:.2f} m" for r in RADII) + " |",
+              "|---|" + "---:|" * len(RADII)]
+    for w in WIDENINGS:
+        row = by_scene.filter(pl.col("widening") == w).sort("radius")
+        lines.append(f"| {w:g} | " + " | ".join(
+            f"**{x:.3f}**" if (r, w) == (pick["radius"], pick["widening"]) else f"{x:.3f}"
+            for r, x in zip(row["radius"], row["reach"])) + " |")
+    lines += ["", f"**Decision (the pre-registered rule):** the scene with radius "
+              f"{pick['radius']:.2f} m and the patch widened by {pick['widening']:g} "
+              f"(mean reach {pick['reach']:.3f} over {pick['robots']} robots, each robot's "
+              f"from {pick['reach_min']:.2f} to {pick['reach_max']:.2f}), shipped as "
+              "`calibrated-reach` and registered as model version 3's scene.", ""]
+    return "\n".join(lines)
+
+
+def page() -> str:
+    head = PAGE.read_text().split(MARK)[0]
+    return (head + MARK + "\nThe results are generated below this line by "
+            "`python -m reports.campaign`.\n\n" + criteria_section() + "\n"
+            + calibration_section())
+
+
+def main(argv=None) -> int:
+    p = argparse.ArgumentParser(prog="python -m reports.campaign", description=__doc__,
+                                formatter_class=argparse.RawDescriptionHelpFormatter)
+    p.add_argument("--check", action="store_true", help="exit 1 when the page is stale")
+    p.add_argument("--extension", action="store_true", help="run A3's best robots again first")
+    p.add_argument("--screen", action="store_true", help="run the calibration's screen first")
+    p.add_argument("--workers", type=int, default=None, help="local processes (default all)")
+    args = p.parse_args(argv)
+    if args.extension:
+        print(build_extension())
+    if args.screen:
+        print(scene_reach(build_screen(args.workers)))
+    new = page()
+    if args.check:
+        stale = PAGE.read_text() != new
+        print(f"{PAGE}: {'stale' if stale else 'up to date'}")
+        return int(stale)
+    PAGE.write_text(new)
+    print(f"wrote {PAGE}")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
