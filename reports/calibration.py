@@ -12,9 +12,17 @@ from __future__ import annotations
 
 from pathlib import Path
 
+import polars as pl
+
 from dart_reach.analysis.calibration import NESTINGS, calibrate, markdown, robot_level_null
 
 TABLE = Path(__file__).resolve().parents[1] / "recordings" / "calibration" / "calibration.parquet"
+
+
+def committed() -> pl.DataFrame:
+    """The committed calibration table (``TABLE``), as ``main`` wrote it: what the pages'
+    labels of coverage read (``analysis.coverage``)."""
+    return pl.read_parquet(TABLE)
 
 
 def main() -> int:

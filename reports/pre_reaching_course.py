@@ -12,7 +12,7 @@ from pathlib import Path
 import numpy as np
 import polars as pl
 
-from dart_reach.analysis import formatting, said, verdicts
+from dart_reach.analysis import budgets, coverage, formatting, said, verdicts
 from dart_reach.analysis import strategy_course as sc
 from dart_reach.analysis.figures import strategy_figure, training_by_strategy
 from dart_reach.analysis.strategies import BABBLING, STILL, STILL_SHARE, trained_trials
@@ -26,7 +26,7 @@ from dart_reach.postevaluation.snapshots import load_development
 from dart_reach.postevaluation.systematic import TESTS, load_evaluation
 from dart_reach.studies import fitness_terms
 
-from . import stillness
+from . import calibration, stillness
 from .runs import FULL, JUDGED, TEN
 from .text import markdown_table, training_text
 
@@ -42,10 +42,10 @@ ROUND_END, SNAPSHOT_EVERY = 250, 10
 #: Trials of one robot under one sensory condition (the systematic positions), and the
 #: conditions besides normal senses at a judged generation (Fig. 9's three and the ball absent).
 POSITIONS, OTHER_CONDITIONS = N_SECTORS * POINTS_PER_SECTOR, len(TESTS) - 1
-#: The fitness columns compared between the strategies (``course``'s: heading), the test's
-#: level, and the generations of each of the two windows over which growth is measured.
+#: The fitness columns compared between the strategies (``course``'s: heading) and the
+#: generations of each of the two windows over which growth is measured.
 FITNESS = {"fitness": "post-evaluation fitness", "lifetime_fitness": "training's best"}
-ALPHA, GROWTH_WINDOW = 0.05, 10
+GROWTH_WINDOW = 10
 #: A longer window beside the first look's 10 generations: the trend under the
 #: generation-to-generation noise of the population's mean fitness.
 LONG_WINDOW = 50
@@ -148,35 +148,65 @@ def with_terms(run_dir: Path, evaluation: pl.DataFrame) -> pl.DataFrame:
     return joined
 
 
+def fitness_summary(fit: pl.DataFrame, table: pl.DataFrame) -> str:
+    """The page's words on the strategies' fitness from ``strategy_course.fitness_by_strategy``'s
+    table ``fit``, each from the project's gated rules (``verdicts.directional``: a strategy
+    fitter; ``verdicts.equivalent``: the same), never from a raw test: the snapshots the rules
+    could judge (at least 6 populations a strategy), what they found there, and the last
+    snapshot's n, smallest p and theta, with its interval where the rule is not gated,
+    labelled with the coverage measured for it (``coverage.label`` on the calibration
+    ``table``)."""
+    if not fit.height:
+        return "no snapshot has populations of both strategies"
+    judged = fit.filter(pl.col("verdict_fitness") != verdicts.UNDERPOWERED)
+    last = fit.tail(1).to_dicts()[0]
+    gated = last["verdict_fitness"] == verdicts.UNDERPOWERED
+    interval = coverage.label(table, last["babbling"], last["still"])
+    parts = []
+    for column, heading in FITNESS.items():
+        theta = f"θ = P(babbling > still) = {formatting.number(last[f'theta_{column}'])}"
+        if not gated:
+            theta += (f" [{formatting.number(last[f'theta_{column}_low'])}, "
+                      f"{formatting.number(last[f'theta_{column}_high'])}], {interval}")
+        words = []
+        for verdict, field, what in (
+                (verdicts.REPRODUCED, "verdict", "the babbling populations fitter"),
+                (verdicts.CONTRADICTED, "verdict", "the still ones fitter"),
+                (verdicts.REPRODUCED, "same", "the two the same")):
+            at = judged.filter(pl.col(f"{field}_{column}") == verdict)["generation"].to_list()
+            if at:
+                words.append(f"{what} at generation(s) {', '.join(map(str, at))}")
+        found = ("; ".join(words) if words else "neither a difference nor the same shown at any")
+        at_last = (last[f"verdict_{column}"] if gated else
+                   f"p = {formatting.number(last[f'p_{column}'])}")
+        parts.append(f"the {heading}: {found} (at {last['generation']}: {at_last}, {theta})"
+                     if judged.height else f"the {heading}: {theta} at {last['generation']}")
+    sizes = (f"n = {last['babbling']} babbling vs {last['still']} still populations at "
+             f"{last['generation']}, the smallest p possible there "
+             f"{formatting.number(last['smallest_p'])}")
+    if not judged.height:
+        return (f"at every one of the {fit.height} snapshots at which both strategies have a "
+                f"population, one strategy has fewer than 6 ({sizes}): below that the project's "
+                f"rule (`verdicts.directional`, gated below 6 a group) can show neither a "
+                f"difference nor the same, so nothing is said of which is fitter; "
+                + "; ".join(parts))
+    return (f"of the {fit.height} snapshots at which both strategies have a population, the "
+            f"rule could judge {judged.height} (at least 6 populations a strategy; {sizes}): "
+            + "; ".join(parts))
+
+
 def fitness_values(course: pl.DataFrame, stats: pl.DataFrame) -> dict[str, str]:
     """The page's "Are the two strategies equally fit?": the strategies' fitness per snapshot
     (``strategy_course.fitness_by_strategy``) and the populations' growth over the last 20
     generations trained and over the last 2 x ``LONG_WINDOW`` (``strategy_course.growth`` on
     the run's ``stats``), with the strategy of each population at the last snapshot."""
     fit = sc.fitness_by_strategy(course)
-    tested = fit.filter(pl.col("smallest_p") < ALPHA)
-    parts = []
-    last = fit.tail(1).to_dicts()[0] if fit.height else None
-    for column, heading in FITNESS.items():
-        differ = tested.filter(pl.col(f"p_{column}") < ALPHA)["generation"].to_list()
-        at_last = (f"; at {last['generation']} (n = {last['babbling']} babbling vs "
-                   f"{last['still']} still, the smallest p possible "
-                   f"{formatting.number(last['smallest_p'])}) θ = P(babbling > still) = "
-                   f"{formatting.number(last[f'theta_{column}'])} "
-                   f"[{formatting.number(last[f'theta_{column}_low'])}, "
-                   f"{formatting.number(last[f'theta_{column}_high'])}], 95 %"
-                   if last else "")
-        parts.append(f"the {heading} differs (p < {ALPHA}) at generation(s) "
-                    f"{', '.join(map(str, differ))}{at_last}" if differ else
-                    f"for the {heading} no difference detected at any (p "
-                    f"{formatting.number(tested[f'p_{column}'].min())} or more){at_last}"
-                    if tested.height else
-                    f"for the {heading} no snapshot where the test could find a difference"
-                    f"{at_last}")
-    summary = (f"of the {tested.height} snapshots where the test could find a difference "
-               f"(smallest possible p below {ALPHA}), " + "; ".join(parts))
+    table = calibration.committed()
+    summary = fitness_summary(fit, table)
     headings = {"babbling": "babbling populations", "still": "still populations",
                 **{f"{c}_{k}": f"{h}: {k}" for c, h in FITNESS.items() for k in (BABBLING, STILL)},
+                **{f"verdict_{c}": f"{h}: babbling fitter?" for c, h in FITNESS.items()},
+                **{f"same_{c}": f"{h}: the same?" for c, h in FITNESS.items()},
                 **{f"p_{c}": f"{h}: p" for c, h in FITNESS.items()},
                 **{f"theta_{c}{e}": f"{h}: θ{w}" for c, h in FITNESS.items()
                    for e, w in (("", ""), ("_low", " low"), ("_high", " high"))},
@@ -211,6 +241,18 @@ def fitness_values(course: pl.DataFrame, stats: pl.DataFrame) -> dict[str, str]:
     }
 
 
+def still_at_50(recordings: Path) -> dict[str, str]:
+    """How many of the stillness page's pre-reaching populations are still (``reports.stillness``'s
+    run, its ``strategies.strategies`` rule): ``stillness_generations`` (its generations per
+    phase), ``still_at_50`` ("k of the N") and ``still_rule`` (the rule's line)."""
+    t = stillness.tables(recordings)
+    still = t["strategy"].filter(pl.col("strategy") == STILL).height
+    run = RunDirectory.open(recordings / stillness.RUN)
+    return {"stillness_generations": str(budgets.generations_per_phase(run)[0]),
+            "still_at_50": f"{still} of the {t['strategy'].height}",
+            "still_rule": formatting.percent(STILL_SHARE)}
+
+
 def fit_at_50(recordings: Path) -> str:
     """The still populations' fitness against the babbling ones' in the stillness page's run
     (``reports.stillness``, 50 generations), the replication as the unit, worded from its
@@ -218,7 +260,7 @@ def fit_at_50(recordings: Path) -> str:
     by_replication = stillness.tables(recordings)["by_replication"]
     fit = {s: by_replication.filter(pl.col("strategy") == s)["fitness"].to_numpy()
            for s in (STILL, BABBLING)}
-    return said.two_groups(fit[STILL], fit[BABBLING], STILL, BABBLING)
+    return said.two_groups(fit[STILL], fit[BABBLING], STILL, BABBLING, calibration.committed())
 
 
 def values(recordings: Path) -> dict[str, str]:
@@ -234,7 +276,8 @@ def values(recordings: Path) -> dict[str, str]:
            "pre_of": str(int(pre["of"].max())), "still_share": formatting.percent(STILL_SHARE),
            "judged": ", ".join(map(str, JUDGED)), "ten": TEN,
            "judged_list": ",".join(map(str, JUDGED)),
-           **cost_values(run, int(pre["of"].max())), "fit_at_50": fit_at_50(recordings)}
+           **cost_values(run, int(pre["of"].max())), "fit_at_50": fit_at_50(recordings),
+           **still_at_50(recordings)}
     development = load_development(directory, senses=None)
     if development is None or not development.filter(pl.col("phase") == "pre").height:
         raise ValueError(f"{directory}: no pre-reaching snapshot post-evaluated (dart-reach "
@@ -319,6 +362,7 @@ def values(recordings: Path) -> dict[str, str]:
         for r in changed.iter_rows(named=True)) or "none"
     ends = sc.scale_ends(development, JUDGED)
     out["rate_margin"] = f"{verdicts.RATE_MARGIN:g}"
+    out["theta_margin"] = f"{verdicts.EQUIVALENCE_MARGIN:g}"
     out["scale_ends"] = ("none." if not ends.height else "\n\n" + markdown_table(ends.rename(
         {"senses": "condition", "reference": "value", "versus": "against",
          "changed": "value there"})))

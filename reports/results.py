@@ -24,13 +24,15 @@ from typing import Callable
 import numpy as np
 import polars as pl
 
-from dart_reach.analysis import budgets, calibration, findings, formatting, report, said, verdicts
+from dart_reach.analysis import (budgets, calibration, coverage, findings, formatting, report,
+                                 said, verdicts)
 from dart_reach.evolution.rundir import RunDirectory
 from dart_reach.model.scenes import scene_of
 from dart_reach.postevaluation import checks, results
 from dart_reach.studies import scene_study
 
 from . import babbling_detector, cost, pre_reaching_course, stillness
+from . import calibration as calibration_table
 from .runs import REPLICATIONS, TEN
 from .text import markdown_table, number, render, training_text
 
@@ -205,8 +207,36 @@ def _pre_replications(table: pl.DataFrame | None) -> tuple[str, str, str]:
     fitness = "; ".join(f"{name} {formatting.number(float(f.mean()))} ({f.len()})"
                         if f.len() else f"{name}: none" for name, f in fit.items())
     fitness += ", " + said.two_groups(fit["still"].to_numpy(), fit["babbling"].to_numpy(),
-                                      "still", "babbling")
+                                      "still", "babbling", calibration_table.committed())
     return markdown_table(pre), f"{int(is_still.sum())} of {pre.height}", fitness
+
+
+def calibration_values(table: pl.DataFrame) -> dict[str, str]:
+    """What the calibration shows, in the words of the summary and the replication page, from
+    the committed calibration ``table`` (``calibration.held``, ``coverage.label``), so that
+    no page states it as fixed text: ``calibration`` (how many bounded rows are met, the
+    highest rate of a wrong decision under a null, the lowest coverage and theta's reported
+    coverage), ``theta_coverage`` (the label of theta's interval at 10 vs 10), and
+    ``smallest_p_4`` / ``smallest_p_10`` (the smallest p of the directional rule's test at 4
+    and 10 replications a group, ``verdicts.smallest_directional_p``)."""
+    held = calibration.held(table)
+    sizes = " and ".join(map(str, table["replications"].unique().sort().to_list()))
+    shortfall = held["bounded"] - held["met"]
+    rules = ", ".join(table.filter(pl.col("kind").is_in(["at most", "at least"]))["rule"]
+                      .unique(maintain_order=True).to_list())
+    text = (f"{held['met']} of the {held['bounded']} bounded rows of the rules ({rules}: rates "
+            f"of a wrong decision under a null, at {sizes} replications and with the groups' "
+            f"shapes unequal, and coverages) are met within Monte-Carlo error"
+            + (f" and **{shortfall} are not**" if shortfall else "")
+            + f"; the highest rate of a wrong decision under a null is "
+            f"{held['highest_error']:.3f} (its bound {held['error_bound']:g}), the lowest "
+            f"coverage of an interval held to its level {held['lowest_coverage']:.3f}")
+    if held["reported_low"] == held["reported_low"]:
+        text += (f"; θ's interval away from θ = 0.5 between groups of unequal shapes, only "
+                 f"reported, covers {held['reported_low']:.2f}-{held['reported_high']:.2f}")
+    return {"calibration": text, "theta_coverage": coverage.label(table, 10, 10),
+            "smallest_p_4": formatting.significant(verdicts.smallest_directional_p(4, 4)),
+            "smallest_p_10": formatting.significant(verdicts.smallest_directional_p(10, 10))}
 
 
 def replication_values(recordings: Path) -> dict[str, str]:
@@ -262,6 +292,7 @@ def replication_values(recordings: Path) -> dict[str, str]:
         values[f"{d.name}.training"] = training_text(run)
     values["runs"] = markdown_table(pl.DataFrame(described))
     values["spreads"] = markdown_table(spreads_summary(dirs))
+    values.update(calibration_values(calibration_table.committed()))
     return values
 
 

@@ -21,19 +21,19 @@ full-budget-snapshots`` does, on its copy of the run: ``--run-dir``).
 from __future__ import annotations
 
 import argparse
-import math
 import sys
 from pathlib import Path
 
 import polars as pl
 
-from dart_reach.analysis import budgets, formatting, said, strategies
+from dart_reach.analysis import budgets, formatting, said, strategies, verdicts
 from dart_reach.evolution.rundir import RunDirectory
 from dart_reach.model.task import N_SEGMENTS
 from dart_reach.postevaluation import results
 from dart_reach.studies.fitness_terms import (SNAPSHOT_KEY, TABLE, build, by_snapshot,
                                               missing)
 
+from . import calibration
 from .runs import FULL, JUDGED, STILLNESS_RUN as RUN
 
 #: The columns of the page's tables at the paper's budget (``strategies.COLUMNS``'s keys).
@@ -96,17 +96,14 @@ def values(recordings: Path, markdown_table) -> dict[str, str]:
                                           "contact_after_first")))}
     compared = strategies.compare(t["by_replication"])
     out["compare"] = markdown_table(compared)
-    p = dict(zip(compared["factor"], compared["p"]))
-    counts = [t["strategy"].filter(pl.col("strategy") == s).height
-              for s in (strategies.STILL, strategies.BABBLING)]
-    out["p.smallest"] = formatting.significant(2 / math.comb(sum(counts), counts[0]))
-    out["p.fitness"] = formatting.significant(p["fitness"])
-    fit = {s: t["by_replication"].filter(pl.col("strategy") == s)["fitness"].to_numpy()
-           for s in (strategies.STILL, strategies.BABBLING)}
-    out["said.fitness"] = said.two_groups(fit[strategies.STILL], fit[strategies.BABBLING],
-                                          strategies.STILL, strategies.BABBLING)
-    out["p.touch_share"] = formatting.significant(p["steps in touch"])
-    out["p.touch_level"] = formatting.significant(p["p_touch in touch"])
+    out["p.smallest"] = formatting.significant(compared["smallest p"][0])
+    calibrated = calibration.committed()
+    for column in ("fitness", "touch_share", "touch_level"):
+        units = {s: t["by_replication"].filter(pl.col("strategy") == s)[column].to_numpy()
+                 for s in (strategies.STILL, strategies.BABBLING)}
+        out[f"said.{column}"] = said.two_groups(units[strategies.STILL],
+                                                units[strategies.BABBLING], strategies.STILL,
+                                                strategies.BABBLING, calibrated)
     out.update(_sectors(t["by_sector"]))
     per = {r["strategy"]: r for r in t["by_strategy"].iter_rows(named=True)}
     still, babbling = per[strategies.STILL], per[strategies.BABBLING]
@@ -155,11 +152,14 @@ def budget_values(recordings: Path, markdown_table) -> dict[str, str]:
             stated.append(f"at {generation} all the populations are {next(iter(per))}: "
                           f"nothing to compare")
             continue
-        counts = [r["replications"] for r in per.values()]
-        smallest.append(f"{formatting.significant(2 / math.comb(sum(counts), counts[0]))} at {generation}")
+        smallest.append(f"{formatting.significant(t['compare']['smallest p'][0])} at "
+                        f"{generation}")
         still, babbling = per[strategies.STILL], per[strategies.BABBLING]
         wrong = strategies.contradicted(still, babbling)
+        rule = dict(zip(t["compare"]["factor"], t["compare"]["still higher?"]))
         p = dict(zip(t["compare"]["factor"], t["compare"]["p"]))
+        judged = (f"p = {formatting.significant(p['fitness'])}"
+                  if rule["fitness"] != verdicts.UNDERPOWERED else "underpowered")
         stated.append(
             f"at {generation} " + ("every one holds" if not wrong
                                    else "these do not: " + "; ".join(wrong))
@@ -167,12 +167,13 @@ def budget_values(recordings: Path, markdown_table) -> dict[str, str]:
             f"{still['touch_share'] / babbling['touch_share']:.1f} times as many steps as a "
             f"babbling one, with {still['touch_level'] / babbling['touch_level']:.2f} times "
             f"the faces; fitness {formatting.significant(still['fitness'])} against "
-            f"{formatting.significant(babbling['fitness'])}, p = {formatting.significant(p['fitness'])} with the "
-            f"replication as the unit)")
+            f"{formatting.significant(babbling['fitness'])}; still fitter with the "
+            f"replication as the unit: {rule['fitness']}, {judged})")
     body = ("Means over each strategy's trials, as in \"Per strategy\" above:\n\n"
             + markdown_table(strategies.headed(by_strategy))
             + "\n\nThe replication as the unit, as in \"The replication as the unit\" above "
-            "(the smallest p the two strategies' numbers of populations allow: "
+            "(the gated rule, `verdicts.directional`; the smallest p the two strategies' "
+            "numbers of populations allow: "
             + (", ".join(smallest) or "none") + "):\n\n"
             + (markdown_table(stacked("compare")) if smallest else "(none)")
             + "\n\nThe statements of \"In plain words\" (`analysis.strategies.STATED`), "

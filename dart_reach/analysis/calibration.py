@@ -520,6 +520,26 @@ def spreads(table: pl.DataFrame, measures=SPREAD_MEASURES, senses: str = "normal
     return pl.DataFrame(rows)
 
 
+def held(table: pl.DataFrame) -> dict[str, float | int]:
+    """What a calibration table (``calibrate``'s) shows, for the prose of the pages that cite
+    it, so that no page states it as fixed text: ``bounded`` (rows with a bound: error rates
+    under a null and coverages), ``met`` (of them, those within Monte-Carlo error of their
+    bound), ``highest_error`` and ``error_bound`` (the highest rate of a wrong decision under
+    a null over the "at most" rows, and the bound of that row), ``lowest_coverage`` (the
+    lowest coverage over the "at least" rows) and ``reported_low``, ``reported_high`` (the
+    range of the coverages only reported: NaN without one). Rates in [0, 1]."""
+    bounded = table.filter(pl.col("kind").is_in(["at most", "at least"]))
+    errors = table.filter(pl.col("kind") == "at most").sort("value", descending=True)
+    covers = table.filter(pl.col("kind") == "at least")
+    reported = table.filter((pl.col("kind") == "reported")
+                            & pl.col("measure").str.starts_with("coverage"))
+    return {"bounded": bounded.height, "met": int(bounded["ok"].sum()),
+            "highest_error": float(errors["value"][0]), "error_bound": float(errors["bound"][0]),
+            "lowest_coverage": float(covers["value"].min()),
+            "reported_low": float(reported["value"].min()) if reported.height else math.nan,
+            "reported_high": float(reported["value"].max()) if reported.height else math.nan}
+
+
 def markdown(table: pl.DataFrame) -> str:
     """The calibration table as Markdown: one row per rule, scenario and measure, one column
     per nesting (rates in [0, 1]); the bound a rate must meet, and whether every nesting met

@@ -19,7 +19,7 @@ from __future__ import annotations
 
 import polars as pl
 
-from . import stats
+from . import verdicts
 from ..measures.kinematics import BABBLING_AMPLITUDE, MOVING_PATH
 
 #: A replication babbling in fewer than this share of its trials is still.
@@ -144,17 +144,28 @@ def compare(per_replication: pl.DataFrame, columns=("fitness", "touch_share", "t
                                                     "contact_after_first")) -> pl.DataFrame:
     """Still against babbling with the replication as the unit (``by_replication``'s
     table): per factor, each strategy's median over its replications, the ratio still /
-    babbling of the medians and the two-sided Mann-Whitney p (``stats.mann_whitney``)."""
+    babbling of the medians, and what the project's gated rule says (``verdicts.directional``
+    of "still higher than babbling"; DESIGN.md, "Findings as data"): ``verdict``
+    (reproduced: still higher; contradicted: babbling higher; underpowered below 6
+    replications a strategy, whatever the data), ``p`` (its two-sided studentized permutation
+    Brunner-Munzel p; NaN where gated) and ``smallest p`` (the smallest its test allows at
+    these sizes, ``verdicts.smallest_directional_p``)."""
     rows = []
     for column in columns:
-        test = stats.mann_whitney(per_replication, column, "strategy", order=[STILL, BABBLING])
+        group = {s: per_replication.filter(pl.col("strategy") == s)[column].to_numpy()
+                 for s in (STILL, BABBLING)}
         medians = {s: per_replication.filter(pl.col("strategy") == s)[column].median()
                    for s in (STILL, BABBLING)}
+        rule = verdicts.directional(group[BABBLING], group[STILL], +1)
+        gated = rule.verdict == verdicts.UNDERPOWERED
         rows.append({"factor": COLUMNS[column], "still": medians[STILL],
                      "babbling": medians[BABBLING],
                      "still / babbling": medians[STILL] / medians[BABBLING]
                      if medians[BABBLING] else float("nan"),
-                     "p": float(test["p"][0])})
+                     "still higher?": rule.verdict,
+                     "p": float("nan") if gated else min(rule.p, rule.p_against),
+                     "smallest p": verdicts.smallest_directional_p(
+                         *(len(verdicts.finite(group[s])) for s in (BABBLING, STILL)))})
     return pl.DataFrame(rows)
 
 

@@ -35,7 +35,7 @@ from typing import Sequence
 import numpy as np
 import polars as pl
 
-from . import brunner_munzel, findings, stats, strategies, verdicts
+from . import findings, strategies, verdicts
 from ..postevaluation import snapshots
 from .claims import CLAIMS, RATES, Claim, Kind
 from .strategies import BABBLING, STILL
@@ -255,12 +255,18 @@ def fitness_by_strategy(course_table: pl.DataFrame,
     strategies have a population: how many populations ``babbling`` and ``still``, and per
     column (``fitness``: the mean over the best robots' post-evaluation trials;
     ``lifetime_fitness``: the best robot's fitness in training) the median of each strategy's
-    populations (``<column>_babbling``, ``<column>_still``) and the two-sided Mann-Whitney p
-    between them, the replication as the unit (``p_<column>``, ``stats.mann_whitney``);
-    ``smallest_p``, the smallest p those sample sizes allow (2 / C(n, k) without ties), says
-    whether the test could have found a difference; ``theta_<column>`` = P(babbling > still)
-    + P(=) / 2 with its 95 % interval (``theta_<column>_low``, ``_high``: the studentized
-    permutation Brunner-Munzel test inverted; NaN with fewer than 2 populations a side)."""
+    populations (``<column>_babbling``, ``<column>_still``) and what the project's gated rules
+    say of them, the replication as the unit (section IV-A-1's populations; DESIGN.md,
+    "Findings as data"): ``verdict_<column>``, ``verdicts.directional``'s verdict of "the
+    babbling populations are fitter" (reproduced: babbling fitter; contradicted: still fitter;
+    underpowered below 6 populations a strategy, whatever the data) with ``p_<column>``, its
+    two-sided studentized permutation Brunner-Munzel p (NaN where gated); ``same_<column>``,
+    ``verdicts.equivalent``'s verdict of "equally fit" (theta within 0.5 +-
+    ``verdicts.EQUIVALENCE_MARGIN``); ``theta_<column>`` = P(babbling > still) + P(=) / 2
+    and, where the rule is not gated, its interval (``theta_<column>_low``, ``_high``: the
+    permutation test inverted, nominally 95 %; ``coverage.label`` says what it covers);
+    ``smallest_p``, the smallest p of the directional rule at these sizes
+    (``verdicts.smallest_directional_p``)."""
     rows = []
     for (generation,), at in course_table.group_by("generation", maintain_order=True):
         n = {s: at.filter(pl.col("strategy") == s).height for s in (BABBLING, STILL)}
@@ -270,19 +276,22 @@ def fitness_by_strategy(course_table: pl.DataFrame,
         for column in columns:
             for s in (BABBLING, STILL):
                 row[f"{column}_{s}"] = at.filter(pl.col("strategy") == s)[column].median()
-            test = stats.mann_whitney(at, column, "strategy", order=[BABBLING, STILL])
-            row[f"p_{column}"] = float(test["p"][0])
             still_, babbling_ = (at.filter(pl.col("strategy") == s)[column].to_numpy()
                                  for s in (STILL, BABBLING))
-            bm = (brunner_munzel.test(still_, babbling_) if min(n.values()) >= 2 else None)
-            row[f"theta_{column}"] = bm.theta if bm else math.nan
-            row[f"theta_{column}_low"] = bm.low if bm else math.nan
-            row[f"theta_{column}_high"] = bm.high if bm else math.nan
-        row["smallest_p"] = 2 / math.comb(n[BABBLING] + n[STILL], n[STILL])
+            fitter = verdicts.directional(still_, babbling_, +1)
+            gated = fitter.verdict == verdicts.UNDERPOWERED
+            row[f"verdict_{column}"] = fitter.verdict
+            row[f"p_{column}"] = math.nan if gated else min(fitter.p, fitter.p_against)
+            row[f"same_{column}"] = verdicts.equivalent(still_, babbling_).verdict
+            row[f"theta_{column}"] = fitter.effect
+            row[f"theta_{column}_low"] = math.nan if gated else fitter.low
+            row[f"theta_{column}_high"] = math.nan if gated else fitter.high
+        row["smallest_p"] = verdicts.smallest_directional_p(n[STILL], n[BABBLING])
         rows.append(row)
     keys = ["generation", "babbling", "still"]
     schema = {**{k: pl.Int64 for k in keys},
               **{f"{c}_{s}": pl.Float64 for c in columns for s in (BABBLING, STILL)},
+              **{f"{w}_{c}": pl.Utf8 for c in columns for w in ("verdict", "same")},
               **{f"p_{c}": pl.Float64 for c in columns},
               **{f"theta_{c}{e}": pl.Float64 for c in columns for e in ("", "_low", "_high")},
               "smallest_p": pl.Float64}

@@ -145,11 +145,20 @@ def smallest_mann_whitney_p(n_a: int, n_b: int) -> float:
     return min(1.0, 2.0 / math.comb(n_a + n_b, n_a)) if n_a and n_b else 1.0
 
 
+@functools.cache
 def smallest_directional_p(n_a: int, n_b: int) -> float:
-    """The smallest two-sided p of ``directional``'s test for sizes n_a, n_b: both complete
-    separations and both splits one pair short of them tie at the top of its statistic
-    (``brunner_munzel``), 4 / C(n_a + n_b, n_a)."""
-    return min(1.0, 4.0 / math.comb(n_a + n_b, n_a)) if n_a and n_b else 1.0
+    """The smallest two-sided p of ``directional``'s test for sizes n_a, n_b: where the test
+    is exact (at most ``brunner_munzel.EXACT_SPLITS`` splits), the p of complete separation
+    by the test itself (both complete separations and the splits next to them tie at the top
+    of its statistic: 4 / C(n_a + n_b, n_a) at 6 vs 6 and 7 vs 7, 6 / C(16, 6) at 6 vs 10);
+    where it is Monte Carlo, 1 / (1 + ``brunner_munzel.PERMUTATIONS``), the p when no random
+    split reaches the observed one. 4 / C(n_a + n_b, n_a) below 2 units a group (no test)."""
+    if min(n_a, n_b) < 2:
+        return min(1.0, 4.0 / math.comb(n_a + n_b, n_a)) if n_a and n_b else 1.0
+    if math.comb(n_a + n_b, n_a) > brunner_munzel.EXACT_SPLITS:
+        return 1.0 / (1 + brunner_munzel.PERMUTATIONS)
+    apart = brunner_munzel.test(np.arange(n_a, dtype=float), np.arange(n_b, dtype=float) + n_a)
+    return float(apart.p)
 
 
 def one_mode(n_a: int, n_b: int) -> float:

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import math
 
+import numpy as np
 import polars as pl
 import pytest
 
@@ -75,15 +76,26 @@ def test_a_trial_without_a_strategy_is_refused():
 
 
 def test_strategies_compared_with_the_replication_as_the_unit():
+    """3 against 3 apart: Mann-Whitney's exact p would be 0.1 (2 of the 20 splits as
+    extreme); the gated rule gives no p there, only underpowered, with the smallest p its
+    test allows, 4 / C(6, 3) = 0.2. 6 against 6 apart, still higher: reproduced at its
+    smallest p, 4 / C(12, 6) = 4 / 924; babbling higher: contradicted."""
     per = pl.DataFrame({"strategy": ["still"] * 3 + ["babbling"] * 3,
                         "fitness": [1.0, 2.0, 3.0, 4.0, 5.0, 6.0],
                         "touch_share": [0.5, 0.6, 0.7, 0.5, 0.6, 0.7]})
     table = strategies.compare(per, ("fitness", "touch_share"))
     fit, touch = table.rows(named=True)
     assert (fit["still"], fit["babbling"], fit["still / babbling"]) == (2.0, 5.0, 0.4)
-    assert fit["p"] == pytest.approx(0.1)  # exact: 2 of the 20 splits are as extreme
-    assert touch["p"] == pytest.approx(1.0) and touch["still / babbling"] == 1.0
+    assert fit["still higher?"] == touch["still higher?"] == "underpowered"
+    assert np.isnan(fit["p"]) and fit["smallest p"] == pytest.approx(0.2)
+    assert touch["still / babbling"] == 1.0
     assert fit["factor"] == "fitness" and touch["factor"] == "steps in touch"
+    six = pl.DataFrame({"strategy": ["still"] * 6 + ["babbling"] * 6,
+                        "fitness": [10.0 + i for i in range(6)] + [float(i) for i in range(6)],
+                        "touch_share": [float(i) for i in range(6)] + [10.0 + i for i in range(6)]})
+    fit, touch = strategies.compare(six, ("fitness", "touch_share")).rows(named=True)
+    assert (fit["still higher?"], fit["p"]) == ("reproduced", pytest.approx(4 / 924))
+    assert (touch["still higher?"], touch["p"]) == ("contradicted", pytest.approx(4 / 924))
 
 
 def test_the_page_s_statements_are_checked_against_the_means():

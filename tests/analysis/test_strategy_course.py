@@ -213,9 +213,10 @@ def _course(rows: list[tuple[int, int, str, float]]) -> pl.DataFrame:
 
 
 def test_whether_the_strategies_are_equally_fit():
-    """At generation 10 every babbling population out-earns every still one (4 against 3: the
-    smallest p there is, 2 / C(7, 3)); at 20 they interleave; at 30 no population is still,
-    so the generation has no row."""
+    """At generation 10 every babbling population out-earns every still one, 4 against 3:
+    below the gate of 6 a group, so the rule says underpowered and gives no p and no
+    interval (the smallest p of its test there: 4 / C(7, 3) = 4 / 35); at 20 they interleave;
+    at 30 no population is still, so the generation has no row."""
     rows = ([(10, r, BABBLING, 0.1 + r) for r in range(4)]
             + [(10, r, STILL, 0.01 * r) for r in range(4, 7)]
             + [(20, r, BABBLING if r % 2 else STILL, float(r)) for r in range(7)]
@@ -224,14 +225,42 @@ def test_whether_the_strategies_are_equally_fit():
     assert fit["generation"].to_list() == [10, 20]
     at10, at20 = fit.row(0, named=True), fit.row(1, named=True)
     assert (at10["babbling"], at10["still"]) == (4, 3)
-    assert at10["smallest_p"] == pytest.approx(2 / 35)
-    assert at10["p_fitness"] == pytest.approx(2 / 35)
-    assert at10["p_lifetime_fitness"] == pytest.approx(2 / 35)
+    assert at10["smallest_p"] == pytest.approx(4 / 35)
+    for column in ("fitness", "lifetime_fitness"):
+        assert at10[f"verdict_{column}"] == v.UNDERPOWERED
+        assert at10[f"same_{column}"] == v.UNDERPOWERED
+        assert np.isnan(at10[f"p_{column}"]) and np.isnan(at10[f"theta_{column}_low"])
+        assert at10[f"theta_{column}"] == 1.0  # every babbling population above every still
     assert at10["fitness_babbling"] == pytest.approx(1.6)  # median of 0.1, 1.1, 2.1, 3.1
     assert at10["fitness_still"] == pytest.approx(0.05)
     assert at10["lifetime_fitness_still"] == pytest.approx(0.1)
     assert (at20["babbling"], at20["still"]) == (3, 4)
-    assert at20["p_fitness"] > 0.5  # 1, 3, 5 against 0, 2, 4, 6
+    assert at20["verdict_fitness"] == v.UNDERPOWERED
+    assert at20["theta_fitness"] == pytest.approx(6 / 12)  # 1, 3, 5 above 0, 2, 4, 6: 6 of 12
+
+
+def test_the_strategies_fitness_is_judged_once_both_have_6_populations():
+    """6 babbling populations above 6 still ones: the rule decides "babbling fitter" at the
+    smallest p its permutation test has at 6 vs 6, 4 / C(12, 6) = 4 / 924 (both complete
+    separations and the two splits one pair short of them); the still ones above: "still
+    fitter" (contradicted); interleaved and close (0.0, 0.1, ... against 0.05, 0.15, ...): no
+    difference, nor the same at 6 a group."""
+    ahead = ([(10, r, BABBLING, 10.0 + r) for r in range(6)]
+             + [(10, r, STILL, float(r - 6)) for r in range(6, 12)])
+    behind = ([(20, r, BABBLING, float(r)) for r in range(6)]
+              + [(20, r, STILL, 10.0 + r) for r in range(6, 12)])
+    mixed = ([(30, r, BABBLING, 0.1 * r) for r in range(6)]
+             + [(30, r, STILL, 0.1 * (r - 6) + 0.05) for r in range(6, 12)])
+    fit = sc.fitness_by_strategy(_course(ahead + behind + mixed))
+    at10, at20, at30 = fit.iter_rows(named=True)
+    assert at10["smallest_p"] == pytest.approx(4 / 924)
+    assert (at10["verdict_fitness"], at10["p_fitness"]) == (v.REPRODUCED, pytest.approx(4 / 924))
+    assert at10["theta_fitness_low"] > 0.5
+    assert (at20["verdict_fitness"], at20["p_fitness"]) == (v.CONTRADICTED,
+                                                            pytest.approx(4 / 924))
+    assert at20["theta_fitness_high"] < 0.5
+    assert at30["verdict_fitness"] == v.INCONCLUSIVE and at30["p_fitness"] > 0.5
+    assert at30["same_fitness"] != v.REPRODUCED
 
 
 def test_whether_the_fitness_is_still_rising():

@@ -71,13 +71,16 @@ def test_every_two_group_rule_is_gated_below_6_a_group(rule):
     and 5 vs 10 are underpowered, 6 vs 6 is not, and the note says why."""
     judge, _ = RULES[rule]
     rng = np.random.default_rng(3)
-    for n_a, n_b in ((3, 7), (7, 3), (5, 10)):
+    # one mode 2^(1 - n) of the smaller group; Mann-Whitney's smallest p 2 / C(n_a + n_b, n_a)
+    expected = {(3, 7): ("0.25", "0.0167"), (7, 3): ("0.25", "0.0167"),
+                (5, 10): ("0.062", "0.000666")}
+    for (n_a, n_b), (mode, smallest) in expected.items():
         for a, b in ((rng.normal(0, 1, n_a), rng.normal(10, 1, n_b)),
                      (rng.normal(0, 1, n_a), rng.normal(0, 1, n_b))):
             out = judge(a, b)
             assert out.verdict == v.UNDERPOWERED, (n_a, n_b, out)
-            assert "two-mode" in out.note and f"{v.smallest_mann_whitney_p(n_a, n_b):.3g}" \
-                in out.note
+            assert f"falls in one mode {mode} of the time" in out.note, out.note
+            assert f"the smallest Mann-Whitney p possible is {smallest}" in out.note, out.note
     out = judge(rng.normal(0, 1, 6), rng.normal(10, 1, 6))
     assert out.verdict != v.UNDERPOWERED
 
@@ -138,3 +141,20 @@ def test_the_rate_rule_is_statsmodels_paired_tost(seed):
 def test_the_rate_rule_is_underpowered_or_no_evidence_where_it_should_be():
     assert v.paired_rate_equivalent([0.1, 0.2], [0.1, 0.2]).verdict == v.UNDERPOWERED
     assert v.paired_rate_equivalent(np.zeros(10), np.zeros(10)).verdict == v.INCONCLUSIVE
+
+
+@pytest.mark.parametrize("n_a, n_b, smallest", [
+    (6, 6, 4 / 924),     # both complete separations and the splits one pair short: 4 of C(12, 6)
+    (7, 7, 4 / 3432),
+    (6, 10, 6 / 8008),   # 6 of C(16, 6) splits tie at the top there
+    (10, 10, 1 / 2000),  # Monte Carlo (184,756 splits): 1 / (1 + 1,999) at best
+    (3, 7, 4 / 120),
+])
+def test_the_directional_rule_s_smallest_p_is_the_one_its_test_reaches(n_a, n_b, smallest):
+    """The smallest p the sentences and tables quote is the one the directional rule's own
+    test gives at complete separation (not 4 / C(n_a + n_b, n_a) where more splits tie, nor
+    below the Monte Carlo floor), and complete separation at 6 vs 6 reaches it."""
+    assert v.smallest_directional_p(n_a, n_b) == pytest.approx(smallest)
+    if n_a >= 6 and n_b >= 6 and n_a + n_b <= 16:
+        apart = v.directional(np.arange(n_a) * 1.0, np.arange(n_b) + 100.0, +1)
+        assert apart.verdict == v.REPRODUCED and apart.p == pytest.approx(smallest)

@@ -130,6 +130,13 @@ def test_the_summary_shows_the_verdicts_as_a_small_table_and_says_what_they_mean
     assert "## Every claim at every budget" in (ROOT / "docs/results/replication.md").read_text()
     for words in ("Claim codes", "Holm's method", "Underpowered or inconclusive"):
         assert words in part, words
+    # the calibration's numbers it states, recounted from the committed table
+    table = pl.read_parquet(ROOT / "recordings" / "calibration" / "calibration.parquet")
+    bounded = table.filter(pl.col("kind").is_in(["at most", "at least"]))
+    assert (f"{int(bounded['ok'].sum())} of the {bounded.height} bounded rows"
+            in " ".join(part.split()))
+    worst = table.filter(pl.col("kind") == "at most")["value"].max()
+    assert f"under a null is {worst:.3f}" in part
     notes = part.split("- **Claim codes:**")[1].split("\n\n")[0]
     assert "reach up" not in notes and "F4 senses differ" not in notes
 
