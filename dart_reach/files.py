@@ -3,6 +3,7 @@ process at a time in a run directory."""
 
 from __future__ import annotations
 
+import contextlib
 import errno
 import fcntl
 import os
@@ -55,6 +56,24 @@ def atomic_write(path: Path, write: Callable[[Path], None],
     return path
 
 
+def write_parquet(frame, path: Path, metadata: dict[str, str] | None = None,
+                  compression: str = "zstd") -> None:
+    """Write a polars frame to the parquet file ``path`` (plainly: through ``atomic_write``'s
+    temporary file) with a CRC-32 in every page's header (pyarrow's ``write_page_checksum``),
+    which readers that check them (``pyarrow.parquet.read_table(...,
+    page_checksum_verification=True)``) use to refuse a damaged page; ``metadata``: the file's
+    key-value metadata."""
+    import pyarrow.parquet as pq
+
+    table = frame.to_arrow()
+    if metadata:
+        table = table.replace_schema_metadata(
+            {**(table.schema.metadata or {}), **{k.encode(): v.encode()
+                                                  for k, v in metadata.items()}})
+    where = os.fspath(path) if isinstance(path, (str, os.PathLike)) else path  # or a buffer
+    pq.write_table(table, where, compression=compression, write_page_checksum=True)
+
+
 def _naming(exc: OSError, path: Path) -> OSError:
     """The same error, naming the file being written (a full disk's error names none)."""
     code = exc.errno if exc.errno is not None else errno.EIO
@@ -99,14 +118,23 @@ class DirectoryBusy(RuntimeError):
 class DirectoryLock:
     """An exclusive lock on a directory (``fcntl.flock`` on ``<directory>/.lock``), held by
     one process at a time and released by the OS when that process ends, however it ends: a
-    lock left by a killed process never blocks. The lock file holds the holder's PID."""
+    lock left by a killed process never blocks. The lock file holds the holder's PID.
+
+    Used as a context manager, a block refused (left by a ``ValueError``: bad input, a
+    damaged file, another run there) leaves no trace: the lock file is deleted, and the
+    directory too when the lock made it and it is empty."""
 
     def __init__(self, directory: Path, what: str = "run"):
         self.directory, self.what = Path(directory), what
         self._file = None
+        self._made: list[Path] = []
 
     def acquire(self) -> "DirectoryLock":
+        if not self.directory.is_dir():
+            self._made.append(self.directory)
         self.directory.mkdir(parents=True, exist_ok=True)
+        if not (self.directory / LOCK_NAME).exists():
+            self._made.append(self.directory / LOCK_NAME)
         f = open(self.directory / LOCK_NAME, "a+")
         try:
             fcntl.flock(f, fcntl.LOCK_EX | fcntl.LOCK_NB)
@@ -131,5 +159,9 @@ class DirectoryLock:
     def __enter__(self) -> "DirectoryLock":
         return self.acquire()
 
-    def __exit__(self, *exc) -> None:
+    def __exit__(self, kind, *exc) -> None:
+        if kind is not None and issubclass(kind, ValueError) and self._file is not None:
+            for made in reversed(self._made):  # the lock file while it is held, then the folder
+                with contextlib.suppress(OSError):
+                    made.rmdir() if made == self.directory else made.unlink()
         self.release()

@@ -18,9 +18,11 @@ from pathlib import Path
 import numpy as np
 import polars as pl
 
+from dart_reach.evolution import integrity
 from dart_reach.evolution.backends import worker_trial
 from dart_reach.evolution.genome import as_groups, decode
 from dart_reach.evolution.rundir import RunDirectory
+from dart_reach.files import write_parquet
 from dart_reach.measures.contacts import first_touch
 from dart_reach.model.task import network_for
 from dart_reach.model.world import POINTS_PER_SECTOR
@@ -122,8 +124,9 @@ def main(argv: list[str] | None = None) -> int:
     args = parser.parse_args(argv)
     sample = draw(args.root / "recordings" / FULL)
     paths = run_again(args.root / "recordings" / FULL, sample)
-    paths.join(sample.select("code", "senses", "replication", "rank", "trial"), on="code") \
-        .write_parquet(args.root / SAMPLE, compression="zstd")
+    table = paths.join(sample.select("code", "senses", "replication", "rank", "trial"),
+                       on="code")
+    integrity.write(args.root / SAMPLE, lambda p: write_parquet(table, p))  # in the run's ledger
     for path in sheets(paths, args.root / PLOTS):
         print(path, file=sys.stderr)
     return 0

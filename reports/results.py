@@ -26,7 +26,9 @@ import polars as pl
 
 from dart_reach.analysis import (budgets, calibration, coverage, findings, formatting, report,
                                  said, verdicts)
+from dart_reach.evolution import integrity
 from dart_reach.evolution.rundir import RunDirectory
+from dart_reach.files import write_parquet
 from dart_reach.model.scenes import scene_of
 from dart_reach.postevaluation import checks, results
 from dart_reach.studies import scene_study
@@ -407,8 +409,8 @@ def main(argv=None) -> int:
             print(f"{p}: differs from its rendering (make results)", file=sys.stderr)
         return 1 if stale else 0
     for p in stale:
-        if p in frames:
-            frames[p].write_parquet(p)
+        if p in frames:  # in its run's ledger (integrity), with page checksums
+            integrity.write(p, lambda tmp, p=p: write_parquet(frames[p], tmp))
         else:
             p.write_text(docs[p], encoding="utf-8")
         print(f"wrote {p}")

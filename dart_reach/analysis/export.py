@@ -19,7 +19,7 @@ from pathlib import Path
 
 import polars as pl
 
-from ..evolution.rundir import RunDirectory, RunError
+from ..evolution.rundir import RunError, described_run
 from ..files import atomic_write, check_new_file
 from ..measures.units import with_unit
 from ..postevaluation import results
@@ -65,19 +65,19 @@ def export_run(run_dir, out_dir) -> list[Path]:
     """Write every results table the run in ``run_dir`` has (``TABLES``) to
     ``out_dir/<table>.csv`` (``out_dir`` created if missing, its parent must exist); returns
     the files written. Refuses, before writing any, a run without a table and an existing
-    file."""
-    run = RunDirectory.open(run_dir)
+    file. Reads the run's manifest and the tables alone, each checked against the run's
+    ledger (``integrity``) before it is read."""
+    out, _, _ = described_run(run_dir)
     out_dir = Path(out_dir)
-    found = {name: run.out / file for name, file in TABLES.items()
-             if results.exists(run.out / file)}
+    found = {name: out / file for name, file in TABLES.items() if results.exists(out / file)}
     if not found:
-        raise RunError(f"{run.out}: no results table to export (train writes "
+        raise RunError(f"{out}: no results table to export (train writes "
                        f"generations.parquet, evaluate evaluation.parquet)")
     if not out_dir.is_dir() and not out_dir.parent.is_dir():
         raise FileNotFoundError(f"out_dir {out_dir}: no such directory {out_dir.parent}; "
                                 f"create it first")
-    if out_dir.resolve() == run.out.resolve() or run.out.resolve() in out_dir.resolve().parents:
-        raise ValueError(f"{out_dir}: inside the run {run.out}; export it elsewhere")
+    if out_dir.resolve() == out.resolve() or out.resolve() in out_dir.resolve().parents:
+        raise ValueError(f"{out_dir}: inside the run {out}; export it elsewhere")
     for name in found:
         if (out_dir / f"{name}.csv").exists():
             raise FileExistsError(f"{out_dir / f'{name}.csv'}: the file exists; choose another "

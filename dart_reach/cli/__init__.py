@@ -5,8 +5,8 @@ exit code 2, without a traceback.
 
 One module per group of commands, each registering its commands beside their handlers:
 ``watch`` (watch, video), ``world`` (reach, scenes), ``shipped`` (robots, conditions),
-``train`` (train, status), ``evaluate``, ``report``, ``read`` (read, export), ``studies``
-(validate, bench, screen);
+``train`` (train, status), ``migrate``, ``evaluate``, ``report``, ``read`` (read, export),
+``studies`` (validate, bench, screen);
 ``arguments`` holds the argparse types and shared options, ``stopping`` Ctrl-C and SIGTERM.
 The handlers import the library only when they run, so that ``dart-reach --help`` took 0.06 s
 of CPU (0.14 s wall; ``python -c pass`` 0.03 s) where the handlers' imports at the top would
@@ -20,16 +20,16 @@ from __future__ import annotations
 import signal
 import sys
 
-from . import evaluate, read, report, shipped, studies, train, watch, world
+from . import evaluate, migrate, read, report, shipped, studies, train, watch, world
 from .arguments import Help, Parser
 from .stopping import interrupted, on_stop_signal, stops, unraisable
 
 #: Every command's registration, in the order ``dart-reach --help`` lists them.
 COMMANDS = (watch.register_watch, watch.register_video, world.register_reach,
-            world.register_scenes, world.register_versions, shipped.register_robots,
-            shipped.register_conditions,
+            world.register_scenes, world.register_versions, shipped.register_robots, shipped.register_conditions,
             train.register_train, evaluate.register_evaluate, report.register_report,
-            train.register_status, read.register_read, read.register_export,
+            train.register_status, migrate.register_migrate, read.register_read,
+            read.register_export,
             studies.register_validate, studies.register_bench, studies.register_screen)
 
 

@@ -23,12 +23,12 @@ Run directory::
     baseline.parquet, development.parquet  its random genomes and snapshots
                                (``postevaluation.results``: the format, the provenance)
     findings.parquet           every claim judged at the run's budget (``make results``)
+    ledger.json                the SHA-256 of every file above as it was written (``integrity``)
     .lock                      held by the process working in the directory (``files``)
 
-The manifest's ``files`` ledger holds the SHA-256 of every checkpoint, final and snapshot
-as it was written; each is checked against it when it is read (``integrity``), and
-``RunDirectory.verify`` checks them all at once. A damaged one raises
-``integrity.DamagedFile`` naming it and what to do.
+Every file is checked against the ledger when it is read (``integrity``), the manifest
+included, and ``RunDirectory.verify`` checks them all at once. A damaged file, or one the
+ledger does not name, raises ``integrity.DamagedFile`` naming it and what to do.
 
 Each phase's checkpoint carries its statistics rows: the statistics of a run are read from its
 checkpoints (``generations.parquet`` and ``training.rrd`` are derived from them).
@@ -63,8 +63,12 @@ class RunError(UsageError):
 
 
 def read_manifest(path: Path) -> dict:
-    """A run's manifest as a dict of this version's format, or ``RunError`` naming it."""
+    """A run's manifest as a dict of this version's format, checked against the run's ledger
+    (``integrity``), or ``RunError`` (``integrity.DamagedFile``) naming it."""
+    path = Path(path)
     try:
+        if integrity.has_ledger(path.parent):
+            integrity.check(path.parent, path)
         m = json.loads(path.read_text())
     except (OSError, UnicodeDecodeError, json.JSONDecodeError) as exc:
         raise RunError(f"{path}: unreadable manifest ({exc})") from None
@@ -76,6 +80,7 @@ def read_manifest(path: Path) -> dict:
     if m.get("format") != MANIFEST_FORMAT:
         raise RunError(f"{path}: written by an incompatible version (format "
                        f"{m.get('format')}, this version reads {MANIFEST_FORMAT})")
+    integrity.ledger(path.parent)  # a run without one: refused, naming 'migrate'
     return m
 
 
@@ -223,7 +228,8 @@ class RunDirectory:
         """A phase's statistics rows up to ``generation`` from generations.parquet, for a
         checkpoint written before checkpoints carried them."""
         path = self.out / "generations.parquet"
-        table = pl.read_parquet(path) if path.exists() else pl.DataFrame(schema=STATS_SCHEMA)
+        table = (pl.read_parquet(integrity.verified(path)) if path.exists()
+                 else pl.DataFrame(schema=STATS_SCHEMA))
         return table.filter((pl.col("phase_key") == phase.key)
                             & (pl.col("generation") <= generation))
 
@@ -278,12 +284,11 @@ class RunDirectory:
         return files
 
     def verify(self) -> None:
-        """Check every file of ``state_files`` before anything is done with the run: its
-        SHA-256 against the manifest's ledger, or for a file written before the ledger, that
-        it reads whole. Raises ``integrity.DamagedFile`` naming the first damaged file and
-        what to do; changes nothing on disk."""
-        for path in self.state_files():
-            integrity.verify(self.out, path)
+        """Check every file of the run before anything is done with it: its SHA-256 against
+        the run's ledger (``integrity.verify_run``). Raises ``integrity.DamagedFile`` naming
+        the first damaged file, or one the ledger does not name, and what to do; changes
+        nothing on disk."""
+        integrity.verify_run(self.out)
 
     def status(self) -> pl.DataFrame:
         """Where training stands (``dart-reach status``): one row per phase trained in this run

@@ -10,7 +10,7 @@ phase. A phase shared by several conditions (same content, same preceding phases
 (``settings.seed_sequence``).
 
 A generation is committed by its phase's checkpoint alone, written atomically (a temporary file
-renamed over the old one), its SHA-256 committed in the manifest around the rename
+renamed over the old one), its SHA-256 committed in the run's ledger around the rename
 (``integrity.recorded_write``; finals and snapshots too), so that a damaged file is refused
 when it is read. Everything a generation adds is either written before that commit
 (the best-of-generation recordings and the snapshots, which a redone generation rewrites
@@ -47,7 +47,7 @@ from .rundir import (STATS_SCHEMA, RunDirectory, RunError, check_same_run, descr
                      manifest_of, read_manifest)
 from .settings import (SEED_INIT, SEED_LIFETIME, SEED_MUTATE, SEED_RECORD, SNAPSHOT_ROBOTS,
                        Settings, seed_address, seed_sequence, snapshot_due, trial_config)
-from ..files import LOCK_NAME, DirectoryLock, atomic_write, remove_temporaries
+from ..files import LOCK_NAME, DirectoryLock, remove_temporaries, write_parquet
 from ..model.scenes import scene_of
 from ..model.task import TrialConfig, network_for, trial_positions
 from ..progress import training_bar
@@ -99,7 +99,8 @@ class Trainer(RunDirectory):
                                cli=f"{out} already holds a run (manifest.json); use "
                                    f"--resume to continue it or choose another --out")
             check_same_run(manifest_path, manifest)
-        elif out.exists() and any(p.name != LOCK_NAME for p in out.iterdir()):
+        elif out.exists() and any(p.name not in (LOCK_NAME, integrity.LEDGER_FILE)
+                                  for p in out.iterdir()):
             raise RunError(f"{out} is not empty and holds no run: choose another out",
                            cli=f"{out} is not empty and holds no run: choose another "
                                f"--out")
@@ -115,7 +116,7 @@ class Trainer(RunDirectory):
                                "tree": "SeedSequence(seed, spawn_key=(phase key[:8] as int, "
                                        "replication, purpose 0 init|1 mutate|2 evaluate, "
                                        "generation, individual))"})
-            atomic_write(manifest_path, lambda p: p.write_text(json.dumps(full, indent=2)))
+            recorded_write(out, manifest_path, lambda p: p.write_text(json.dumps(full, indent=2)))
         super().__init__(out, conditions, settings)
         self._model: RobotModel | None = None
 
@@ -142,11 +143,12 @@ class Trainer(RunDirectory):
             {"started": time.strftime("%Y-%m-%dT%H:%M:%S%z"), "command": command,
              **git_state(), "cpu": cpu(), "generations_done": done,
              **({"workers": workers} if workers is not None else {})})
-        atomic_write(path, lambda p: p.write_text(json.dumps(manifest, indent=2)))
+        recorded_write(self.out, path, lambda p: p.write_text(json.dumps(manifest, indent=2)))
 
     # -------------------------------------------------------------- commit and repair
     def _save_stats(self) -> None:
-        atomic_write(self.out / "generations.parquet", lambda p: self.stats.write_parquet(p))
+        recorded_write(self.out, self.out / "generations.parquet",
+                       lambda p: write_parquet(self.stats, p))
         write_rrd(self.out / "training.rrd", training_rrd(self.stats, self.out.name))
 
     def repair(self) -> None:
@@ -218,7 +220,8 @@ class Trainer(RunDirectory):
             "fitness": fitness.reshape(-1),
             "genome": [g.tolist() for g in genomes.reshape(-1, genomes.shape[-1])],
         }, schema_overrides={"genome": pl.List(pl.UInt8)})
-        atomic_write(self.phase_dir(phase) / "best.parquet", lambda p: table.write_parquet(p))
+        recorded_write(self.out, self.phase_dir(phase) / "best.parquet",
+                       lambda p: write_parquet(table, p))
 
     # -------------------------------------------------------------- training
     def train(self, backend: Backend, progress: Callable[[Progress], None] | None = None,
@@ -374,7 +377,12 @@ def train(conditions: list[Condition], settings: Settings, out: Path, workers: i
     if resume and not (out / "manifest.json").is_file():
         raise RunError(f"nothing to resume: {out} holds no run")
     if resume:  # a damaged file refused before anything is written, the lock file included
-        RunDirectory(*described_run(out)).verify()
+        done = RunDirectory(*described_run(out))
+        done.verify()
+        if not done.unfinished():
+            raise RunError(f"{out}: finished: every phase is trained to the end (nothing to "
+                           f"resume, nothing written); post-evaluate it with: dart-reach "
+                           f"evaluate {out}")
     with DirectoryLock(out):
         remove_temporaries(out)  # of a killed write: the lock says no one else is writing
         run = Trainer(out, conditions, settings, resume=resume, command=command)

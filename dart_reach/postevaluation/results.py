@@ -45,8 +45,9 @@ import polars as pl
 
 from .. import __version__
 from ..evolution.provenance import git_state, simd
+from ..evolution import integrity
 from ..evolution.rundir import RunError
-from ..files import atomic_write
+from ..files import write_parquet
 
 #: Version of the storage format (1: float32 measures, the baseline in its own table, sessions).
 FORMAT = 1
@@ -66,11 +67,14 @@ def parts_folder(path: str | os.PathLike) -> Path:
 
 def stored_files(path: str | os.PathLike) -> list[Path]:
     """The files the table at ``path`` is stored in: the file itself, else its parts in order
-    (empty: no table)."""
+    (empty: no table), each checked against the ledger of the run it lies in
+    (``integrity.verified``: ``integrity.DamagedFile`` for a damaged file, or one the run did
+    not write)."""
     path = Path(path)
     if path.is_file():
-        return [path]
-    return sorted(parts_folder(path).glob("part-*.parquet"), key=lambda p: int(p.stem[5:]))
+        return [integrity.verified(path)]
+    return [integrity.verified(p) for p in sorted(parts_folder(path).glob("part-*.parquet"),
+                                                  key=lambda p: int(p.stem[5:]))]
 
 
 def exists(path: str | os.PathLike) -> bool:
@@ -195,28 +199,28 @@ def write_table(path: Path, table: pl.DataFrame, entries: Sequence[dict]) -> Non
     meta = {_META: json.dumps({"format": FORMAT, "sessions": list(entries)})}
     stored = _stored(table)
     buffer = io.BytesIO()
-    stored.write_parquet(buffer, metadata=meta)
+    write_parquet(stored, buffer, metadata=meta)
     path, folder = Path(path), parts_folder(path)
     old = stored_files(path)
     if buffer.tell() <= PART_BYTES:
-        atomic_write(path, lambda p: p.write_bytes(buffer.getvalue()))
+        integrity.write(path, lambda p: p.write_bytes(buffer.getvalue()))
         written = [path]
     else:
         written, start = _kept_parts([] if path.is_file() else old, stored)
         rest = stored.slice(start)
         rest_buffer = io.BytesIO()
-        rest.write_parquet(rest_buffer)
+        write_parquet(rest, rest_buffer)
         count = math.ceil(rest_buffer.tell() / (0.8 * PART_BYTES))
         size = math.ceil(rest.height / count)
         folder.mkdir(parents=True, exist_ok=True)
         first = int(written[-1].stem[5:]) + 1 if written else 0
         for i in range(count):
             part = folder / f"part-{first + i:03d}.parquet"
-            atomic_write(part, lambda p, i=i: rest.slice(i * size, size).write_parquet(
-                p, metadata=meta))
+            integrity.write(part, lambda p, i=i: write_parquet(rest.slice(i * size, size), p,
+                                                               metadata=meta))
             written.append(part)
     for stale in set(old) - set(written):
-        stale.unlink()
+        integrity.remove(stale)
     if folder.is_dir() and not any(folder.iterdir()):
         folder.rmdir()
 

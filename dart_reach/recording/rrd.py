@@ -33,7 +33,7 @@ from rerun import bindings as rerun_bindings
 from rerun.chunk import Chunk, LazyChunkStream, RrdReader
 
 from ..measures import metrics
-from ..files import atomic_write
+from ..evolution import integrity
 from ..model.task import Senses, TrialData
 from .layout import LAYOUT, MEASURES, PALETTE, SIGNALS, TrialInfo, trial_blueprint
 from .robot_model import RobotModel
@@ -386,12 +386,13 @@ def write_blueprint(path: Path) -> Path:
     PATH.rbl`` opens a recording with it."""
     def save(tmp: Path) -> None:
         trial_blueprint().save(APP_ID, str(tmp))
-    return atomic_write(path, save)
+    return integrity.write(path, save)
 
 
 def write_rrd(path: Path, content: bytes) -> Path:
-    """Write .rrd bytes atomically (a reader sees the old file or the new one, never half)."""
-    return atomic_write(path, lambda p: p.write_bytes(content))
+    """Write .rrd bytes atomically (a reader sees the old file or the new one, never half),
+    in a run's ledger when it lies in a run (``integrity.write``)."""
+    return integrity.write(path, lambda p: p.write_bytes(content))
 
 
 # ------------------------------------------------------------------------------ reading
@@ -401,6 +402,7 @@ def _chunks(path: Path):
         raise RecordingError(f"{path}: a directory, not a recording (.rrd file)")
     if not path.is_file():
         raise RecordingError(f"{path}: no such recording")
+    integrity.verified(path)  # a recording of a run: as its ledger recorded it
     try:
         with warnings.catch_warnings():
             # Every file this package writes ends with a footer; rerun only warns without one.
