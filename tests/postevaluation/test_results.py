@@ -10,6 +10,7 @@ from pathlib import Path
 import polars as pl
 import pytest
 
+from dart_reach.evolution import integrity
 from dart_reach.evolution.rundir import RunError
 from dart_reach.postevaluation import results
 from dart_reach.postevaluation.systematic import evaluate_run, load_evaluation
@@ -65,7 +66,8 @@ def test_a_table_of_an_older_format_is_refused_in_one_line_and_migrated_once(tra
     migrated = tmp_path / "migrated"
     shutil.copytree(out, migrated)
     (migrated / results.BASELINE).unlink()
-    every.drop("measures_version").write_parquet(migrated / results.EVALUATION)  # the old format
+    integrity.write(migrated / results.EVALUATION,  # the old format, as a run records it
+                    lambda p: every.drop("measures_version").write_parquet(p))
     assert not results.is_current(migrated / results.EVALUATION)
     with pytest.raises(RunError) as refused:
         load_evaluation(migrated, None)
