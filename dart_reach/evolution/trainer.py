@@ -379,10 +379,8 @@ def train(conditions: list[Condition], settings: Settings, out: Path, workers: i
     if resume:  # a damaged file refused before anything is written, the lock file included
         done = RunDirectory(*described_run(out))
         done.verify()
-        if not done.unfinished():
-            raise RunError(f"{out}: finished: every phase is trained to the end (nothing to "
-                           f"resume, nothing written); post-evaluate it with: dart-reach "
-                           f"evaluate {out}")
+        if not done.unfinished():  # finished: nothing to do, nothing written
+            return Trainer(out, conditions, settings, resume=True, command=command)
     with DirectoryLock(out):
         remove_temporaries(out)  # of a killed write: the lock says no one else is writing
         run = Trainer(out, conditions, settings, resume=resume, command=command)

@@ -93,14 +93,17 @@ def snapshot(out: Path) -> dict:
             snap[str(f)] = read_rrd(p)
         elif f.name == "manifest.json":
             manifest = json.loads(p.read_text())
-            # the ledger accepts each file on disk alone (the digests differ between runs:
-            # a .npz holds the time it was written)
-            ledger = manifest.pop("files", {})
-            assert all(d == [integrity.sha256(out / n)] for n, d in ledger.items()), ledger
             snap[str(f)] = {k: v for k, v in manifest.items()
                             if k not in ("created", "command", "git_revision", "git_dirty",
                                          "git_diff_sha256", "sessions")}
-            snap[str(f)]["files"] = sorted(ledger)
+        elif f.name == integrity.LEDGER_FILE:
+            # the ledger accepts each file on disk (with the old digest too where a kill came
+            # before a write's last step) and names every file (the digests differ between
+            # runs: a .npz holds the time it was written)
+            ledger = integrity.ledger(out)
+            assert all(integrity.sha256(out / n) in d for n, d in ledger.items()), ledger
+            assert sorted(ledger) == sorted(str(g) for g in files if g.name != f.name), ledger
+            snap[str(f)] = sorted(ledger)
     return snap
 
 
@@ -165,8 +168,10 @@ def _kill_points(targets: list[str]) -> list[int]:
     from its checkpoint with no phase finished; all of a phase's results in but its final not).
     Here 17 of the run's 28 renames: a kill at each costs two processes."""
     finals = [i for i, t in enumerate(targets) if t == "phases/*/final.npz"]
-    starts = [next(i for i, t in enumerate(targets) if t.startswith("phases/"))]
-    starts += [f + 2 for f in finals[:-1]]  # a phase ends with the manifest naming its final
+    # a file's rename comes between two of the ledger's (integrity.recorded_write): a phase
+    # begins with the ledger accepting its first file and ends with the ledger naming its final
+    starts = [next(i for i, t in enumerate(targets) if t.startswith("phases/")) - 1]
+    starts += [f + 2 for f in finals[:-1]]
     phases = [targets[a:f + 2] for a, f in zip(starts, finals)]
     assert finals[-1] + 2 == len(targets), targets
     assert len(phases) >= 2 and all(p == phases[0] for p in phases), targets
