@@ -24,56 +24,12 @@ that ``import dart_reach`` (and ``dart-reach --help``) does not load DART, Rerun
 from __future__ import annotations
 
 import importlib
-import os
-import platform
+
+# First, before anything loads numpy: pin numpy's and OpenBLAS's kernels, and record whether
+# numpy was loaded already (then the pin cannot take: model version 1 refuses to run).
+from . import pinning  # noqa: F401
 
 __version__ = "0.1.0"
-
-
-def _pin_blas_kernels() -> None:
-    """Same seed, same result on every x86_64 machine: OpenBLAS (numpy's) picks its kernels
-    by the CPU, SkylakeX's on AVX-512 machines and Haswell's on AVX2 ones, and the controller's
-    matrix products round differently under each (measured: the trial digests of
-    tests/model/test_task.py differ). Before numpy loads, pin Haswell's, which every x86_64 CPU
-    with AVX2 and FMA runs, unless the user has chosen (``OPENBLAS_CORETYPE``). Worker
-    processes inherit it. Where numpy was imported before dart_reach it cannot take effect."""
-    if "OPENBLAS_CORETYPE" in os.environ or platform.machine() != "x86_64":
-        return
-    try:
-        with open("/proc/cpuinfo") as f:
-            flags = next((line for line in f if line.startswith("flags")), "").split()
-    except OSError:
-        return
-    if "avx2" in flags and "fma" in flags:
-        os.environ["OPENBLAS_CORETYPE"] = "Haswell"
-
-
-_pin_blas_kernels()
-
-
-#: numpy's dispatch targets above AVX2: numpy 2.4's groups (``numpy.show_runtime()``) and the
-#: AVX-512 names of earlier 2.x releases; a name a release does not know is ignored.
-_ABOVE_AVX2 = ("X86_V4 AVX512_ICL AVX512_SPR AVX512F AVX512CD AVX512_KNL AVX512_KNM AVX512_SKX "
-               "AVX512_CLX AVX512_CNL")
-
-
-def _pin_numpy_dispatch() -> None:
-    """Same seed, same result on AVX-512 and AVX2 machines: numpy picks the code of its
-    elementwise functions by the CPU, and on an AVX-512 one float64 ``np.exp`` (the
-    controller's logistic) has an implementation of its own, which can round differently from
-    the one an AVX2 machine runs (measured on an AVX-512 CPU: one ulp apart for 4.6 % of
-    inputs). Measured: results tables written on an AVX-512 machine reproduce on an AVX2 one
-    for all but 1 of 12 and 1 of 30 robots checked (docs/guides/runs.md, "Determinism").
-    Before numpy loads, keep numpy's dispatch at AVX2 at most, unless the user has chosen
-    (``NPY_DISABLE_CPU_FEATURES``); it changes nothing on an AVX2 machine. Worker processes
-    inherit it. Where numpy was imported before dart_reach it cannot take
-    effect (``provenance.simd`` records what did)."""
-    if "NPY_DISABLE_CPU_FEATURES" in os.environ or platform.machine() != "x86_64":
-        return
-    os.environ["NPY_DISABLE_CPU_FEATURES"] = _ABOVE_AVX2
-
-
-_pin_numpy_dispatch()
 
 #: The Gymnasium id of the paper's trial as an environment (``envs``; the ``gym`` extra). v1:
 #: actions in [-1, 1] float32, 200 steps in the registration (``ReachGraspEnv``'s version

@@ -11,14 +11,15 @@ from pathlib import Path
 
 PACKAGE = Path(__file__).resolve().parents[1] / "dart_reach"
 
-#: Each layer may import itself and the layers before it. ``errors``, ``files`` and
-#: ``progress`` are shared utilities every layer may use.
+#: Each layer may import itself and the layers before it. ``errors``, ``files``, ``pinning``
+#: (the kernels' pin, which ``import dart_reach`` runs first) and ``progress`` are shared
+#: utilities every layer may use.
 #: ``envs`` (the Gymnasium environment) wraps the model's trial, takes its phases from
 #: evolution's conditions and draws its frames with ``viewing.episode`` (which takes a trial's
 #: record, not the environment): it sits after viewing, and bench (studies) measures it.
 LAYERS = ("model", "measures", "recording", "evolution", "postevaluation", "analysis",
           "robots", "viewing", "envs", "studies", "cli")
-SHARED = {"errors", "files", "progress", "skeletons", ""}
+SHARED = {"errors", "files", "pinning", "progress", "skeletons", ""}
 
 MAX_LINES = 600
 
@@ -32,6 +33,8 @@ DEFERRED = {
             "second), which every process of a vector environment would pay",
     "progress": "start-up: tqdm.auto takes 60 ms to import and is needed only to draw a bar; "
                 "the CLI imports progress for every command",
+    "pinning": "it runs before numpy loads, to set the variables numpy and OpenBLAS read when "
+               "they load; numpy is imported only to read the kernels a process runs",
     "measures.kinematics": "start-up: scipy.signal takes 0.6 s to import and only "
                            "movement_units needs it; every 'dart-reach train' loads the measures "
                            "(its recordings do)",

@@ -85,7 +85,7 @@ def test_numpy_dispatch_is_kept_at_avx2_and_recorded():
     import os
     import platform
 
-    import dart_reach
+    from dart_reach import pinning
 
     if platform.machine() != "x86_64":
         import pytest
@@ -96,8 +96,8 @@ def test_numpy_dispatch_is_kept_at_avx2_and_recorded():
     pinned = subprocess.run([sys.executable, "-c", code], env=env, capture_output=True,
                             text=True, timeout=120)
     disabled, level = pinned.stdout.strip().split("|")
-    assert disabled == dart_reach._ABOVE_AVX2 and level not in {"X86_V4", "AVX512_ICL",
-                                                                  "AVX512_SPR"}
+    assert disabled == pinning.ABOVE_AVX2 and level not in {"X86_V4", "AVX512_ICL",
+                                                            "AVX512_SPR"}
     baseline_only = "X86_V3 X86_V4 AVX512_ICL AVX512_SPR"
     chosen = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
                             env={**env, "NPY_DISABLE_CPU_FEATURES": baseline_only}, timeout=120)

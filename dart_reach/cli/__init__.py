@@ -1,7 +1,8 @@
 """``dart-reach``: the command line, a thin layer over the library.
 
-Any error in the user's input (a ValueError or a missing file) becomes one line on stderr and
-exit code 2, without a traceback.
+Any error in the user's input (a ValueError or a missing file), and model version 1 asked to
+run where numpy's kernels are not pinned (``pinning.KernelsNotPinned``), becomes one line on
+stderr and exit code 2, without a traceback.
 
 One module per group of commands, each registering its commands beside their handlers:
 ``watch`` (watch, video), ``world`` (reach, scenes), ``shipped`` (robots, conditions),
@@ -67,10 +68,11 @@ def main(argv=None) -> int:
     signal.signal(signal.SIGINT, on_stop_signal)
     sys.unraisablehook = unraisable(sys.__unraisablehook__)
     from ..files import DirectoryBusy
+    from ..pinning import KernelsNotPinned
 
     try:
         return args.func(args)
-    except (ValueError, OSError, DirectoryBusy) as exc:
+    except (ValueError, OSError, DirectoryBusy, KernelsNotPinned) as exc:
         print(f"dart-reach: error: {_message(exc)}", file=sys.stderr)
         return 2
     except KeyboardInterrupt as exc:

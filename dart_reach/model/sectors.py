@@ -61,11 +61,14 @@ def sector_angles(config: SectorConfig, sector: int, u: float, v: float) -> tupl
 
 
 def sphere_point(centre: np.ndarray, radius: float, azimuth: float, elevation: float) -> np.ndarray:
-    """World point (m) at (azimuth, elevation) degrees on the sphere; +x of the world is backward,
-    so straight ahead is -x and the robot's right +y."""
+    """World point (m) at (azimuth, elevation) degrees on the sphere of ``radius`` (m) around
+    ``centre`` (m); +x of the world is backward, so straight ahead is -x and the robot's right
+    +y. Computed with Python floats (the C library's sine and cosine, one rounding per product
+    and sum), never numpy's dispatched kernels: the same bits at every numpy dispatch level."""
     az, el = math.radians(azimuth), math.radians(elevation)
-    return centre + radius * np.array(
-        [-math.cos(el) * math.cos(az), math.cos(el) * math.sin(az), math.sin(el)])
+    direction = (-math.cos(el) * math.cos(az), math.cos(el) * math.sin(az), math.sin(el))
+    return np.array([c + radius * d for c, d in zip(np.asarray(centre, float).tolist(),
+                                                      direction)])
 
 
 def check_sector(sector) -> None:
