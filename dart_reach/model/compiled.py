@@ -140,9 +140,11 @@ class CompiledNetwork(Network):
                  hidden_frozen: bool = False, reflex_inputs: ReflexInputs = ReflexInputs.HAND_SET):
         super().__init__(params, reflexes=reflexes, hidden_frozen=hidden_frozen,
                          reflex_inputs=reflex_inputs)
-        self._args = (self._in_scale, self._w_sm, self._w_sh, self._w_hm, self._bias_h,
-                      self._bias_m, self._gain_h, self._tau_h, self._tau_m, self.hidden_frozen,
-                      self._x, self.hidden, self.motor)
+        #: the network's parameters and states as ``network_targets`` takes them after the
+        #: sensors (arrays shared with the network, updated in place)
+        self.kernel_args = (self._in_scale, self._w_sm, self._w_sh, self._w_hm, self._bias_h,
+                            self._bias_m, self._gain_h, self._tau_h, self._tau_m,
+                            self.hidden_frozen, self._x, self.hidden, self.motor)
 
     def step(self, sensors: np.ndarray) -> np.ndarray:
         """One 0.1 s update from the 25 sensor values; returns ``self.motor``."""
@@ -151,7 +153,7 @@ class CompiledNetwork(Network):
             sensors = np.asarray(sensors, dtype=float)
             if sensors.shape != (N_SENSORS,):
                 raise ValueError(f"expected {N_SENSORS} sensor values, got shape {sensors.shape}")
-        _network_step(sensors, *self._args)
+        _network_step(sensors, *self.kernel_args)
         return self.motor
 
 

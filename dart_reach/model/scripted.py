@@ -65,7 +65,7 @@ def grasp_posture(world: World, ball_position, standoff: float = 0.0,
     does not depend on the robot's current state, which is restored afterwards."""
     robot, hand = world.robot, world.hand
     ball = np.asarray(ball_position, float)
-    idx = world._motor_dofs[3:]  # torso (3) and arm (7); the neck stays put
+    idx = world.layout.motor_dofs[3:]  # torso (3) and arm (7); the neck stays put
     lo, hi = world.lower[idx], world.upper[idx]
     saved = robot.getPositions()
     q = world.home.copy()
@@ -99,7 +99,7 @@ def grasp_posture(world: World, ball_position, standoff: float = 0.0,
     err = float(np.linalg.norm(palm_residual(best.x)[0]))
     if look:
         # Then the neck, so that the ball projects on the optical axis of the head camera.
-        neck = world._motor_dofs[:3]
+        neck = world.layout.motor_dofs[:3]
         camera = world.camera
 
         def off_axis(x):
@@ -123,7 +123,7 @@ class ScriptedReach:
     def __init__(self, world: World, ball_position, look: bool = False):
         self.world = world
         self.solution = grasp_posture(world, ball_position, standoff=GRASP_STANDOFF, look=look)
-        x0 = self.solution.q[world._motor_dofs[3:]]
+        x0 = self.solution.q[world.layout.motor_dofs[3:]]
         self.waypoints = [world.targets_for(grasp_posture(world, ball_position, standoff=s,
                                                           x0=x0, look=look).q)
                           for s in APPROACH_STANDOFFS]

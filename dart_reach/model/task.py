@@ -23,16 +23,13 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from . import sensors
-from .ctrnn import (N_HIDDEN, N_MOTORS, N_SENSORS, OFFSET, PROPRIO, SIGHT, TOUCH, Network,
-                    NetworkParams, motor_targets)
-from .icub import HAND_SEGMENTS, TOUCH_BODIES
+from .ctrnn import N_HIDDEN, N_MOTORS, N_SENSORS, Network, NetworkParams
+from .icub import HAND_SEGMENTS
 from .levers import NetworkStart, ReflexInputs, TouchPay, coerce_levers
+from .steps import TrialSteps, steps_for
 from .versions import Numerics
-from .world import BALL_PARKED, N_SECTORS, World, palm_normal, palm_point
+from .world import N_SECTORS, World
 
-#: Indices in ``HAND_SEGMENTS`` of the six touch-sensor bodies (palm, fingertips).
-TOUCH_SEGMENTS = np.array([HAND_SEGMENTS.index(b) for b in TOUCH_BODIES])
 N_SEGMENTS = len(HAND_SEGMENTS)
 
 
@@ -87,6 +84,26 @@ class TrialConfig:
             raise ValueError("steps and trials must be positive")
         if not isinstance(self.senses, Senses):
             object.__setattr__(self, "senses", Senses(self.senses))
+
+    @property
+    def touch_deprived(self) -> bool:
+        """Whether the touch sensors read ``sensors.NO_TOUCH`` whatever touches (section IV-B)."""
+        return self.senses in _NO_TOUCH
+
+    @property
+    def sight_deprived(self) -> bool:
+        """Whether the sight and offset sensors read ``sensors.NO_SIGHT`` (section IV-B)."""
+        return self.senses in _NO_SIGHT
+
+    @property
+    def offsets_sensed(self) -> bool:
+        """Whether the offset sensors (Eq. 4) read the hand and the ball."""
+        return self.offset_sensors and not self.sight_deprived
+
+    @property
+    def ball_absent(self) -> bool:
+        """Whether the ball is taken out of the scene (``Senses.NO_BALL``, section IV-A-1)."""
+        return self.senses is Senses.NO_BALL
 
 
 @dataclass
@@ -148,129 +165,40 @@ class Trial:
     """Runs trials of one network in one world. Build once, run many (buffers are reused for
     the observation; each recorded trial gets its own ``TrialData``).
 
-    Two ways through the same steps: ``run`` keeps every per-step record (post-evaluation,
-    recordings); ``fitness`` keeps only what the fitness needs (the genetic algorithm). Both
-    compute the sensors and the fitness terms with the one ``sense``, so a trial's fitness is
-    the same to the last bit either way.
-
-    Under ``Numerics.COMPILED`` (model version 2) the trial takes the steps of a
-    ``compiled_trial.CompiledSteps`` in place of its own (``sense``, ``observe``, ``command``,
-    the substeps, the network's update): the same loops, computed by compiled code."""
+    The per-step work is its ``steps`` (``steps.TrialSteps``), chosen at construction by the
+    config's numerics (``steps.steps_for``): ``steps.ReferenceSteps`` (model version 1) or
+    ``compiled_trial.CompiledSteps`` (version 2). Two ways through the same steps: ``run``
+    keeps every per-step record (post-evaluation, recordings); ``fitness`` keeps only what the
+    fitness needs (the genetic algorithm). Both sense the world and compute the fitness terms
+    with the same step functions, so a trial's fitness is the same to the last bit either way;
+    the Gymnasium environment steps a trial with ``begin``, ``observe`` and ``control``."""
 
     def __init__(self, world: World, config: TrialConfig = TrialConfig()):
         self.world, self.config = world, config
-        self._x = x = np.zeros(N_SENSORS)
-        # views of the sensor vector's layers (a slice costs as much as a small operation)
-        self._x_proprio, self._x_touch = x[PROPRIO], x[TOUCH]
-        self._x_sight, self._x_offset = x[SIGHT], x[OFFSET]
-        self._q = np.zeros(N_MOTORS)
-        self._contacts = np.zeros(N_SEGMENTS, bool)
-        self._ball_at = np.zeros(3)  # where the ball hangs (or would hang) in this trial
-        self._targets = np.zeros(N_MOTORS)
-        self._proprio_lower = world.motor_limit_lower.tolist()
-        self._proprio_span = (world.motor_limit_upper - world.motor_limit_lower).tolist()
-        self._touch_segments = TOUCH_SEGMENTS.tolist()
-        self._steps = config.steps
+        #: the step functions of this trial's numerics
+        self.steps: TrialSteps = steps_for(world, config)
+        self._n_steps = config.steps
         self._p = np.zeros(config.steps)  # p_multimodal per step of ``fitness``
-        # the network's motor states at a trial's start (levers.NetworkStart)
-        self._home_motor = ((world.home_targets + 1.0) / 2.0
-                            if config.network_start is NetworkStart.HOLD_HOME
-                            else np.zeros(N_MOTORS))
-        self._pay_touch = sensors.p_touch_of(config.touch_pay)  # levers.TouchPay
-        #: the world's motors commanded toward 14 targets in [-1, 1], no physics yet
-        self.command = world.set_targets
-        #: the physics substeps of one control period, the touches gathered
-        self._advance = world.advance
-        self._no_touch = config.senses in _NO_TOUCH
-        self._no_sight = config.senses in _NO_SIGHT
-        self._offsets = config.offset_sensors and not self._no_sight
-        # What ``sense`` read last: the skeleton's positions, the ball's centre, the hand's
-        # pose (None when the step did not need it) and the fitness terms of the step.
-        self._positions = self._ball = self._hand_pose = None
-        self._p_sight = self._p_touch = self._p_multimodal = 0.0
-        self._no_ball = config.senses is Senses.NO_BALL
-        #: model version 2's compiled steps (None: version 1's, below)
-        self._compiled = None
-        if config.numerics is Numerics.COMPILED:
-            from .compiled_trial import CompiledSteps  # loads Numba: only under version 2
-            steps = self._compiled = CompiledSteps(self)
-            self.sense, self.observe, self.command = steps.sense, steps.observe, steps.command
-            self._advance, self._act = steps.advance, steps.act
-            self._targets_of = steps.targets_of
-
-    # ------------------------------------------------------------------ observation
-    def sense(self) -> bool:
-        """Read the world into the sensor vector (the network's input) and the fitness terms
-        of this step (Eq. 5); False when the state read is not finite (the simulation has
-        exploded). Reads the hand's pose only when the offset sensors need it."""
-        w = self.world
-        positions = self._positions = w.joint_positions()
-        q = w.motor_positions(self._q, positions)
-        contacts = w.hand_contacts(self._contacts)
-        ball = self._ball = w.ball_position()
-        cam = w.camera_pose()
-        R, origin = cam[:3, :3], cam[:3, 3]
-        ball_cam = (ball - origin) @ R  # R^T (p - o)
-        sensors.proprioception(q, self._proprio_lower, w.motor_limit_upper, out=self._x_proprio,
-                               span=self._proprio_span)
-        touching = contacts.tolist()
-        if self._no_touch:
-            self._x_touch[:] = sensors.NO_TOUCH
-        else:
-            sensors.touch([touching[i] for i in self._touch_segments], out=self._x_touch)
-        cx, cy, ball_visible = sensors.project(ball_cam)
-        if self._no_sight:
-            self._x_sight[:] = sensors.NO_SIGHT
-        else:
-            sensors.sight(cx, cy, math.sqrt(ball_cam.dot(ball_cam)), ball_visible,
-                          self.config.acuity, out=self._x_sight)
-        if self._offsets:
-            hand_pose = self._hand_pose = w.hand_transform()
-            hand_cam = (palm_point(hand_pose) - origin) @ R
-            hand_visible = sensors.project(hand_cam)[2]
-            sensors.offset(sensors.visual_angles(ball_cam), sensors.visual_angles(hand_cam),
-                           ball_visible and hand_visible, out=self._x_offset)
-        else:
-            self._hand_pose = None
-            self._x_offset[:] = sensors.NO_SIGHT
-        # The fitness is about the world, whatever the robot is deprived of (Eq. 5).
-        p_s = self._p_sight = sensors.p_sight(cx, cy, ball_visible)
-        p_t = self._p_touch = self._pay_touch(sum(touching), N_SEGMENTS)
-        self._p_multimodal = sensors.p_multimodal(p_s, p_t)
-        return math.isfinite(positions.sum() + ball.sum())
-
-    def observe(self, data: TrialData, t: int) -> bool:
-        """``sense``, and the world and the sensors into the record's row t; False when the
-        state read is not finite."""
-        finite = self.sense()
-        w = self.world
-        hand_pose = w.hand_transform() if self._hand_pose is None else self._hand_pose
-        data.joints[t] = self._q
-        data.dofs[t] = self._positions
-        data.hand[t] = palm_point(hand_pose)
-        data.shoulder[t] = w.shoulder_position()
-        data.ball[t] = self._ball_at if self.config.senses is Senses.NO_BALL else self._ball
-        data.contacts[t] = self._contacts
-        w.hand_contacts_any(data.contacts_any[t])
-        palm_normal(hand_pose, out=data.palm_normal[t])
-        data.sensors[t] = self._x
-        data.p_sight[t] = self._p_sight
-        data.p_touch[t] = self._p_touch
-        data.p_multimodal[t] = self._p_multimodal
-        return finite
-
-    def _act(self, network: Network) -> bool:
-        """The network's update from the sensors read last and its motor targets
-        (``self._targets``); whether they are finite."""
-        return self._targets_of(network.step(self._x))
-
-    def _targets_of(self, motor: np.ndarray) -> bool:
-        """The motor targets (``self._targets``) of the network's motor states (``ctrnn.
-        motor_targets``); whether they are finite (they lie in [-1, 1] when they are)."""
-        motor_targets(motor, out=self._targets)
-        return math.isfinite(self._targets.sum())
+        # the steps' functions the control step calls, looked up once
+        steps = self.steps
+        self._command, self._advance = steps.command, steps.advance
+        self._sense, self._observe = steps.sense, steps.observe
 
     # ------------------------------------------------------------------ one control step
+    def sense(self) -> bool:
+        """The steps' ``sense``: the sensor vector (``steps.x``) and the fitness terms of the
+        state reached; False when it is not finite."""
+        return self._sense()
+
+    def observe(self, data: TrialData, t: int) -> bool:
+        """The steps' ``observe``: ``sense``, and the world and the sensors into ``data``'s
+        row ``t``; False when the state read is not finite."""
+        return self._observe(data, t)
+
+    def command(self, targets: np.ndarray) -> None:
+        """The steps' ``command``: the motors commanded toward 14 finite targets in [-1, 1]."""
+        self._command(targets)
+
     def control(self, targets: np.ndarray, data: TrialData | None, t: int) -> bool:
         """One control step, the one ``run``, ``fitness`` and the Gymnasium environment take:
         the world driven for one control period (0.1 s) toward ``targets`` (finite, in
@@ -278,26 +206,23 @@ class Trial:
         ``t`` (``observe``), or without a record into the sensor vector and the fitness terms
         only (``sense``). After the trial's last step (``t`` = ``config.steps``) nothing is
         read. False when the state read is not finite."""
-        self.command(targets)
+        self._command(targets)
         self._advance()
-        if t == self._steps:
+        if t == self._n_steps:
             return True
-        return self.sense() if data is None else self.observe(data, t)
+        return self._sense() if data is None else self._observe(data, t)
 
     # ------------------------------------------------------------------ one trial
-    def _reset(self, ball_position) -> None:
+    def reset(self, ball_position) -> None:
         """The world at a trial's start: home posture, the ball at rest at ``ball_position``
-        (parked away when it is absent)."""
-        self._ball_at[:] = ball_position
-        self.world.reset(BALL_PARKED if self._no_ball else ball_position)
-        if self._compiled is not None:
-            self._compiled.after_reset()
+        (m; parked away when it is absent)."""
+        self.steps.reset(ball_position)
 
     def begin(self, sector: int, ball_position) -> TrialData:
         """Start a trial: the world reset with the ball at ``ball_position`` (in ``sector``)
         and the trial's empty record. ``run`` and the Gymnasium environment (``envs``) then
         step it: ``observe`` row 0, then per step the motor targets and ``control``."""
-        self._reset(ball_position)
+        self.steps.reset(ball_position)
         return TrialData.empty(self.config.steps, sector, ball_position,
                                self.world.robot.getNumDofs())
 
@@ -305,16 +230,17 @@ class Trial:
         """One trial of ``config.steps`` steps with the ball at ``ball_position`` (in
         ``sector``), every per-step record kept. The network is reset to the state that holds
         the home posture."""
+        steps = self.steps
         data = self.begin(sector, ball_position)
-        network.reset(motor=self._home_motor)
-        targets, control = self._targets, self.control
-        finite = self.observe(data, 0)
+        network.reset(motor=steps.home_motor)
+        x, targets, targets_of, control = steps.x, steps.targets, steps.targets_of, self.control
+        finite = self._observe(data, 0)
         for t in range(self.config.steps):
             if not finite:  # the last physics step exploded
                 data.diverged = True
                 break
-            motor = network.step(self._x)
-            finite_targets = self._targets_of(motor)
+            motor = network.step(x)
+            finite_targets = targets_of(motor)
             data.hidden[t] = network.hidden
             data.motor[t] = motor
             data.targets[t] = targets
@@ -329,23 +255,29 @@ class Trial:
         """The fitness of the trial ``run`` would run with the ball at ``ball_position`` (mean
         p_multimodal over its steps, 0 when it diverges; section III-C), to the last bit,
         keeping no record: what the genetic algorithm needs."""
-        p, targets, control = self._p, self._targets, self.control
-        self._reset(ball_position)
-        network.reset(motor=self._home_motor)
-        if self._compiled is not None:
-            fused = self._compiled.fitness(network, p)
-            if fused is not None:
-                return fused
-        act = self._act
-        finite = self.sense()
+        steps = self.steps
+        p, targets, control = self._p, steps.targets, self.control
+        steps.reset(ball_position)
+        network.reset(motor=steps.home_motor)
+        fused = steps.fitness(network, p)
+        if fused is not None:
+            return fused
+        act = steps.act
+        finite = self._sense()
         for t in range(self.config.steps):
             if not finite:
                 return 0.0
-            p[t] = self._p_multimodal
+            p[t] = steps.p_multimodal
             if not act(network):
                 return 0.0
             finite = control(targets, None, t + 1)
         return float(p.mean())
+
+    @property
+    def p_series(self) -> np.ndarray:
+        """p_multimodal per step of the last ``fitness`` (a view of the trial's buffer; the
+        steps after a divergence hold an earlier trial's values)."""
+        return self._p
 
 
 def trial_positions(world: World, rng: np.random.Generator, trials: int = 18

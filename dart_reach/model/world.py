@@ -25,12 +25,15 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass, field
 from pathlib import Path
+from types import MappingProxyType
 
 import dartpy as dart
 import numpy as np
 
 from . import icub
+from .bodies import SkeletonError, load_skeleton, make_ball
 from .ctrnn import N_MOTORS
+from .layout import TOUCH_SEGMENTS, TouchFace, WorldLayout, kinematic_tree, segment_faces
 from .sectors import (N_SECTORS, POINTS_PER_SECTOR, SYSTEMATIC_FRACTIONS, SectorConfig,
                       check_sector, sector_angles, sphere_point)
 from .sensors import clip
@@ -40,10 +43,6 @@ LIMIT_MARGIN = 0.01
 #: Where the ball-absent test (``task.Senses.NO_BALL``, section IV-A-1) hangs the ball (m, world
 #: frame): 50 m behind the robot, out of its reach and behind its camera whatever its posture.
 BALL_PARKED = np.array([50.0, 0.0, 0.0])
-
-
-class SkeletonError(ValueError):
-    """The robot model file is missing or cannot be used."""
 
 
 @dataclass(frozen=True)
@@ -116,7 +115,7 @@ class World:
 
     def __init__(self, config: WorldConfig | None = None):
         self.config = config = config or WorldConfig()
-        self.robot = _load_skeleton(config.skeleton or icub.default_skeleton())
+        self.robot = load_skeleton(config.skeleton or icub.default_skeleton())
         self.world = dart.simulation.World()
         self.world.setTimeStep(config.physics_dt)
         self.world.setGravity([0.0, 0.0, -config.gravity])
@@ -131,11 +130,13 @@ class World:
         self._resolve_robot()
         if config.self_collision:
             self._collide_arm_with_body()
-        self.ball_skeleton, self._ball_joint, self.ball_body = _make_ball(config.ball)
+        self.ball_skeleton, self._ball_joint, self.ball_body = make_ball(config.ball)
         self.world.addSkeleton(self.ball_skeleton)
         self._resolve_contacts()
         self._ball_shapes = set(self.ball_body.getShapeNodes())
         self._set_home()
+        #: what the trial's step functions read of this world (``layout.WorldLayout``)
+        self.layout = self._describe()
         self.neck_centre = self.robot.getBodyNode(icub.NECK).getWorldTransform().translation()
         self.reset(self.sector_point(4, 0.5, 0.5))
 
@@ -193,6 +194,31 @@ class World:
         self._max_move = self.config.max_joint_speed * self.config.control_dt
         self._substeps = self.config.substeps
 
+    def _describe(self) -> WorldLayout:
+        """The world's ``WorldLayout``: copies of what the construction resolved, frozen."""
+        r = self.robot
+        tree = kinematic_tree(r)
+        index = {r.getBodyNode(i).getName(): i for i in range(r.getNumBodyNodes())}
+        camera, hand = index[icub.CAMERA], index[icub.HAND]
+        direction, cos_limit = segment_faces(icub.HAND_SEGMENTS)
+        ints = lambda a: np.array(a, np.int64)  # noqa: E731
+        floats = lambda a: np.array(a, float)  # noqa: E731
+        return WorldLayout(
+            n_dofs=r.getNumDofs(), motor_dofs=ints(self._motor_dofs),
+            finger_dofs=ints(self._finger_dofs), dof_motor=ints(self._dof_motor),
+            motor_limit_lower=floats(self.motor_limit_lower),
+            motor_limit_span=floats(self.motor_limit_upper - self.motor_limit_lower),
+            motor_lower=floats(self._lower_list), motor_upper=floats(self._upper_list),
+            half_range=floats(self._half_range), mid_range=floats(self._mid_range),
+            max_move=float(self._max_move), stiffness=floats(self.stiffness),
+            touch_segments=TOUCH_SEGMENTS, camera_body=camera, hand_body=hand,
+            shoulder_body=index[icub.SHOULDER],
+            segment_body=ints([index[name] for name in icub.HAND_SEGMENTS]),
+            face_direction=direction, face_cos_limit=cos_limit,
+            sensed_bodies=tree.chain(camera, hand), tree=tree,
+            touch_faces=MappingProxyType(self._touch_faces),
+            ball_shapes=frozenset(self._ball_shapes))
+
     def _collide_arm_with_body(self) -> None:
         """Self-collision on (``WorldConfig.self_collision``) for the arm against the body only:
         every pair of bodies inside the right arm's subtree, and inside the body, is left out
@@ -225,9 +251,15 @@ class World:
             for shape in body.getShapeNodes():
                 if shape.getCollisionAspect() is not None:
                     inner = shape.getRelativeTransform().rotation().T @ np.asarray(direction)
-                    self._touch_faces[shape] = (i, inner, cos_limit, tuple(inner.tolist()))
-        self._touch = np.zeros(len(self._segments), bool)
-        self._touch_any = np.zeros(len(self._segments), bool)
+                    inner.flags.writeable = False
+                    self._touch_faces[shape] = TouchFace(i, inner, cos_limit,
+                                                         tuple(inner.tolist()))
+        #: (16,) bool per hand segment (``icub.HAND_SEGMENTS``), the touches of the last
+        #: control step, gathered by its physics substeps: on the segment's inner face
+        #: (``touched``, III-B, III-C) and on any face (``touched_any``, the reach of IV-A-1).
+        #: Written by ``advance`` or by the compiled numerics' substeps, cleared by ``reset``.
+        self.touched = np.zeros(len(self._segments), bool)
+        self.touched_any = np.zeros(len(self._segments), bool)
         self._segment_index = {body: i for i, body in enumerate(self._segments)}
 
     def _set_home(self) -> None:
@@ -288,8 +320,8 @@ class World:
         self.ball_skeleton.resetAccelerations()
         self.ball_skeleton.clearConstraintImpulses()
         self.world.setTime(0.0)
-        self._touch[:] = False
-        self._touch_any[:] = False
+        self.touched[:] = False
+        self.touched_any[:] = False
         self._q_cmd[:] = self.home_motor.tolist()
         self.set_targets(self.home_targets)
 
@@ -325,6 +357,13 @@ class World:
             dof.setRestPosition(q_cmd[motor])
         self.robot.setCommands(self.robot.getGravityForces())
 
+    def set_spring_rest_positions(self, value: float) -> None:
+        """Every joint spring's rest position set to ``value`` (rad). The compiled numerics
+        hold them at 0 and command the springs' pull as joint forces
+        (``compiled.spring_forces``)."""
+        for dof in self._dofs:
+            dof.setRestPosition(value)
+
     @property
     def commanded(self) -> np.ndarray:
         """The 14 motors' commanded positions (rad): the springs' rest positions per motor."""
@@ -340,9 +379,9 @@ class World:
         """The physics substeps of one control step toward the targets set. The touches of
         every substep are gathered: on the inner faces (``hand_contacts``) and on any face
         (``hand_contacts_any``)."""
-        touch = self._touch
+        touch = self.touched
         touch[:] = False
-        self._touch_any[:] = False
+        self.touched_any[:] = False
         step, last_collisions = self.world.step, self.world.getLastCollisionResult
         self_collision = self.config.self_collision
         for _ in range(self._substeps):
@@ -365,7 +404,7 @@ class World:
         segments among a substep's colliding bodies as touching on some face
         (``hand_contacts_any``); whether one of them is not yet marked as touching on its
         inner face, so that the contacts must be read."""
-        touch, touch_any, segment = self._touch, self._touch_any, self._segment_index
+        touch, touch_any, segment = self.touched, self.touched_any, self._segment_index
         pending = False
         for body in result.getCollidingBodyNodes():
             i = segment.get(body)
@@ -379,7 +418,7 @@ class World:
         ball (any face, and inner face as ``_gather_touch``), ignoring the robot's contacts
         with itself."""
         faces, ball_shapes = self._touch_faces, self._ball_shapes
-        touch, touch_any = self._touch, self._touch_any
+        touch, touch_any = self.touched, self.touched_any
         ball = None
         for contact in result.getContacts():
             frame1 = contact.collisionObject1.getShapeFrame()
@@ -466,16 +505,16 @@ class World:
         physics substep of the last control step: the touch of the paper's reach ("touch the
         object at least once with the hand", IV-A-1). A superset of ``hand_contacts``."""
         if out is None:
-            return self._touch_any.copy()
-        out[:] = self._touch_any
+            return self.touched_any.copy()
+        out[:] = self.touched_any
         return out
 
     def hand_contacts(self, out: np.ndarray | None = None) -> np.ndarray:
         """Which hand segments (``icub.HAND_SEGMENTS``) touched the ball on their inner face
         in any physics substep of the last control step, as booleans (III-B, III-C)."""
         if out is None:
-            return self._touch.copy()
-        out[:] = self._touch
+            return self.touched.copy()
+        out[:] = self.touched
         return out
 
     def is_finite(self) -> bool:
@@ -526,51 +565,3 @@ def palm_normal(hand_pose: np.ndarray, out: np.ndarray | None = None) -> np.ndar
     """Unit world direction the palm's inner face looks toward (+z = palm up) for a 4x4
     world pose of the hand."""
     return np.matmul(hand_pose[:3, :3], PALM_NORMAL, out=out)
-
-
-def _load_skeleton(path) -> dart.dynamics.Skeleton:
-    path = Path(path)
-    if not path.is_file():
-        raise SkeletonError(f"skeleton file not found: {path}")
-    text = path.read_text(errors="replace")
-    if "<robot" not in text:
-        raise SkeletonError(f"skeleton file {path} is not a URDF (no <robot> element)")
-    loader = dart.utils.DartLoader()
-    options = dart.utils.DartLoaderOptions()
-    options.mDefaultRootJointType = dart.utils.DartLoaderRootJointType.FIXED
-    loader.setOptions(options)
-    skeleton = loader.parseSkeleton(dart.common.Uri.createFromPath(str(path.resolve())))
-    if skeleton is None or skeleton.getNumDofs() == 0:
-        raise SkeletonError(f"skeleton file {path} could not be parsed as a robot model")
-    return skeleton
-
-
-def _make_ball(config: BallConfig):
-    """A sphere hung from a fixed pivot ``string_length`` above its centre on a universal joint
-    (two perpendicular horizontal axes): a spherical pendulum with a massless string. Each
-    axis's swing is limited to ``max_swing`` by the constraint solver, so the ball can never
-    rise to its pivot, whatever hits it (a taut string); damping brings a swing to rest."""
-    skel = dart.dynamics.Skeleton("ball")
-    joint_props = dart.dynamics.UniversalJointProperties()
-    joint_props.mName = "pendulum_pivot"
-    joint, body = skel.createUniversalJointAndBodyNodePair(None, joint_props)
-    joint.setAxis1([1.0, 0.0, 0.0])
-    joint.setAxis2([0.0, 1.0, 0.0])
-    body.setName("ball")
-    T = dart.math.Isometry3()
-    T.set_translation([0.0, 0.0, config.string_length])
-    joint.setTransformFromChildBodyNode(T)
-    swing = math.radians(config.max_swing)
-    for i in range(2):
-        joint.setDampingCoefficient(i, config.damping)
-        joint.setPositionLowerLimit(i, -swing)
-        joint.setPositionUpperLimit(i, swing)
-    joint.setLimitEnforcement(True)
-    body.setMass(config.mass)
-    i = 0.4 * config.mass * config.radius ** 2
-    body.setMomentOfInertia(i, i, i, 0.0, 0.0, 0.0)
-    shape = body.createShapeNode(dart.dynamics.SphereShape(config.radius))
-    shape.createVisualAspect().setColor(list(config.color))
-    shape.createCollisionAspect()
-    shape.createDynamicsAspect().setFrictionCoeff(config.friction)
-    return skel, joint, body

@@ -242,7 +242,7 @@ def env_render(frames: int = 100, width: int = 320, height: int = 240, seed: int
 def _replay(runner: Trial, ball: np.ndarray, targets: np.ndarray, steps: int) -> None:
     """The bare physics of a trial: its first ``steps`` motor targets commanded as ``runner``
     commands them, the physics substeps run, nothing observed."""
-    runner._reset(ball)
+    runner.reset(ball)
     world, command = runner.world, runner.command
     substeps, step = world.config.substeps, world.world.step
     for t in range(steps):

@@ -145,7 +145,7 @@ def scripted_grasps(world: World, seconds: float = 10.0) -> dict:
     for point in world.systematic_points():
         world.reset(point)
         reach = ScriptedReach(world, point)
-        contacts = np.zeros((steps, len(world._segments)), bool)
+        contacts = np.zeros((steps, len(world.layout.segment_body)), bool)
         hand = np.zeros((steps, 3))
         for t in range(steps):
             world.hand_contacts(contacts[t])
@@ -225,7 +225,7 @@ def _neck_centres_ball(world: World, q: np.ndarray, ball: np.ndarray) -> bool | 
     (the trunk moves the head too; that is not the orienting response). None when the ball is
     out of view with the neck either way."""
     saved = world.robot.getPositions()
-    neck = world._motor_dofs[:3]
+    neck = world.layout.motor_dofs[:3]
     at_home = q.copy()
     at_home[neck] = world.home[neck]
     now, home = _image_offset(world, q, ball), _image_offset(world, at_home, ball)

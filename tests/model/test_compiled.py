@@ -20,6 +20,7 @@ from dart_reach.evolution.settings import Settings, standard_trial, trial_config
 from dart_reach.evolution.conditions import load_condition
 from dart_reach.model import compiled
 from dart_reach.model.compiled_trial import CompiledSteps
+from dart_reach.model.steps import ReferenceSteps
 from dart_reach.model.ctrnn import N_SENSORS, Network, random_params
 from dart_reach.model.versions import Numerics, numerics_of
 from dart_reach.model.task import Trial, network_for
@@ -71,14 +72,15 @@ def test_the_compiled_network_follows_version_1s_equation(reflexes, frozen):
 
 
 def test_the_compiled_forward_kinematics_gives_darts_pose_of_every_body(world):
-    steps = Trial(world, standard_trial("pre", numerics=Numerics.COMPILED))._compiled
     robot, rng = world.robot, np.random.default_rng(5)
-    poses = steps._kinematics[-1]
+    n = robot.getNumBodyNodes()
+    poses = np.zeros((n, 4, 4))
     try:
         for _ in range(20):
             q = rng.uniform(world.lower, world.upper)
             robot.setPositions(q)
-            compiled.body_poses(q, np.arange(len(poses)), *steps._kinematics[:-1], poses)
+            compiled.body_poses(q, np.arange(n), *world.layout.tree.arrays, np.zeros((3, 4, 4)),
+                                poses)
             for i in range(robot.getNumBodyNodes()):
                 assert np.allclose(poses[i], robot.getBodyNode(i).getTransform().matrix(),
                                    rtol=0, atol=1e-12)
@@ -91,8 +93,8 @@ def test_model_version_2_computes_with_the_compiled_numerics(world):
     config = trial_config(pre, Settings(model_version=2))
     assert config.numerics is Numerics.COMPILED is numerics_of(2)
     assert trial_config(pre, Settings()).numerics is Numerics.REFERENCE
-    assert isinstance(Trial(world, config)._compiled, CompiledSteps)
-    assert Trial(world, trial_config(pre, Settings()))._compiled is None
+    assert isinstance(Trial(world, config).steps, CompiledSteps)
+    assert isinstance(Trial(world, trial_config(pre, Settings())).steps, ReferenceSteps)
     assert type(network_for(random_params(np.random.default_rng(0)), config)
                 ) is compiled.CompiledNetwork
 
@@ -150,7 +152,7 @@ def _fitness_and_run(trial, network, k, ball):
     for way in ("fitness", "run"):
         if way == "fitness":
             f = trial.fitness(network, ball)
-            p = trial._p.copy()
+            p = trial.p_series.copy()
         else:
             data = trial.run(network, k, ball)
             f, p = data.fitness, data.p_multimodal
@@ -185,16 +187,16 @@ def test_version_2s_fitness_scores_an_explosion_zero_and_steps_a_version_1_netwo
     v1_network = network_for(params, standard_trial("pre", numerics=Numerics.REFERENCE))
     (f1, p1, q1, _), (f2, p2, q2, _) = _fitness_and_run(trial, v1_network, 2, ball)
     assert f1 == f2 > 0 and np.array_equal(p1, p2) and np.array_equal(q1, q2)
-    network, steps = network_for(params, cfg), trial._compiled
+    network, steps = network_for(params, cfg), trial.steps
     assert trial.fitness(network, ball) > 0
-    original, calls = steps._substeps, []
+    original, calls = steps.substeps, []
 
     def exploding():  # the real substeps, then the state blown up after 5 control steps
         original()
         calls.append(1)
         if len(calls) == 5:
             world.robot.setVelocities(np.full(world.robot.getNumDofs(), np.nan))
-    steps._substeps = exploding
+    steps.substeps = exploding
     assert trial.fitness(network, ball) == 0.0 and len(calls) == 6
 
 
@@ -207,9 +209,9 @@ def test_version_2_grows_its_contact_buffers_and_decides_the_same_touches(world)
     for size in (None, 1):
         trial = Trial(world, cfg)
         if size:
-            trial._compiled._hold_contacts(size)
+            trial.steps.hold_contacts(size)
         runs.append(trial.run(network_for(params, cfg), 2, ball))
-    assert len(trial._compiled._contact_segments) > 1 and runs[0].contacts.any()
+    assert len(trial.steps.contact_segments) > 1 and runs[0].contacts.any()
     for name in ("contacts", "contacts_any", "dofs", "sensors"):
         assert np.array_equal(getattr(runs[0], name), getattr(runs[1], name)), name
 

@@ -110,7 +110,7 @@ def test_joints_track_targets_within_bound_after_two_seconds(world):
         error = np.abs(world.motor_positions() - q_des)
         worst = max(worst, error.max())
         # every finger joint follows the one hand motor
-        fingers = world.joint_positions()[world._finger_dofs]
+        fingers = world.joint_positions()[world.layout.finger_dofs]
         assert np.abs(fingers - q_des[13]).max() < TRACKING_BOUND
     assert worst < TRACKING_BOUND, f"worst tracking error {worst:.4f} rad"
 
@@ -143,7 +143,7 @@ def test_fingers_all_follow_the_hand_motor(world):
         t[13] = target
         for _ in range(10):
             world.step(t)
-        fingers = world.joint_positions()[world._finger_dofs]
+        fingers = world.joint_positions()[world.layout.finger_dofs]
         assert fingers.shape == (15,)
         assert np.allclose(fingers, expected, atol=0.02), (target, fingers)
         assert world.motor_positions()[13] == pytest.approx(fingers.mean())

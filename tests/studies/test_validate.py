@@ -177,7 +177,7 @@ def test_grasp_posture_does_not_depend_on_the_robots_current_state(world):
     world.reset(ball)
     at_home = grasp_posture(world, ball, look=True)
     moved = world.home.copy()
-    moved[world._motor_dofs[:10]] += 0.3  # torso, neck and shoulder elsewhere
+    moved[world.layout.motor_dofs[:10]] += 0.3  # torso, neck and shoulder elsewhere
     world.robot.setPositions(moved)
     elsewhere = grasp_posture(world, ball, look=True)
     assert np.array_equal(at_home.q, elsewhere.q)

@@ -1,0 +1,86 @@
+"""The trial's step functions behind one interface (``model.steps``), and the world's public,
+frozen layout they read (``model.layout``)."""
+
+from __future__ import annotations
+
+import dataclasses
+import re
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from dart_reach.model import compiled_trial, icub, steps, task
+from dart_reach.model.compiled_trial import CompiledSteps
+from dart_reach.model.ctrnn import MOTOR_NAMES, N_SENSORS
+from dart_reach.model.layout import TOUCH_SEGMENTS
+from dart_reach.model.steps import ReferenceSteps, TrialSteps
+from dart_reach.model.task import Trial, TrialConfig
+from dart_reach.model.versions import Numerics
+from dart_reach.model.world import World
+
+MODEL = Path(task.__file__).parent
+
+
+@pytest.fixture(scope="module")
+def world():
+    return World()
+
+
+def test_the_layout_is_frozen_and_read_only(world):
+    layout = world.layout
+    with pytest.raises(dataclasses.FrozenInstanceError):
+        layout.max_move = 1.0
+    for f in dataclasses.fields(layout):
+        value = getattr(layout, f.name)
+        if isinstance(value, np.ndarray):
+            assert not value.flags.writeable, f.name
+            with pytest.raises(ValueError):
+                value[...] = 0
+    for a in layout.tree.arrays:
+        assert not a.flags.writeable
+    with pytest.raises(TypeError):
+        layout.touch_faces[object()] = None
+
+
+def test_the_layout_names_the_skeletons_indices(world):
+    layout, robot = world.layout, world.robot
+    assert layout.motor_dofs.tolist() == \
+        [robot.getJoint(n).getIndexInSkeleton(0) for n in MOTOR_NAMES[:13]]
+    assert [robot.getBodyNode(int(b)).getName() for b in layout.segment_body] == \
+        list(icub.HAND_SEGMENTS)
+    assert robot.getBodyNode(layout.camera_body).getName() == icub.CAMERA
+    assert robot.getBodyNode(layout.hand_body).getName() == icub.HAND
+    assert robot.getBodyNode(layout.shoulder_body).getName() == icub.SHOULDER
+    assert [icub.HAND_SEGMENTS[i] for i in TOUCH_SEGMENTS] == list(icub.TOUCH_BODIES)
+    assert (layout.dof_motor[layout.finger_dofs] == 13).all()
+    assert np.array_equal(layout.motor_limit_span,
+                          world.motor_limit_upper - world.motor_limit_lower)
+    assert layout.max_move == world.config.max_joint_speed * world.config.control_dt
+    assert not layout.tree.unsupported
+    assert sorted({f.segment for f in layout.touch_faces.values()}) == \
+        list(range(len(icub.HAND_SEGMENTS)))
+
+
+@pytest.mark.parametrize("numerics, kind", [(Numerics.REFERENCE, ReferenceSteps),
+                                            (Numerics.COMPILED, CompiledSteps)])
+def test_a_trial_takes_its_numerics_steps_by_composition(world, numerics, kind):
+    """The steps are chosen at construction; no method of the trial is replaced on the
+    instance; both kinds offer the whole interface."""
+    trial = Trial(world, TrialConfig(steps=5, numerics=numerics))
+    assert type(trial.steps) is kind
+    for name in ("sense", "observe", "command", "control", "begin", "run", "fitness", "reset"):
+        assert name not in vars(trial), name
+    members = [m for m in vars(TrialSteps) if not m.startswith("_")]
+    members += list(TrialSteps.__annotations__)
+    for name in members:
+        assert hasattr(trial.steps, name), name
+    assert trial.steps.x.shape == (N_SENSORS,)
+
+
+@pytest.mark.parametrize("module", [task, steps, compiled_trial])
+def test_the_step_code_reads_no_private_attribute_of_another_object(module):
+    """``self._name`` only: never ``world._name``, ``trial._name``, ``network._name``."""
+    source = Path(module.__file__).read_text()
+    found = re.findall(r"(?<![\w.])(?!self\b)([A-Za-z_]\w*)\._[A-Za-z]\w*", source)
+    assert not found, found
