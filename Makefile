@@ -82,7 +82,7 @@ scene-study: $(VENV)/.installed
 		$(BIN)/dart-reach evaluate $(STUDY)/$$s --robots 5 --baseline 10 --sensors $$senses \
 			--record none || exit $$?; \
 	done; done
-	$(BIN)/python -m dart_reach.studies.scene_study $(STUDY) docs/results/scene-study
+	$(BIN)/python -m reports.scene_study $(STUDY) docs/results/scene-study
 
 # The longer replication of docs/results/replication.md: the standard condition and gross^,
 # 50 generations per phase (gross^ 100), 4 replications, on the scene the scene study's rule fixed.
@@ -163,7 +163,7 @@ replication-report: $(VENV)/.installed
 # The results docs (docs/results/templates/*.md rendered from the committed tables under
 # recordings/, and scene-study/scene-study.md and .png); a test fails when they differ.
 results: $(VENV)/.installed
-	$(BIN)/python -m dart_reach.studies.scene_study $(STUDY) docs/results/scene-study > /dev/null
+	$(BIN)/python -m reports.scene_study $(STUDY) docs/results/scene-study > /dev/null
 	$(BIN)/python -m reports.results .
 	$(BIN)/python -m reports.levers
 

@@ -40,9 +40,8 @@ GYM_ID = "dart_reach/ReachGrasp-v1"
 def _register_gym_environment() -> None:
     """Register ``GYM_ID`` with Gymnasium where it is installed (the ``gym`` extra); without it,
     nothing. The environment's module is loaded by ``gymnasium.make``, not here, but Gymnasium
-    and numpy, which it loads, are: about 0.2 s more for ``import dart_reach`` and
-    ``dart-reach --help`` where the extra is installed (measured 2026-11-26; up to 1 s on a
-    loaded machine)."""
+    and numpy, which it loads, are: ``import dart_reach`` and ``dart-reach --help`` take that
+    much longer where the extra is installed (docs/guides/gymnasium.md)."""
     try:
         import gymnasium
     except ImportError:

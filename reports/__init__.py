@@ -7,7 +7,9 @@ templated page).
 - ``results``: every page rendered from its template in docs/results/templates/, and the
   findings frames committed beside the runs; ``--check`` names the pages that differ;
 - ``pre_reaching_course``, ``stillness``, ``cost``: the values of their pages;
+- ``scene_study``: the scene study's contrasts, tables and figure (``python -m
+  reports.scene_study``);
 - ``levers``: the levers study's page; ``calibration``: the verdict rules' calibration table;
-- ``runs``: the committed runs the pages read and the generations judged; ``text``: how the
-  pages write numbers and tables.
+- ``runs``: the committed runs the pages read and the generations judged; ``text``: the
+  templates' placeholders and the pages' tables (numbers: ``dart_reach.analysis.formatting``).
 """

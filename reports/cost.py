@@ -11,13 +11,14 @@ from pathlib import Path
 import numpy as np
 import polars as pl
 
+from dart_reach.analysis.formatting import significant
 from dart_reach.evolution import cost
 from dart_reach.evolution.conditions import list_conditions
 from dart_reach.evolution.rundir import RunDirectory
 from dart_reach.evolution.settings import Settings
 
 from .runs import FULL, REPLICATIONS, TEN
-from .text import markdown_table, number
+from .text import markdown_table
 
 
 #: ``ray_efficiency`` of ``dart-reach bench``, lowest and highest over the benchmark runs of
@@ -47,9 +48,9 @@ def values(recordings: Path) -> dict[str, str]:
     full = full_values(recordings / FULL, (q1, median))
     return {"cost": markdown_table(table), **full,
             "ten.replication_generations": f"{per.height * ten.settings.replications:,}",
-            "ten.wall_h": number(float(per["wall_s"].sum()) / 3600),
+            "ten.wall_h": significant(float(per["wall_s"].sum()) / 3600),
             "ten.sessions": str(len(sessions)), "ten.resumes": str(max(len(sessions) - 1, 0)),
-            "ten.q1": number(q1), "ten.median": number(median),
+            "ten.q1": significant(q1), "ten.median": significant(median),
             "fig10.replication_generations": f"{fig10:,}",
             "fig10.core_hours": f"{hours[0]:,.0f}–{hours[1]:,.0f}",
             "fig10.cluster_hours": (f"{hours[0] / (CLUSTER_CORES * RAY_EFFICIENCY[1]):.0f}–"
@@ -100,9 +101,9 @@ def full_values(directory: Path, quiet: tuple[float, float]) -> dict[str, str]:
     rest = (total - done) * median / 3600
     latest = by_session.get(max(by_session, default=-1), {}).get("median")
     return {"full.done": f"{done:,} of {total:,}", "full.sessions": markdown_table(
-        pl.DataFrame(rows)), "full.q1": number(q1), "full.median": number(median),
+        pl.DataFrame(rows)), "full.q1": significant(q1), "full.median": significant(median),
         "full.rest_core_h": f"{rest:,.0f}", "full.rest_h": f"{rest / workers:,.0f}",
-        "full.workers": str(workers), "full.latest": number(latest),
+        "full.workers": str(workers), "full.latest": significant(latest),
         "full.rest_latest_h": f"{(total - done) * latest / 3600 / workers:,.0f}"
         if latest is not None else "–", "full.rest_quiet_h": "–".join(
             f"{(total - done) * c / 3600 / workers:,.0f}" for c in quiet)}

@@ -31,12 +31,13 @@ from dart_reach.evolution.rundir import RunDirectory
 from dart_reach.files import write_parquet
 from dart_reach.model.scenes import scene_of
 from dart_reach.postevaluation import checks, results
-from dart_reach.studies import scene_study
+from dart_reach.studies.scene_study import study_runs
+from dart_reach.studies.scene_study import summary as study_summary
 
-from . import babbling_detector, cost, pre_reaching_course, stillness
+from . import babbling_detector, cost, pre_reaching_course, scene_study, stillness
 from . import calibration as calibration_table
 from .runs import REPLICATIONS, TEN
-from .text import markdown_table, number, render, training_text
+from .text import markdown_table, render, training_text
 
 TEMPLATES = Path("docs/results/templates")
 OUT = Path("docs/results")
@@ -58,12 +59,13 @@ def provenance(run_dirs) -> dict[str, str]:
 
 def scene_study_values(recordings: Path) -> dict[str, str]:
     """The values of docs/results/templates/scene-study.md: ``summary`` and ``levers`` (the
-    study's tables), ``<scene>.<group>.<measure>`` (``scene_study.summary``'s cells),
+    study's tables, ``reports.scene_study``), ``<scene>.<group>.<measure>`` (the summary's
+    cells, ``scene_study.cell``),
     ``<scene>.wall_h`` (training wall time) and the runs' ``trained`` / ``evaluated``
     provenance."""
-    runs = scene_study.study_runs(recordings / "scene-study")
-    summary = scene_study.summary(runs)
-    lever_table = scene_study.levers(scene_study.robots(runs))
+    runs = study_runs(recordings / "scene-study")
+    summary = study_summary(runs)
+    lever_table = scene_study.lever_table(runs)
     values = {"summary": scene_study.markdown(summary).rstrip("\n"),
               "levers": scene_study.levers_grid(lever_table).rstrip("\n"),
               "levers_full": scene_study.levers_markdown(lever_table).rstrip("\n"),
@@ -71,7 +73,8 @@ def scene_study_values(recordings: Path) -> dict[str, str]:
     for row in summary.iter_rows(named=True):
         for measure, value in row.items():
             if isinstance(value, float):
-                values[f"{row['scene']}.{row['group']}.{measure}"] = number(value, measure)
+                values[f"{row['scene']}.{row['group']}.{measure}"] = scene_study.cell(value,
+                                                                                  measure)
     for d in runs:
         run = RunDirectory.open(d)
         scene = scene_of(run.settings.world.sectors) or d.name
@@ -325,8 +328,7 @@ FIGURES: dict[str, Callable[[Path], bytes]] = {
 #: recordings directory giving its text.
 TABLES: dict[str, Callable[[Path], str]] = {
     "scene-study/scene-study.md":
-        lambda recordings: scene_study.tables_text(scene_study.study_runs(
-            recordings / "scene-study"))}
+        lambda recordings: scene_study.tables_text(study_runs(recordings / "scene-study"))}
 
 
 #: Generated parts of other pages: the page (from the root), the template rendered between

@@ -1,5 +1,6 @@
 """What the generated results pages share (``reports.results`` and the pages it renders): the
-placeholders of their templates and how their numbers and tables are written."""
+placeholders of their templates and how their tables are written (their numbers: the
+package's ``dart_reach.analysis.formatting``, the one number formatter)."""
 
 from __future__ import annotations
 
@@ -7,15 +8,12 @@ import json
 import re
 from typing import Mapping
 
-import numpy as np
 import polars as pl
 
 from dart_reach.analysis import formatting
 from dart_reach.evolution.rundir import RunDirectory
 
 _PLACEHOLDER = re.compile(r"\{\{\s*([A-Za-z0-9_.\-]+)\s*\}\}")
-#: Rates are shown in per cent; other measures with 3 significant digits.
-_RATES = ("reached", "grasped", "babbling", "babbling_no_ball", "reach_low", "reach_high")
 
 
 def render(template: str, values: Mapping[str, str], name: str = "template") -> str:
@@ -25,14 +23,6 @@ def render(template: str, values: Mapping[str, str], name: str = "template") -> 
     if unknown:
         raise KeyError(f"{name}: no value for {', '.join(unknown)}")
     return _PLACEHOLDER.sub(lambda m: values[m.group(1)], template)
-
-
-def number(value: float, measure: str = "") -> str:
-    """A value as the docs show it: a rate (``measure`` one of the rates) in whole per cent,
-    else 3 significant digits (``formatting``); a missing value as an en dash."""
-    if value is not None and np.isfinite(value) and measure in _RATES:
-        return formatting.percent(value)
-    return formatting.significant(value)
 
 
 def markdown_table(table: pl.DataFrame) -> str:

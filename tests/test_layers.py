@@ -231,6 +231,20 @@ def test_no_module_of_the_package_names_a_committed_run_or_reads_docs():
     assert run_and_docs_mentions(code, ast.parse(code), runs) == []
 
 
+#: A date as the docs write one (2026-11-24).
+DATE = re.compile(r"\b20\d\d-[01]\d-[0-3]\d\b")
+
+
+def test_no_module_of_the_package_carries_a_dated_measurement():
+    """A measured figure belongs in docs/results (or a guide) with the date and the command
+    that made it; the package may take one as an argument or read it from a file a user's
+    benchmark wrote, never carry a date-stamped one."""
+    dated = [f"{path.relative_to(PACKAGE)}:{n}: {line.strip()}"
+             for path, _, _ in _modules()
+             for n, line in enumerate(path.read_text().splitlines(), 1) if DATE.search(line)]
+    assert not dated, "\n".join(dated)
+
+
 def _imported(tree: ast.AST) -> set[str]:
     """The top-level names of the modules a module imports by absolute name."""
     names = set()

@@ -7,6 +7,7 @@ from __future__ import annotations
 import json
 import shlex
 from dataclasses import dataclass
+from pathlib import Path
 
 import numpy as np
 import polars as pl
@@ -16,10 +17,11 @@ from .ga import Scheme
 from .settings import Settings
 
 #: Core-seconds of one replication-generation at the paper's budget (20 genotypes, steady
-#: state: 40 lifetimes of 18 trials of 200 control steps, the shipped evolved robots):
-#: ``generation_core_s`` of ``dart-reach bench``, low and high of five quiet runs on the
-#: project's 2-core reference machine on 2026-11-24 (docs/results/benchmarks.md; the host's speed
-#: varies by about a third from day to day).
+#: state: 40 lifetimes of 18 trials of 200 control steps, the shipped evolved robots), low and
+#: high: ``dart-reach bench``'s ``generation_core_s`` on the project's reference machine, the
+#: figure docs/results/benchmarks.md ("What a run costs") gives with the runs and the command
+#: that measured it. ``cost_estimate`` takes a machine's own (``bench_core_s``: from a
+#: ``dart-reach bench --json`` file).
 GENERATION_CORE_S = (43.0, 44.7)
 
 
@@ -33,17 +35,31 @@ class CostEstimate:
     core_hours: tuple[float, float]
 
 
-def cost_estimate(conditions: list[Condition], settings: Settings) -> CostEstimate:
-    """How much training ``conditions`` under ``settings`` costs (see ``CostEstimate``): the
-    cost of a generation is taken proportional to lifetimes x trials x steps, and evolved
-    robots (which touch the ball) cost more than the random networks a run starts from, so
-    it is an upper-side estimate for short runs."""
+def cost_estimate(conditions: list[Condition], settings: Settings,
+                  generation_core_s: tuple[float, float] = GENERATION_CORE_S) -> CostEstimate:
+    """How much training ``conditions`` under ``settings`` costs (see ``CostEstimate``) at
+    ``generation_core_s`` (low, high) core-seconds per replication-generation of the paper's
+    budget (default: the reference machine's, ``GENERATION_CORE_S``): the cost of a
+    generation is taken proportional to lifetimes x trials x steps, and evolved robots (which
+    touch the ball) cost more than the random networks a run starts from, so it is an
+    upper-side estimate for short runs."""
     phases = {p.key: p for c in conditions for p in c.phases}
     rep_gens = sum(p.generations for p in phases.values()) * settings.replications
     lifetimes = settings.ga.population * (2 if settings.ga.scheme is Scheme.STEADY_STATE
                                           else 1)
     scale = lifetimes / 40 * settings.trials / 18 * settings.steps / 200
-    return CostEstimate(rep_gens, tuple(rep_gens * scale * s / 3600 for s in GENERATION_CORE_S))
+    return CostEstimate(rep_gens, tuple(rep_gens * scale * s / 3600 for s in generation_core_s))
+
+
+def bench_core_s(path) -> tuple[float, float]:
+    """The core-seconds of one replication-generation that a ``dart-reach bench --json PATH``
+    run measured on its machine (its ``generation_core_s``), as ``cost_estimate`` takes them
+    (low = high); ``ValueError`` when the file holds no such figure."""
+    results = json.loads(Path(path).read_text(encoding="utf-8"))
+    value = results.get("generation_core_s") if isinstance(results, dict) else None
+    if isinstance(value, bool) or not isinstance(value, (int, float)) or not value > 0:
+        raise ValueError(f"{path}: no generation_core_s of 'dart-reach bench --json' in it")
+    return float(value), float(value)
 
 
 def session_workers(session: dict, manifest: dict) -> int | None:

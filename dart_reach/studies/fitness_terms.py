@@ -33,26 +33,33 @@ TABLE = "fitness-terms.parquet"
 SNAPSHOT_KEY = ("generation", "replication", "rank")
 
 
-def pre_phase_key(run: RunDirectory) -> str:
-    """The key of the pre-reaching phase ``run`` trained: the standard condition's, or that of
-    the run's one condition with a phase ``pre`` (the levers arms' ``pre-only``); ValueError
-    when there is none or the choice is not clear."""
-    found = {c.name: p.key for c, p in run.unique_phases() if p.name == "pre"}
-    if "standard" in found:
-        return found["standard"]
-    if len(found) != 1:
+def pre_phase_key(run: RunDirectory, condition: str | None = None) -> str:
+    """The key of the pre-reaching phase (the phase named ``pre``) that ``run`` trained: its
+    ``condition``'s (a condition's name), or by default the run's one pre-reaching phase
+    (conditions that share it count once); ValueError when there is none, or several and no
+    ``condition`` chooses."""
+    found = {c.name: p.key for c in run.conditions for p in c.phases if p.name == "pre"}
+    if condition is not None:
+        if condition not in found:
+            raise ValueError(f"{run.out}: condition {condition!r} has no pre-reaching phase "
+                             f"(conditions with one: {sorted(found) or 'none'})")
+        return found[condition]
+    if len(set(found.values())) != 1:
         raise ValueError(f"{run.out}: no single pre-reaching phase to take apart "
-                         f"(conditions with one: {sorted(found) or 'none'})")
+                         f"(conditions with one: {sorted(found) or 'none'}); name the "
+                         f"condition")
     return next(iter(found.values()))
 
 
 def robot_trials(run: RunDirectory, replication: int, rank: int,
-                 positions: int | None = None, generation: int | None = None) -> list[dict]:
+                 positions: int | None = None, generation: int | None = None,
+                 condition: str | None = None) -> list[dict]:
     """One row per systematic trial of a pre-reacher of ``run``'s final population (its
-    ``replication`` and ``rank``; ``generation``: of that generation's snapshot) under normal
-    senses, run as the post-evaluation runs it (``systematic.run_robot``): who, where,
-    ``fitness_terms``; ``positions``: only the first so many of the 45 (a check)."""
-    job = stored_robot_job(run, pre_phase_key(run), "normal", replication, rank,
+    ``replication`` and ``rank``; ``generation``: of that generation's snapshot; of the
+    pre-reaching phase of ``pre_phase_key(run, condition)``) under normal senses, run as the
+    post-evaluation runs it (``systematic.run_robot``): who, where, ``fitness_terms``;
+    ``positions``: only the first so many of the 45 (a check)."""
+    job = stored_robot_job(run, pre_phase_key(run, condition), "normal", replication, rank,
                            generation=generation)
     runner = worker_trial(job.world, job.trial)
     network = network_for(decode(job.genome, as_groups(job.phase.free_groups)), job.trial)
@@ -86,10 +93,12 @@ def snapshot_pre(run_dir: Path, generation: int) -> list[tuple[int, int]]:
     return sorted(rows.select("replication", "rank").unique().iter_rows())
 
 
-def build(run_dir: Path, progress=print, generation: int | None = None) -> pl.DataFrame:
+def build(run_dir: Path, progress=print, generation: int | None = None,
+          condition: str | None = None) -> pl.DataFrame:
     """Every post-evaluated pre-reacher of the run in ``run_dir`` (``evaluated_pre``;
     ``generation``: of that snapshot, ``snapshot_pre``, with ``generation`` in each row): its
-    trials (``robot_trials``), one table."""
+    trials (``robot_trials``; ``condition``: whose pre-reaching phase, ``pre_phase_key``),
+    one table."""
     robots_ = (evaluated_pre(run_dir) if generation is None
                else snapshot_pre(run_dir, generation))
     run = RunDirectory.open(run_dir)
@@ -97,7 +106,8 @@ def build(run_dir: Path, progress=print, generation: int | None = None) -> pl.Da
     rows = []
     for i, (replication, rank) in enumerate(robots_):
         rows += [dict(row, **more) for row in robot_trials(run, replication, rank,
-                                                           generation=generation)]
+                                                           generation=generation,
+                                                           condition=condition)]
         progress(f"{i + 1}/{len(robots_)} replication {replication} rank {rank}")
     return pl.DataFrame(rows)
 

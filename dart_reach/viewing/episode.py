@@ -16,8 +16,8 @@ from .camera import SceneCamera
 class TrialRenderer:
     """The camera's view (``camera.SceneCamera``) of a trial's world at the state it holds now,
     the state the trial observed last: ``frame(world, touching)``, (height, width, 3) uint8.
-    80-130 frames per second at 320x240 on the project's 2-core machine with both cores
-    busy (2026-11-28; ``dart-reach bench``, ``env_render_fps``)."""
+    Its frame rate: ``dart-reach bench``'s ``env_render_fps`` (docs/guides/gymnasium.md,
+    "Frame rate")."""
 
     def __init__(self, width: int = 320, height: int = 240):
         self.width, self.height = int(width), int(height)

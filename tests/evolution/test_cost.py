@@ -9,6 +9,7 @@ from pathlib import Path
 
 import numpy as np
 import polars as pl
+import pytest
 
 from dart_reach.evolution import cost
 from dart_reach.evolution.rundir import RunDirectory
@@ -46,3 +47,28 @@ def test_a_runs_cost_is_its_generations_wall_time_on_its_workers():
     row = table.row(1, named=True)
     assert row["core_s_median"] == np.median(gross["core_s"].to_numpy())
     assert row["wall_h"] == gross["wall_s"].sum() / 3600
+
+
+def test_the_estimate_takes_a_machines_own_figure_and_the_reference_is_the_docs(tmp_path):
+    """``cost_estimate`` scales the core-seconds it is given (default the reference machine's,
+    which docs/results/benchmarks.md gives with the runs that measured it); a ``dart-reach
+    bench --json`` file gives a machine's own."""
+    import re
+
+    from dart_reach.evolution.conditions import load_condition
+    from dart_reach.evolution.settings import Settings
+
+    conditions, settings = [load_condition("standard")], Settings()
+    reference = cost.cost_estimate(conditions, settings)
+    assert reference == cost.cost_estimate(conditions, settings, cost.GENERATION_CORE_S)
+    bench = tmp_path / "bench.json"
+    bench.write_text(json.dumps({"generation_core_s": 2 * cost.GENERATION_CORE_S[1]}))
+    own = cost.cost_estimate(conditions, settings, cost.bench_core_s(bench))
+    assert own.replication_generations == reference.replication_generations
+    assert own.core_hours == (2 * reference.core_hours[1],) * 2
+    bench.write_text(json.dumps({"limit_rtf": 300.0}))
+    with pytest.raises(ValueError, match="generation_core_s"):
+        cost.bench_core_s(bench)
+    page = (Path(__file__).resolve().parents[2] / "docs" / "results" / "benchmarks.md").read_text()
+    low, high = cost.GENERATION_CORE_S
+    assert re.search(rf"\| `generation_core_s` \(.*\) \| {low:.1f}–{high:.1f} core-s \|", page)

@@ -112,7 +112,8 @@ def test_each_arms_eq5_table_is_its_robots_at_50_with_their_post_evaluated_fitne
 
 def test_the_pre_reaching_phase_taken_apart_is_the_runs_own(tmp_path):
     """The levers arms train the condition ``pre-only``, the reference's runs the standard
-    one; a run with a ``pre`` phase in two conditions, neither standard, is refused."""
+    one: each run's one pre-reaching phase (conditions sharing it count once); a run with two
+    different ones is refused unless the condition is named."""
     from dart_reach.evolution.conditions import load_condition
     from dart_reach.evolution.rundir import RunDirectory
     from dart_reach.evolution.settings import Settings
@@ -124,13 +125,18 @@ def test_the_pre_reaching_phase_taken_apart_is_the_runs_own(tmp_path):
     standard = load_condition("standard")
     pre_only = far.conditions[0]
     both = RunDirectory(tmp_path / "both", [pre_only, standard], Settings())
-    assert fitness_terms.pre_phase_key(both) == standard.phases[0].key
+    assert fitness_terms.pre_phase_key(both, "standard") == standard.phases[0].key
+    with pytest.raises(ValueError, match="name the condition"):
+        fitness_terms.pre_phase_key(both)
     text = (levers.ROOT / "docs" / "learning-check.toml").read_text()
     other = tmp_path / "other.toml"
     other.write_text(text.replace('name = "pre-only"', 'name = "pre-other"'))
     two = RunDirectory(tmp_path / "two", [pre_only, load_condition(str(other))], Settings())
     with pytest.raises(ValueError, match="no single pre-reaching phase.*'pre-only', 'pre-other'"):
         fitness_terms.pre_phase_key(two)
+    assert fitness_terms.pre_phase_key(two, "pre-only") == pre_only.phases[0].key
+    with pytest.raises(ValueError, match="'standard' has no pre-reaching phase"):
+        fitness_terms.pre_phase_key(two, "standard")
 
 
 def test_the_decision_rule_is_the_pre_registered_one():

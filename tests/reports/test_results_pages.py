@@ -15,6 +15,7 @@ from dart_reach.analysis.budgets import Budget
 from dart_reach.postevaluation import results
 from reports import pre_reaching_course
 from reports import results as results_docs
+from reports import scene_study
 
 ROOT = Path(__file__).resolve().parents[2]
 
@@ -69,9 +70,9 @@ def test_a_placeholder_without_a_value_is_named():
     assert results_docs.render("a {{ x }} b {{y.z}}", {"x": "1", "y.z": "2"}) == "a 1 b 2"
     with pytest.raises(KeyError, match="doc: no value for missing, other"):
         results_docs.render("{{ missing }} {{ x }} {{ other }}", {"x": "1"}, "doc")
-    assert results_docs.number(0.5, "reached") == "50 %"
-    assert results_docs.number(0.012345) == "0.0123"
-    assert results_docs.number(float("nan")) == "–"
+    assert scene_study.cell(0.5, "reached") == "50 %"
+    assert scene_study.cell(0.012345) == "0.0123"
+    assert scene_study.cell(float("nan")) == "–"
 
 
 def test_what_ten_replications_decided_is_counted_and_listed():
