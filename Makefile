@@ -7,7 +7,8 @@ BIN := $(VENV)/bin
 
 .PHONY: demo test bench skeleton clean notebooks screenshots scene-study pythons replication-50 replication-50x10 \
 	replication-10 replication-report results full-budget full-budget-snapshots \
-	levers-screen levers-train levers-evaluate levers-state levers-terms
+	levers-screen levers-train levers-evaluate levers-state levers-terms \
+	campaign campaign-state campaign-snapshots
 
 $(BIN)/python:
 	$(PY) -m venv $(VENV)
@@ -74,7 +75,7 @@ SCENES := near near-shoulder arm-length-shoulder
 STUDY := recordings/scene-study
 scene-study: $(VENV)/.installed
 	for s in $(SCENES); do \
-		$(BIN)/dart-reach train docs/learning-check.toml --scene $$s --replications 2 \
+		$(BIN)/dart-reach train --model-version 1 docs/learning-check.toml --scene $$s --replications 2 \
 			--generations 60 --trials 18 --seed 20 --record-every 0 --out $(STUDY)/$$s \
 			$$(test -f $(STUDY)/$$s/manifest.json && echo --resume) || exit $$?; \
 	done
@@ -90,7 +91,7 @@ scene-study: $(VENV)/.installed
 # compact state under recordings/replication-50/ (docs/results/replication.md, "Resuming").
 REPLICATION := recordings/replication-50
 replication-50: $(VENV)/.installed
-	$(BIN)/dart-reach train standard gross-hat --generations 50 --replications 4 --seed 2013 \
+	$(BIN)/dart-reach train --model-version 1 standard gross-hat --generations 50 --replications 4 --seed 2013 \
 		--scene arm-length-shoulder --record-every 5 --snapshot-every 5 --out $(REPLICATION) \
 		$$(test -f $(REPLICATION)/manifest.json && echo --resume)
 
@@ -100,7 +101,7 @@ replication-50: $(VENV)/.installed
 # resumes like stage 1, its compact state tracked the same way.
 FIG10 := recordings/replication-10
 replication-10: $(VENV)/.installed
-	$(BIN)/dart-reach train standard gross-hat pre-h gross-h pre-star gross-hat-star fine-hat \
+	$(BIN)/dart-reach train --model-version 1 standard gross-hat pre-h gross-h pre-star gross-hat-star fine-hat \
 		fine-star --generations 10 --replications 4 --seed 2014 --scene arm-length-shoulder \
 		--record-every 5 --snapshot-every 5 --out $(FIG10) \
 		$$(test -f $(FIG10)/manifest.json && echo --resume)
@@ -113,7 +114,7 @@ replication-10: $(VENV)/.installed
 REPLICATION10 := recordings/replication-50x10
 replication-50x10: $(VENV)/.installed
 	OPENBLAS_CORETYPE=Haswell NPY_DISABLE_CPU_FEATURES="X86_V4 AVX512_ICL AVX512_SPR AVX512F AVX512_SKX" \
-		$(BIN)/dart-reach train standard gross-hat --generations 50 --replications 10 --seed 2015 \
+		$(BIN)/dart-reach train --model-version 1 standard gross-hat --generations 50 --replications 10 --seed 2015 \
 		--record-every 5 --snapshot-every 5 --out $(REPLICATION10) \
 		$$(test -f $(REPLICATION10)/manifest.json && echo --resume)
 
@@ -123,7 +124,7 @@ replication-50x10: $(VENV)/.installed
 # recordings/standard-500x10/ (its compact state is tracked) after every interruption.
 FULL := recordings/standard-500x10
 full-budget: $(VENV)/.installed
-	$(BIN)/dart-reach train standard --generations 500 --replications 10 --seed 2016 \
+	$(BIN)/dart-reach train --model-version 1 standard --generations 500 --replications 10 --seed 2016 \
 		--snapshot-every 10 --record-every 25 --out $(FULL) \
 		$$(test -f $(FULL)/manifest.json && echo --resume)
 
@@ -227,7 +228,7 @@ levers-screen: $(VENV)/.installed
 LEVER_ARMS := far:--scene=beyond-arm-length reflex-evolved:--reflex-inputs=evolved self-collision:--self-collision=on capped:--touch-pay=capped
 levers-train: $(VENV)/.installed
 	for a in $(LEVER_ARMS); do \
-		$(BIN)/dart-reach train docs/learning-check.toml --generations 50 --replications 6 \
+		$(BIN)/dart-reach train --model-version 1 docs/learning-check.toml --generations 50 --replications 6 \
 			--seed 2027 --snapshot-every 10 --record-every 0 --out $(LEVERS)/$${a%%:*} \
 			$$(echo $${a#*:} | tr ',' ' ') \
 			$$(test -f $(LEVERS)/$${a%%:*}/manifest.json && echo --resume) || exit $$?; \
@@ -257,3 +258,34 @@ levers-state:
 		(cd $$d && find . -maxdepth 2 -name 'development.parquet' -o -path './development/part-*.parquet') | \
 			while read f; do mkdir -p $(LEVERS)/$$a/$$(dirname $$f); cp $$d/$$f $(LEVERS)/$$a/$$f; done; \
 	done
+
+# The campaign (docs/results/campaign.md, pre-registered): the standard condition at the
+# paper's design on model version 3, trained in the background from a pinned checkout and
+# resumed after every interruption (run it again: it resumes); about 150 core-hours.
+CAMPAIGN := recordings/campaign/standard-v3
+campaign: $(VENV)/.installed
+	$(BIN)/dart-reach train standard --model-version 3 --generations 500 --replications 10 \
+		--seed 2031 --snapshot-every 10 --record-every 0 --yes --out $(CAMPAIGN) \
+		$$(test -f $(CAMPAIGN)/manifest.json && echo --resume)
+# Its compact state, from the checkout that trains it (CAMPAIGN_FROM=its path), to commit:
+# manifest, statistics, checkpoints, finals and snapshots; then its ledger is made again here
+# (dart-reach migrate), since the snapshots' post-evaluation is written here, not there.
+campaign-state: $(VENV)/.installed
+	@test -n "$(CAMPAIGN_FROM)" || { echo "give CAMPAIGN_FROM=the checkout that trains it"; exit 2; }
+	mkdir -p $(CAMPAIGN)
+	cd $(CAMPAIGN_FROM)/$(CAMPAIGN) && find . -type f \( -path ./manifest.json -o \
+		-path ./generations.parquet -o -name checkpoint.npz -o -name final.npz \
+		-o -path '*/snapshots/*.npz' \) | while read f; do \
+		mkdir -p $(CURDIR)/$(CAMPAIGN)/$$(dirname $$f); cp $$f $(CURDIR)/$(CAMPAIGN)/$$f; done
+	rm -f $(CAMPAIGN)/ledger.json && $(BIN)/dart-reach migrate $(CAMPAIGN)
+# Its snapshots post-evaluated as they come (best 5, 45 positions, normal and ball absent),
+# on a copy of the compact state (the training holds its directory's lock); the tables come
+# back here with the copy's ledger.
+CAMPAIGN_COPY := $(or $(TMPDIR),/tmp)/dart-reach-campaign-copy
+campaign-snapshots: $(VENV)/.installed
+	rm -rf $(CAMPAIGN_COPY) && mkdir -p $(CAMPAIGN_COPY) && cp -r $(CAMPAIGN)/. $(CAMPAIGN_COPY)/
+	$(BIN)/dart-reach evaluate $(CAMPAIGN_COPY) --finished-only --development 5 \
+		--development-sensors normal,no-ball
+	cd $(CAMPAIGN_COPY) && find . -path ./development.parquet -o -path './development/part-*' \
+		-o -path ./ledger.json | while read f; do mkdir -p $(CURDIR)/$(CAMPAIGN)/$$(dirname $$f); \
+		cp $$f $(CURDIR)/$(CAMPAIGN)/$$f; done

@@ -41,6 +41,10 @@ PAGE = ROOT / "docs" / "results" / "campaign.md"
 MARK = "## Results\n"
 STUDY = ROOT / "recordings" / "campaign"
 EXTENSION = STUDY / "extension.parquet"
+CAMPAIGN = STUDY / "standard-v3"
+#: The campaign's pre-reaching generations judged (pre-registered) and the stop rule's.
+CAMPAIGN_JUDGED = (50, 100, 250, 500)
+STOP_AT = 100
 SCREEN = STUDY / "scene-screen.parquet"
 #: The committed populations at generation 50 of pre-reaching (name -> run, and the
 #: generation of its development table, or None for its final post-evaluation).
@@ -109,10 +113,17 @@ def best_robot_extension(run_dir: Path, generation: int, phase: str = "pre") -> 
 
 
 def build_extension() -> pl.DataFrame:
-    """A3's measure for every committed population, written to ``EXTENSION``."""
+    """A3's measure for every committed population and the campaign's judged snapshots kept
+    so far, written to ``EXTENSION``."""
     rows = [{"population": name, "generation": JUDGED,
              **best_robot_extension(ROOT / "recordings" / run, JUDGED)}
             for name, (run, _) in POPULATIONS.items()]
+    if (CAMPAIGN / "manifest.json").exists():  # the campaign's judged snapshots kept so far
+        run = RunDirectory.open(CAMPAIGN)
+        pre = next(p for _, p in run.unique_phases() if p.name == "pre")
+        kept = {g for g, _, _ in run.snapshots(pre)}
+        rows += [{"population": "campaign", "generation": g,
+                  **best_robot_extension(CAMPAIGN, g)} for g in CAMPAIGN_JUDGED if g in kept]
     table = pl.DataFrame(rows)
     STUDY.mkdir(parents=True, exist_ok=True)
     atomic_write(EXTENSION, lambda p: table.write_parquet(p, compression="zstd"))
@@ -153,24 +164,26 @@ def arm_name(radius: float, widening: float) -> str:
 
 def build_screen(workers: int | None = None) -> pl.DataFrame:
     """The calibration's screen: every selected robot on the 45 positions of every scene of
-    ``grid``, normal senses, under its own run's version and levers; written to ``SCREEN``."""
+    ``grid``, normal senses, under its own run's version and levers; written to ``SCREEN``
+    after each population, so that a run stopped part-way resumes with the next one."""
     robots = selected_robots().filter(pl.col("selected"))
-    parts = []
+    table = pl.read_parquet(SCREEN) if SCREEN.exists() else None
+    done = set() if table is None else set(table["population"].unique().to_list())
     for name, (run, _) in POPULATIONS.items():
         mine = robots.filter(pl.col("population") == name)
-        if mine.is_empty():
+        if mine.is_empty() or name in done:
             continue
         run_dir = ROOT / "recordings" / run
         settings = RunDirectory.open(run_dir).settings
         arms = [Arm(arm_name(r, w), replace(settings.world, sectors=sectors), settings.levers)
                 for r, w, sectors in grid()]
         only = {(int(a), int(b)) for a, b in mine.select("replication", "rank").iter_rows()}
-        parts.append(screen(run_dir, JUDGED, arms, robots=5, senses=("normal",),
-                            workers=workers, only=only)
-                     .with_columns(population=pl.lit(name)))
-    table = pl.concat(parts, how="diagonal_relaxed")
-    STUDY.mkdir(parents=True, exist_ok=True)
-    atomic_write(SCREEN, lambda p: table.write_parquet(p, compression="zstd"))
+        part = (screen(run_dir, JUDGED, arms, robots=5, senses=("normal",), workers=workers,
+                       only=only).with_columns(population=pl.lit(name)))
+        table = part if table is None else pl.concat([table, part], how="diagonal_relaxed")
+        STUDY.mkdir(parents=True, exist_ok=True)
+        atomic_write(SCREEN, lambda p: table.write_parquet(p, compression="zstd"))
+        print(f"screened {name}: {mine.height} robots", flush=True)
     return table
 
 
@@ -187,8 +200,9 @@ def scene_reach(table: pl.DataFrame) -> pl.DataFrame:
             .with_columns(radius=pl.col("arm").replace_strict({k: v[0] for k, v in names.items()}),
                           widening=pl.col("arm").replace_strict({k: v[1] for k, v in
                                                                  names.items()}))
-            .with_columns(change=(pl.col("radius") - RADII[0]) / (RADII[-1] - RADII[0])
-                          + (pl.col("widening") - 1.0) / (WIDENINGS[-1] - 1.0))
+            .with_columns(change=((pl.col("radius") - RADII[0]) / (RADII[-1] - RADII[0])
+                                  + (pl.col("widening") - 1.0) / (WIDENINGS[-1] - 1.0))
+                          .round(9))
             .sort("widening", "radius"))
 
 
@@ -196,8 +210,8 @@ def choose_scene(by_scene: pl.DataFrame) -> dict:
     """The pre-registered rule: the scene whose mean reach is closest to ``TARGET``; scenes
     within ``TIE`` of the closest are tied, and among them the smallest change from
     ``BASE_SCENE``, then the smaller widening, then the smaller radius."""
-    gap = (by_scene["reach"] - TARGET).abs()
-    tied = by_scene.filter(gap <= gap.min() + TIE)
+    gap = (by_scene["reach"] - TARGET).abs().round(9)  # ties are not decided by rounding
+    tied = by_scene.filter(gap <= round(gap.min() + TIE, 9))
     return tied.sort("change", "widening", "radius").row(0, named=True)
 
 
@@ -260,7 +274,18 @@ def calibration_section() -> str:
     if not SCREEN.exists():
         return "\n".join(lines + ["The screen has not run yet (`python -m reports.campaign "
                                   "--screen`).", ""])
-    by_scene = scene_reach(pl.read_parquet(SCREEN))
+    screened = pl.read_parquet(SCREEN)
+    done = set(screened["population"].unique().to_list())
+    wanted = [p for p in POPULATIONS if chosen.filter(pl.col("population") == p).height]
+    missing = [p for p in wanted if p not in done]
+    by_scene = scene_reach(screened)
+    if missing:
+        n = screened.select("population", "replication", "rank").unique().height
+        return "\n".join(lines + [
+            f"The screen is part-way: {n} of {chosen.height} robots screened ("
+            f"{', '.join(p for p in wanted if p in done)}); still to screen: "
+            f"{', '.join(missing)} (`python -m reports.campaign --screen` resumes). The "
+            f"decision waits for every robot, as pre-registered.", ""])
     pick = choose_scene(by_scene)
     lines += ["Mean reach of those robots under each scene of the grid (`recordings/campaign/"
               "scene-screen.parquet`; 45 positions, normal senses; rows: widening w of the "
@@ -280,11 +305,77 @@ def calibration_section() -> str:
     return "\n".join(lines)
 
 
+def campaign_extension(generation: int) -> tuple[float, float]:
+    """A3's measure for the campaign's snapshot at ``generation`` (``EXTENSION`` rows of
+    population ``campaign``), or NaNs until it is computed."""
+    if EXTENSION.exists():
+        rows = pl.read_parquet(EXTENSION).filter((pl.col("population") == "campaign")
+                                                 & (pl.col("generation") == generation))
+        if rows.height:
+            return rows["hand_shoulder_m"][0], rows["hand_shoulder_cv"][0]
+    return float("nan"), float("nan")
+
+
+def campaign_section() -> str:
+    """Where the campaign stands: generations per phase, its cost from its own records and
+    the projected total, the judged snapshots post-evaluated so far and the stop rule."""
+    from dart_reach.evolution.cost import core_seconds
+
+    lines = ["### (c) The campaign", ""]
+    if not (CAMPAIGN / "manifest.json").exists():
+        return "\n".join(lines + ["Not started.", ""])
+    run = RunDirectory.open(CAMPAIGN)
+    per = core_seconds(run)
+    reps = run.settings.replications
+    total = sum(p.generations for c in run.conditions for p in c.phases) * reps
+    done_core_h = float(per["core_s"].drop_nans().sum()) * reps / 3600
+    q1, med, q3 = (float(per["core_s"].drop_nans().quantile(q, "linear") or float("nan"))
+                   for q in (0.25, 0.5, 0.75))
+    status = run.status()
+    lines += [f"`{CAMPAIGN.relative_to(ROOT)}`: model version {run.settings.model_version}, "
+              f"seed {run.settings.seed}, {reps} replications. Generations trained per phase: "
+              + ", ".join(f"{r['phase']} {r['generations']} of {r['of']}"
+                          for r in status.unique("phase", maintain_order=True)
+                          .iter_rows(named=True)) + ".", "",
+              f"Cost from its own records (`evolution.cost.core_seconds`: each generation's "
+              f"wall time x the session's workers): {done_core_h:.1f} core-hours for "
+              f"{per.height * reps:,} of {total:,} replication-generations; core-seconds per "
+              f"replication-generation: median {med:.1f} (quartiles {q1:.1f}-{q3:.1f}), so "
+              f"the whole design projects to {med * total / 3600:,.0f} core-hours "
+              f"({q1 * total / 3600:,.0f}-{q3 * total / 3600:,.0f}), "
+              f"{med * total / 3600 / 2:,.0f} h on 2 cores.", ""]
+    table = load_development(CAMPAIGN, senses=None)
+    judged = []
+    if table is not None:
+        have = set(table.filter(pl.col("phase") == "pre")["generation"].unique().to_list())
+        judged = [g for g in CAMPAIGN_JUDGED if g in have]
+    if not judged:
+        lines += [f"No judged snapshot ({', '.join(map(str, CAMPAIGN_JUDGED))}) is "
+                  f"post-evaluated yet.", ""]
+        return "\n".join(lines)
+    yes = {True: "yes", False: "no"}
+    lines += ["| pre-reaching generation | reach (A1, calibrated) | A2 | A3 | A4 | still | "
+              "paper's |", "|---:|---:|---|---|---|---|---|"]
+    for g in judged:
+        snap = table.filter((pl.col("phase") == "pre") & (pl.col("generation") == g)
+                            & ~pl.col("baseline"))
+        j = paper_units(snap, campaign_extension(g))
+        lines.append(f"| {g} | {j['reach']:.2f} | {yes[j['A2']]} | {yes[j['A3']]} | "
+                     f"{yes[j['A4']]} | {j['still']} of {j['replications']} | "
+                     f"{yes[j['paper']]} |")
+        if g == STOP_AT:
+            stop = not (j["A2"] or j["A3"] or j["A4"])
+            lines += ["", f"**Stop rule at {STOP_AT}:** A2, A3 and A4 "
+                      + ("all fail: the training stops here." if stop else
+                         "do not all fail: the training goes on."), ""]
+    return "\n".join(lines) + "\n"
+
+
 def page() -> str:
     head = PAGE.read_text().split(MARK)[0]
     return (head + MARK + "\nThe results are generated below this line by "
             "`python -m reports.campaign`.\n\n" + criteria_section() + "\n"
-            + calibration_section())
+            + calibration_section() + "\n" + campaign_section())
 
 
 def main(argv=None) -> int:

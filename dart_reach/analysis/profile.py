@@ -23,6 +23,8 @@ from dataclasses import dataclass
 import polars as pl
 from scipy import stats
 
+from .strategies import STILL, strategies
+
 #: The measures of a profile: column of the table -> name in the profile (normal senses).
 PROFILE_MEASURES = {"reached": "reach", "var_elbow": "elbow_sd", "var_shoulder": "shoulder_sd",
                     "var_trunk": "trunk_sd", "hand_shoulder_mean": "hand_shoulder_m",
@@ -115,8 +117,6 @@ def paper_units(table: pl.DataFrame, extension: tuple[float, float],
     (``A1``-``A4``), ``paper`` (all four), and A5: ``still`` replications of ``replications``
     (``analysis.strategies``: babbling in fewer than 1 in 20 normal trials) with the share's
     exact 95 % interval."""
-    from .strategies import STILL, strategies
-
     normal = table.filter(pl.col("senses") == "normal")
     if normal.is_empty():
         raise ValueError("no trial with the ball (senses 'normal') in the table")

@@ -111,15 +111,16 @@ def run_settings(args, out: Path):
         asked = dict(budgets, model_version=args.model_version,
                      physics_dt=args.physics_dt)
         have = dict(vars(settings), physics_dt=settings.world.physics_dt)
-        given = {k: v for k, v in asked.items() if v is not None and have[k] != v}
-        if world_config(args, settings.world) != settings.world:
-            given["scene/self-collision"] = "as given"
-        if levers(args, settings.levers) != settings.levers:
-            given["levers"] = "as given"
+        given = [k for k, v in asked.items() if v is not None and have[k] != v]
+        world = world_config(args, settings.world)
+        given += [name for k, name in (("sectors", "scene"), ("self_collision", "self_collision"))
+                  if getattr(world, k) != getattr(settings.world, k)]
+        given += list(levers(args, settings.levers).changed_from(settings.levers))
         if given:
             raise ValueError(f"{out}: --resume continues the run under the settings its "
-                             f"manifest records, and {', '.join(sorted(given))} differ from "
-                             f"them: leave {'them' if len(given) > 1 else 'it'} out")
+                             f"manifest records, and {', '.join(sorted(given))} given here "
+                             f"differ{'s' if len(given) == 1 else ''} from them: leave "
+                             f"{'it' if len(given) == 1 else 'them'} out")
         return settings
     version = model_version(CURRENT_MODEL_VERSION if args.model_version is None
                             else args.model_version)

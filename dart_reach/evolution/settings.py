@@ -106,11 +106,14 @@ def trial_config(phase: Phase, settings: Settings) -> TrialConfig:
                        numerics=numerics_of(settings.model_version))
 
 
-def standard_trial(phase: str = "pre", **changes) -> TrialConfig:
+def standard_trial(phase: str = "pre", model_version: int = CURRENT_MODEL_VERSION,
+                   **changes) -> TrialConfig:
     """The maturational state of a phase of the shipped ``standard`` condition (default
-    pre-reaching: low acuity, internal neurons frozen, reflexes), with ``changes``."""
+    pre-reaching: low acuity, internal neurons frozen, reflexes) under ``model_version``'s
+    levers and numerics (default the version new runs use), with ``changes``."""
     phases = {p.name: p for p in load_condition("standard").phases}
-    return replace(trial_config(phases[phase], Settings()), **changes)
+    return replace(trial_config(phases[phase], Settings(model_version=model_version)),
+                   **changes)
 
 
 # ---------------------------------------------------------------- the seed tree

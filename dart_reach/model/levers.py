@@ -114,5 +114,8 @@ class Levers:
 
     def changed(self) -> dict[str, str]:
         """The levers set away from version 1's defaults, name -> value."""
-        base = Levers()
+        return self.changed_from(Levers())
+
+    def changed_from(self, base: "Levers") -> dict[str, str]:
+        """The levers set away from ``base``'s, name -> value."""
         return {k: v for k, v in self.to_json().items() if base.to_json()[k] != v}

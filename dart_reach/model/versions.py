@@ -66,8 +66,7 @@ class ModelVersion:
         """What a run's ``world`` and ``levers`` change from this record, name -> value
         (empty: the version itself). The scene is named by its shipped name, or by its radius
         when it is a user's own."""
-        changed = {k: v for k, v in levers.to_json().items()
-                   if self.levers.to_json()[k] != v}
+        changed = levers.changed_from(self.levers)
         if world.sectors != self.sectors():
             changed["scene"] = (scene_of(world.sectors)
                                 or f"custom (radius {world.sectors.radius:g} m)")

@@ -12,7 +12,9 @@ import pytest
 
 from dart_reach.evolution.rundir import RunDirectory
 from dart_reach.evolution.settings import Settings
-from dart_reach.model.levers import Levers, NetworkStart, TouchPay
+from dart_reach.model.levers import Levers, NetworkStart, ReflexInputs, TouchPay
+from dart_reach.model.versions import (CURRENT_MODEL_VERSION, MODEL_VERSIONS, model_version,
+                                       versions_table)
 from dart_reach.model.world import WorldConfig
 from dart_reach.studies.lever_screen import Arm, screen
 
@@ -58,14 +60,22 @@ def run(tmp_path_factory):
 
 def test_a_run_writes_its_version_and_levers_and_reads_them_back(run):
     _, out = run
-    settings = json.loads((out / "manifest.json").read_text())["settings"]
-    assert settings["model_version"] == 1
+    manifest = json.loads((out / "manifest.json").read_text())
+    settings = manifest["settings"]
+    assert settings["model_version"] == CURRENT_MODEL_VERSION  # the version new runs use
+    # the manifest names the version's whole record, and this run as a named variant of it
+    record = manifest["model"]
+    assert record["version"] == CURRENT_MODEL_VERSION
+    assert record["scene"] == model_version(CURRENT_MODEL_VERSION).scene
+    assert record["variant"]["changes"] == {"touch_pay": "binary", "self_collision": "on"}
+    assert record["variant"]["name"] == (f"v{CURRENT_MODEL_VERSION}+self_collision=on"
+                                         f"+touch_pay=binary")
     assert settings["levers"] == {"reflex_inputs": "hand-set", "touch_pay": "binary",
                                   "network_start": "hold-home"}
     assert settings["world"]["self_collision"] is True
     opened = RunDirectory.open(out).settings
     assert opened.levers == Levers(touch_pay=TouchPay.BINARY)
-    assert opened.world.self_collision and opened.model_version == 1
+    assert opened.world.self_collision and opened.model_version == CURRENT_MODEL_VERSION
 
 
 def test_a_manifest_from_before_versions_is_version_1_with_its_levers():
@@ -81,13 +91,41 @@ def test_resume_keeps_the_levers_and_refuses_others_without_touching_the_run(run
     before = {p: p.read_bytes() for p in out.rglob("*") if p.is_file() and p.name != ".lock"}
     result = _train(condition, out, "--touch-pay", "capped", "--self-collision", "on",
                     "--resume")
-    assert result.returncode == 2 and "touch_pay" in result.stderr, result.stderr
+    assert result.returncode == 2 and "touch_pay given here differs" in result.stderr, \
+        result.stderr
     assert result.stderr.count("\n") == 1
+    other = _train(condition, out, "--scene", "near", "--seed", "5", "--resume")
+    assert other.returncode == 2 and "scene, seed given here differ" in other.stderr, \
+        other.stderr
     after = {p: p.read_bytes() for p in out.rglob("*") if p.is_file() and p.name != ".lock"}
     assert after == before
     again = _train(condition, out, "--touch-pay", "binary", "--self-collision", "on",
                    "--resume")
     assert again.returncode == 0, again.stderr  # the same levers: it resumes (here: done)
+    # nothing typed twice: without the levers, the resume takes them from the manifest
+    plain = _cli("train", condition, "--out", out, "--workers", "1", "--resume")
+    assert plain.returncode == 0, plain.stderr
+
+
+def test_a_version_is_a_whole_model_and_settings_take_it_whole():
+    for number, version in MODEL_VERSIONS.items():
+        settings = Settings(model_version=number)
+        assert settings.world == version.world() and settings.levers == version.levers
+        assert settings.variant == {} and settings.model_record()["variant"] is None
+        assert settings.world.sectors == version.sectors()
+    v1 = Settings(model_version=1)
+    near = Settings(model_version=1, world=WorldConfig(self_collision=True),
+                    levers=Levers(reflex_inputs=ReflexInputs.EVOLVED))
+    assert v1.world.sectors == WorldConfig().sectors  # version 1: arm-length-shoulder
+    assert near.variant == {"reflex_inputs": "evolved", "self_collision": "on"}
+    assert near.model_record()["variant"]["name"] == "v1+reflex_inputs=evolved+self_collision=on"
+    assert Settings().model_version == CURRENT_MODEL_VERSION
+
+
+def test_the_docs_table_of_versions_is_the_packages():
+    page = (ROOT / "docs" / "model" / "levers.md").read_text()
+    assert versions_table() in page
+    assert f"New runs use version {CURRENT_MODEL_VERSION}" in page
 
 
 @pytest.mark.parametrize("bad, named", [
@@ -101,12 +139,18 @@ def test_bad_lever_values_are_one_line_and_exit_2(tmp_path, bad, named):
 
 
 def test_an_unknown_model_version_in_a_manifest_is_refused(run, tmp_path, in_process):
+    import shutil
+
+    from dart_reach.evolution import integrity
+
     _, out = run
     copy = tmp_path / "copy"
-    copy.mkdir()
-    manifest = json.loads((out / "manifest.json").read_text())
+    shutil.copytree(out, copy)
+    manifest = json.loads((copy / "manifest.json").read_text())
     manifest["settings"]["model_version"] = 7
-    (copy / "manifest.json").write_text(json.dumps(manifest))
+    # written through the run's ledger, as a newer dart_reach would write it
+    integrity.recorded_write(copy, copy / "manifest.json",
+                             lambda p: p.write_text(json.dumps(manifest)))
     result = in_process("status", copy)
     assert result.returncode == 2 and "model version 7" in result.stderr, result.stderr
 

@@ -13,7 +13,8 @@ from dart_reach.model import sensors
 from dart_reach.model.ctrnn import (MOTOR_INDEX, SENSOR_INDEX, Network, random_params,
                                     reflex_weights)
 from dart_reach.model.levers import (REFLEX_EVOLVED_SCALE, Levers, NetworkStart, ReflexInputs,
-                                     TouchPay, check_model_version)
+                                     TouchPay)
+from dart_reach.model.versions import check_model_version
 from dart_reach.model.task import Trial, network_for
 from dart_reach.model.world import World, WorldConfig
 from dart_reach.robots import evolved_pre

@@ -207,7 +207,7 @@ def _panel_trials(world, phase: str, senses: str, runner=None, pre=None):
     from dart_reach.evolution.genome import ParamGroup, decode
     from dart_reach.model.task import network_for
 
-    cfg = standard_trial(phase, senses=Senses(senses), steps=120)
+    cfg = standard_trial(phase, model_version=1, senses=Senses(senses), steps=120)
     trial = runner or Trial(world, cfg)
     groups = {ParamGroup.DIRECT} if phase == "pre" else set(ParamGroup)
     if phase == "pre":

@@ -1,0 +1,66 @@
+"""The campaign's page (reports.campaign) is its rendering from the committed tables, and its
+rules are the pre-registered ones (docs/results/campaign.md): the calibration's grid and the
+rule that picks version 3's scene."""
+
+from __future__ import annotations
+
+import polars as pl
+import pytest
+
+from dart_reach.model.scenes import load_scene
+from reports import campaign
+
+
+def test_the_committed_page_is_its_rendering():
+    assert campaign.PAGE.read_text() == campaign.page(), "run 'python -m reports.campaign'"
+
+
+def test_the_pre_registration_is_kept_above_the_results():
+    text = campaign.PAGE.read_text()
+    plan = text[: text.index(campaign.MARK)]
+    for fixed in ("0.35 <= mean <= 0.65", ">= 0.31 m", "< 0.05", "at least half of the best",
+                  "{0.42, 0.44, 0.46, 0.48, 0.50}", "{1, 1.25, 1.5, 2}", "within 0.02",
+                  "(r - 0.42) / 0.08 + (w - 1)", "seed 2031", "generation 100"):
+        assert fixed in plan, fixed
+
+
+def test_the_grid_is_the_pre_registered_one_and_stays_on_the_sphere():
+    scenes = campaign.grid()
+    assert len(scenes) == 20
+    base = load_scene(campaign.BASE_SCENE).sectors
+    r, w, first = scenes[0]
+    assert (r, w) == (0.42, 1.0) and first == base  # beyond-arm-length itself
+    widest = [s for r, w, s in scenes if (r, w) == (0.5, 2.0)][0]
+    assert widest.azimuth_edges == (-22.5, 7.5, 37.5, 67.5)
+    assert widest.elevation_edges == pytest.approx((-58.4, -28.4, 1.6, 31.6))
+    for _, w, s in scenes:  # 3 x 3 equal sectors, widened about the patch's centre
+        az, el = s.azimuth_edges, s.elevation_edges
+        assert az[1] - az[0] == pytest.approx(15 * w) == pytest.approx(az[3] - az[2])
+        assert (az[0] + az[3]) / 2 == pytest.approx(22.5)
+        assert (el[0] + el[3]) / 2 == pytest.approx(-13.4)
+
+
+def _scenes(reach: dict) -> pl.DataFrame:
+    rows = [{"arm": campaign.arm_name(r, w), "population": "p", "replication": 0, "rank": 0,
+             "trial": t, "reached": t < round(reach[(r, w)] * 100)}
+            for r in campaign.RADII for w in campaign.WIDENINGS for t in range(100)]
+    return campaign.scene_reach(pl.DataFrame(rows))
+
+
+def test_the_rule_picks_the_closest_to_one_half_and_breaks_ties_by_the_smallest_change():
+    reach = {(r, w): 0.9 for r in campaign.RADII for w in campaign.WIDENINGS}
+    reach[(0.48, 1.0)] = 0.57  # closest alone
+    reach[(0.50, 2.0)] = 0.60
+    pick = campaign.choose_scene(_scenes(reach))
+    assert (pick["radius"], pick["widening"]) == (0.48, 1.0)
+    # 0.05 from one half, so 0.57 (0.07) is tied with it; both change 0.75 from the base
+    # (0.5 + 0.25 and 0.75 + 0): the smaller widening wins
+    reach[(0.46, 1.25)] = 0.45
+    pick = campaign.choose_scene(_scenes(reach))
+    assert (pick["radius"], pick["widening"]) == (0.48, 1.0)
+    reach[(0.44, 1.0)] = 0.44  # 0.06 from one half, tied, change 0.25: the smallest
+    pick = campaign.choose_scene(_scenes(reach))
+    assert (pick["radius"], pick["widening"]) == (0.44, 1.0)
+    reach[(0.50, 1.5)] = 0.50  # exactly one half: no other within 0.02 of it
+    pick = campaign.choose_scene(_scenes(reach))
+    assert (pick["radius"], pick["widening"]) == (0.50, 1.5)
