@@ -2,7 +2,8 @@
 number of trials (docs/guides/gymnasium.md). tests/envs/test_ppo_example.py runs it for a few
 thousand steps (skipped without stable-baselines3); the learning itself is a documented result.
 
-    pip install torch==2.13.0 && pip install -e ".[rl]"  # torch: a CPU wheel first
+    pip install torch==2.13.0 --index-url https://download.pytorch.org/whl/cpu  # the CPU build
+    pip install -e ".[rl]"
     python docs/guides/ppo_example.py --timesteps 288000 --ga-run recordings/replication-50x10
 """
 
