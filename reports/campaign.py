@@ -36,6 +36,8 @@ from dart_reach.postevaluation.snapshots import load_development
 from dart_reach.postevaluation.systematic import load_evaluation
 from dart_reach.studies.lever_screen import Arm, screen
 
+from .text import write_page
+
 ROOT = Path(__file__).resolve().parents[1]
 PAGE = ROOT / "docs" / "results" / "campaign.md"
 MARK = "## Results\n"
@@ -390,14 +392,7 @@ def main(argv=None) -> int:
         print(build_extension())
     if args.screen:
         print(scene_reach(build_screen(args.workers)))
-    new = page()
-    if args.check:
-        stale = PAGE.read_text() != new
-        print(f"{PAGE}: {'stale' if stale else 'up to date'}")
-        return int(stale)
-    PAGE.write_text(new)
-    print(f"wrote {PAGE}")
-    return 0
+    return write_page(PAGE, page(), args.check)
 
 
 if __name__ == "__main__":

@@ -33,6 +33,8 @@ from dart_reach.postevaluation import results
 from dart_reach.postevaluation.snapshots import load_development
 from dart_reach.studies import fitness_terms
 
+from .text import write_page
+
 ROOT = Path(__file__).resolve().parents[1]
 PAGE = ROOT / "docs" / "results" / "levers.md"
 SCREEN = ROOT / "recordings" / "levers" / "screen.parquet"
@@ -414,14 +416,7 @@ def main(argv=None) -> int:
     args = p.parse_args(argv)
     if args.terms:
         print(f"Eq. 5's terms at {JUDGED}: {', '.join(build_terms()) or 'no arm missing'}")
-    new = page()
-    if args.check:
-        stale = PAGE.read_text() != new
-        print(f"{PAGE}: {'stale' if stale else 'up to date'}")
-        return int(stale)
-    PAGE.write_text(new)
-    print(f"wrote {PAGE}")
-    return 0
+    return write_page(PAGE, page(), args.check)
 
 
 if __name__ == "__main__":

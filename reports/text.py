@@ -6,6 +6,7 @@ from __future__ import annotations
 
 import json
 import re
+from pathlib import Path
 from typing import Mapping
 
 import polars as pl
@@ -52,3 +53,15 @@ def training_text(run: RunDirectory) -> str:
     revisions = sorted({str(s.get("git_revision"))[:7] for s in sessions})
     return (f"{done:,} of {total:,} replication-generations, {wall:.1f} h of wall time in "
             f"{len(sessions)} session(s) at {', '.join(revisions)}")
+
+
+def write_page(path: Path, text: str, check: bool) -> int:
+    """A generated page: with ``check``, say whether ``path`` differs from ``text`` and return
+    1 when it does (stale), else write it; 0 otherwise."""
+    if check:
+        stale = path.read_text() != text
+        print(f"{path}: {'stale' if stale else 'up to date'}")
+        return int(stale)
+    path.write_text(text)
+    print(f"wrote {path}")
+    return 0
