@@ -5,12 +5,8 @@ from __future__ import annotations
 
 import math
 from pathlib import Path
-from typing import TYPE_CHECKING
 
 import dartpy as dart
-
-if TYPE_CHECKING:
-    from .world import BallConfig
 
 
 class SkeletonError(ValueError):
@@ -37,11 +33,12 @@ def load_skeleton(path) -> dart.dynamics.Skeleton:
     return skeleton
 
 
-def make_ball(config: BallConfig):
-    """A sphere hung from a fixed pivot ``string_length`` above its centre on a universal joint
-    (two perpendicular horizontal axes): a spherical pendulum with a massless string. Each
-    axis's swing is limited to ``max_swing`` by the constraint solver, so the ball can never
-    rise to its pivot, whatever hits it (a taut string); damping brings a swing to rest."""
+def make_ball(config):
+    """The ball of ``config`` (a ``world.BallConfig``): a sphere hung from a fixed pivot
+    ``string_length`` above its centre on a universal joint (two perpendicular horizontal
+    axes): a spherical pendulum with a massless string. Each axis's swing is limited to
+    ``max_swing`` by the constraint solver, so the ball can never rise to its pivot, whatever
+    hits it (a taut string); damping brings a swing to rest."""
     skel = dart.dynamics.Skeleton("ball")
     joint_props = dart.dynamics.UniversalJointProperties()
     joint_props.mName = "pendulum_pivot"

@@ -41,7 +41,8 @@ from numba.core import types
 from numba.experimental import structref
 
 from . import sensors
-from .ctrnn import N_HIDDEN, N_MOTORS, N_SENSORS, Network, NetworkParams
+from .ctrnn import (N_HIDDEN, N_MOTORS, N_SENSORS, OFFSET_X, OFFSET_Y, PROPRIO, SIGHT_DISTANCE,
+                    SIGHT_X, SIGHT_Y, TOUCH, Network, NetworkParams)
 from .levers import TOUCH_CAP, ReflexInputs, TouchPay
 
 # ------------------------------------------------------------------------------ exponential
@@ -167,6 +168,9 @@ _DEGREES = 180.0 / math.pi
 _NO_TOUCH, _TOUCHING, _NO_SIGHT = sensors.NO_TOUCH, sensors.TOUCHING, sensors.NO_SIGHT
 _SIGHT_RANGE, _OFFSET_D_MAX, _OFFSET_SCALE = (sensors.SIGHT_RANGE_M, sensors.OFFSET_D_MAX_DEG,
                                               sensors.OFFSET_SCALE)
+#: The first index of the sensor vector's proprioceptors and touch sensors (``ctrnn.PROPRIO``,
+#: ``ctrnn.TOUCH``), as the integers compiled code indexes with.
+_PROPRIO0, _TOUCH0 = PROPRIO.start, TOUCH.start
 
 
 @njit(cache=True)
@@ -217,10 +221,10 @@ def _sense(positions, ball, cam, hand, touching, motor_dofs, finger_dofs, lower,
         s += positions[finger_dofs[i]]
     q[n_motor] = s / finger_dofs.shape[0]
     for i in range(n_motor + 1):  # proprioception
-        x[i] = _clip((q[i] - lower[i]) / span[i] * 2.0 - 1.0, -1.0, 1.0)
+        x[_PROPRIO0 + i] = _clip((q[i] - lower[i]) / span[i] * 2.0 - 1.0, -1.0, 1.0)
     n_touch = touch_segments.shape[0]
     for i in range(n_touch):
-        x[14 + i] = _NO_TOUCH if no_touch or not touching[touch_segments[i]] else _TOUCHING
+        x[_TOUCH0 + i] = _NO_TOUCH if no_touch or not touching[touch_segments[i]] else _TOUCHING
     ball_cam = scratch[0:3]
     _in_camera(ball, cam, ball_cam)
     cx, cy, visible = 0.0, 0.0, False
@@ -229,14 +233,14 @@ def _sense(positions, ball, cam, hand, touching, motor_dofs, finger_dofs, lower,
         cy = -(ball_cam[1] / ball_cam[2]) / _TAN_Y
         visible = abs(cx) <= 1.0 and abs(cy) <= 1.0
     if no_sight or not visible:
-        x[20] = x[21] = x[22] = _NO_SIGHT
+        x[SIGHT_X] = x[SIGHT_Y] = x[SIGHT_DISTANCE] = _NO_SIGHT
     else:
-        x[20] = _power(cx, acuity)
-        x[21] = _power(cy, acuity)
+        x[SIGHT_X] = _power(cx, acuity)
+        x[SIGHT_Y] = _power(cy, acuity)
         distance = math.sqrt(ball_cam[0] * ball_cam[0] + ball_cam[1] * ball_cam[1]
                              + ball_cam[2] * ball_cam[2])
-        x[22] = 1.0 - 2.0 * distance if distance < _SIGHT_RANGE else 0.0
-    x[23] = x[24] = _NO_SIGHT
+        x[SIGHT_DISTANCE] = 1.0 - 2.0 * distance if distance < _SIGHT_RANGE else 0.0
+    x[OFFSET_X] = x[OFFSET_Y] = _NO_SIGHT
     if offsets and not no_sight and visible:
         palm_world, hand_cam = scratch[3:6], scratch[6:9]
         for i in range(3):
@@ -249,10 +253,10 @@ def _sense(positions, ball, cam, hand, touching, motor_dofs, finger_dofs, lower,
             if abs(hx) <= 1.0 and abs(hy) <= 1.0:
                 d = (math.atan2(ball_cam[0], ball_cam[2]) * _DEGREES
                      - math.atan2(hand_cam[0], hand_cam[2]) * _DEGREES)
-                x[23] = _OFFSET_SCALE * min(max(d, -_OFFSET_D_MAX), _OFFSET_D_MAX)
+                x[OFFSET_X] = _OFFSET_SCALE * min(max(d, -_OFFSET_D_MAX), _OFFSET_D_MAX)
                 d = (math.atan2(-ball_cam[1], ball_cam[2]) * _DEGREES
                      - math.atan2(-hand_cam[1], hand_cam[2]) * _DEGREES)
-                x[24] = _OFFSET_SCALE * min(max(d, -_OFFSET_D_MAX), _OFFSET_D_MAX)
+                x[OFFSET_Y] = _OFFSET_SCALE * min(max(d, -_OFFSET_D_MAX), _OFFSET_D_MAX)
     p_sight = 0.0
     if visible:
         p_sight = max(0.0, 1.0 - math.sqrt(cx * cx + cy * cy) / _SQRT2)

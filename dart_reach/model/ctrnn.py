@@ -20,10 +20,22 @@ N_SENSORS = 25
 N_HIDDEN = 8
 N_MOTORS = 14
 
-PROPRIO = slice(0, 14)
-TOUCH = slice(14, 20)
-SIGHT = slice(20, 23)
-OFFSET = slice(23, 25)
+# The sensor vector's layers (the network's 25 inputs, section III-B), used by every module
+# that reads or writes it; the single sensors by index, for code that writes one value at a
+# time (the compiled sensing, ``compiled.sense_posed``).
+PROPRIO = slice(0, 14)  # 14 proprioceptors, in motor order (MOTOR_NAMES)
+TOUCH = slice(14, 20)  # 6 touch sensors: palm, then the thumb, index, middle, ring, little tips
+SIGHT = slice(20, 23)  # the ball's image coordinates c_x, c_y (Eqs. 1-2) and distance (Eq. 3)
+OFFSET = slice(23, 25)  # the hand-ball offset, horizontal and vertical (Eq. 4)
+SIGHT_X, SIGHT_Y, SIGHT_DISTANCE = range(SIGHT.start, SIGHT.stop)
+OFFSET_X, OFFSET_Y = range(OFFSET.start, OFFSET.stop)
+
+# The motor vector's groups (the 14 motor neurons and their targets, section III-B).
+NECK = slice(0, 3)  # neck pitch, roll, yaw
+TORSO = slice(3, 6)  # torso pitch, roll, yaw
+ARM = slice(6, 13)  # right shoulder (3), elbow, wrist (3)
+JOINT_MOTORS = slice(0, 13)  # the 13 motors that drive one joint each
+HAND_MOTOR = 13  # the one motor every finger flexion joint follows
 
 MOTOR_NAMES = (
     "neck_pitch", "neck_roll", "neck_yaw",

@@ -11,10 +11,10 @@ from pathlib import Path
 
 import numpy as np
 
-from .ctrnn import MOTOR_NAMES
+from .ctrnn import JOINT_MOTORS, MOTOR_NAMES
 
 #: The 13 joints driven one motor each, in motor order (section III-B: head, torso, right arm).
-ARM_HEAD_TORSO_JOINTS = MOTOR_NAMES[:13]
+ARM_HEAD_TORSO_JOINTS = MOTOR_NAMES[JOINT_MOTORS]
 FINGERS = ("thumb", "index", "middle", "ring", "little")
 #: The 15 finger flexion joints that all follow the single hand motor (motor 13).
 FINGER_JOINTS = tuple(f"r_hand_{f}_{k}_joint" for f in FINGERS for k in (1, 2, 3))

@@ -19,7 +19,11 @@ import numpy as np
 from scipy.optimize import least_squares
 
 from . import icub
+from .ctrnn import ARM, HAND_MOTOR, NECK, TORSO
 from .world import World
+
+#: The motors of the torso (3) and the arm (7), which the scripted reach moves.
+TRUNK_AND_ARM = slice(TORSO.start, ARM.stop)
 
 #: The palm's inner normal in the ``r_hand`` frame (``icub.INNER_FACES``).
 PALM_NORMAL = np.array(icub.INNER_FACES["palm"][0])
@@ -65,7 +69,7 @@ def grasp_posture(world: World, ball_position, standoff: float = 0.0,
     does not depend on the robot's current state, which is restored afterwards."""
     robot, hand = world.robot, world.hand
     ball = np.asarray(ball_position, float)
-    idx = world.layout.motor_dofs[3:]  # torso (3) and arm (7); the neck stays put
+    idx = world.layout.motor_dofs[TRUNK_AND_ARM]  # the neck stays put
     lo, hi = world.lower[idx], world.upper[idx]
     saved = robot.getPositions()
     q = world.home.copy()
@@ -99,7 +103,7 @@ def grasp_posture(world: World, ball_position, standoff: float = 0.0,
     err = float(np.linalg.norm(palm_residual(best.x)[0]))
     if look:
         # Then the neck, so that the ball projects on the optical axis of the head camera.
-        neck = world.layout.motor_dofs[:3]
+        neck = world.layout.motor_dofs[NECK]
         camera = world.camera
 
         def off_axis(x):
@@ -123,14 +127,14 @@ class ScriptedReach:
     def __init__(self, world: World, ball_position, look: bool = False):
         self.world = world
         self.solution = grasp_posture(world, ball_position, standoff=GRASP_STANDOFF, look=look)
-        x0 = self.solution.q[world.layout.motor_dofs[3:]]
+        x0 = self.solution.q[world.layout.motor_dofs[TRUNK_AND_ARM]]
         self.waypoints = [world.targets_for(grasp_posture(world, ball_position, standoff=s,
                                                           x0=x0, look=look).q)
                           for s in APPROACH_STANDOFFS]
         self.open_targets = world.targets_for(self.solution.q)
         self.waypoints.append(self.open_targets)
         self.closed_targets = self.open_targets.copy()
-        self.closed_targets[13] = 1.0
+        self.closed_targets[HAND_MOTOR] = 1.0
         self.reset()
 
     def reset(self) -> None:

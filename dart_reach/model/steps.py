@@ -1,7 +1,7 @@
 """The step functions of a trial, one set per numerics, behind one interface (sections III-B,
 III-C).
 
-A ``task.Trial`` is built with the ``TrialSteps`` of its config's numerics (``steps_for``):
+A ``task.Trial`` is built with the ``TrialSteps`` of its config's numerics (``task.steps_for``):
 ``ReferenceSteps`` (model version 1: numpy and Python floats, below) or ``compiled_trial.
 CompiledSteps`` (model version 2: the same equations compiled with Numba, ``model.compiled``).
 The genetic algorithm's trial (``Trial.fitness``), the recorded trial (``Trial.run``) and the
@@ -19,7 +19,7 @@ substeps, gathering the hand's touches. ``observe`` is ``sense`` plus the record
 from __future__ import annotations
 
 import math
-from typing import TYPE_CHECKING, Protocol
+from typing import Protocol
 
 import numpy as np
 
@@ -27,11 +27,7 @@ from . import sensors
 from .ctrnn import N_MOTORS, N_SENSORS, OFFSET, PROPRIO, SIGHT, TOUCH, Network, motor_targets
 from .icub import HAND_SEGMENTS
 from .levers import NetworkStart
-from .versions import Numerics
 from .world import BALL_PARKED, World, palm_normal, palm_point
-
-if TYPE_CHECKING:
-    from .task import TrialConfig, TrialData
 
 N_SEGMENTS = len(HAND_SEGMENTS)
 
@@ -57,8 +53,9 @@ class TrialSteps(Protocol):
     def sense(self) -> bool:
         """The sensors and the fitness terms of the state reached; whether it is finite."""
 
-    def observe(self, data: TrialData, t: int) -> bool:
-        """``sense``, and the world and the sensors into ``data``'s row ``t``."""
+    def observe(self, data, t: int) -> bool:
+        """``sense``, and the world and the sensors into ``data``'s row ``t`` (a
+        ``task.TrialData``)."""
 
     def targets_of(self, motor: np.ndarray) -> bool:
         """``targets`` = 2 motor - 1 (``ctrnn.motor_targets``); whether finite."""
@@ -77,17 +74,9 @@ class TrialSteps(Protocol):
         when these steps have none for ``network`` (the trial then runs its own loop)."""
 
 
-def steps_for(world: World, config: TrialConfig) -> TrialSteps:
-    """The steps of ``config.numerics`` (``versions.Numerics``) in ``world``."""
-    if config.numerics is Numerics.COMPILED:
-        from .compiled_trial import CompiledSteps  # loads Numba: only under version 2
-        return CompiledSteps(world, config)
-    return ReferenceSteps(world, config)
-
-
-def home_motor(world: World, config: TrialConfig) -> np.ndarray:
-    """The network's motor states at a trial's start (``levers.NetworkStart``): those whose
-    targets hold the home posture, or 0."""
+def home_motor(world: World, config) -> np.ndarray:
+    """The network's motor states at a trial's start under ``config`` (a ``task.TrialConfig``;
+    ``levers.NetworkStart``): those whose targets hold the home posture, or 0."""
     return ((world.home_targets + 1.0) / 2.0
             if config.network_start is NetworkStart.HOLD_HOME else np.zeros(N_MOTORS))
 
@@ -96,9 +85,10 @@ class ReferenceSteps:
     """Model version 1's steps (``versions.Numerics.REFERENCE``): the sensors of ``sensors``
     on numpy arrays and Python floats, the network's own ``step`` (``ctrnn.Network``), the
     world's ``set_targets`` and ``advance``. Every run trained under version 1 reproduces with
-    them bit for bit (tests/model/test_task.py)."""
+    them bit for bit (tests/model/test_task.py). ``config`` is the trial's ``task.TrialConfig``.
+    """
 
-    def __init__(self, world: World, config: TrialConfig):
+    def __init__(self, world: World, config):
         self.world, self.config = world, config
         layout = world.layout
         self.x = x = np.zeros(N_SENSORS)
@@ -170,9 +160,9 @@ class ReferenceSteps:
         self.p_multimodal = sensors.p_multimodal(p_s, p_t)
         return math.isfinite(positions.sum() + ball.sum())
 
-    def observe(self, data: TrialData, t: int) -> bool:
-        """``sense``, and the world and the sensors into the record's row t; False when the
-        state read is not finite."""
+    def observe(self, data, t: int) -> bool:
+        """``sense``, and the world and the sensors into the record's (``task.TrialData``)
+        row t; False when the state read is not finite."""
         finite = self.sense()
         w = self.world
         hand_pose = w.hand_transform() if self._hand_pose is None else self._hand_pose

@@ -26,7 +26,7 @@ import numpy as np
 from .ctrnn import N_HIDDEN, N_MOTORS, N_SENSORS, Network, NetworkParams
 from .icub import HAND_SEGMENTS
 from .levers import NetworkStart, ReflexInputs, TouchPay, coerce_levers
-from .steps import TrialSteps, steps_for
+from .steps import ReferenceSteps, TrialSteps
 from .versions import Numerics
 from .world import N_SECTORS, World
 
@@ -166,7 +166,7 @@ class Trial:
     the observation; each recorded trial gets its own ``TrialData``).
 
     The per-step work is its ``steps`` (``steps.TrialSteps``), chosen at construction by the
-    config's numerics (``steps.steps_for``): ``steps.ReferenceSteps`` (model version 1) or
+    config's numerics (``steps_for``): ``steps.ReferenceSteps`` (model version 1) or
     ``compiled_trial.CompiledSteps`` (version 2). Two ways through the same steps: ``run``
     keeps every per-step record (post-evaluation, recordings); ``fitness`` keeps only what the
     fitness needs (the genetic algorithm). Both sense the world and compute the fitness terms
@@ -278,6 +278,15 @@ class Trial:
         """p_multimodal per step of the last ``fitness`` (a view of the trial's buffer; the
         steps after a divergence hold an earlier trial's values)."""
         return self._p
+
+
+def steps_for(world: World, config: TrialConfig) -> TrialSteps:
+    """The steps of ``config.numerics`` (``versions.Numerics``) in ``world``: version 1's
+    ``steps.ReferenceSteps`` or version 2's ``compiled_trial.CompiledSteps``."""
+    if config.numerics is Numerics.COMPILED:
+        from .compiled_trial import CompiledSteps  # loads Numba: only under version 2
+        return CompiledSteps(world, config)
+    return ReferenceSteps(world, config)
 
 
 def trial_positions(world: World, rng: np.random.Generator, trials: int = 18

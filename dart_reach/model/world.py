@@ -32,7 +32,7 @@ import numpy as np
 
 from . import icub
 from .bodies import SkeletonError, load_skeleton, make_ball
-from .ctrnn import N_MOTORS
+from .ctrnn import HAND_MOTOR, JOINT_MOTORS, N_MOTORS
 from .layout import TOUCH_SEGMENTS, TouchFace, WorldLayout, kinematic_tree, segment_faces
 from .sectors import (N_SECTORS, POINTS_PER_SECTOR, SYSTEMATIC_FRACTIONS, SectorConfig,
                       check_sector, sector_angles, sphere_point)
@@ -159,8 +159,8 @@ class World:
         n = r.getNumDofs()
         # dof_motor[i]: which of the 14 motors drives dof i (13 = the hand), -1 if none.
         self._dof_motor = np.full(n, -1)
-        self._dof_motor[motor_dofs] = np.arange(13)
-        self._dof_motor[finger_dofs] = 13
+        self._dof_motor[motor_dofs] = np.arange(JOINT_MOTORS.stop)
+        self._dof_motor[finger_dofs] = HAND_MOTOR
         if (self._dof_motor < 0).any():
             raise SkeletonError("skeleton has joints that no motor drives")
         self._motor_dofs = np.array(motor_dofs)
@@ -473,10 +473,10 @@ class World:
         of the skeleton's ``positions`` when given (``joint_positions()``, read once)."""
         q = self.robot.getPositions() if positions is None else positions
         out = np.empty(N_MOTORS) if out is None else out
-        q.take(self._motor_dofs, out=out[:13])
+        q.take(self._motor_dofs, out=out[JOINT_MOTORS])
         # the mean as ``ndarray.mean`` computes it (the sum divided by the count), without
         # its wrapper
-        out[13] = np.add.reduce(q.take(self._finger_dofs, out=self._finger_q)
+        out[HAND_MOTOR] = np.add.reduce(q.take(self._finger_dofs, out=self._finger_q)
                                 ) / len(self._finger_dofs)
         return out
 

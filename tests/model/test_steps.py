@@ -84,3 +84,26 @@ def test_the_step_code_reads_no_private_attribute_of_another_object(module):
     source = Path(module.__file__).read_text()
     found = re.findall(r"(?<![\w.])(?!self\b)([A-Za-z_]\w*)\._[A-Za-z]\w*", source)
     assert not found, found
+
+
+def test_the_sensor_and_motor_layout_is_named_once():
+    """``ctrnn``'s slices and indices name the vectors' entries; the compiled sensing writes
+    through them, never through a literal index."""
+    from dart_reach.model import compiled, ctrnn
+
+    names = ctrnn.SENSOR_NAMES
+    assert [names[i] for i in (ctrnn.SIGHT_X, ctrnn.SIGHT_Y, ctrnn.SIGHT_DISTANCE,
+                               ctrnn.OFFSET_X, ctrnn.OFFSET_Y)] == \
+        ["sight/x", "sight/y", "sight/distance", "offset/x", "offset/y"]
+    for layer, prefix in ((ctrnn.PROPRIO, "proprio/"), (ctrnn.TOUCH, "touch/"),
+                          (ctrnn.SIGHT, "sight/"), (ctrnn.OFFSET, "offset/")):
+        assert all(n.startswith(prefix) for n in names[layer])
+    assert sum(len(names[s]) for s in (ctrnn.PROPRIO, ctrnn.TOUCH, ctrnn.SIGHT, ctrnn.OFFSET)
+               ) == ctrnn.N_SENSORS
+    motors = ctrnn.MOTOR_NAMES
+    assert all(n.startswith("neck") for n in motors[ctrnn.NECK])
+    assert all(n.startswith("torso") for n in motors[ctrnn.TORSO])
+    assert all(n.startswith("r_") for n in motors[ctrnn.ARM])
+    assert motors[ctrnn.HAND_MOTOR] == "r_hand_fingers"
+    assert motors[ctrnn.JOINT_MOTORS] == motors[:ctrnn.HAND_MOTOR]
+    assert not re.findall(r"\bx\[\d", Path(compiled.__file__).read_text())
