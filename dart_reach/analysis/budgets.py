@@ -30,7 +30,7 @@ from pathlib import Path
 
 import polars as pl
 
-from . import findings, formatting, verdicts
+from . import findings, formatting, unfinished, verdicts
 from ..evolution.rundir import RunDirectory
 from .claims import ABOUT_HALF, CLAIMS, Claim, Kind
 from ..model.scenes import scene_of
@@ -135,15 +135,18 @@ class Pooled:
 
 
 def pooled(run_dirs: Sequence) -> Pooled:
-    """The pooled tables of ``run_dirs`` (those without ``evaluation.parquet`` are left out)."""
-    evaluated = [Path(d) for d in run_dirs if results.exists(Path(d) / results.EVALUATION)]
+    """The pooled tables of ``run_dirs`` (those without ``evaluation.parquet`` are left out,
+    but for an unfinished run's post-evaluated snapshots: ``unfinished.snapshot_trials``)."""
+    evaluated = [Path(d) for d in run_dirs if unfinished.judged(d)]
     if not evaluated:
         return Pooled(None, None, None)
     baselines = [load_evaluation(d, baseline=True).with_columns(pl.lit(d.name).alias("run"))
-                 for d in evaluated]
+                 for d in evaluated if results.exists(d / results.EVALUATION)
+                 or results.exists(d / results.BASELINE)]
     developments = [dev.with_columns(pl.lit(d.name).alias("run")) for d in evaluated
                     if (dev := load_development(d)) is not None]
-    return Pooled(load_runs(evaluated), pl.concat(baselines, how="diagonal_relaxed"),
+    return Pooled(load_runs(evaluated),
+                  pl.concat(baselines, how="diagonal_relaxed") if baselines else None,
                   pl.concat(developments, how="diagonal_relaxed") if developments else None)
 
 

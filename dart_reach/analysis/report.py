@@ -34,6 +34,7 @@ from string import Template
 import polars as pl
 
 from . import answers, budgets, counts, figures, findings, formatting, summaries, verdicts
+from . import unfinished
 from ..errors import UsageError
 from ..postevaluation import results
 from ..postevaluation import snapshots as development
@@ -416,8 +417,9 @@ def build(run_dirs: Sequence, out=None, findings_out=None) -> Path:
     """Write the report of ``run_dirs`` to ``out`` (default ``<first run's name>-report.html``
     in the current directory) and return its path. The runs are only read, and ``out`` may not
     lie inside one of them (nothing is ever written into a run the report reads): the trials that Figs. 6 and 8 draw and that have
-    no recording are recorded again in ``recordings_dir`` beside ``out``. Runs without a
-    post-evaluation get provenance and training only, and their claims are "not run".
+    no recording are recorded again in ``recordings_dir`` beside ``out``. An unfinished run is
+    judged on its post-evaluated snapshots (``unfinished``), where it stands said at the top.
+    Runs without a post-evaluation get provenance and training only, their claims "not run".
     ``findings_out``: also write the findings the report shows, every claim at every budget
     (``budgets.findings_by_budget``'s frame), to this parquet file, a new one."""
     run_dirs = [Path(d) for d in run_dirs]
@@ -441,7 +443,7 @@ def build(run_dirs: Sequence, out=None, findings_out=None) -> Path:
     if findings_out is not None:
         findings_out = Path(findings_out)
         _check_findings_out(findings_out)
-    evaluated = [d for d in run_dirs if results.exists(d / results.EVALUATION)]
+    evaluated = [d for d in run_dirs if unfinished.judged(d)]  # unfinished: its snapshots
     everything = budgets.pooled(evaluated)
     table = everything.table
     groups = budgets.budget_groups(run_dirs)
@@ -456,7 +458,8 @@ def build(run_dirs: Sequence, out=None, findings_out=None) -> Path:
               + ", ".join(html.escape(str(d)) for d in missing) + ". The findings and figures "
               "need the post-evaluation: run <code>dart-reach evaluate RUN --sensors all "
               "--baseline 20</code> first.</p>")
-    sections = [_section("The answers", answers.answers_html(by_budget, run_dirs), "answers"),
+    sections = [unfinished.standing_html(run_dirs)  # where an unfinished run stands, first
+                + _section("The answers", answers.answers_html(by_budget, run_dirs), "answers"),
                 _section("Summary", notice + summary_html(by_budget), "summary"),
                 _section("Findings of section IV", _findings_body(blocks, by_budget)
                          + "<p>Verdicts are computed from the data when this report is built "
@@ -531,6 +534,8 @@ def _check_findings_out(path: Path) -> None:
 
 
 def _run_figures(run_dir: Path, cache: Path) -> str:
+    if not results.exists(run_dir / results.EVALUATION):  # unfinished: its snapshots' course
+        return f"<h3>{html.escape(run_dir.name)}</h3>" + "".join(_development_figures(run_dir))
     table, phases = condition_trials(run_dir)
     parts = [f"<h3>{html.escape(run_dir.name)}</h3>",
              "<h4>Fig. 5: performance</h4>", _try(figures.fig5_performance, table, phases),
@@ -580,6 +585,8 @@ def _fig10(table: pl.DataFrame) -> str:
 
 
 def _run_statistics(run_dir: Path) -> str:
+    if not results.exists(run_dir / results.EVALUATION):  # unfinished: see unfinished.standing
+        return ""
     table, phases = condition_trials(run_dir)
     measures = [m for m, _, _ in figures.FIG5_MEASURES + figures.FIG6_MEASURES]
     parts = [f"<h3>{html.escape(run_dir.name)}</h3>",

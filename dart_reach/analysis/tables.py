@@ -25,6 +25,7 @@ import polars as pl
 from ..evolution.rundir import RunDirectory
 from ..model.world import SectorConfig
 from ..postevaluation.systematic import load_evaluation, run_phases
+from . import unfinished
 
 
 def repository_path(path) -> Path:
@@ -98,7 +99,7 @@ def load_runs(run_dirs: Sequence) -> pl.DataFrame:
     labels = [d.name if names.count(d.name) == 1 else str(d) for d in run_dirs]
     frames = []
     for i, (run_dir, label) in enumerate(zip(run_dirs, labels)):
-        table = load_evaluation(run_dir)
+        table = unfinished.trials(run_dir)  # an unfinished run: its snapshots
         order = (run_phases(run_dir).unique("phase_key", keep="first", maintain_order=True)
                  .with_row_index("phase_order").select("phase_key", "phase_order"))
         table = (table.join(order, on="phase_key", how="left", maintain_order="left")

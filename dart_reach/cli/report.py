@@ -19,7 +19,9 @@ def register_report(subparsers) -> None:
                 "the report, in NAME-recordings/ for NAME.html (about 0.4 MB a trial), and "
                 "reused by the next build.")
     p.add_argument("run_dirs", type=Path, nargs="+", metavar="RUN_DIR",
-                   help="post-evaluated run directories (dart-reach evaluate)")
+                   help="post-evaluated run directories (dart-reach evaluate); an unfinished "
+                        "run is judged on its post-evaluated snapshots (evaluate "
+                        "--development N --finished-only), where it stands said at the top")
     p.add_argument("--out", type=Path, default=None, metavar="FILE.html",
                    help="where to write it, in an existing directory outside the runs "
                         "(default: <first RUN_DIR's name>-report.html in the current "
@@ -31,19 +33,24 @@ def register_report(subparsers) -> None:
 
 
 def cmd_report(args) -> int:
-    from ..analysis import report
+    from ..analysis import report, unfinished
     from ..postevaluation.results import exists
     from ..postevaluation.systematic import TABLE
     from ..evolution.rundir import RunDirectory
 
     for run_dir in args.run_dirs:
-        RunDirectory.open(run_dir).verify()  # one clear line for a path not a run or damaged
-        if not exists(run_dir / TABLE):
+        run = RunDirectory.open(run_dir)
+        run.verify()  # one clear line for a path not a run or damaged
+        if not exists(run_dir / TABLE) and not unfinished.judged(run_dir):
+            # an unfinished run is judged on its post-evaluated snapshots
+            first = (["--sensors", "all", "--baseline", "20"] if not run.unfinished() else
+                     ["--development", "5", "--development-sensors", "all", "--finished-only"])
             raise ValueError(
-                f"{run_dir}: not post-evaluated yet (no {TABLE}), and the report's findings and "
-                f"figures come from the post-evaluation; run first: "
-                + shlex.join(["dart-reach", "evaluate", str(run_dir), "--sensors", "all",
-                              "--baseline", "20"]))
+                f"{run_dir}: not post-evaluated yet (no {TABLE}"
+                + (", no post-evaluated snapshot of the unfinished run" if run.unfinished()
+                   else "")
+                + "), and the report's findings and figures come from the post-evaluation; "
+                  "run first: " + shlex.join(["dart-reach", "evaluate", str(run_dir), *first]))
     path = report.build(args.run_dirs, args.out, findings_out=args.findings)
     print(f"report: {path}\nopen it in a browser (it is self-contained, works offline)")
     if args.findings:
