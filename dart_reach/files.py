@@ -28,7 +28,7 @@ def atomic_write(path: Path, write: Callable[[Path], None],
     resumed run) sees the old file or the new one, never half of one. The file gets the
     permissions of a plainly created one (0666 less the umask). ``before_replace`` is called
     with the temporary file once it is complete and on disk, before the rename (to record
-    its hash: ``evolution.integrity``); if it raises, the old file stays."""
+    its hash: ``integrity``); if it raises, the old file stays."""
     path = Path(path)
     tmp = None
     try:

@@ -18,7 +18,7 @@ from pathlib import Path
 import numpy as np
 import polars as pl
 
-from dart_reach.evolution import integrity
+from dart_reach import integrity
 from dart_reach.evolution.backends import worker_trial
 from dart_reach.evolution.genome import as_groups, decode
 from dart_reach.evolution.rundir import RunDirectory

@@ -26,7 +26,7 @@ import polars as pl
 
 from dart_reach.analysis import (budgets, calibration, coverage, findings, formatting, report,
                                  said, verdicts)
-from dart_reach.evolution import integrity
+from dart_reach import integrity
 from dart_reach.evolution.rundir import RunDirectory
 from dart_reach.files import write_parquet
 from dart_reach.model.scenes import scene_of

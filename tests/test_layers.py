@@ -19,7 +19,7 @@ PACKAGE = Path(__file__).resolve().parents[1] / "dart_reach"
 #: record, not the environment): it sits after viewing, and bench (studies) measures it.
 LAYERS = ("model", "measures", "recording", "evolution", "postevaluation", "analysis",
           "robots", "viewing", "envs", "studies", "cli")
-SHARED = {"errors", "files", "pinning", "progress", "skeletons", ""}
+SHARED = {"errors", "files", "integrity", "pinning", "progress", "skeletons", ""}
 
 MAX_LINES = 600
 
@@ -35,6 +35,10 @@ DEFERRED = {
                 "the CLI imports progress for every command",
     "pinning": "it runs before numpy loads, to set the variables numpy and OpenBLAS read when "
                "they load; numpy is imported only to read the kernels a process runs",
+    "files": "start-up: pyarrow takes about 0.2 s to import and only writing a parquet file "
+             "needs it; the CLI and every reader of a run import files",
+    "integrity": "pyarrow and rerun read a table or a recording whole only when 'migrate' "
+                 "checks an old run's files; every command verifies runs through integrity",
     "measures.kinematics": "start-up: scipy.signal takes 0.6 s to import and only "
                            "movement_units needs it; every 'dart-reach train' loads the measures "
                            "(its recordings do)",

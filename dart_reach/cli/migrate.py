@@ -1,5 +1,5 @@
 """``migrate``: give a run written before the ledger (``ledger.json``, the SHA-256 of every
-file of a run) its ledger, once its files are checked (``evolution.integrity.migrate``)."""
+file of a run) its ledger, once its files are checked (``integrity.migrate``)."""
 
 from __future__ import annotations
 
@@ -25,7 +25,7 @@ def register_migrate(subparsers) -> None:
 
 
 def cmd_migrate(args) -> int:
-    from ..evolution import integrity
+    from .. import integrity
     from ..evolution.rundir import RunError
     from ..files import DirectoryLock
 

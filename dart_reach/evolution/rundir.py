@@ -42,7 +42,7 @@ from pathlib import Path
 import numpy as np
 import polars as pl
 
-from . import integrity
+from .. import integrity
 from .conditions import Condition, Phase, condition_from_dict
 from .ga import GAState, state_from_arrays
 from .settings import Settings

@@ -40,8 +40,8 @@ from .conditions import Condition, Phase
 from .ga import (GAState, ask, best_k, generation_stats, init_state, state_to_arrays, tell,
                  transition_population)
 from .genome import as_groups, decode, free_mask, random_genome, release
-from . import integrity
-from .integrity import recorded_write
+from .. import integrity
+from ..integrity import recorded_write
 from .provenance import cpu, git_state, machine, versions
 from .rundir import (STATS_SCHEMA, RunDirectory, RunError, check_same_run, described_run,
                      manifest_of, read_manifest)

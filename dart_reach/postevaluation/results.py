@@ -45,7 +45,7 @@ import polars as pl
 
 from .. import __version__
 from ..evolution.provenance import git_state, simd
-from ..evolution import integrity
+from .. import integrity
 from ..evolution.rundir import RunError
 from ..files import write_parquet
 

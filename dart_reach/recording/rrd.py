@@ -33,7 +33,7 @@ from rerun import bindings as rerun_bindings
 from rerun.chunk import Chunk, LazyChunkStream, RrdReader
 
 from ..measures import metrics
-from ..evolution import integrity
+from .. import integrity
 from ..model.task import Senses, TrialData
 from .layout import LAYOUT, MEASURES, PALETTE, SIGNALS, TrialInfo, trial_blueprint
 from .robot_model import RobotModel

@@ -16,8 +16,8 @@ from pathlib import Path
 import pytest
 
 from dart_reach.analysis.export import stored_table
-from dart_reach.evolution import integrity
-from dart_reach.evolution.integrity import DamagedFile
+from dart_reach import integrity
+from dart_reach.integrity import DamagedFile
 from dart_reach.evolution.rundir import RunDirectory
 from dart_reach.files import LOCK_NAME, atomic_write
 from dart_reach.postevaluation import results

@@ -141,7 +141,7 @@ def test_bad_lever_values_are_one_line_and_exit_2(tmp_path, bad, named):
 def test_an_unknown_model_version_in_a_manifest_is_refused(run, tmp_path, in_process):
     import shutil
 
-    from dart_reach.evolution import integrity
+    from dart_reach import integrity
 
     _, out = run
     copy = tmp_path / "copy"

@@ -19,7 +19,7 @@ import numpy as np
 import polars as pl
 import pytest
 
-from dart_reach.evolution import integrity
+from dart_reach import integrity
 from dart_reach.recording.rrd import read_rrd
 
 STRACE = shutil.which("strace")

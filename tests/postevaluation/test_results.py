@@ -10,7 +10,7 @@ from pathlib import Path
 import polars as pl
 import pytest
 
-from dart_reach.evolution import integrity
+from dart_reach import integrity
 from dart_reach.evolution.rundir import RunError
 from dart_reach.postevaluation import results
 from dart_reach.postevaluation.systematic import evaluate_run, load_evaluation

@@ -42,8 +42,8 @@ from pathlib import Path
 
 import numpy as np
 
-from ..errors import UsageError
-from ..files import atomic_write
+from .errors import UsageError
+from .files import atomic_write
 
 #: The ledger's file, in the run directory.
 LEDGER_FILE = "ledger.json"
