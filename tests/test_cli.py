@@ -150,7 +150,7 @@ def test_report_needs_a_post_evaluation_and_an_existing_directory(tmp_path, monk
     # and a resume with another budget names the setting that differs
     _one_line_exit_2(in_process("train", "standard", "--generations", "1", *TINY[:-6],
                                 "--steps", "3", *TINY[-4:], "--out", run, "--resume"),
-                     "settings.steps is 2 in the run there, 3 now", "same command line")
+                     "steps given here differs from them", "leave it out")
     _one_line_exit_2(in_process("train", "standard", "--generations", "2", *TINY, "--out", run,
                                 "--resume"),
                      "conditions.standard.generations_per_phase is 1 in the run there, 2 now")

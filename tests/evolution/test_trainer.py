@@ -224,7 +224,7 @@ def test_bad_input_is_refused_and_loses_nothing(whole, tmp_path, in_process):
     _one_error_line(in_process(*_train_cmd(out)), "--resume")
     changed = _train_cmd(out, "--resume")
     changed[changed.index("--seed") + 1] = "6"
-    _one_error_line(in_process(*changed), "other settings")
+    _one_error_line(in_process(*changed), "seed given here differs")
     ckpt = next(out.glob("phases/fine-*/checkpoint.npz"))
     (out / "phases" / ckpt.parent.name / "final.npz").unlink()
     before.pop(out / "phases" / ckpt.parent.name / "final.npz")
