@@ -164,12 +164,18 @@ def arm_name(radius: float, widening: float) -> str:
     return f"r{radius:.2f}-w{widening:g}"
 
 
+def _selected_rows(table: pl.DataFrame, robots: pl.DataFrame) -> pl.DataFrame:
+    """The rows of the selected ``robots`` in a screen table."""
+    return table.join(robots.select("population", "replication", "rank"),
+                      on=["population", "replication", "rank"], how="semi")
+
+
 def build_screen(workers: int | None = None) -> pl.DataFrame:
     """The calibration's screen: every selected robot on the 45 positions of every scene of
     ``grid``, normal senses, under its own run's version and levers; written to ``SCREEN``
     after each population, so that a run stopped part-way resumes with the next one."""
     robots = selected_robots().filter(pl.col("selected"))
-    table = pl.read_parquet(SCREEN) if SCREEN.exists() else None
+    table = _selected_rows(pl.read_parquet(SCREEN), robots) if SCREEN.exists() else None
     done = set() if table is None else set(table["population"].unique().to_list())
     for name, (run, _) in POPULATIONS.items():
         mine = robots.filter(pl.col("population") == name)

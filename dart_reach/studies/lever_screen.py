@@ -111,7 +111,8 @@ def screen(run_dir, generation: int, arms: list[Arm], phase: str = "pre", robots
         for s in senses:
             trial = replace(base, senses=Senses(s))
             jobs += [_Job(arm.name, r, i, genomes[r, i], ph.free_groups, trial, arm.world)
-                     for r in range(genomes.shape[0]) for i in range(robots)]
+                     for r in range(genomes.shape[0]) for i in range(robots)
+                     if only is None or (r, i) in only]
     backend = make_backend(workers)
     try:
         rows = [row for job_rows in backend.imap(_run, jobs) for row in job_rows]

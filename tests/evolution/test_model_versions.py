@@ -169,6 +169,10 @@ def test_the_screen_runs_a_runs_robots_under_other_levers(run):
     zero = table.filter(pl.col("arm") == "zero")
     assert not np.array_equal(mine["hand_path"], zero["hand_path"])  # the start matters
     assert json.loads(zero["levers"][0]) == {"network_start": "zero", "touch_pay": "binary"}
+    only = screen(out, 2, arms[:1], robots=2, senses=("normal",), workers=1, only={(1, 0)})
+    assert only.select("replication", "rank").unique().rows() == [(1, 0)]
+    np.testing.assert_array_equal(only["fitness"], mine.filter(pl.col("replication") == 1)
+                                  ["fitness"])
     again = screen(out, 2, arms[:1], robots=1, senses=("normal",), workers=2)
     assert again.equals(mine)  # same result whatever the workers
     with pytest.raises(ValueError, match="no snapshot of pre at generation 9"):
