@@ -10,6 +10,7 @@ import math
 import polars as pl
 import pytest
 
+from dart_reach import integrity
 from dart_reach.postevaluation import snapshots as dev
 from dart_reach.evolution.conditions import load_condition, scaled
 from dart_reach.postevaluation.systematic import evaluate_run, load_evaluation
@@ -182,9 +183,9 @@ def test_the_snapshots_of_a_run_still_training(runs, tmp_path, in_process):
     _, _, snap = runs
     part = _trained_copy(snap.out, tmp_path / "part")
     for f in (part / "phases").glob("*/final.npz"):
-        f.unlink()
+        integrity.remove(f)
     for f in (part / "phases").glob("gross-*/snapshots/gen0002.npz"):
-        f.unlink()  # gross is at generation 1, fine not begun
+        integrity.remove(f)  # gross is at generation 1, fine not begun
     shutil.rmtree(next((part / "phases").glob("fine-*")))
     args = ("--development", "1", "--workers", "1", "--record", "none")
     refused = _cli("evaluate", part, *args)

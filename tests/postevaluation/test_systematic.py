@@ -12,6 +12,7 @@ import numpy as np
 import polars as pl
 import pytest
 
+from dart_reach import integrity
 from dart_reach.measures import metrics
 from dart_reach.postevaluation import results
 from dart_reach.postevaluation.systematic import SENSES, evaluate_run, load_evaluation
@@ -162,13 +163,14 @@ def test_bad_input(trained, tmp_path, in_process):
     future = tmp_path / "future"
     shutil.copytree(trained, future)
     manifest = json.loads((future / "manifest.json").read_text())
-    (future / "manifest.json").write_text(json.dumps(dict(manifest, format=99)))
+    integrity.write(future / "manifest.json",  # as a newer dart_reach writes it
+                    lambda p: p.write_text(json.dumps(dict(manifest, format=99))))
     _one_line_error(in_process("evaluate", future),
                     "manifest.json: written by an incompatible version")
 
     unfinished = tmp_path / "unfinished"
     shutil.copytree(trained, unfinished)
-    next((unfinished / "phases").glob("fine-*/final.npz")).unlink()
+    integrity.remove(next((unfinished / "phases").glob("fine-*/final.npz")))
     before = _snapshot(unfinished)
     _one_line_error(in_process("evaluate", unfinished), "unfinished run", "standard/fine")
     assert _snapshot(unfinished) == before  # nothing written
@@ -177,7 +179,7 @@ def test_bad_input(trained, tmp_path, in_process):
     shutil.copytree(trained, run)
     _one_line_error(in_process("evaluate", run, "--robots", "21"), "robots must be between 1 and")
     _one_line_error(in_process("evaluate", run, "--sensors", "smell"), "--sensors")
-    (run / "evaluation.parquet").write_bytes(b"not parquet")
+    integrity.write(run / "evaluation.parquet", lambda p: p.write_bytes(b"not parquet"))
     _one_line_error(in_process("evaluate", run), "evaluation.parquet: unreadable")
     assert (run / "evaluation.parquet").read_bytes() == b"not parquet"
 
@@ -197,7 +199,7 @@ def test_the_finished_phases_of_an_unfinished_run_and_later_the_rest(trained, tm
     shutil.copytree(trained, part)
     fine = next((part / "phases").glob("fine-*/final.npz"))
     kept = fine.read_bytes()
-    fine.unlink()
+    integrity.remove(fine)
     _one_line_error(in_process("evaluate", part, *args), "unfinished run", "--finished-only")
     done = in_process("evaluate", part, "--finished-only", *args)
     assert done.returncode == 0, done.stderr
@@ -208,7 +210,7 @@ def test_the_finished_phases_of_an_unfinished_run_and_later_the_rest(trained, tm
     chance = table.filter(pl.col("baseline"))  # random genomes need no training: every phase
     assert sorted(set(chance["phase"])) == ["fine", "gross", "pre"]
     assert chance.height == 3 * (len(SENSES) + 1) * TRIALS
-    fine.write_bytes(kept)  # the run finishes
+    integrity.write(fine, lambda p: p.write_bytes(kept))  # the run finishes
     assert in_process("evaluate", part, *args).returncode == 0
     key = ("phase", "senses", "baseline", "replication", "rank", "trial")
     assert load_evaluation(part, None).drop("session").sort(key).equals(  # written in 2 sessions
@@ -216,7 +218,7 @@ def test_the_finished_phases_of_an_unfinished_run_and_later_the_rest(trained, tm
     none = tmp_path / "none"
     shutil.copytree(trained, none)
     for f in (none / "phases").glob("*/final.npz"):
-        f.unlink()
+        integrity.remove(f)
     _one_line_error(in_process("evaluate", none, "--finished-only"), "no phase has finished yet")
 
 
@@ -230,7 +232,7 @@ def test_rows_of_an_older_version_of_the_measures_are_measured_again(evaluated, 
     current = load_evaluation(out)
     old = current.drop("measures_version", "reached_inner", "session").with_columns(
         pl.lit(False).alias("reached"))  # as an older version measured them
-    old.write_parquet(out / "evaluation.parquet")
+    integrity.write(out / "evaluation.parquet", lambda p: old.write_parquet(p))
     assert results.migrate(out) == [out / "evaluation.parquet"]
     assert (load_evaluation(out)["measures_version"] == 1).all()
     table = evaluate_run(out, senses=["no-touch"], robots=2, record="none", workers=1)
