@@ -124,7 +124,7 @@ def _trained_copy(run, out):
     import shutil
 
     out.mkdir()
-    for name in ("manifest.json", "generations.parquet"):
+    for name in ("manifest.json", "generations.parquet", "ledger.json"):
         shutil.copy(run / name, out / name)
     shutil.copytree(run / "phases", out / "phases")
     return out
