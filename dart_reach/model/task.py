@@ -23,6 +23,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from ..pinning import require_pinned_kernels
 from .ctrnn import N_HIDDEN, N_MOTORS, N_SENSORS, Network, NetworkParams
 from .icub import HAND_SEGMENTS
 from .levers import NetworkStart, ReflexInputs, TouchPay, coerce_levers
@@ -286,6 +287,7 @@ def steps_for(world: World, config: TrialConfig) -> TrialSteps:
     if config.numerics is Numerics.COMPILED:
         from .compiled_trial import CompiledSteps  # loads Numba: only under version 2
         return CompiledSteps(world, config)
+    require_pinned_kernels()  # version 1 rounds with numpy's kernels: refuse unpinned ones
     return ReferenceSteps(world, config)
 
 

@@ -310,7 +310,7 @@ def encoded(recording_id: str, send) -> bytes:
     """The .rrd bytes of what ``send(rec)`` sends to a new recording ``recording_id``. A rerun
     0.41 stream keeps its two threads (batcher, sink) until it is disconnected or cleaned up
     as an orphan: without the clean-up here and ``_send_blueprint`` every recording left two
-    threads in its process and every layout two more (docs/changelog.md, issue 48)."""
+    threads in its process and every layout two more (measured; docs/changelog.md)."""
     rec = rr.RecordingStream(APP_ID, recording_id=recording_id, send_properties=False)
     stream = rec.binary_stream()
     send(rec)

@@ -252,8 +252,8 @@ def _replay(runner: Trial, ball: np.ndarray, targets: np.ndarray, steps: int) ->
 
 
 def reference_world(config: WorldConfig | None = None) -> World:
-    """The world in the configuration it had before the physics was tuned for speed (issue
-    11): DART's deactivation test on. Kept to measure ``physics_speedup`` against, and to test
+    """The world in the configuration it had before the physics was tuned for speed:
+    DART's deactivation test on. Kept to measure ``physics_speedup`` against, and to test
     that the tuning changes no result."""
     world = World(config or WorldConfig())
     options = world.world.getDeactivationOptions()

@@ -1,4 +1,4 @@
-"""``dart-reach report`` of an unfinished run (issue 83, item 3): a tiny real run stopped at
+"""``dart-reach report`` of an unfinished run: a tiny real run stopped at
 generation 2 of 3 of pre-reaching, its snapshots post-evaluated (``evaluate --development
 --finished-only``) and judged in the report, which says at its top where the run stands; the
 run is only read. Without a post-evaluated snapshot the report is refused in one line naming

@@ -1,4 +1,4 @@
-"""No result depends on what was imported first (issue 80, item 6; ``dart_reach.pinning``).
+"""No result depends on what was imported first (``dart_reach.pinning``).
 
 In fresh processes that load numpy before ``dart_reach``: model version 1 gives its committed
 digests where numpy's and OpenBLAS's kernels are the pinned ones anyway (an AVX2 processor) and
@@ -125,9 +125,6 @@ def test_the_compiled_numerics_take_nothing_from_numpys_kernels():
 
 
 @pytest.mark.skipif(not AVX2, reason="x86_64 with AVX2")
-@pytest.mark.xfail(strict=True, reason="issue 80 item 6(b): a version 1 trial calls "
-                                       "pinning.require_pinned_kernels() where it is built "
-                                       "(model.steps); remove this mark when it does")
 def test_a_version_1_trial_refuses_where_numpy_runs_other_kernels():
     found = _numpy_first(before=OTHER_KERNELS)
     if found["blas"] is None:
