@@ -134,9 +134,7 @@ def test_load_runs_labels_groups(tiny_run, tmp_path):
     assert tables.load_runs([tiny_run, tiny_run]).height == one.height
     # two runs of the same name: every notation comes from both, so groups name the run
     other = tmp_path / "copy" / "tiny"
-    other.mkdir(parents=True)
-    for f in ("manifest.json", "generations.parquet", "evaluation.parquet"):
-        shutil.copy(tiny_run / f, other / f)
+    shutil.copytree(tiny_run, other)
     two = tables.load_runs([tiny_run, other])
     groups = two.schema["group"].categories.to_list()
     assert groups[:3] == [f"{p} [{tiny_run}]" for p in PHASES]

@@ -47,6 +47,7 @@ from .conditions import Condition, Phase, condition_from_dict
 from .ga import GAState, state_from_arrays
 from .settings import Settings
 from ..errors import UsageError
+from ..files import TEMP_SUFFIX
 
 #: Version of manifest.json's layout.
 MANIFEST_FORMAT = 1
@@ -183,6 +184,13 @@ class RunDirectory:
         """The phases not trained to the end, as "condition/phase"."""
         return [f"{c.name}/{p.name}" for c in self.conditions for p in c.phases
                 if not self.final_path(p).exists()]
+
+    def unsettled(self) -> list[str]:
+        """What a killed write or a deletion left for a resume to settle, as run-relative
+        names: the files the ledger names that are missing, and the temporaries of a write."""
+        names = [n for n in integrity.ledger(self.out) if not (self.out / n).exists()]
+        return names + [str(p.relative_to(self.out))
+                        for p in self.out.rglob(f".*{TEMP_SUFFIX}") if p.is_file()]
 
     # -------------------------------------------------------------- stats and checkpoints
     def committed_stats(self) -> pl.DataFrame:

@@ -379,13 +379,15 @@ def train(conditions: list[Condition], settings: Settings, out: Path, workers: i
     if resume:  # a damaged file refused before anything is written, the lock file included
         done = RunDirectory(*described_run(out))
         done.verify()
-        if not done.unfinished():  # finished: nothing to do, nothing written
+        if not done.unfinished() and not done.unsettled():  # finished: nothing written
             return Trainer(out, conditions, settings, resume=True, command=command)
     with DirectoryLock(out):
         remove_temporaries(out)  # of a killed write: the lock says no one else is writing
         run = Trainer(out, conditions, settings, resume=resume, command=command)
         if resume:
             run.repair()
+            if not run.unfinished():  # finished, its derived files rebuilt: no session
+                return run
         with contextlib.ExitStack() as stack:  # closed in reverse: the bar, then the workers
             backend = make_backend(workers, ray_address)
             stack.callback(backend.close)
