@@ -92,6 +92,11 @@ MODEL_VERSIONS = {v.number: v for v in (
                  summary="version 1's model computed by compiled numerics (model.compiled): "
                          "the same equations and physics, rounded alike on every processor, "
                          "faster"),
+    ModelVersion(3, Numerics.COMPILED, "calibrated-reach",
+                 summary="version 2's numerics and version 1's levers with the scene "
+                         "calibrated on Fig. 5's reach (sphere radius 0.46 m, chosen by the "
+                         "second pre-registration's screen, docs/results/campaign.md): the "
+                         "campaign's model"),
 )}
 #: The version new runs are trained under (``train`` without ``--model-version``, ``Settings()``,
 #: the Gymnasium environment).

@@ -64,3 +64,12 @@ def test_the_rule_picks_the_closest_to_one_half_and_breaks_ties_by_the_smallest_
     reach[(0.50, 1.5)] = 0.50  # exactly one half: no other within 0.02 of it
     pick = campaign.choose_scene(_scenes(reach))
     assert (pick["radius"], pick["widening"]) == (0.50, 1.5)
+
+
+def test_version_3_runs_on_the_scene_the_committed_screen_chose():
+    from dart_reach.model.versions import model_version
+
+    pick = campaign.choose_scene(campaign.scene_reach(pl.read_parquet(campaign.SCREEN)))
+    chosen = [s for r, w, s in campaign.grid() if (r, w) == (pick["radius"], pick["widening"])]
+    assert model_version(3).scene == "calibrated-reach"
+    assert load_scene("calibrated-reach").sectors == chosen[0] == model_version(3).sectors()
