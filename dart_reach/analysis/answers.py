@@ -1,21 +1,24 @@
 """The report's first words: a plain answer per phenomenon of the paper.
 
 The paper's claims of its robots (``findings.reading``, the headline) are grouped by the
-phenomenon they test (``PHENOMENA``: data, each with the paper's section), and each phenomenon
-gets one answer at each budget from the verdicts of its claims (``answer``):
+phenomenon they test (``PHENOMENA``: data, each with the paper's section and its claims, the
+lead claim first: the one that states the phenomenon), and each phenomenon gets one answer at
+each budget (``answer``, the one rule, ``RULE`` its words). The lead claim decides:
 
-- *reproduced*: at least one claim reproduced and none contradicted;
-- *partly reproduced*: some reproduced, some contradicted;
-- *not reproduced*: some contradicted and none reproduced, or every claim that could be
-  decided at this size is inconclusive (the data do not show it);
-- *not yet testable at this budget*: none decided and some underpowered or not run (the run
-  has too few replications, or lacks the conditions, to decide).
+- *reproduced*: the lead claim reproduced and no other contradicted;
+- *partly reproduced*: the lead claim reproduced and another contradicted;
+- *not reproduced*: the lead claim contradicted;
+- *inconclusive*: the lead claim inconclusive (it could have been decided and was not),
+  whatever the others: other claims reproduced do not make the phenomenon reproduced, and
+  inconclusive is never "not reproduced";
+- *not yet testable at this budget*: the lead claim underpowered or not run.
 
-Each answer comes with the one number that says why (``why``): the lead claim's effect with
-its interval, or the sample sizes that could not decide. A run too small to judge (no claim
-decided, or most claims underpowered: ``too_small``) says so, and names the run beside it whose
-saved findings (``findings.parquet``, ``report --findings``) decide the most claims
-(``reference_run``), so a reader of a demo's report knows where the paper is tested.
+Each answer comes with the numbers that say why (``why``): the lead claim's verdict and its
+effect with its interval (or the sample sizes that could not decide), and how its other
+claims came out. A run too small to judge (no claim decided, or most claims underpowered:
+``too_small``) says so, and names the run beside it whose saved findings (``findings.parquet``,
+``report --findings``) decide the most claims (``reference_run``), so a reader of a demo's
+report knows where the paper is tested.
 """
 
 from __future__ import annotations
@@ -98,10 +101,19 @@ PHENOMENA: tuple[Phenomenon, ...] = (
 )
 
 #: The answers, and the CSS class of each in the report.
-REPRODUCED, PARTLY, NOT_REPRODUCED, NOT_TESTABLE = (
-    "reproduced", "partly reproduced", "not reproduced", "not yet testable at this budget")
-ANSWERS = {REPRODUCED: "yes", PARTLY: "partly", NOT_REPRODUCED: "no",
+REPRODUCED, PARTLY, NOT_REPRODUCED, INCONCLUSIVE, NOT_TESTABLE = (
+    "reproduced", "partly reproduced", "not reproduced", "inconclusive",
+    "not yet testable at this budget")
+ANSWERS = {REPRODUCED: "yes", PARTLY: "partly", NOT_REPRODUCED: "no", INCONCLUSIVE: "open",
            NOT_TESTABLE: "untestable"}
+#: ``answer``'s rule in the report's words.
+RULE = ("A phenomenon is answered by its lead claim, the one that states it (listed first): "
+        "<i>reproduced</i> only when the lead claim is reproduced and no other claim is "
+        "contradicted, <i>partly reproduced</i> when the lead claim is reproduced and another "
+        "is contradicted, <i>not reproduced</i> when the lead claim is contradicted, "
+        "<i>inconclusive</i> when the lead claim could have been decided and was not (never "
+        "\"not reproduced\", and other claims reproduced do not make it reproduced), <i>not "
+        "yet testable at this budget</i> when the lead claim is underpowered or not run.")
 #: The fewest replications a group at which a two-group rule can decide at all
 #: (``verdict_core.one_mode``: below it every such claim is underpowered).
 FEWEST_DECIDING = next(n for n in range(2, 100) if one_mode(n, n) <= verdicts.ALPHA)
@@ -109,18 +121,13 @@ FEWEST_DECIDING = next(n for n in range(2, 100) if one_mode(n, n) <= verdicts.AL
 PAPER_GENERATIONS = 500
 
 
-def answer(verdicts_: Sequence[str]) -> str:
-    """The answer of a phenomenon from the verdicts of its claims (see the module's text)."""
-    n = {v: sum(x == v for x in verdicts_) for v in verdicts.VERDICTS}
-    yes, no = n[verdicts.REPRODUCED], n[verdicts.CONTRADICTED]
-    if yes and no:
-        return PARTLY
-    if yes:
-        return REPRODUCED
-    if no or (n[verdicts.INCONCLUSIVE] and not n[verdicts.UNDERPOWERED]
-              and not n[verdicts.NOT_RUN]):
-        return NOT_REPRODUCED
-    return NOT_TESTABLE
+def answer(lead: str, others: Sequence[str]) -> str:
+    """The answer of a phenomenon from the verdict of its lead claim, ``lead``, and those of
+    its other claims, ``others`` (the rule of the module's text, ``RULE``)."""
+    if lead == verdicts.REPRODUCED:
+        return PARTLY if verdicts.CONTRADICTED in others else REPRODUCED
+    return {verdicts.CONTRADICTED: NOT_REPRODUCED,
+            verdicts.INCONCLUSIVE: INCONCLUSIVE}.get(lead, NOT_TESTABLE)
 
 
 def _effect(row: dict) -> str:
@@ -130,41 +137,22 @@ def _effect(row: dict) -> str:
             f"{formatting.effect(*values)}")
 
 
-def why(rows: pl.DataFrame, said: str) -> str:
-    """The one number behind the answer ``said`` of a phenomenon whose claims are ``rows``
-    (findings rows of one budget, in the phenomenon's order)."""
-    count = {v: rows.filter(pl.col("verdict") == v).height for v in verdicts.VERDICTS}
-    total = rows.height
-
-    def first(*wanted: str) -> dict:
-        return rows.filter(pl.col("verdict").is_in(list(wanted))).row(0, named=True)
-
-    if said in (REPRODUCED, PARTLY):
-        lead = first(verdicts.REPRODUCED)
-        extra = (f", {count[verdicts.CONTRADICTED]} contradicted" if said == PARTLY else "")
-        return (f"{count[verdicts.REPRODUCED]} of {total} claims reproduced{extra}; "
-                f"{lead['claim']}: {_effect(lead)}")
-    if said == NOT_REPRODUCED and count[verdicts.CONTRADICTED]:
-        lead = first(verdicts.CONTRADICTED)
-        return (f"{count[verdicts.CONTRADICTED]} of {total} claims contradicted, none "
-                f"reproduced; {lead['claim']}: {_effect(lead)}")
-    if said == NOT_REPRODUCED:
-        lead = first(verdicts.INCONCLUSIVE)
-        return (f"0 of {total} claims decided, {count[verdicts.INCONCLUSIVE]} inconclusive; "
-                f"{lead['claim']}: {_effect(lead)}")
-    missing = count[verdicts.UNDERPOWERED] + count[verdicts.NOT_RUN]
-    if count[verdicts.UNDERPOWERED]:
-        lead = first(verdicts.UNDERPOWERED)
-        return (f"{missing} of {total} claims underpowered or not run; "
-                f"{lead['claim']}: n = {lead['n']}")
-    lead = first(verdicts.NOT_RUN)
-    reason = lead["measured"].removeprefix("not run: ")
-    text = f"{missing} of {total} claims not run ({reason})"
-    ran = rows.filter(pl.col("verdict") != verdicts.NOT_RUN)
-    if ran.height:
-        r = ran.row(0, named=True)
-        text += f"; {r['claim']}: {r['verdict']}, {_effect(r)}"
-    return text
+def why(lead: dict | None, rows: pl.DataFrame) -> str:
+    """The numbers behind a phenomenon's answer: its lead claim's verdict (``lead``, a
+    findings row; None when the frame lacks it) with its effect and interval, or the sizes
+    that could not decide, or why it was not run; then how its claims (``rows``, findings
+    rows of one budget, the lead among them) came out."""
+    if lead is None:
+        said = "lead claim not in the findings"
+    elif lead["verdict"] == verdicts.UNDERPOWERED:
+        said = f"{lead['claim']}: underpowered, n = {lead['n']}"
+    elif lead["verdict"] == verdicts.NOT_RUN:
+        said = f"{lead['claim']}: not run ({lead['measured'].removeprefix('not run: ')})"
+    else:
+        said = f"{lead['claim']}: {lead['verdict']}, {_effect(lead)}"
+    count = [(v, rows.filter(pl.col("verdict") == v).height) for v in verdicts.VERDICTS]
+    tally = ", ".join(f"{k} {v}" for v, k in count if k)
+    return f"{said}; of its {rows.height} claims {tally}"
 
 
 def answers(by_budget: pl.DataFrame, phenomena: Sequence[Phenomenon] = PHENOMENA
@@ -187,12 +175,14 @@ def answers(by_budget: pl.DataFrame, phenomena: Sequence[Phenomenon] = PHENOMENA
                                   .alias("_order")).sort("_order").drop("_order"))
             if rows.height == 0:
                 continue
-            said = answer(rows["verdict"].to_list())
+            lead = (rows.row(0, named=True) if rows["claim"][0] == p.claims[0] else None)
+            said = answer(lead["verdict"] if lead else verdicts.NOT_RUN,
+                          rows["verdict"][0 if lead is None else 1:].to_list())
             out.append({"budget": b.label, "phenomenon": p.name, "section": p.section,
                         "claims": rows.height,
                         **{v: rows.filter(pl.col("verdict") == v).height
                            for v in verdicts.VERDICTS},
-                        "answer": said, "why": why(rows, said)})
+                        "answer": said, "why": why(lead, rows)})
     schema = {"budget": pl.Utf8, "phenomenon": pl.Utf8, "section": pl.Utf8, "claims": pl.Int64,
               **{v: pl.Int64 for v in verdicts.VERDICTS}, "answer": pl.Utf8, "why": pl.Utf8}
     return pl.DataFrame(out, schema=schema)
@@ -307,13 +297,11 @@ def answers_html(by_budget: pl.DataFrame, run_dirs: Sequence = ()) -> str:
     return (f"<div class='answers{' too-small' if small else ''}'>"
             + (_too_small_html(by_budget, run_dirs) if small and table.height else "")
             + "<p>Each phenomenon of the paper is answered from the verdicts of the claims "
-              "that test it (the replication as the unit): <i>reproduced</i> when some are "
-              "reproduced and none contradicted, <i>partly</i> when both, <i>not "
-              "reproduced</i> when some are contradicted and none reproduced or all are "
-              "inconclusive, <i>not yet testable at this budget</i> when none is decided and "
-              "some are underpowered or not run. <i>Why</i>: the lead claim's effect [95 % "
-              "CI] (θ: the chance that a replication of the claim's group b is higher than one "
-              "of its group a, 0.5 for none; the forest's caption gives every scale), or the "
-              "sizes that could not decide.</p>"
+              "that test it (the replication as the unit). " + RULE + " <i>Why</i>: the "
+              "lead claim's verdict and its effect [nominally 95 % interval; θ's covers less "
+              "away from 0.5, as the calibration measured] (θ: the chance that a replication "
+              "of the claim's group b is higher than one of its group a, 0.5 for none; the "
+              "forest's caption gives every scale), or the sizes that could not decide; then "
+              "how all its claims came out.</p>"
             + f"<div class='scroll'><table class='answers'><thead>{head}</thead>"
               f"<tbody>{''.join(rows)}</tbody></table></div></div>")

@@ -50,16 +50,61 @@ def test_every_claim_of_the_paper_belongs_to_one_phenomenon_with_its_section():
     assert answers.FEWEST_DECIDING == 6  # the two-group rules' gate (verdict_core.one_mode)
 
 
-@pytest.mark.parametrize("said, expected", [
-    ((verdicts.REPRODUCED, verdicts.INCONCLUSIVE, verdicts.UNDERPOWERED), answers.REPRODUCED),
-    ((verdicts.REPRODUCED, verdicts.CONTRADICTED), answers.PARTLY),
-    ((verdicts.CONTRADICTED, verdicts.UNDERPOWERED), answers.NOT_REPRODUCED),
-    ((verdicts.INCONCLUSIVE, verdicts.INCONCLUSIVE), answers.NOT_REPRODUCED),
-    ((verdicts.INCONCLUSIVE, verdicts.UNDERPOWERED), answers.NOT_TESTABLE),
-    ((verdicts.NOT_RUN, verdicts.NOT_RUN), answers.NOT_TESTABLE),
+@pytest.mark.parametrize("lead, others, expected", [
+    (verdicts.REPRODUCED, (verdicts.INCONCLUSIVE, verdicts.UNDERPOWERED), answers.REPRODUCED),
+    (verdicts.REPRODUCED, (verdicts.REPRODUCED, verdicts.CONTRADICTED), answers.PARTLY),
+    (verdicts.CONTRADICTED, (verdicts.REPRODUCED, verdicts.REPRODUCED), answers.NOT_REPRODUCED),
+    (verdicts.UNDERPOWERED, (verdicts.REPRODUCED,), answers.NOT_TESTABLE),
+    (verdicts.NOT_RUN, (verdicts.CONTRADICTED,), answers.NOT_TESTABLE),
+    # the lead claim inconclusive: never "not reproduced", whatever the others
+    (verdicts.INCONCLUSIVE, (verdicts.CONTRADICTED,), answers.INCONCLUSIVE),
+    (verdicts.INCONCLUSIVE, (verdicts.NOT_RUN,) * 26, answers.INCONCLUSIVE),
 ])
-def test_an_answer_follows_its_claims_verdicts(said, expected):
-    assert answers.answer(said) == expected
+def test_the_lead_claim_decides_the_answer(lead, others, expected):
+    assert answers.answer(lead, others) == expected
+
+
+@pytest.mark.parametrize("phenomenon, verdicts_, expected", [
+    # reproduced on one of three claims (arm orienting) while its lead claim, reach in about
+    # half the trials, is inconclusive: not reproduced
+    ("Pre-reaching", (verdicts.INCONCLUSIVE, verdicts.REPRODUCED, verdicts.INCONCLUSIVE),
+     answers.INCONCLUSIVE),
+    # 0 of 7 claims decided: inconclusive, never "not reproduced"
+    ("DOF freezing", (verdicts.INCONCLUSIVE,) * 7, answers.INCONCLUSIVE),
+    # 9 of 10 claims tested, one underpowered: inconclusive, not "not yet testable"
+    ("Gross-reaching", (verdicts.INCONCLUSIVE,) * 6 + (verdicts.UNDERPOWERED,)
+     + (verdicts.INCONCLUSIVE,) * 3, answers.INCONCLUSIVE),
+    ("Fine-reaching", (verdicts.REPRODUCED, verdicts.CONTRADICTED) + (verdicts.REPRODUCED,) * 6,
+     answers.PARTLY),
+])
+def test_each_phenomenon_is_answered_by_its_lead_claim(phenomenon, verdicts_, expected):
+    p = next(p for p in answers.PHENOMENA if p.name.startswith(phenomenon))
+    of = dict(zip(p.claims, verdicts_))
+    frame = _frame(lambda c: of.get(c.id, verdicts.NOT_RUN), 50, 10)
+    row = answers.answers(frame).filter(pl.col("phenomenon") == p.name).row(0, named=True)
+    assert row["answer"] == expected
+    assert row["why"].startswith(f"{p.claims[0]}: {verdicts_[0]}")
+    tally = [f"{verdicts_.count(v)} {v}" for v in verdicts.VERDICTS if v in verdicts_]
+    assert row["why"].endswith(f"of its {len(p.claims)} claims {', '.join(tally)}")
+
+
+def test_the_committed_ten_replication_run_is_answered_by_its_lead_claims():
+    """The cases the rule was written for, on the committed findings of the 50-generation,
+    10-replication run: each phenomenon's answer is its lead claim's."""
+    from pathlib import Path
+    saved = Path(__file__).parents[2] / "recordings" / "replication-50x10" / "findings.parquet"
+    frame = pl.read_parquet(saved)
+    lead_of = {p.name: p.claims[0] for p in answers.PHENOMENA}
+    head = findings.reading(frame)
+    for r in answers.answers(frame).iter_rows(named=True):
+        lead = head.filter(pl.col("claim") == lead_of[r["phenomenon"]])["verdict"].to_list()
+        expected = {verdicts.REPRODUCED: (answers.REPRODUCED, answers.PARTLY),
+                    verdicts.CONTRADICTED: (answers.NOT_REPRODUCED,),
+                    verdicts.INCONCLUSIVE: (answers.INCONCLUSIVE,)}.get(
+            lead[0] if lead else verdicts.NOT_RUN, (answers.NOT_TESTABLE,))
+        assert r["answer"] in expected, r
+        if r["reproduced"] and not lead == [verdicts.REPRODUCED]:
+            assert r["answer"] != answers.REPRODUCED
 
 
 def test_a_run_with_nothing_decided_is_too_small_and_names_the_run_beside_it_that_can(tmp_path):
@@ -114,15 +159,16 @@ def test_a_run_that_decides_gets_answers_with_the_lead_claims_effect():
         named=True)}
     pre = table["Pre-reaching"]
     assert pre["answer"] == answers.REPRODUCED
-    assert pre["why"] == "3 of 3 claims reproduced; F1 reach about half: mean = 0.8 [0.7, 0.9]"
-    assert table["Gross-reaching"]["answer"] == answers.NOT_REPRODUCED
-    assert table["Gross-reaching"]["why"].startswith("10 of 10 claims contradicted")
-    assert "θ = 0.2 [0.1, 0.3]" in table["Gross-reaching"]["why"]
-    assert table["Fine-reaching"]["answer"] == answers.NOT_REPRODUCED  # all inconclusive
+    assert pre["why"] == ("F1 reach about half: reproduced, mean = 0.8 [0.7, 0.9]; "
+                          "of its 3 claims 3 reproduced")
+    gross = table["Gross-reaching"]
+    assert gross["answer"] == answers.NOT_REPRODUCED
+    assert gross["why"].startswith("F2 grasp up: contradicted, θ = 0.2 [0.1, 0.3]")
+    assert gross["why"].endswith("of its 10 claims 10 contradicted")
+    assert table["Fine-reaching"]["answer"] == answers.INCONCLUSIVE  # all inconclusive
     fig10 = table["Maturational constraints"]
     assert fig10["answer"] == answers.NOT_TESTABLE
-    assert fig10["why"].startswith(f"{fig10['claims']} of {fig10['claims']} claims not run "
-                                   "(no units of pre-h)")
+    assert fig10["why"].startswith("F5 gross > gross^: not run (no units of pre-h)")
     text = answers.answers_html(frame)
     assert "too-small" not in text and "<td class='yes'>reproduced</td>" in text
 
