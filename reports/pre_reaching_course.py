@@ -229,6 +229,7 @@ def fitness_values(course: pl.DataFrame, stats: pl.DataFrame) -> dict[str, str]:
         long_summary = f"; {2 * LONG_WINDOW} generations are not yet trained for the longer view"
     return {
         "fitness_summary": summary, "fitness_table": markdown_table(fit.rename(headings)),
+        "theta_coverage": coverage.label(table, 10, 10),
         "growth_window": f"{end - 2 * GROWTH_WINDOW + 1}-{end - GROWTH_WINDOW} and "
                          f"{end - GROWTH_WINDOW + 1}-{end}",
         "growth_summary": f"{up.height} of {rising.height} populations' mean fitness rose "

@@ -51,8 +51,9 @@ SCHEMA = {"claim": pl.Utf8, "section": pl.Utf8, "paper": pl.Utf8, "kind": pl.Utf
 TESTS = {
     Kind.DIRECTIONAL.value: "two-sided studentized permutation Brunner-Munzel test on "
                             "replications (null: theta = P(b > a) = 0.5, whatever the shapes; "
-                            "underpowered below 6 a group); effect: theta [95 % CI, the test "
-                            "inverted]",
+                            "underpowered below 6 a group); effect: theta [nominally 95 % CI, "
+                            "the test inverted: less away from 0.5 between groups of unequal "
+                            "shapes, as the calibration measured]",
     Kind.NOT_BETTER.value: "non-superiority on theta = P(b better than a): upper one-sided "
                            f"95 % bound below {0.5 + verdicts.EQUIVALENCE_MARGIN:g}; "
                            "contradicted when b is better (one-sided studentized permutation "

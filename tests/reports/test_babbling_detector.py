@@ -52,3 +52,24 @@ def test_the_stated_agreement_is_the_labels_against_the_committed_babbling():
             0, named=True)
         assert row["sensitivity"].startswith(f"{found}/{labelled.height} ")
         assert row["specificity"].startswith(f"{correct}/{still.height} ")
+
+
+def test_the_pages_words_are_the_counts_of_the_labels_and_the_committed_babbling():
+    rows = _committed().with_columns(pl.col("babbling_label", "moving").cast(pl.Boolean))
+    real = page.real_table(ROOT)
+    words = page.agreement_words(real)
+    for senses in sample.CONDITIONS:
+        labelled = rows.filter((pl.col("senses") == senses) & pl.col("babbling_label"))
+        assert (f"{page.WHERE[senses]} it finds {int(labelled['babbling'].sum())} of the "
+                f"{labelled.height} trials labelled babbling") in words
+    wrong = rows.filter(~pl.col("babbling_label") & pl.col("babbling")).height
+    assert f"It calls {wrong} trial{'' if wrong == 1 else 's'} babbling that the eye does not" \
+        in words
+    apart = int((rows["babbling_label"] != rows["moving"]).sum())
+    assert f"The labels tell babbling from moving on {apart} of the 40 trials" in words
+    # one trial's output otherwise: the words change with it
+    first = real["code"][0]
+    flipped = real.with_columns(pl.when(pl.col("code") == first)
+                                .then(~pl.col("detector babbling"))
+                                .otherwise(pl.col("detector babbling")).alias("detector babbling"))
+    assert page.agreement_words(flipped) != words

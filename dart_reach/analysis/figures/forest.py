@@ -149,7 +149,9 @@ def forest_caption(by_budget: pl.DataFrame, own: bool = False) -> str:
         "claim", "kind").iter_rows()))
     flipped = [(c, text) for c in claims if c in scales.CLAIM_IDS and (text := scales.inverted(c))]
     esc = html.escape
-    parts = ["<p>Every claim's effect with its 95 % interval, the replication as the unit, "
+    parts = ["<p>Every claim's effect with its interval (nominally 95 %; θ's covers less away "
+             "from 0.5 between groups of unequal shapes, as the calibration measured), the "
+             "replication as the unit, "
              "grouped by section of the paper. <b>The scale</b>: each row is drawn on the "
              "scale where the paper's direction is right, then divided by the largest of "
              "|effect| and |interval ends| in that row, so the axis runs from -1 to 1 in every "
