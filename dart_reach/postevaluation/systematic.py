@@ -326,12 +326,12 @@ def _evaluate(run: RunDirectory, senses, robots, record, workers, ray_address, p
             if part:
                 tables[flag] = results.save_table(paths[flag], tables[flag], part, _KEY, entry)
 
-    if any(job.record for job in jobs) and not (run.out / BLUEPRINT).exists():
-        write_blueprint(run.out / BLUEPRINT)
-    backend = make_backend(workers, ray_address)
+    backend = make_backend(workers, ray_address)  # first: a refused one writes nothing
     rows: list[dict] = []
     t0 = last_save = time.monotonic()
     try:
+        if any(job.record for job in jobs) and not (run.out / BLUEPRINT).exists():
+            write_blueprint(run.out / BLUEPRINT)
         for n, (job, (job_rows, recordings)) in enumerate(
                 zip(jobs, backend.imap(run_robot, jobs)), start=1):
             for row, content in zip(job_rows, recordings):

@@ -22,7 +22,7 @@ from dart_reach.evolution.rundir import RunDirectory
 from dart_reach.files import LOCK_NAME, atomic_write
 from dart_reach.postevaluation import results
 from dart_reach.postevaluation.snapshots import load_development
-from dart_reach.postevaluation.systematic import load_evaluation
+from dart_reach.postevaluation.systematic import BLUEPRINT, load_evaluation
 from dart_reach.recording.rrd import read_rrd
 
 TRAIN = ["train", "standard", "--generations", "2", "--replications", "2", "--trials", "2",
@@ -236,6 +236,12 @@ def test_a_finished_run_is_not_written_to_and_a_refused_command_leaves_no_lock(
     assert _hashes(run) == before  # not a session more in the manifest, nor a file rebuilt
     result = in_process("evaluate", run, "--robots", "999", "--workers", "1")
     assert result.returncode == 2 and "robots must be" in result.stderr, result.stderr
+    assert _hashes(run) == before and not (run / LOCK_NAME).exists()
+    integrity.remove(run / BLUEPRINT)  # refused once its robots are known: no layout written
+    before = _hashes(run)
+    result = in_process("evaluate", run, "--robots", "2", "--record", "all",
+                        "--ray", "127.0.0.1:1")
+    assert result.returncode == 2 and "no Ray cluster answers" in result.stderr, result.stderr
     assert _hashes(run) == before and not (run / LOCK_NAME).exists()
     integrity.remove(next(run.glob("phases/fine-*/final.npz")))  # unfinished: resumable
     before = _hashes(run)
