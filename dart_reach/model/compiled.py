@@ -34,9 +34,11 @@ trained under it reproduces bit for bit.
 from __future__ import annotations
 
 import math
+from types import SimpleNamespace
 
 import numpy as np
 from numba import njit
+from numba.core import config as numba_config
 from numba.core import types
 from numba.experimental import structref
 
@@ -124,15 +126,6 @@ def targets_of_motor(motor, targets):
     return finite
 
 
-@njit(cache=True)
-def network_targets(sensors_in, in_scale, w_sm, w_sh, w_hm, bias_h, bias_m, gain_h, tau_h,
-                     tau_m, hidden_frozen, x, hidden, motor, targets):
-    """``_network_step``, then the motor targets (``targets_of_motor``); whether finite."""
-    _network_step(sensors_in, in_scale, w_sm, w_sh, w_hm, bias_h, bias_m, gain_h, tau_h, tau_m,
-                  hidden_frozen, x, hidden, motor)
-    return targets_of_motor(motor, targets)
-
-
 class CompiledNetwork(Network):
     """``ctrnn.Network`` (section III-B, Fig. 3) stepped by compiled code (model version 2):
     the same parameters, reflexes, states and interface; ``step`` allocates nothing."""
@@ -141,11 +134,13 @@ class CompiledNetwork(Network):
                  hidden_frozen: bool = False, reflex_inputs: ReflexInputs = ReflexInputs.HAND_SET):
         super().__init__(params, reflexes=reflexes, hidden_frozen=hidden_frozen,
                          reflex_inputs=reflex_inputs)
-        #: the network's parameters and states as ``network_targets`` takes them after the
-        #: sensors (arrays shared with the network, updated in place)
-        self.kernel_args = (self._in_scale, self._w_sm, self._w_sh, self._w_hm, self._bias_h,
-                            self._bias_m, self._gain_h, self._tau_h, self._tau_m,
-                            self.hidden_frozen, self._x, self.hidden, self.motor)
+        #: the network's parameters and states as ``network_step`` and ``act_step`` read
+        #: them (``NetworkState``; arrays shared with the network, updated in place)
+        self.state = network_state(
+            in_scale=self._in_scale, w_sm=self._w_sm, w_sh=self._w_sh, w_hm=self._w_hm,
+            bias_h=self._bias_h, bias_m=self._bias_m, gain_h=self._gain_h, tau_h=self._tau_h,
+            tau_m=self._tau_m, hidden_frozen=self.hidden_frozen, x=self._x,
+            hidden=self.hidden, motor=self.motor)
 
     def step(self, sensors: np.ndarray) -> np.ndarray:
         """One 0.1 s update from the 25 sensor values; returns ``self.motor``."""
@@ -154,7 +149,7 @@ class CompiledNetwork(Network):
             sensors = np.asarray(sensors, dtype=float)
             if sensors.shape != (N_SENSORS,):
                 raise ValueError(f"expected {N_SENSORS} sensor values, got shape {sensors.shape}")
-        _network_step(sensors, *self.kernel_args)
+        network_step(sensors, self.state)
         return self.motor
 
 
@@ -342,7 +337,10 @@ def spring_forces(q_cmd, dof_motor, stiffness, gravity, forces):
 
 
 
-# ------------------------------------------------------------------------------ one control step
+# ------------------------------------------------------------------------------ the step functions
+# A trial's compiled steps read and write their arrays through two structures, a trial's
+# (``StepState``) and a network's (``NetworkState``): a compiled call costs ~40 ns for each
+# array it is passed, and the sensing, the network and the motor commands read ~50.
 class _State(types.StructRef):
     """A Numba structure of arrays and scalars, each field typed as the value it is built
     with."""
@@ -352,61 +350,127 @@ class _State(types.StructRef):
 
 
 @structref.register
-class _ControlStateType(_State):
+class _StepStateType(_State):
     pass
 
 
-class ControlState(structref.StructRefProxy):
-    """What ``control_step`` reads and writes besides DART's state, in one object: a compiled
-    call costs ~40 ns for each array it is passed, so the ~55 arrays of the sensing, the
-    network and the motor commands are passed as one (built by ``control_state``)."""
+class StepState(structref.StructRefProxy):
+    """What a trial's steps read and write besides DART's state and the network (built by
+    ``step_state``): ``sense_posed``'s arrays (the inner-face touches ``touching`` first, the
+    sensor vector ``x``, the motor-space angles ``q``, the fitness terms ``p``), the touches on
+    any face ``touching_any``, the motor targets ``targets`` and ``motor_commands``' arrays
+    (the commanded positions ``q_cmd``, the joint forces out ``forces``)."""
 
 
-_CONTROL_FIELDS = (
-    "touching", "touching_any", "order", "parent", "dof", "axis", "before", "after", "scratch",
-    "poses", "camera_body", "hand_body", "motor_dofs", "finger_dofs", "lower", "span",
-    "touch_segments", "acuity", "no_touch", "no_sight", "offsets", "pay", "palm", "q", "x", "p",
-    "sense_scratch", "in_scale", "w_sm", "w_sh", "w_hm", "bias_h", "bias_m", "gain_h", "tau_h",
-    "tau_m", "hidden_frozen", "x_net", "hidden", "motor", "targets", "half_range", "mid_range",
-    "motor_lower", "motor_upper", "max_move", "dof_motor", "stiffness", "q_cmd", "p_series",
-    "forces")
-structref.define_proxy(ControlState, _ControlStateType, _CONTROL_FIELDS)
+_STEP_FIELDS = (
+    "touching", "order", "parent", "dof", "axis", "before", "after", "scratch", "poses",
+    "camera_body", "hand_body", "motor_dofs", "finger_dofs", "lower", "span", "touch_segments",
+    "acuity", "no_touch", "no_sight", "offsets", "pay", "palm", "q", "x", "p", "sense_scratch",
+    "touching_any", "targets", "half_range", "mid_range", "motor_lower", "motor_upper",
+    "max_move", "dof_motor", "stiffness", "q_cmd", "forces")
+structref.define_proxy(StepState, _StepStateType, _STEP_FIELDS)
+
+
+@structref.register
+class _NetworkStateType(_State):
+    pass
+
+
+class NetworkState(structref.StructRefProxy):
+    """A network's parameters and states as ``_network_step`` takes them (built by
+    ``network_state``; ``CompiledNetwork.state``)."""
+
+
+_NETWORK_FIELDS = ("in_scale", "w_sm", "w_sh", "w_hm", "bias_h", "bias_m", "gain_h", "tau_h",
+                   "tau_m", "hidden_frozen", "x", "hidden", "motor")
+structref.define_proxy(NetworkState, _NetworkStateType, _NETWORK_FIELDS)
 
 
 @njit(cache=True)
-def control_state(*fields):
-    """The ``ControlState`` of ``fields`` (in ``_CONTROL_FIELDS``' order; arrays shared, not
-    copied): the touches on the inner face and on any, ``sense_posed``'s arrays after them,
-    ``network_targets``'s after the sensors, ``motor_commands``'s but the gravity forces, the
-    series of p_multimodal and the forces out. Built by compiled code, so that its
-    constructor is compiled once and cached, not in every process."""
-    return ControlState(*fields)
+def _new_step_state(*fields):
+    return StepState(*fields)
 
 
 @njit(cache=True)
-def control_step(t, positions, ball, gravity, s):
-    """One control step of the genetic algorithm's trial (``task.Trial.fitness``) in one call,
-    from what DART gives after the last (the joint positions, the ball's centre, the gravity
-    forces) and the ``ControlState`` ``s``: ``sense_posed``, step ``t``'s p_multimodal into
-    ``s.p_series[t]``, the network's update and targets (``network_targets``), the touches
-    cleared for the next period's substeps to gather, and the joint forces that command the
-    targets into ``s.forces`` (``motor_commands``): the same kernels in the same order as the
-    trial's own steps. Whether the state read and the targets are finite (the trial's fitness
-    is 0 when not)."""
-    if not sense_posed(positions, ball, s.touching, s.order, s.parent, s.dof, s.axis, s.before,
+def _new_network_state(*fields):
+    return NetworkState(*fields)
+
+
+def _build(new, names: tuple[str, ...], fields: dict):
+    """The structure of ``fields`` (every name of ``names``; arrays shared, not copied), built
+    by compiled code (``new``) so that its constructor is compiled once and cached, not in
+    every process; uncompiled (``NUMBA_DISABLE_JIT=1``), a plain object with the same
+    fields, which the uncompiled step functions read alike."""
+    if set(fields) != set(names):
+        raise TypeError(f"fields missing {sorted(set(names) - set(fields))}, "
+                        f"unknown {sorted(set(fields) - set(names))}")
+    if numba_config.DISABLE_JIT:
+        return SimpleNamespace(**fields)
+    return new(*(fields[name] for name in names))
+
+
+def step_state(**fields) -> StepState:
+    """The ``StepState`` of ``fields`` (by name, ``_STEP_FIELDS``)."""
+    return _build(_new_step_state, _STEP_FIELDS, fields)
+
+
+def network_state(**fields) -> NetworkState:
+    """The ``NetworkState`` of ``fields`` (by name, ``_NETWORK_FIELDS``)."""
+    return _build(_new_network_state, _NETWORK_FIELDS, fields)
+
+
+@njit(cache=True)
+def sense_step(positions, ball, s):
+    """Sense (``sense_posed``): the sensor vector ``s.x``, the motor-space angles ``s.q`` and
+    the fitness terms ``s.p`` = (p_sight, p_touch, p_multimodal) (Eqs. 1-5) of the state DART
+    reached (the joint positions, rad; the ball's centre, m). Whether it is finite."""
+    return sense_posed(positions, ball, s.touching, s.order, s.parent, s.dof, s.axis, s.before,
                        s.after, s.scratch, s.poses, s.camera_body, s.hand_body, s.motor_dofs,
                        s.finger_dofs, s.lower, s.span, s.touch_segments, s.acuity, s.no_touch,
-                       s.no_sight, s.offsets, s.pay, s.palm, s.q, s.x, s.p, s.sense_scratch):
-        return False
-    s.p_series[t] = s.p[2]
-    if not network_targets(s.x, s.in_scale, s.w_sm, s.w_sh, s.w_hm, s.bias_h, s.bias_m,
-                           s.gain_h, s.tau_h, s.tau_m, s.hidden_frozen, s.x_net, s.hidden,
-                           s.motor, s.targets):
-        return False
-    s.touching[:] = False  # for the substeps to gather the next period's
-    s.touching_any[:] = False
-    return motor_commands(s.targets, s.half_range, s.mid_range, s.motor_lower, s.motor_upper,
+                       s.no_sight, s.offsets, s.pay, s.palm, s.q, s.x, s.p, s.sense_scratch)
+
+
+@njit(cache=True)
+def network_step(sensors_in, n):
+    """One 0.1 s update of the network of ``NetworkState`` ``n`` from 25 sensor values
+    (``_network_step``), in place on ``n.hidden`` and ``n.motor``."""
+    _network_step(sensors_in, n.in_scale, n.w_sm, n.w_sh, n.w_hm, n.bias_h, n.bias_m,
+                  n.gain_h, n.tau_h, n.tau_m, n.hidden_frozen, n.x, n.hidden, n.motor)
+
+
+@njit(cache=True)
+def act_step(s, n):
+    """Act: the network ``n``'s update from the sensors ``s.x`` (``network_step``) and its
+    motor targets 2 m - 1 into ``s.targets`` (``targets_of_motor``); whether finite."""
+    network_step(s.x, n)
+    return targets_of_motor(n.motor, s.targets)
+
+
+@njit(cache=True)
+def command_step(targets, gravity, s):
+    """Command: the joint forces ``s.forces`` (N m) that drive the motors toward 14 targets in
+    [-1, 1] under the servo's speed cap, from the gravity forces DART gives
+    (``motor_commands``); whether the targets are finite."""
+    return motor_commands(targets, s.half_range, s.mid_range, s.motor_lower, s.motor_upper,
                           s.max_move, s.dof_motor, s.stiffness, s.q_cmd, gravity, s.forces)
+
+
+@njit(cache=True)
+def control_step(t, positions, ball, gravity, s, n, p_series):
+    """One control step of the genetic algorithm's trial in one call, from what DART gives
+    after the last (the joint positions, the ball's centre, the gravity forces): the steps the
+    recorded trial and the environment take one by one, in their order: ``sense_step``, step
+    ``t``'s p_multimodal into ``p_series[t]``, ``act_step``, the touches cleared for the next
+    period's substeps to gather (as ``World.advance`` does before them), ``command_step``.
+    Whether the state read and the targets are finite (the trial's fitness is 0 when not)."""
+    if not sense_step(positions, ball, s):
+        return False
+    p_series[t] = s.p[2]
+    if not act_step(s, n):
+        return False
+    s.touching[:] = False
+    s.touching_any[:] = False
+    return command_step(s.targets, gravity, s)
 
 
 # ------------------------------------------------------------------------------ touch
@@ -471,9 +535,13 @@ structref.define_proxy(TouchState, _TouchStateType, _TOUCH_FIELDS)
 
 
 @njit(cache=True)
-def touch_state(*fields):
-    """The ``TouchState`` of ``fields`` (in ``_TOUCH_FIELDS``' order), as ``control_state``."""
+def _new_touch_state(*fields):
     return TouchState(*fields)
+
+
+def touch_state(**fields) -> TouchState:
+    """The ``TouchState`` of ``fields`` (by name, ``_TOUCH_FIELDS``)."""
+    return _build(_new_touch_state, _TOUCH_FIELDS, fields)
 
 
 @njit(cache=True)

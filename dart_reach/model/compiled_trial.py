@@ -8,9 +8,9 @@ from __future__ import annotations
 
 import numpy as np
 
-from .compiled import (PAY_CODES, CompiledNetwork, control_state, control_step, inner_touches,
-                       motor_commands, network_targets, record_row, sense_posed,
-                       spring_forces, targets_of_motor, touch_state)
+from .compiled import (PAY_CODES, CompiledNetwork, act_step, command_step, control_step,
+                       inner_touches, record_row, sense_step, spring_forces, step_state,
+                       targets_of_motor, touch_state)
 from .ctrnn import N_MOTORS, N_SENSORS, Network
 from .icub import HAND_SEGMENTS, PALM_POINT
 from .steps import home_motor
@@ -18,11 +18,12 @@ from .world import BALL_PARKED, PALM_NORMAL, SkeletonError, World
 
 
 class CompiledSteps:
-    """The steps of a ``task.Trial`` under ``Numerics.COMPILED`` (model version 2): its
-    sensing (``sense_posed``), record (``record_row``), network update (``network_targets``),
-    motor commands (``motor_commands``) and inner-face touches (``inner_touches``), compiled
-    (``model.compiled``); and the genetic algorithm's trial (``fitness``) with each control
-    step in one compiled call (``control_step``). Per control step it asks DART for the joint
+    """The steps of a ``task.Trial`` under ``Numerics.COMPILED`` (model version 2), each a
+    compiled step function of ``model.compiled`` over one ``StepState`` (``state``): ``sense``
+    (``sense_step``), ``act`` (``act_step``), ``command`` (``command_step``), the record's row
+    (``record_row``) and, in ``advance``, the inner-face touches (``inner_touches``). The
+    genetic algorithm's trial (``fitness``) takes the same three steps in one compiled call
+    per control step (``control_step``). Per control step it asks DART for the joint
     positions and the ball's centre once each; the bodies' poses it needs come from them
     (``body_poses`` over the layout's kinematic tree), and per physics substep in contact the
     contacts' points."""
@@ -47,25 +48,32 @@ class CompiledSteps:
         self._palm = np.asarray(PALM_POINT, float)
         n = len(tree.parent)
         #: the tree, a scratch and the poses ``body_poses`` computes (n, 4, 4)
-        self._kinematics = (*tree.arrays, np.zeros((3, 4, 4)), np.zeros((n, 4, 4)))
-        self.poses = self._kinematics[-1]
+        parent, dof, axis, before, after = tree.arrays
+        self._kinematics = dict(parent=parent, dof=dof, axis=axis, before=before, after=after,
+                                scratch=np.zeros((3, 4, 4)), poses=np.zeros((n, 4, 4)))
+        self.poses = self._kinematics["poses"]
         # the bodies whose poses a touch decision needs, and their indices
         self._need, self._order = np.zeros(n, bool), np.zeros(n, np.int64)
         self._objects = {}  # a collision object -> (its hand segment or -1, is it the ball)
         self.hold_contacts(4 * len(HAND_SEGMENTS))
         self.substeps = self._substeps_of()
-        self._sense_args = (
-            layout.sensed_bodies, *self._kinematics, layout.camera_body, layout.hand_body,
-            layout.motor_dofs, layout.finger_dofs, layout.motor_limit_lower,
-            layout.motor_limit_span, layout.touch_segments, float(config.acuity),
-            config.touch_deprived, config.sight_deprived, config.offsets_sensed,
-            PAY_CODES[config.touch_pay], self._palm, self.q, self.x, self._p3, np.zeros(9))
-        self._q_cmd = np.zeros(N_MOTORS)
-        self._forces = np.zeros(layout.n_dofs)
-        self._spring_args = (layout.dof_motor, layout.stiffness)
-        self._command_args = (
-            layout.half_range, layout.mid_range, layout.motor_lower, layout.motor_upper,
-            layout.max_move, *self._spring_args, self._q_cmd)
+        self._q_cmd = np.zeros(N_MOTORS)  # the motors' commanded positions (rad)
+        self._forces = np.zeros(layout.n_dofs)  # the joint forces commanded (N m)
+        #: what the step functions read and write besides DART's state and the network
+        self.state = step_state(
+            touching=self.contacts, order=layout.sensed_bodies, **self._kinematics,
+            camera_body=layout.camera_body, hand_body=layout.hand_body,
+            motor_dofs=layout.motor_dofs, finger_dofs=layout.finger_dofs,
+            lower=layout.motor_limit_lower, span=layout.motor_limit_span,
+            touch_segments=layout.touch_segments, acuity=float(config.acuity),
+            no_touch=config.touch_deprived, no_sight=config.sight_deprived,
+            offsets=config.offsets_sensed, pay=PAY_CODES[config.touch_pay], palm=self._palm,
+            q=self.q, x=self.x, p=self._p3, sense_scratch=np.zeros(9),
+            touching_any=world.touched_any, targets=self.targets,
+            half_range=layout.half_range, mid_range=layout.mid_range,
+            motor_lower=layout.motor_lower, motor_upper=layout.motor_upper,
+            max_move=layout.max_move, dof_motor=layout.dof_motor, stiffness=layout.stiffness,
+            q_cmd=self._q_cmd, forces=self._forces)
 
     # ---------------------------------------------------------------- touch
     def hold_contacts(self, n: int) -> None:
@@ -75,9 +83,10 @@ class CompiledSteps:
         self.contact_segments, self.contact_points = np.zeros(n, np.int64), np.zeros((n, 3))
         layout = self.layout
         self._touch_state = touch_state(
-            self.contact_segments, self.contact_points, self._need, self._order,
-            *self._kinematics, layout.segment_body, layout.face_direction,
-            layout.face_cos_limit, self.world.touched)
+            segments=self.contact_segments, points=self.contact_points, need=self._need,
+            order=self._order, **self._kinematics, segment_body=layout.segment_body,
+            direction=layout.face_direction, cos_limit=layout.face_cos_limit,
+            touch=self.world.touched)
 
     def _object(self, obj) -> tuple[int, bool]:
         """What a collision object is to touch: (its hand segment's index or -1, the ball?);
@@ -156,27 +165,25 @@ class CompiledSteps:
         return targets_of_motor(motor, self.targets)
 
     def act(self, network: Network) -> bool:
-        """The network's update and its targets in one compiled call (``network_targets``)."""
+        """The network's update from ``x`` and its targets into ``targets`` (``act_step``)."""
         if type(network) is not CompiledNetwork:  # a version 1 network: its own step
             return targets_of_motor(network.step(self.x), self.targets)
-        return network_targets(self.x, *network.kernel_args, self.targets)
+        return act_step(self.state, network.state)
 
     def fitness(self, network: Network, p: np.ndarray) -> float | None:
-        """``Trial.fitness``'s steps after the reset, to the last bit, with a control step's
-        sensing, network and motor commands in one compiled call (``control_step``) and
-        p_multimodal into ``p`` (one per step); None for a network of version 1, which the
-        trial steps by its own loop."""
+        """``Trial.fitness``'s loop after the reset, to the last bit: per control step
+        ``sense``, ``act`` and ``command`` in one compiled call (``control_step``, the same
+        step functions), p_multimodal into ``p`` (one per step), then ``advance``'s substeps;
+        None for a network of version 1, which the trial steps by its own loop."""
         if type(network) is not CompiledNetwork:
             return None
         w = self.world
         robot, ball = w.robot, w.ball_body
         positions, centre, gravity = robot.getPositions, ball.getCOM, robot.getGravityForces
         set_commands, substeps, forces = robot.setCommands, self.substeps, self._forces
-        state = control_state(self.contacts, w.touched_any, *self._sense_args,
-                              *network.kernel_args, self.targets, *self._command_args, p,
-                              forces)
+        state, network_state = self.state, network.state
         for t in range(self.config.steps):
-            if not control_step(t, positions(), centre(), gravity(), state):
+            if not control_step(t, positions(), centre(), gravity(), state, network_state, p):
                 return 0.0
             set_commands(forces)
             substeps()
@@ -203,25 +210,24 @@ class CompiledSteps:
         w.reset(BALL_PARKED if self._no_ball else ball_position)
         w.set_spring_rest_positions(0.0)
         self._q_cmd[:] = w.commanded
-        spring_forces(self._q_cmd, *self._spring_args, w.robot.getGravityForces(),
-                      self._forces)
+        spring_forces(self._q_cmd, self.layout.dof_motor, self.layout.stiffness,
+                      w.robot.getGravityForces(), self._forces)
         w.robot.setCommands(self._forces)
 
     def command(self, targets: np.ndarray) -> None:
         """The world's motors commanded toward 14 finite targets in [-1, 1]
-        (``motor_commands``)."""
+        (``command_step``)."""
         robot = self.world.robot
-        if not motor_commands(targets, *self._command_args, robot.getGravityForces(),
-                              self._forces):
+        if not command_step(targets, robot.getGravityForces(), self.state):
             raise ValueError(f"motor targets must be finite, got {targets}")
         robot.setCommands(self._forces)
 
     def sense(self) -> bool:
-        """The sensors and the fitness terms, compiled (``sense_posed``): the camera's and the
-        hand's poses computed from the joint positions (``body_poses``), not asked of DART."""
+        """The sensors and the fitness terms (``sense_step``): the camera's and the hand's
+        poses computed from the joint positions (``body_poses``), not asked of DART."""
         w = self.world
         positions = self.positions = w.robot.getPositions()
         ball = self.ball = w.ball_body.getCOM()
-        finite = sense_posed(positions, ball, self.contacts, *self._sense_args)
+        finite = sense_step(positions, ball, self.state)
         self.p_sight, self.p_touch, self.p_multimodal = self._p3.tolist()
         return finite

@@ -279,3 +279,41 @@ def test_version_2_trials_are_pinned_and_the_same_compiled_for_an_avx2_processor
     assert json.loads(out.stdout.strip().splitlines()[-1]) == here
     assert here["digests"] == GOLDEN_V2
     assert here["fitness"] == here["run"] and len(set(here["run"]["pre"])) > 1
+
+
+# ------------------------------------------------------------------ uncompiled, for debugging
+def touching_trial() -> dict:
+    """Computed in this process: one version 2 trial of the best shipped pre-reacher whose
+    hand meets the ball (30 steps), as ``run`` records it (the digest of every record, whether
+    a segment touched) and its fitness by ``run`` and by ``fitness`` (``control_step``), as
+    hex floats."""
+    world = World()
+    cfg = standard_trial("pre", steps=30, numerics=Numerics.COMPILED)
+    trial = Trial(world, cfg)
+    params = decode(robots("pre", run="replication-50x10")[0].genome, {ParamGroup.DIRECT})
+    network, ball = network_for(params, cfg), world.sector_point(2, 0.4, 0.6)
+    data = trial.run(network, 2, ball)
+    h = hashlib.sha256()
+    for name in RECORDS:
+        h.update(np.ascontiguousarray(getattr(data, name)).tobytes())
+    return {"digest": h.hexdigest(), "touched": bool(data.contacts.any()),
+            "run": data.fitness.hex(), "fitness": trial.fitness(network, ball).hex()}
+
+
+def test_the_compiled_steps_run_uncompiled_to_the_same_bits():
+    """``NUMBA_DISABLE_JIT=1`` (docs/model/trial.md, how to change the model): every function
+    of ``model.compiled`` runs as Python, its structures as plain objects, and a trial whose
+    hand touches the ball is the same to the last bit, recorded and as the genetic algorithm
+    scores it."""
+    script = ("import importlib.util, json, dart_reach; "
+              f"spec = importlib.util.spec_from_file_location('t', {__file__!r}); "
+              "t = importlib.util.module_from_spec(spec); spec.loader.exec_module(t); "
+              "from dart_reach.model import compiled; "
+              "assert not hasattr(compiled.control_step, 'py_func'); "
+              "print(json.dumps(t.touching_trial()))")
+    env = dict(os.environ, NUMBA_DISABLE_JIT="1")
+    out = subprocess.run([sys.executable, "-c", script], env=env, capture_output=True,
+                         text=True, check=True)
+    compiled_trial = touching_trial()
+    assert json.loads(out.stdout.strip().splitlines()[-1]) == compiled_trial
+    assert compiled_trial["touched"] and compiled_trial["run"] == compiled_trial["fitness"]
