@@ -51,8 +51,28 @@ def cmd_report(args) -> int:
                    else "")
                 + "), and the report's findings and figures come from the post-evaluation; "
                   "run first: " + shlex.join(["dart-reach", "evaluate", str(run_dir), *first]))
+    out = args.out or Path(report.default_name(args.run_dirs[0]))
+    caches = report.recordings_dir(out, args.run_dirs)
+    before = _recordings(caches)
     path = report.build(args.run_dirs, args.out, findings_out=args.findings)
-    print(f"report: {path}\nopen it in a browser (it is self-contained, works offline)")
+    print(f"report: {path} ({_megabytes([path])})\nopen it in a browser (it is "
+          f"self-contained, works offline)")
+    after = _recordings(caches)
+    if after:
+        folder = next(iter(caches.values())).parent
+        print(f"recordings: {folder}/ holds the {len(after)} trials ({_megabytes(after)}) that "
+              f"Figs. 6 and 8 draw and the runs hold no recording of, {len(after - before)} "
+              f"recorded now; the next build reuses them (delete the folder to free the space, "
+              f"or open one with: dart-reach video TRIAL.rrd OUT.mp4)")
     if args.findings:
         print(f"findings: {args.findings} (every claim at every budget, as in the report)")
     return 0
+
+
+def _recordings(caches: dict) -> set:
+    """The trial recordings in the report's folders (``report.recordings_dir``)."""
+    return {p for folder in caches.values() if folder.is_dir() for p in folder.rglob("*.rrd")}
+
+
+def _megabytes(paths) -> str:
+    return f"{sum(p.stat().st_size for p in paths) / 1e6:.1f} MB"

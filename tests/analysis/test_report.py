@@ -160,6 +160,9 @@ def test_the_report_leaves_the_runs_it_reads_untouched(tmp_path):
     assert _contents(run) == before  # every file's bytes (so its hash) unchanged, none added
     made = sorted((tmp_path / "out" / "near-report-recordings" / "near").rglob("*.rrd"))
     assert made and all(p.stat().st_size > 0 for p in made)
+    # and says so: the folder beside the report, its trials, those recorded by this build
+    assert (f"near-report-recordings/ holds the {len(made)} trials" in r.stdout
+            and f"{len(made)} recorded now" in r.stdout), r.stdout
     assert (tmp_path / "out" / "near-report-recordings" / "near" / "evaluation"
             / "trial.rbl").is_file()
     text = (tmp_path / "out" / "near-report.html").read_text()
