@@ -1,5 +1,8 @@
 """The model's levers (docs/model/levers.md): each one does what it says, in the real world,
-and version 1's defaults are what the committed runs were trained with."""
+and version 1's defaults are what the committed runs were trained with; in the living model
+(the compiled numerics) each has one implementation, whose effect the last tests check through
+the step functions that the genetic algorithm's trial, the recorded trial and the environment
+all call (``compiled_trial.CompiledSteps``, ``model.compiled``)."""
 
 from dataclasses import replace
 
@@ -9,13 +12,13 @@ import pytest
 from dart_reach.evolution.genome import ParamGroup, decode
 from dart_reach.evolution.settings import standard_trial
 from dart_reach.measures.fitness import fitness_under_touch_pays
-from dart_reach.model import sensors
-from dart_reach.model.ctrnn import (MOTOR_INDEX, SENSOR_INDEX, Network, random_params,
-                                    reflex_weights)
+from dart_reach.model import compiled, sensors
+from dart_reach.model.ctrnn import (MOTOR_INDEX, N_SENSORS, SENSOR_INDEX, TOUCH, Network,
+                                    random_params, reflex_weights)
 from dart_reach.model.levers import (REFLEX_EVOLVED_SCALE, Levers, NetworkStart, ReflexInputs,
                                      TouchPay)
-from dart_reach.model.versions import check_model_version
-from dart_reach.model.task import Trial, network_for
+from dart_reach.model.versions import Numerics, check_model_version
+from dart_reach.model.task import Senses, Trial, TrialConfig, network_for
 from dart_reach.model.world import World, WorldConfig
 from dart_reach.robots import evolved_pre
 
@@ -153,3 +156,114 @@ def test_self_collision_stops_the_arm_at_the_chest_and_touch_counts_the_ball_onl
                     assert hand_ball < 0.15
     assert hits[False] == 0  # off: the arm passes through the body
     assert hits[True] > 0  # on: it meets the chest
+
+
+# ------------------------------------------------------------- one implementation per lever
+#: p_touch of n inner-face touches (of 16 segments) under each pay (``levers.TouchPay``).
+EXPECTED_PAY = {TouchPay.FACES: lambda n: n / 16, TouchPay.BINARY: lambda n: float(n > 0),
+                TouchPay.CAPPED: lambda n: min(n, 4) / 4}
+
+
+@pytest.mark.parametrize("pay", list(TouchPay))
+def test_the_touch_pay_is_the_one_sensing_steps(world, pay):
+    """n segments touching on their inner face (the world's touch record, which the physics
+    substeps fill): the recorded trial's and the environment's ``sense`` and the genetic
+    algorithm's ``control_step`` pay p_touch as the lever says (binary 1 where faces pays
+    n / 16), and p_multimodal = min(p_sight, p_touch) (Eq. 5), through the one sensing step."""
+    cfg = TrialConfig(numerics=Numerics.COMPILED, touch_pay=pay, steps=1)
+    trial = Trial(world, cfg)
+    steps = trial.steps
+    network = network_for(random_params(np.random.default_rng(1)), cfg)
+    robot, ball = world.robot, world.ball_body
+    for n in (0, 1, 3, 4, 9, 16):
+        steps.reset(world.sector_point(4, 0.5, 0.5))
+        world.touched[:] = np.arange(16) < n
+        assert steps.sense() and steps.p_sight > 0  # the ball in view at home
+        assert steps.p_touch == EXPECTED_PAY[pay](n)
+        assert steps.p_multimodal == min(steps.p_sight, steps.p_touch)
+        touching = world.touched[world.layout.touch_segments]
+        assert np.array_equal(steps.x[TOUCH] == sensors.TOUCHING, touching)
+        world.touched[:] = np.arange(16) < n
+        p = np.zeros(1)
+        assert compiled.control_step(0, robot.getPositions(), ball.getCOM(),
+                                     robot.getGravityForces(), steps.state, network.state, p)
+        assert p[0] == steps.p_multimodal
+
+
+def test_the_reflex_inputs_lever_is_the_one_network_steps(world):
+    """The same sensors and parameters under both levers through ``act`` (``act_step``, which
+    ``control_step`` calls): only the three reflex motors' targets differ; their evolved
+    direct inputs move them under ``EVOLVED`` and not under ``HAND_SET``."""
+    rng = np.random.default_rng(7)
+    params = random_params(rng)
+    mask, w = reflex_weights()
+    reflex_motors, evolved_inputs = mask.any(axis=1), mask & (w == 0)
+    moved = replace(params, w_sensor_motor=np.where(evolved_inputs, -params.w_sensor_motor,
+                                                    params.w_sensor_motor))
+    x = rng.uniform(-1.0, 1.0, N_SENSORS)
+    targets = {}
+    for lever in ReflexInputs:
+        cfg = TrialConfig(numerics=Numerics.COMPILED, reflex_inputs=lever, steps=1)
+        steps = Trial(world, cfg).steps
+        for name, p in (("params", params), ("moved", moved)):
+            network = network_for(p, cfg)
+            assert type(network) is compiled.CompiledNetwork
+            network.reset()
+            steps.x[:] = x
+            assert steps.act(network)
+            targets[lever, name] = steps.targets.copy()
+    hand_set, evolved = ReflexInputs.HAND_SET, ReflexInputs.EVOLVED
+    assert np.array_equal(targets[hand_set, "params"][~reflex_motors],
+                          targets[evolved, "params"][~reflex_motors])
+    assert (targets[hand_set, "params"] != targets[evolved, "params"])[reflex_motors].all()
+    assert np.array_equal(targets[hand_set, "params"], targets[hand_set, "moved"])
+    assert (targets[evolved, "params"] != targets[evolved, "moved"])[reflex_motors].all()
+
+
+@pytest.mark.parametrize("start", list(NetworkStart))
+def test_the_network_start_lever_is_the_one_start_of_every_trial(world, start):
+    """``HOLD_HOME``: the start's targets are the home posture's; ``ZERO``: every motor state
+    0 (targets -1). The recorded trial and the genetic algorithm's trial both start the
+    network there (its first update, from the first sensors, is the same as a fresh network's
+    from that start)."""
+    cfg = TrialConfig(numerics=Numerics.COMPILED, network_start=start, steps=1)
+    trial = Trial(world, cfg)
+    steps = trial.steps
+    assert steps.targets_of(steps.home_motor)
+    if start is NetworkStart.HOLD_HOME:
+        np.testing.assert_allclose(steps.targets, world.home_targets, rtol=0, atol=1e-12)
+    else:
+        assert (steps.home_motor == 0).all() and (steps.targets == -1).all()
+    params = random_params(np.random.default_rng(2))
+    ball = world.sector_point(4, 0.5, 0.5)
+    data = trial.run(network_for(params, cfg), 4, ball)
+    fresh = network_for(params, cfg)
+    fresh.reset(motor=steps.home_motor)
+    np.testing.assert_array_equal(fresh.step(data.sensors[0]), data.motor[0])
+    network = network_for(params, cfg)
+    trial.fitness(network, ball)
+    np.testing.assert_array_equal(network.motor, data.motor[0])
+
+
+def test_self_collision_is_the_one_physics_steps():
+    """The compiled steps' ``command`` and ``advance`` with the shoulder driven to the corners
+    of its range, the ball parked away: with self-collision on the arm meets the chest, off it
+    passes through; either way no touch is counted (a touch is a hand segment on the ball)."""
+    names = ("r_shoulder_roll", "r_shoulder_yaw", "r_shoulder_pitch")
+    hits = {}
+    for on in (False, True):
+        w = World(WorldConfig(self_collision=on))
+        steps = Trial(w, TrialConfig(numerics=Numerics.COMPILED,
+                                     senses=Senses.NO_BALL)).steps
+        hits[on] = 0
+        for corner in np.ndindex(2, 2, 2):
+            t = w.home_targets.copy()
+            for name, side in zip(names, corner):
+                t[MOTOR_INDEX[name]] = 2.0 * side - 1.0
+            steps.reset(w.sector_point(4, 0.5, 0.5))
+            for _ in range(20):
+                steps.command(t)
+                steps.advance()
+                hits[on] += _arm_chest_contacts(w)
+                assert not w.touched_any.any()
+    assert hits[False] == 0 and hits[True] > 0
