@@ -141,8 +141,9 @@ def plain_values(by_budget: pl.DataFrame, run: str = TEN) -> dict[str, str]:
     """The paper's claims at ``run``'s budget in plain words, the replication as the unit.
     ``plain``: the reproduced and the contradicted, each with what was measured and whether
     it survives Holm's adjustment, then the names of those left undecided (inconclusive or
-    underpowered) and of those not run (no data: a condition the run did not train, or a
-    table not committed); ``plain_names``: one sentence naming the decided ones, for the
+    underpowered), of those not run (no data: a condition the run did not train, or a
+    table not committed) and, apart, of those their measure cannot test (``Claim.untestable``,
+    with why); ``plain_names``: one sentence naming the decided ones, for the
     summary."""
     rows = findings.reading(by_budget.filter(pl.col("runs") == run))
     if rows.filter(pl.col("verdict") != verdicts.NOT_RUN).height == 0:
@@ -171,14 +172,20 @@ def plain_values(by_budget: pl.DataFrame, run: str = TEN) -> dict[str, str]:
                      f"Holm):{listed(verdict)}")
     lines.append(f"- **undecided: {of(*undecided).height}** ({count[undecided[0]]} "
                  f"inconclusive, {count[undecided[1]]} underpowered): {names(*undecided)}.")
-    lines.append(f"- **not run: {count[verdicts.NOT_RUN]}** (no data for them at this budget"
-                 f"): {names(verdicts.NOT_RUN)}.")
+    cannot = of(verdicts.NOT_RUN).filter(pl.col("measured").str.starts_with(findings.UNTESTABLE))
+    no_data = of(verdicts.NOT_RUN).filter(~pl.col("claim").is_in(cannot["claim"].implode()))
+    lines.append(f"- **not run: {no_data.height}** (no data for them at this budget"
+                 f"): {'; '.join(no_data['claim']) or 'none'}.")
+    lines += [f"- **cannot be tested with its measure: {r['claim']}** — "
+              f"{r['measured'].removeprefix(findings.UNTESTABLE)}."
+              for r in cannot.iter_rows(named=True)]
     sentence = (f"At {budget}, with the replication as the unit: reproduced "
                 f"{count[verdicts.REPRODUCED]} of the paper's claims "
                 f"({names(verdicts.REPRODUCED)}), contradicted {count[verdicts.CONTRADICTED]} "
                 f"({names(verdicts.CONTRADICTED)}); {of(*undecided).height} stay undecided at "
-                f"this budget and {count[verdicts.NOT_RUN]} were not run (no data for "
-                f"them).")
+                f"this budget, {no_data.height} were not run (no data for them)"
+                + (f" and {cannot.height} cannot be tested with their measure "
+                   f"({'; '.join(cannot['claim'])})" if cannot.height else "") + ".")
     return {"plain": "\n".join(lines), "plain_names": sentence}
 
 

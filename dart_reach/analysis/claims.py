@@ -71,7 +71,9 @@ class Claim:
     second measure of the same units (``Kind.WITHIN``); ``source`` "post" or "development"
     (groups "phase@start" / "phase@end": the first / last tenth of the phase's generations).
     ``own``: the statement is the project's, not the paper's; ``infants``: the paper says it
-    of infants (Table I), not of its robots; ``floor``: the least mean of an at-least claim."""
+    of infants (Table I), not of its robots; ``floor``: the least mean of an at-least claim;
+    ``untestable``: why its measure cannot test it, whatever the data (empty: it can): such a
+    claim is never judged, and says so (``findings.UNTESTABLE``)."""
 
     id: str
     section: str
@@ -90,6 +92,7 @@ class Claim:
     own: bool = False
     infants: bool = False
     floor: float = float("nan")
+    untestable: str = ""
 
     @property
     def effect_kind(self) -> Kind:
@@ -236,11 +239,15 @@ def _behaviour_claims() -> list[Claim]:
                        _K.DIRECTIONAL, "fitness", a, "fine", +1, versus="no-sight"))
     # the no-touch condition silences the palm's touch sensor, which is also the input of the
     # hand-coded grasp reflex: fitness (Eq. 5 rewards grasping) would drop even for a network
-    # that ignores touch, so D2 tests the reach, which the reflex does not drive
+    # that ignores touch; and the reach, a first touch, cannot differ: before it every touch
+    # sensor is silent under normal senses too, so a trial runs the same up to it
     c.append(Claim("D2 no touch, pre: reach same", dep, "pre-reachers ignore tactile "
                    "information (V): their reach rate is the same without touch (not their "
                    "fitness: without the palm's touch the grasp reflex is silent too)",
-                   _K.SAME_PAIRED, "reached", b="pre", versus="no-touch"))
+                   _K.SAME_PAIRED, "reached", b="pre", versus="no-touch",
+                   untestable="a trial reaches (touches the ball) under no touch exactly when "
+                   "it does under normal senses, since every touch sensor is silent until the "
+                   "first touch: the same by construction"))
     for g in ("gross", "fine"):
         c.append(Claim(f"D3 no touch, {g}: fitness down", dep, "\"the utilization of tactile "
                        "information becomes a necessary prerequisite\" after pre-reaching (V)",

@@ -214,6 +214,11 @@ def _not_run(claim: Claim, missing: str) -> dict:
     return _row(claim, Outcome(NOT_RUN), f"not run: {missing}", "")
 
 
+#: The ``measured`` of a claim its measure cannot test (``Claim.untestable``): never judged,
+#: its verdict "not run", counted apart from those without data.
+UNTESTABLE = "cannot be tested with this measure: "
+
+
 def _judge_two(claim: Claim):
     if claim.kind in (Kind.DIRECTIONAL, Kind.NEVER):
         return lambda a, b: verdicts.directional(a, b, claim.sign, claim.level)
@@ -420,6 +425,8 @@ _JUDGES = {Kind.DIRECTIONAL: _two_groups, Kind.NOT_BETTER: _two_groups,
 
 
 def _judge(claim: Claim, data: _Data) -> dict:
+    if claim.untestable:
+        return _row(claim, Outcome(NOT_RUN), UNTESTABLE + claim.untestable, "")
     if claim.source == "development" and claim.kind is not Kind.NEVER:
         return _development(claim, data)
     return _JUDGES[claim.kind](claim, data)

@@ -5,6 +5,8 @@ reproduce; Holm's family is the paper's claims; every claim carries the paper's 
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 import polars as pl
 import pytest
@@ -168,10 +170,19 @@ def test_paired_claims_pair_each_replication_with_itself():
                      ranks=5)
     found = fd.findings(trials)
     assert _verdict(found, "D3 no touch, gross: fitness down") == vd.REPRODUCED
-    assert _verdict(found, "D2 no touch, pre: reach same") in (vd.REPRODUCED,
-                                                                vd.INCONCLUSIVE)
-    assert _row(found, "D2 no touch, pre: reach same")["n"] == "10 replications"
-    assert next(c for c in CLAIMS if c.id.startswith("D2")).measure == "reached"
+    assert _row(found, "D3 no touch, gross: fitness down")["n"] == "10 replications"
+
+
+def test_a_claim_its_measure_cannot_test_says_so_and_is_never_judged():
+    """D2's reach is a first touch, and every touch sensor is silent until it: a trial
+    reaches under no touch exactly when it does under normal senses, so even reach rates
+    that differ (here 0.9 and 0.3) leave it untested, not contradicted."""
+    trials = _trials({"pre": {"reach": 0.9, "reach no-touch": 0.3}},
+                     senses=("normal", "no-touch"), ranks=5)
+    row = _row(fd.findings(trials), "D2 no touch, pre: reach same")
+    assert row["verdict"] == vd.NOT_RUN and math.isnan(row["effect"])
+    assert row["measured"].startswith(fd.UNTESTABLE + "a trial reaches")
+    assert [c.id for c in CLAIMS if c.untestable] == ["D2 no touch, pre: reach same"]
 
 
 def test_the_elbow_is_locked_against_the_same_robots_shoulder():

@@ -11,6 +11,7 @@ from pathlib import Path
 import polars as pl
 import pytest
 
+from dart_reach.analysis import findings
 from dart_reach.analysis.budgets import Budget
 from dart_reach.postevaluation import results
 from reports import pre_reaching_course
@@ -97,9 +98,11 @@ def test_the_plain_words_name_every_claim_by_its_verdict():
     """The paper's claims only, each named under its verdict once; a decided one with what was
     measured and whether it survives Holm; a run not judged yet says so."""
     verdict = {"A": "reproduced", "B": "contradicted", "C": "inconclusive", "D": "underpowered",
-               "E": "not run", "F": "reproduced"}
+               "E": "not run", "F": "reproduced", "G": "not run"}
+    measured = {"G": findings.UNTESTABLE + "the same by construction"}
     frame = pl.DataFrame([{"runs": "ten", "generations_per_phase": 50, "replications": 10,
-                           "claim": c, "verdict": v, "own": False, "measured": f"m{c}",
+                           "claim": c, "verdict": v, "own": False,
+                           "measured": measured.get(c, f"m{c}"),
                            "p_holm": 0.01 if c == "A" else 0.2, "p_holm_against": 0.2}
                           for c, v in verdict.items()]
                          + [{"runs": "ten", "generations_per_phase": 50, "replications": 10,
@@ -107,13 +110,16 @@ def test_the_plain_words_name_every_claim_by_its_verdict():
                              "measured": "x", "p_holm": 0.01, "p_holm_against": 0.2}])
     values = results_docs.plain_values(frame, "ten")
     text = values["plain"]
-    assert text.startswith("Of the paper's 6 claims, at 50 generations per phase with 10 "
+    assert text.startswith("Of the paper's 7 claims, at 50 generations per phase with 10 "
                            "replications (`ten`):")
     assert ("- **reproduced: 2** (1 after Holm):\n  - A — mA (survives Holm)\n  - F — mF\n"
             in text)
     assert "- **contradicted: 1** (0 after Holm):\n  - B — mB\n" in text
     assert "- **undecided: 2** (1 inconclusive, 1 underpowered): C; D." in text
     assert "- **not run: 1** (no data for them at this budget): E." in text
+    assert "- **cannot be tested with its measure: G** — the same by construction." in text
+    assert ("1 were not run (no data for them) and 1 cannot be tested with their measure (G)."
+            in values["plain_names"])
     assert "OWN" not in text and "OWN" not in values["plain_names"]
     assert "reproduced 2 of the paper's claims (A; F), contradicted 1 (B)" in values["plain_names"]
     assert "Not yet" in results_docs.plain_values(
