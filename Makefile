@@ -59,9 +59,12 @@ screenshots: demo
 		|| echo "install Mesa's Vulkan drivers (Debian: mesa-vulkan-drivers) to render headless"
 	$(BIN)/python -m dart_reach.viewing.headless $(DEMO_OUT) docs/images
 
-# Jupyter Lab on the analysis notebooks (installs the 'notebooks' extra on first use).
+# Jupyter Lab on the analysis notebooks (installs the 'notebooks' extra on first use). As root
+# (a container's user) Jupyter refuses to start without --allow-root: given there. Without a
+# display no browser opens: Jupyter prints the address to open (from another machine, through
+# ssh -L 8888:localhost:8888 HOST).
 notebooks: $(VENV)/.installed-notebooks
-	$(BIN)/jupyter lab notebooks/
+	$(BIN)/jupyter lab notebooks/ $(if $(filter 0,$(shell id -u)),--allow-root)
 
 $(VENV)/.installed-notebooks: pyproject.toml | $(BIN)/python
 	$(BIN)/python -m pip install -q -e ".[notebooks]"

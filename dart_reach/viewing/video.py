@@ -1,14 +1,17 @@
 """A trial as a video (``dart-reach video TRIAL.rrd OUT.mp4``): the real Rerun viewer, headless
-(``screenshots.HeadlessViewer``), draws the recording with its layout at each frame's time,
-and the frames are encoded with imageio's ffmpeg plugin (the ``video`` extra:
+(``headless.HeadlessViewer``), draws the recording with its layout at each frame's time; where
+it cannot render (no Vulkan driver), the numpy camera (``replay.Replay``) draws the 3D scene
+alone. The frames are encoded with imageio's ffmpeg plugin (the ``video`` extra:
 ``imageio-ffmpeg`` ships its own ffmpeg binary, so no system ffmpeg is needed).
 
 What it costs (docs/results/benchmarks.md, "Watch and video"): the viewer renders in software (Mesa's lavapipe)
-on a machine without a GPU, so a frame takes a sizeable fraction of a second.
+on a machine without a GPU, so a frame takes a sizeable fraction of a second; the camera
+draws a 1280 x 720 frame in about a tenth of a second.
 """
 
 from __future__ import annotations
 
+import contextlib
 import tempfile
 import time
 from dataclasses import dataclass
@@ -19,6 +22,10 @@ from ..progress import ProgressBar
 from ..recording.rrd import read_rrd, write_blueprint
 from .headless import HeadlessViewer, renderer_missing
 
+#: Who draws the frames: the Rerun viewer (the trial layout: scene and time series) or the
+#: numpy camera (the 3D scene alone, any machine).
+RENDERERS = ("viewer", "camera")
+
 
 #: The viewer's commands that hide its side panels (sources and layout, selection).
 SIDE_PANELS = ("ui.toggle_blueprint_panel", "ui.toggle_selection_panel")
@@ -26,13 +33,14 @@ SIDE_PANELS = ("ui.toggle_blueprint_panel", "ui.toggle_selection_panel")
 
 @dataclass(frozen=True)
 class VideoResult:
-    """A video written: its path, frames, the simulated seconds they show (s) and the wall
-    time of the rendering and encoding (s)."""
+    """A video written: its path, frames, the simulated seconds they show (s), the wall
+    time of the rendering and encoding (s), and who drew it (``RENDERERS``)."""
 
     path: Path
     frames: int
     sim_seconds: float
     wall_seconds: float
+    renderer: str
 
 
 @dataclass(frozen=True)
@@ -49,15 +57,16 @@ class FrameProgress:
 
 
 class CannotRender(RuntimeError):
-    """This machine cannot make a video (the headless viewer's renderer or the encoder is
-    missing; ``str(exc)`` says which). ``render_video`` raises it only once its arguments and
-    the recording have passed their checks: a mistake in them is told first, on any machine."""
+    """This machine cannot make a video (the encoder, or the headless viewer's renderer where
+    the viewer is asked for, is missing; ``str(exc)`` says which). ``render_video`` raises it
+    only once its arguments and the recording have passed their checks: a mistake in them is
+    told first, on any machine."""
 
 
-def video_missing() -> str | None:
-    """Why a video cannot be made here (None: it can): the headless viewer's renderer or the
-    encoder is missing."""
-    reason = renderer_missing()
+def video_missing(renderer: str = "camera") -> str | None:
+    """Why a video cannot be made here with ``renderer`` (None: it can): the encoder is
+    missing, or for the viewer its headless renderer."""
+    reason = renderer_missing() if renderer == "viewer" else None
     if reason:
         return reason
     try:
@@ -76,17 +85,24 @@ def frame_times(sim_seconds: float, fps: int) -> list[float]:
 
 
 def render_video(recording, out, layout=None, fps: int = 10, size: str = "1280x720",
-                 progress: bool = True, max_frames: int | None = None) -> VideoResult:
-    """Render ``recording`` (a trial's .rrd) with ``layout`` (.rbl; default the trial
-    layout; the viewer's side panels are hidden) at ``fps`` frames per simulated second (10:
+                 progress: bool = True, max_frames: int | None = None,
+                 renderer: str | None = None) -> VideoResult:
+    """Render ``recording`` (a trial's .rrd) at ``fps`` frames per simulated second (10:
     one per control step, so the video plays at real time) into ``out`` (a new .mp4 file) at
-    ``size`` pixels ("WIDTHxHEIGHT"). ``max_frames``: only the first frames (a preview).
-    ``progress`` shows a progress bar (plain lines where the output is not a terminal).
-    Every argument and the recording are checked before the machine: ``CannotRender`` (a
-    RuntimeError) comes only after them.
-    Cost: 0.27-0.36 s of wall time per frame on a 2-core machine without a GPU
-    (docs/results/benchmarks.md, "Watch and video")."""
+    ``size`` pixels ("WIDTHxHEIGHT"). ``renderer``: "viewer", the Rerun viewer with
+    ``layout`` (.rbl; default the trial layout; its side panels hidden); "camera", the numpy
+    camera's view of the 3D scene (``layout`` unused); None (default): the viewer where it
+    can render headless here, else the camera. ``max_frames``: only the first frames (a
+    preview). ``progress`` shows a progress bar (plain lines where the output is not a
+    terminal). Every argument and the recording are checked before the machine:
+    ``CannotRender`` (a RuntimeError) comes only after them.
+    Cost: 0.27-0.36 s of wall time per frame with the viewer on a 2-core machine without a
+    GPU (docs/results/benchmarks.md, "Watch and video")."""
     recording, out = Path(recording), Path(out)
+    if renderer is not None and renderer not in RENDERERS:
+        raise UsageError(f"renderer must be one of {', '.join(RENDERERS)}, got {renderer!r}",
+                         cli=f"--renderer must be one of {', '.join(RENDERERS)}, got "
+                             f"{renderer!r}")
     if out.suffix.lower() != ".mp4":
         raise UsageError(f"out must be an .mp4 file, got {out}",
                          cli=f"OUT.mp4 must end in .mp4, got {out}")
@@ -109,11 +125,12 @@ def render_video(recording, out, layout=None, fps: int = 10, size: str = "1280x7
     table = read_rrd(recording)  # also a clear error for a missing or damaged file
     if "sim_time" not in table.columns or table.height == 0:
         raise ValueError(f"{recording}: not a trial recording (no sim_time timeline)")
-    reason = video_missing()  # the machine, once the arguments are known to be right
+    # the machine, once the arguments are known to be right
+    renderer = renderer or ("viewer" if renderer_missing() is None else "camera")
+    reason = video_missing(renderer)
     if reason:
         raise CannotRender(reason)
     import imageio.v2 as imageio
-    import imageio.v3 as iio
 
     sim_seconds = float(table["sim_time"].max())
     times = frame_times(sim_seconds, fps)[:max_frames]
@@ -121,26 +138,48 @@ def render_video(recording, out, layout=None, fps: int = 10, size: str = "1280x7
     bar = ProgressBar(lambda p: (p.done, p.total, "frame", f"video {out.name}"),
                       bar=None if progress else False)
     partial = out.with_name(out.name + ".part.mp4")
-    scratch = tempfile.TemporaryDirectory(prefix="dart_reach-video-")
-    if layout is None:
-        layout = write_blueprint(Path(scratch.name) / "trial.rbl")
     try:
-        with HeadlessViewer(size=f"{width}x{height}") as viewer:
-            viewer.show(recording, layout, sim_time_s=0.0, settle_s=0.5)
-            for panel in SIDE_PANELS:  # the views only, and the time line
-                viewer.client.run_command(panel)
-            with imageio.get_writer(partial, format="FFMPEG", fps=fps, codec="libx264",
-                                    quality=8, macro_block_size=2,
-                                    ffmpeg_log_level="error") as writer:
-                for k, t in enumerate(times, start=1):
-                    viewer.client.set_time("sim_time", duration=t, play_state="paused",
-                                           recording=viewer.store_id)
-                    writer.append_data(iio.imread(viewer.client.take_screenshot())[..., :3])
+        with imageio.get_writer(partial, format="FFMPEG", fps=fps, codec="libx264",
+                                quality=8, macro_block_size=2,
+                                ffmpeg_log_level="error") as writer:
+            draw = _viewer_frames if renderer == "viewer" else _camera_frames
+            with contextlib.closing(draw(recording, table, layout, times, width,
+                                         height)) as frames:
+                for k, frame in enumerate(frames, start=1):
+                    writer.append_data(frame)
                     if progress:
                         bar(FrameProgress(k, len(times), time.monotonic() - t0))
         partial.replace(out)
     finally:
         bar.close()
         partial.unlink(missing_ok=True)
-        scratch.cleanup()
-    return VideoResult(out, len(times), times[-1] if times else 0.0, time.monotonic() - t0)
+    return VideoResult(out, len(times), times[-1] if times else 0.0, time.monotonic() - t0,
+                       renderer)
+
+
+def _viewer_frames(recording, table, layout, times, width, height):
+    """The headless Rerun viewer's screenshots at ``times`` (s), (H, W, 3) uint8 each."""
+    import imageio.v3 as iio
+
+    with tempfile.TemporaryDirectory(prefix="dart_reach-video-") as scratch:
+        if layout is None:
+            layout = write_blueprint(Path(scratch) / "trial.rbl")
+        with HeadlessViewer(size=f"{width}x{height}") as viewer:
+            viewer.show(recording, layout, sim_time_s=0.0, settle_s=0.5)
+            for panel in SIDE_PANELS:  # the views only, and the time line
+                viewer.client.run_command(panel)
+            for t in times:
+                viewer.client.set_time("sim_time", duration=t, play_state="paused",
+                                       recording=viewer.store_id)
+                yield iio.imread(viewer.client.take_screenshot())[..., :3]
+
+
+def _camera_frames(recording, table, layout, times, width, height):
+    """The numpy camera's views of the recorded trial at ``times`` (s)."""
+    from ..model.world import World
+    from .replay import Poses, Replay
+
+    world = World()
+    replay = Replay(world, Poses.of_recording(table, world), width, height)
+    for t in times:
+        yield replay.frame(replay.at(t))

@@ -1,6 +1,8 @@
 """Watch an evolved robot in seconds (``dart-reach watch``): one trial of a shipped robot
 (``robots.robots``) or of a trained run's best robot, recorded with the trial layout and opened
-in the Rerun viewer where there is a display, saved for later where there is none.
+in the Rerun viewer where there is a display; where none opens, saved for later and drawn
+by the numpy camera (``replay.write_pictures``: a strip of a few instants and an animated GIF
+beside the recording, a few seconds more).
 
 One trial, in this process, no pool: about a second of simulation for 20 simulated seconds,
 plus the recording.
@@ -29,6 +31,7 @@ from ..model.world import N_SECTORS, POINTS_PER_SECTOR, SectorConfig, WorldConfi
 from ..recording.rrd import RobotModel, TrialInfo, trial_rrd, write_blueprint, write_rrd
 from ..robots import index, robots
 from .headless import rerun_binary
+from .replay import Poses, write_pictures
 
 #: Phases of the standard condition in developmental order.
 PHASES = ("pre", "gross", "fine")
@@ -41,14 +44,16 @@ SMALL_TRAINING = ("--generations", "3", "--replications", "2", "--trials", "6")
 @dataclass(frozen=True)
 class Watched:
     """What ``watch`` did: the recording (``.rrd``) and its layout (``.rbl``), which robot
-    (one line), the trial's measures (``metrics.trial_metrics``), and the process id of the
-    viewer it started (None: none started; ``open_command`` opens the files)."""
+    (one line), the trial's measures (``metrics.trial_metrics``), the process id of the
+    viewer it started (None: none started; ``open_command`` opens the files), and the
+    pictures drawn where none started (the strip ``.png`` and the animation ``.gif``)."""
 
     recording: Path
     layout: Path
     robot: str
     measures: dict = field(repr=False)
     viewer_pid: int | None = None
+    pictures: tuple[Path, ...] = ()
 
     @property
     def open_command(self) -> list[str]:
@@ -218,6 +223,8 @@ def watch(phase: str | None = None, condition: str | None = "standard",
     Writes ``out`` (default ``recordings/watch/<condition>-<phase>-sector<K>.rrd``, made
     with its folder) and its layout beside it (``.rbl``). ``viewer``: True starts the Rerun
     viewer on them, False does not, None (default) starts it where a display is available.
+    Where no viewer starts, the numpy camera draws the trial beside them: a strip of a few
+    instants (``.png``) and the whole trial at real time (``.gif``).
     """
 
     if phase is not None and not isinstance(phase, str):
@@ -255,11 +262,12 @@ def watch(phase: str | None = None, condition: str | None = "standard",
     write_rrd(out, trial_rrd(data, info, RobotModel(world), settings.world.control_dt,
                              measures=measures))
     layout = write_blueprint(out.with_suffix(".rbl"))
-    pid = None
     if viewer or (viewer is None and display_available()):
         binary = rerun_binary()
         if binary is None:
             raise RuntimeError("the rerun viewer is not installed (pip install rerun-sdk)")
         pid = subprocess.Popen([binary, str(out), str(layout)], start_new_session=True,
                                stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL).pid
-    return Watched(out, layout, robot.text, measures, pid)
+        return Watched(out, layout, robot.text, measures, pid)
+    pictures = write_pictures(world, Poses.of_trial(data, settings.world.control_dt), out)
+    return Watched(out, layout, robot.text, measures, pictures=pictures)
