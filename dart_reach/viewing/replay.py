@@ -16,6 +16,7 @@ from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
+from PIL import Image, ImageDraw
 
 from .. import integrity
 from ..model.ctrnn import MOTOR_NAMES
@@ -109,8 +110,6 @@ def pendulum_angles(offset) -> np.ndarray:
 def strip(replay: Replay, instants: int = STRIP_INSTANTS):
     """A PIL image: ``instants`` frames side by side, evenly spread over the trial, each
     labelled with its simulated time."""
-    from PIL import Image, ImageDraw
-
     last = replay.poses.steps - 1
     steps = sorted({round(last * i / max(instants - 1, 1)) for i in range(instants)})
     width, height = replay.camera.width, replay.camera.height
@@ -127,8 +126,6 @@ def write_pictures(world: World, poses: Poses, recording: Path) -> tuple[Path, P
     """Beside ``recording`` (``X.rrd``): ``X.png``, a strip of the trial at a few instants,
     and ``X.gif``, the whole trial animated at real time (one frame per control step), both
     drawn by the camera at ``PICTURE_SIZE``. Returns their paths."""
-    from PIL import Image
-
     replay = Replay(world, poses)
     png, gif = Path(recording).with_suffix(".png"), Path(recording).with_suffix(".gif")
     picture = strip(replay)

@@ -19,8 +19,10 @@ from pathlib import Path
 
 from ..errors import UsageError
 from ..progress import ProgressBar
+from ..model.world import World
 from ..recording.rrd import read_rrd, write_blueprint
 from .headless import HeadlessViewer, renderer_missing
+from .replay import Poses, Replay
 
 #: Who draws the frames: the Rerun viewer (the trial layout: scene and time series) or the
 #: numpy camera (the 3D scene alone, any machine).
@@ -176,9 +178,6 @@ def _viewer_frames(recording, table, layout, times, width, height):
 
 def _camera_frames(recording, table, layout, times, width, height):
     """The numpy camera's views of the recorded trial at ``times`` (s)."""
-    from ..model.world import World
-    from .replay import Poses, Replay
-
     world = World()
     replay = Replay(world, Poses.of_recording(table, world), width, height)
     for t in times:
