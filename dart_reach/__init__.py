@@ -31,10 +31,11 @@ from . import pinning  # noqa: F401
 
 __version__ = "0.1.0"
 
-#: The Gymnasium id of the paper's trial as an environment (``envs``; the ``gym`` extra). v1:
-#: actions in [-1, 1] float32, 200 steps in the registration (``ReachGraspEnv``'s version
-#: history); ``gymnasium.make`` refuses v0, naming v1.
-GYM_ID = "dart_reach/ReachGrasp-v1"
+#: The Gymnasium id of the paper's trial as an environment (``envs``; the ``gym`` extra). v2:
+#: the model version new runs use (``model.versions.CURRENT_MODEL_VERSION``); v1, still
+#: registered, the same environment on model version 1, the model it had; ``gymnasium.make``
+#: refuses v0 (``ReachGraspEnv``'s version history).
+GYM_ID = "dart_reach/ReachGrasp-v2"
 
 
 def _register_gym_environment() -> None:
@@ -46,9 +47,11 @@ def _register_gym_environment() -> None:
         import gymnasium
     except ImportError:
         return
-    if GYM_ID not in gymnasium.registry:
-        gymnasium.register(GYM_ID, entry_point="dart_reach.envs.reach_grasp:ReachGraspEnv",
-                           max_episode_steps=200)  # the trial's 200 steps of 0.1 s
+    for gym_id, kwargs in ((GYM_ID, {}), ("dart_reach/ReachGrasp-v1", {"model_version": 1})):
+        if gym_id not in gymnasium.registry:
+            gymnasium.register(gym_id, entry_point="dart_reach.envs.reach_grasp:ReachGraspEnv",
+                               max_episode_steps=200,  # the trial's 200 steps of 0.1 s
+                               kwargs=kwargs)
 
 
 _register_gym_environment()

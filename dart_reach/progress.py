@@ -76,7 +76,8 @@ def training_bar(stream=None, bar: bool | None = None) -> ProgressBar:
     return ProgressBar(lambda p: (
         p.done_generations, p.total_generations, "generation",
         f"{p.condition} | {p.phase} {p.generation}/{p.generations} | best {p.best:.4f} "
-        f"mean {p.mean:.4f}"), stream, bar)
+        f"mean {p.mean:.4f} | driver {p.driver_cpu_s:.2f} s CPU for {p.tasks} tasks"),
+        stream, bar)
 
 
 def evaluation_bar(stream=None, bar: bool | None = None) -> ProgressBar:

@@ -116,18 +116,19 @@ def add_workers(p: argparse.ArgumentParser) -> None:
 def add_scene(p: argparse.ArgumentParser) -> None:
     p.add_argument("--scene", default=None, metavar="SCENE",
                    help="where the ball hangs: a shipped scene (see 'scenes') or a scene file "
-                        "(default: the default scene)")
+                        "(default: the scene of the model version new runs use, 'dart-reach "
+                        "versions')")
 
 
 def world_config(args, base=None):
-    """``base`` (default ``WorldConfig()``) with the sectors of ``--scene`` if given (and
-    ``--self-collision`` where the command has it)."""
+    """``base`` (default: the world of the model version new runs use) with the sectors of
+    ``--scene`` if given (and ``--self-collision`` where the command has it)."""
     from dataclasses import replace
 
     from ..model.scenes import load_scene
-    from ..model.world import WorldConfig
+    from ..model.versions import CURRENT_MODEL_VERSION, model_version
 
-    base = base or WorldConfig()
+    base = base or model_version(CURRENT_MODEL_VERSION).world()
     if getattr(args, "self_collision", None) is not None:
         base = replace(base, self_collision=args.self_collision == "on")
     return base if args.scene is None else load_scene(args.scene).world(base)

@@ -67,10 +67,15 @@ def register_bench(subparsers) -> None:
                    help="pairs of blocks for the physics ratio (default 30)")
     p.add_argument("--model-version", type=int, default=None, metavar="N",
                    help="the model version whose numerics the trials compute with (default: "
-                        "the newest)")
+                        "the version new runs use)")
     p.add_argument("--physics", action="store_true",
                    help="instead: the physics-step study (docs/results/physics-step.md): a panel of networks "
                         "post-evaluated at each candidate step and at a quarter of it")
+    p.add_argument("--scaling", type=positive, nargs="*", default=None, metavar="NODES",
+                   help="instead: generations on local Ray clusters of NODES one-CPU nodes "
+                        "each (default 2 4), the driver's and the workers' measured costs, "
+                        "and a generation projected at 16, 64 and 256 CPUs "
+                        "(docs/guides/cluster.md, 'Blocks')")
     p.add_argument("--physics-steps", type=float, nargs="+", default=[0.02, 0.01],
                    metavar="DT", help="candidate physics steps in s (default 0.02 0.01)")
     p.add_argument("--networks", type=positive, default=20,
@@ -83,7 +88,7 @@ def register_bench(subparsers) -> None:
 
 
 def cmd_bench(args) -> int:
-    from ..studies import bench
+    from ..studies import bench, scaling
 
     if args.json is not None and args.json.exists():
         raise FileExistsError(f"--json {args.json} exists; choose another file")
@@ -96,14 +101,22 @@ def cmd_bench(args) -> int:
                 candidates=args.physics_steps, random=args.networks, runs=args.run,
                 workers=args.workers, progress=lambda n, total: show((n, total)))
         print("\n" + physics_study.format_study(results))
+    elif args.scaling is not None:
+        measured = scaling.ray_scaling(nodes=args.scaling or (2, 4))
+        projected = scaling.scaling_projection(measured)
+        print(measured)
+        print(projected)
+        results = {"machine": bench.machine(), "measured": measured.to_dicts(),
+                   "projected": projected.to_dicts()}
     else:
         if not (math.isfinite(args.seconds) and args.seconds > 0):
             raise ValueError(f"--seconds must be a positive number, got {args.seconds:g}")
-        from ..model.versions import check_model_version
+        from ..model.versions import CURRENT_MODEL_VERSION, check_model_version
 
-        version = (bench.LATEST_MODEL_VERSION if args.model_version is None
+        version = (CURRENT_MODEL_VERSION if args.model_version is None
                    else check_model_version(args.model_version))
         results = bench.run(seconds=args.seconds, pairs=args.repeats, model_version=version)
+        results.update(scaling.late_population())
         print(bench.format_table(results))
     if args.json:
         write_json(args.json, results)

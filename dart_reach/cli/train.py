@@ -36,6 +36,10 @@ def register_train(subparsers) -> None:
     add_scene(p)
     add_levers(p)
     add_workers(p)
+    p.add_argument("--ray-block", type=positive, default=None, metavar="N",
+                   help="with --ray: trials per Ray task (default: a lifetime in the first "
+                        "generation, then sized from the last one's measured cost so that the "
+                        "driver keeps up; the results are the same whatever N)")
     p.add_argument("--resume", action="store_true",
                    help="continue the run in --out under the settings its manifest records "
                         "(model version, levers, scene, budgets: nothing is typed again; an "
@@ -71,7 +75,7 @@ def cmd_train(args) -> int:
     try:
         with training_bar() as bar:
             run = train(conditions, settings, out, workers=args.workers, ray_address=args.ray,
-                        resume=args.resume, progress=checked(bar),
+                        ray_block=args.ray_block, resume=args.resume, progress=checked(bar),
                         record_every=args.record_every,
                         command=shlex.join(["dart-reach", *sys.argv[1:]]),
                         snapshot_every=args.snapshot_every)

@@ -24,12 +24,14 @@ def cmd_reach(args) -> int:
 
     from ..model.icub import HAND_SEGMENTS
     from ..model.scripted import ScriptedReach
+    from ..model.versions import CURRENT_MODEL_VERSION, model_version
     from ..model.world import World, WorldConfig
 
     if not (np.isfinite(args.seconds) and 0 < args.seconds <= 3600):
         raise ValueError(f"--seconds must be a number of simulated seconds in (0, 3600], got "
                          f"{args.seconds:g}")
-    world = World(world_config(args, WorldConfig(skeleton=args.skeleton)))
+    world = World(world_config(args, model_version(CURRENT_MODEL_VERSION).world(
+        WorldConfig(skeleton=args.skeleton))))
     ball = world.sector_point(args.sector, 0.5, 0.5)
     world.reset(ball)
     reach = ScriptedReach(world, ball)

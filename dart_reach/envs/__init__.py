@@ -1,7 +1,8 @@
 """The paper's trial as a Gymnasium environment (the ``gym`` extra; docs/guides/gymnasium.md).
 
-``import dart_reach`` registers it as ``dart_reach/ReachGrasp-v1`` where Gymnasium is installed:
-``gymnasium.make("dart_reach/ReachGrasp-v1", phase="gross")``. ``reach_grasp``: the
+``import dart_reach`` registers it as ``dart_reach/ReachGrasp-v2`` where Gymnasium is installed:
+``gymnasium.make("dart_reach/ReachGrasp-v2", phase="gross")`` (``-v1``: the same on model
+version 1). ``reach_grasp``: the
 environment, a thin wrapper over ``model.task.Trial``; ``policy``: a controller network (a
 shipped robot's) as a policy; ``seeing``: an episode as a Rerun recording like a trial's
 (imported apart: rerun and polars take about a second to load, which every process of a

@@ -35,16 +35,18 @@ class NetworkPolicy:
     @classmethod
     def of_robot(cls, robot: ShippedRobot) -> "NetworkPolicy":
         """The network of a shipped robot (``dart_reach.robots.robots``) in its phase's
-        maturational state, reflexes built in: to reproduce its trials, step it through an
-        environment of the same phase with the environment's reflexes off
-        (``ReachGraspEnv(phase=robot.phase, reflexes=False)``)."""
+        maturational state, reflexes built in, computed by the numerics of the model version
+        it was trained under: to reproduce its trials, step it through an environment of the
+        same phase and version with the environment's reflexes off (``ReachGraspEnv(phase=
+        robot.phase, reflexes=False, model_version=robot.model_version)``)."""
         phases = shipped_phases()
         if robot.phase not in phases:
             raise ValueError(f"robot of unknown phase {robot.phase!r}; shipped phases: "
                              f"{', '.join(phases)}")
         phase = phases[robot.phase]
         params = decode(robot.genome, phase.free_groups)
-        return cls(network_for(params, trial_config(phase, Settings())))
+        return cls(network_for(params, trial_config(
+            phase, Settings(model_version=robot.model_version))))
 
     def reset(self, info: dict) -> None:
         """Set the network to the state that holds the home posture (``info`` of

@@ -1,4 +1,4 @@
-"""The paper's trial as a Gymnasium environment, ``dart_reach/ReachGrasp-v1`` (sections III-B,
+"""The paper's trial as a Gymnasium environment, ``dart_reach/ReachGrasp-v2`` (sections III-B,
 III-C, III-D; docs/guides/gymnasium.md). The spaces, rewards and episode end are told once, in
 ``ReachGraspEnv``'s docstring.
 
@@ -90,7 +90,7 @@ def _check_sector(sector) -> int:
 
 
 class ReachGraspEnv(gym.Env):
-    """One trial of the paper's reach-and-grasp task per episode: ``dart_reach/ReachGrasp-v1``.
+    """One trial of the paper's reach-and-grasp task per episode: ``dart_reach/ReachGrasp-v2``.
 
     ## Description
 
@@ -165,7 +165,7 @@ class ReachGraspEnv(gym.Env):
       ``gross-h``, ``gross-hat``, ``pre-star``, ``gross-hat-star``, ``fine-hat``,
       ``fine-star``) or a ``conditions.Phase``; default ``pre``. Its free groups (which
       parameters evolve) constrain the GA's genome, not an outside learner.
-    - ``scene``: a scene name or file (``model.scenes``); None: the default scene.
+    - ``scene``: a scene name or file (``model.scenes``); None: the model version's scene.
     - ``reflexes``: None as the phase has them; True or False. While on, the environment
       computes the reflex motors' outputs with the network's hand-set reflex weights and
       thresholds (``ctrnn.reflex_weights``; a network of zero parameters, no memory) and they
@@ -190,6 +190,9 @@ class ReachGraspEnv(gym.Env):
 
     ## Version History
 
+    - v2: the model version new runs use by default (3: the scene calibrated on Fig. 5's
+      reach, compiled numerics; ``model_version`` selects another); ``dart_reach/ReachGrasp-v1``
+      stays registered as this environment on model version 1, the model v1 ran.
     - v1: ``render_mode`` ``"rgb_array"`` a camera image of the scene (it was a screenshot
       of the Rerun viewer's window, which needed a Vulkan driver) and ``"human"``; actions
       in [-1, 1] float32 (the motor targets; v0 took the motor outputs in [0, 1]
@@ -234,12 +237,14 @@ class ReachGraspEnv(gym.Env):
                                steps=int(steps), render_mode=render_mode, width=int(width),
                                height=int(height), viewer=viewer, model_version=model_version)
         self.phase = phase
-        config = trial_config(phase, Settings(steps=int(steps), model_version=model_version))
+        settings = Settings(steps=int(steps), model_version=model_version)
+        config = trial_config(phase, settings)
         self.config = replace(config, senses=Senses(senses), reflexes=(
             config.reflexes if reflexes is None else reflexes))
         self.render_mode = render_mode
         self._renderer = _renderer(render_mode, int(width), int(height), viewer)
-        world_config = WorldConfig() if scene is None else load_scene(scene).world()
+        world_config = (settings.world if scene is None
+                        else load_scene(scene).world(settings.world))
         self.world = World(world_config)
         self.trial = Trial(self.world, self.config)
         # the reflex arcs alone: hand-set weights and thresholds, no memory (tau 0)

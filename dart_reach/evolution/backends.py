@@ -9,10 +9,19 @@ in which order, or how many workers there are: results are identical to the last
 
 DART worlds cannot be pickled: each worker process builds its world once per ``WorldConfig``
 and keeps it.
+
+Work is scheduled in *blocks* of consecutive trials of one lifetime (``run_block``): one trial
+per block in the local pool (no worker idles at a generation's end), more on a Ray cluster,
+where every task costs the driver CPU time to submit and collect (``RayBackend``, ``block``).
+A trial's result depends on its job and its index only, so the block size, the number of
+workers and the back-end never change a bit (tests/evolution/test_backends_blocks.py). After
+each ``map`` a back-end keeps what it cost (``MapCost``: tasks, the driver's CPU, the workers'
+CPU, the wall time), which the training prints and the bench's scaling model reads.
 """
 
 from __future__ import annotations
 
+import math
 import multiprocessing
 import os
 import resource
@@ -72,8 +81,8 @@ _POSITIONS: list = [None, None]  # (seed, world, trials), the ball's positions: 
 
 
 def run_trial(unit: tuple[Job, int]) -> float:
-    """The fitness of trial k of a job (the work unit ``Backend.map`` schedules): the same
-    trial, at the same position, as trial k of ``task.lifetime`` with the job's generator."""
+    """The fitness of trial k of a job: the same trial, at the same position, as trial k of
+    ``task.lifetime`` with the job's generator."""
     job, k = unit
     trial = worker_trial(job.world, job.trial)
     key = (job.seed, job.world, job.trial.trials)
@@ -84,6 +93,29 @@ def run_trial(unit: tuple[Job, int]) -> float:
     if _NETWORK[0] != key:
         _NETWORK[:] = key, network_for(decode(job.genome, job.free_groups), job.trial)
     return trial.fitness(_NETWORK[1], position)
+
+
+def run_block(unit: tuple[Job, int, int]) -> tuple[list[float], float]:
+    """Trials ``start`` to ``stop`` - 1 of a job (``run_trial`` each) and the CPU seconds this
+    worker spent on them."""
+    job, start, stop = unit
+    t0 = time.process_time()
+    fitness = [run_trial((job, k)) for k in range(start, stop)]
+    return fitness, time.process_time() - t0
+
+
+@dataclass(frozen=True)
+class MapCost:
+    """What one ``Backend.map`` cost: ``tasks`` (blocks), ``trials``, ``driver_cpu_s`` (the
+    calling process's CPU seconds: submitting, collecting, bookkeeping; with
+    ``SerialBackend`` the trials too), ``worker_cpu_s`` (the CPU seconds spent on the trials,
+    summed over the workers) and ``wall_s``."""
+
+    tasks: int
+    trials: int
+    driver_cpu_s: float
+    worker_cpu_s: float
+    wall_s: float
 
 
 def peak_rss_mb(_=None) -> float:
@@ -109,18 +141,37 @@ class Backend:
     """Runs a module-level function over items on the workers; results in item order."""
 
     workers: int = 1
+    #: the cost of the last ``map`` (None before the first)
+    last_cost: MapCost | None = None
 
     def imap(self, fn: Callable[[T], R], items: Iterable[T]) -> Iterator[R]:
         raise NotImplementedError
 
+    def block_for(self, trials: int) -> int:
+        """Trials per task for lifetimes of ``trials`` trials: one, so that no worker idles
+        at the end of a generation while another finishes a whole lifetime."""
+        return 1
+
     def map(self, jobs: Sequence[Job]) -> np.ndarray:
-        """The fitness of every job. The work is scheduled trial by trial, so that no worker
-        idles at the end of a generation while another finishes a whole lifetime; the
-        result is the same to the last bit as running job by job (``task.lifetime``)."""
-        units = [(job, k) for job in jobs for k in range(job.trial.trials)]
-        trials = iter(self.imap(run_trial, units))
-        return np.array([fitness_of_trials([next(trials) for _ in range(job.trial.trials)])
-                         for job in jobs], dtype=float)
+        """The fitness of every job, scheduled in blocks of ``block_for`` trials; the result
+        is the same to the last bit as running job by job (``task.lifetime``), whatever the
+        blocks. Its cost is kept in ``last_cost``."""
+        t0, cpu0 = time.monotonic(), time.process_time()
+        units = []
+        for job in jobs:
+            n = job.trial.trials
+            b = max(1, min(self.block_for(n), n))
+            units += [(job, k, min(k + b, n)) for k in range(0, n, b)]
+        trials, worker_cpu = [], 0.0
+        for fitness, cpu in self.imap(run_block, units):
+            trials += fitness
+            worker_cpu += cpu
+        at = np.cumsum([0] + [job.trial.trials for job in jobs])
+        result = np.array([fitness_of_trials(trials[at[i]:at[i + 1]])
+                           for i in range(len(jobs))], dtype=float)
+        self.last_cost = MapCost(len(units), len(trials), time.process_time() - cpu0,
+                                 worker_cpu, time.monotonic() - t0)
+        return result
 
     def close(self) -> None:
         pass
@@ -196,10 +247,37 @@ def _driver_ip(address: str) -> dict:
     return {"_node_ip_address": host} if host in ("127.0.0.1", "localhost") else {}
 
 
-class RayBackend(Backend):
-    """The same jobs as Ray tasks (``--ray auto`` or a cluster address)."""
+#: Blocks on a Ray cluster are sized so that submitting and collecting the tasks would take the
+#: driver at most 1 / RAY_DRIVER_HEADROOM of a generation's wall time (``ray_block``).
+RAY_DRIVER_HEADROOM = 4
 
-    def __init__(self, address: str = "auto", workers: int | None = None):
+
+def ray_block(cost: MapCost, cpus: int, trials: int) -> int:
+    """Trials per Ray task for the next generation, from the last one's ``cost`` on ``cpus``
+    CPUs, for lifetimes of ``trials`` trials. The model (docs/guides/cluster.md, "Blocks"): a
+    task costs the driver d = driver CPU / tasks, a trial costs a worker c = worker CPU /
+    trials; a generation of T trials in blocks of b keeps the workers busy T c / N and the
+    driver d T / b, and ends with a tail of about one block, b c. The smallest b with
+    d T / b <= (T c / N) / H, b = ceil(H d N / c), keeps the driver out of the way and the
+    tail shortest; clamped to 1 .. ``trials``."""
+    if cost.tasks == 0 or cost.trials == 0 or cost.worker_cpu_s <= 0:
+        return trials
+    d = cost.driver_cpu_s / cost.tasks
+    c = cost.worker_cpu_s / cost.trials
+    return int(min(trials, max(1, math.ceil(RAY_DRIVER_HEADROOM * d * cpus / c))))
+
+
+class RayBackend(Backend):
+    """The same jobs as Ray tasks (``--ray auto`` or a cluster address), in blocks of
+    ``block`` trials, or, by default, of a lifetime for the first ``map`` and of
+    ``ray_block``'s size from the last ``map``'s measured cost after it."""
+
+    def __init__(self, address: str = "auto", workers: int | None = None,
+                 block: int | None = None):
+        if block is not None and (isinstance(block, bool) or not isinstance(block, int)
+                                  or block < 1):
+            raise ValueError(f"block must be a positive number of trials, got {block!r}")
+        self.block = block
         try:
             import ray
         except ImportError:
@@ -219,6 +297,13 @@ class RayBackend(Backend):
         self.workers = int(ray.cluster_resources().get("CPU", 1))
         self._remote = {}
 
+    def block_for(self, trials: int) -> int:
+        if self.block is not None:
+            return self.block
+        if self.last_cost is None:
+            return trials
+        return ray_block(self.last_cost, self.workers, trials)
+
     def imap(self, fn, items):
         remote = self._remote.get(fn)
         if remote is None:
@@ -228,10 +313,12 @@ class RayBackend(Backend):
         return (self._ray.get(ref) for ref in refs)
 
 
-def make_backend(workers: int | None = None, ray_address: str | None = None) -> Backend:
-    """Ray if an address is given, else serial for one worker, else a local process pool."""
+def make_backend(workers: int | None = None, ray_address: str | None = None,
+                 block: int | None = None) -> Backend:
+    """Ray if an address is given (in blocks of ``block`` trials; None: sized from the
+    measured cost), else serial for one worker, else a local process pool."""
     if ray_address:
-        return RayBackend(ray_address, workers)
+        return RayBackend(ray_address, workers, block)
     if workers == 1:
         return SerialBackend()
     return PoolBackend(workers)

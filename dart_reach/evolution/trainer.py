@@ -68,6 +68,10 @@ class Progress:
     done_generations: int
     total_generations: int
     elapsed_s: float
+    #: the generation's tasks on the back-end and the CPU seconds the driver (this process)
+    #: spent submitting and collecting them (``backends.MapCost``)
+    tasks: int = 0
+    driver_cpu_s: float = float("nan")
 
     @property
     def eta_s(self) -> float:
@@ -273,11 +277,13 @@ class Trainer(RunDirectory):
                         self._commit(phase, states)
                         done += 1
                         if progress:
+                            cost = backend.last_cost
                             progress(Progress(
                                 condition.name, phase.name, g + 1, phase.generations,
                                 s.replications, max(r["best"] for r in rows),
                                 float(np.mean([r["mean"] for r in rows])), done - done_at_start,
-                                total - done_at_start, time.monotonic() - t_start))
+                                total - done_at_start, time.monotonic() - t_start,
+                                cost.tasks, cost.driver_cpu_s))
                     self._save_final(condition, phase, states)
                 previous = phase
 
@@ -361,11 +367,12 @@ def _savez(path: Path, arrays: dict) -> None:
 
 
 def train(conditions: list[Condition], settings: Settings, out: Path, workers: int | None = None,
-          ray_address: str | None = None, resume: bool = False,
+          ray_address: str | None = None, ray_block: int | None = None, resume: bool = False,
           progress: Callable[[Progress], None] | bool = True, record_every: int = 0,
           command: str | None = None, snapshot_every: int = 0) -> Trainer:
     """Train ``conditions`` into the run directory ``out`` (the function the CLI calls;
-    ``command``, the command line that made the run, goes into a new run's manifest).
+    ``command``, the command line that made the run, goes into a new run's manifest;
+    ``ray_block``: trials per Ray task, ``backends.RayBackend``).
     ``progress``: True (default) shows a progress bar (a widget in Jupyter, plain lines where
     the output is not a terminal), False nothing, a callable is told each ``Progress``."""
     names = [c.name for c in conditions]
@@ -389,7 +396,7 @@ def train(conditions: list[Condition], settings: Settings, out: Path, workers: i
             if not run.unfinished():  # finished, its derived files rebuilt: no session
                 return run
         with contextlib.ExitStack() as stack:  # closed in reverse: the bar, then the workers
-            backend = make_backend(workers, ray_address)
+            backend = make_backend(workers, ray_address, ray_block)
             stack.callback(backend.close)
             run.record_session(command, backend.workers)
             bar = training_bar() if progress is True else None

@@ -100,7 +100,7 @@ MODEL_VERSIONS = {v.number: v for v in (
 )}
 #: The version new runs are trained under (``train`` without ``--model-version``, ``Settings()``,
 #: the Gymnasium environment).
-CURRENT_MODEL_VERSION = 1
+CURRENT_MODEL_VERSION = 3
 
 
 def check_model_version(version) -> int:

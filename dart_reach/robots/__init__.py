@@ -11,6 +11,7 @@ provenance (``ROBOTS_FORMAT``)::
     git_revision   the revision of dart_reach that trained them
     run            the name of the run directory they come from (``dart-reach robots``
                    lists the shipped runs; files written elsewhere before it may lack it)
+    model_version  the model version the run was trained under (files without it: 1)
     budget         generations, replications, trials, steps, physics_dt, seed, scene and
                    sectors (where the ball hung: ``world.SectorConfig``)
     phase          condition, phase (a shipped condition's phase), free_groups, acuity,
@@ -64,6 +65,12 @@ class ShippedRobot:
     genome: np.ndarray = field(repr=False)
     source: str
     provenance: Mapping = field(repr=False)
+
+    @property
+    def model_version(self) -> int:
+        """The model version its run was trained under (a file without one: version 1, the
+        only version before versions were recorded)."""
+        return int(self.provenance.get("model_version") or 1)
 
     def describe(self) -> str:
         """One line: which robot, from which run and budget."""
@@ -121,7 +128,7 @@ def robots(phase: str | None = None, condition: str | None = "standard",
         fitness = info["lifetime_fitness"]
         reps = info.get("replication") or [0] * len(fitness)
         provenance = {k: info.get(k) for k in ("what", "command", "git_revision", "run",
-                                               "budget", "phase")}
+                                               "model_version", "budget", "phase")}
         seen: dict[int, int] = {}
         for h, fit, r in zip(info["genomes_hex"], fitness, reps):
             rank = seen[r] = seen.get(r, -1) + 1  # files list each replication best first
@@ -146,8 +153,8 @@ def evolved_pre() -> tuple[np.ndarray, np.ndarray, dict]:
 
 
 def export_robots(run_dir, phase: str, path, condition: str | None = None,
-                  per_replication: int = 2, what: str = "", ship_as: str | None = None
-                  ) -> Path:
+                  per_replication: int = 2, what: str = "", ship_as: str | None = None,
+                  generation: int | None = None) -> Path:
     """Write the best ``per_replication`` robots of each replication of a trained run's
     ``phase`` (of ``condition``; default the run's first condition that has it) as a robots
     file at ``path`` (a new file): put it in ``dart_reach/robots/`` to ship them. The
@@ -155,7 +162,9 @@ def export_robots(run_dir, phase: str, path, condition: str | None = None,
     installation can rebuild the phase's maturational state; ``ship_as``: the shipped
     condition to file them under when the run's is not shipped (the learning check's
     ``pre-only``): its phase of that name must be its first and train the same maturational
-    state (acuity, offset sensors, free groups, reflexes), else ValueError."""
+    state (acuity, offset sensors, free groups, reflexes), else ValueError. ``generation``:
+    the robots of the phase's snapshot of that generation instead of its final population
+    (a run still training, or a late population for the bench)."""
     run = RunDirectory.open(run_dir)
     found = [(c, p) for c in run.conditions for p in c.phases
              if p.name == phase and (condition is None or c.name == condition)]
@@ -173,7 +182,14 @@ def export_robots(run_dir, phase: str, path, condition: str | None = None,
             raise ValueError(f"{run.out}: {cond.name}/{ph.name} cannot ship as {ship_as}/"
                              f"{ph.name}: {differ}" + (" differ" if twin else ""))
         shipped_name = ship_as
-    genomes, fitness = run.load_final(ph)
+    if generation is None:
+        genomes, fitness = run.load_final(ph)
+    else:
+        kept = {g: (genomes, fitness) for g, genomes, fitness in run.snapshots(ph)}
+        if generation not in kept:
+            raise ValueError(f"{run.out}: phase {ph.name} kept no snapshot of generation "
+                             f"{generation} (it kept {', '.join(map(str, kept)) or 'none'})")
+        genomes, fitness = kept[generation]
     n = min(per_replication, genomes.shape[1])
     if n < 1:
         raise ValueError(f"per_replication must be at least 1, got {per_replication}")
@@ -182,10 +198,12 @@ def export_robots(run_dir, phase: str, path, condition: str | None = None,
     info = {
         "format": ROBOTS_FORMAT,
         "what": what or f"best {n} robots of each replication of {cond.name}/{ph.name}, "
-                        f"{run.out.name}",
+                        f"{run.out.name}"
+                        + (f", at generation {generation}" if generation else ""),
         "command": manifest.get("command"), "git_revision": manifest.get("git_revision"),
         "run": run.out.name,
-        "budget": {"generations": ph.generations, "replications": s.replications,
+        "model_version": s.model_version,
+        "budget": {"generations": generation or ph.generations, "replications": s.replications,
                    "trials": s.trials, "steps": s.steps, "physics_dt": s.world.physics_dt,
                    "seed": s.seed, "scene": manifest.get("scene") or scene_of(s.world.sectors),
                    "sectors": dataclasses.asdict(s.world.sectors)},

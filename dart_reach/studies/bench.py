@@ -30,7 +30,7 @@ from ..evolution.genome import ParamGroup, as_groups, decode, random_genome
 from ..evolution.rundir import RunDirectory
 from ..evolution.settings import Settings, standard_trial, trial_config
 from ..measures.metrics import trial_metrics
-from ..model.versions import MODEL_VERSIONS, numerics_of
+from ..model.versions import CURRENT_MODEL_VERSION, numerics_of
 from ..model.scripted import ScriptedReach
 from ..model.task import Trial, network_for
 from ..model.world import World, WorldConfig
@@ -40,8 +40,6 @@ from ..robots import evolved_pre
 
 #: Robots of the closed-loop figures: random pre-reaching networks and evolved ones.
 PANEL = 5
-#: The model version ``run`` measures by default: the newest, the one the next runs use.
-LATEST_MODEL_VERSION = max(MODEL_VERSIONS)
 
 
 def machine(config: WorldConfig | None = None) -> dict:
@@ -464,7 +462,7 @@ def recording_overhead(robots: int = 2, seed: int = 0, model_version: int = 1) -
 
 
 def recording_parts(trials: int = 6, rounds: int = 9, seed: int = 0,
-                    model_version: int = LATEST_MODEL_VERSION) -> dict:
+                    model_version: int = CURRENT_MODEL_VERSION) -> dict:
     """Where a trial recording's CPU time goes (``recording_overhead``'s recording, ms a
     trial, the median over ``rounds`` rounds in alternating order of ``trials`` trials of a
     random gross-reaching robot): ``rrd_ms`` the whole .rrd built (``trial_rrd``, no layout);
@@ -530,13 +528,13 @@ def check(results: dict) -> dict[str, bool]:
     return {name: _meets(results[name], *TARGETS[name]) for name in TARGETS if name in results}
 
 
-def run(seconds: float = 2.0, pairs: int = 30, model_version: int = LATEST_MODEL_VERSION
+def run(seconds: float = 2.0, pairs: int = 30, model_version: int = CURRENT_MODEL_VERSION
         ) -> dict:
     """Every figure, in one run: ``pairs`` pairs of ``seconds`` simulated seconds for the
     physics ratio; the closed loop over 45 trials of each kind; 10 pairs of generations on the
     pool, 5 on a local Ray cluster (when the ``cluster`` extra is installed); the Gymnasium
     environment over 45 trials and its rgb_array frames (when the ``gym`` extra is). The
-    trials compute with ``model_version``'s numerics (default the latest)."""
+    trials compute with ``model_version``'s numerics (default: the version new runs use)."""
     results = {"machine": machine(), "model_version": model_version}
     results.update(world_rtf(seconds=seconds, pairs=pairs))
     results.update(physics_speedup())

@@ -1,4 +1,4 @@
-"""PPO (stable-baselines3) on dart_reach/ReachGrasp-v1, pre-reaching, against the GA at the same
+"""PPO (stable-baselines3) on dart_reach/ReachGrasp-v2, pre-reaching, against the GA at the same
 number of trials (docs/guides/gymnasium.md). tests/envs/test_ppo_example.py runs it for a few
 thousand steps (skipped without stable-baselines3); the learning itself is a documented result.
 

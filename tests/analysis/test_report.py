@@ -25,9 +25,12 @@ from dart_reach.evolution.conditions import load_condition, scaled
 from dart_reach.postevaluation.systematic import SENSES, evaluate_run
 from dart_reach.evolution.settings import Settings
 from dart_reach.evolution.trainer import train
-from dart_reach.model.scenes import DEFAULT_SCENE
+from dart_reach.model.versions import CURRENT_MODEL_VERSION, model_version
 
 ROOT = Path(__file__).resolve().parents[2]
+
+#: the scene of the version new runs use, which the tiny runs here are trained under
+NEW_SCENE = model_version(CURRENT_MODEL_VERSION).scene
 
 
 @pytest.fixture(scope="module")
@@ -219,7 +222,7 @@ def test_budgets_are_never_pooled_and_runs_of_one_budget_are(tiny_run, other_bud
     by_budget = budgets.findings_by_budget([other_budget, tiny_run])
     assert by_budget.select("generations_per_phase", "runs").unique(maintain_order=True).rows() \
         == [(1, "tiny"), (2, "tiny-2")]
-    assert set(by_budget["scene"]) == {DEFAULT_SCENE}
+    assert set(by_budget["scene"]) == {NEW_SCENE}
     for gens, run in ((1, tiny_run), (2, other_budget)):
         block = by_budget.filter(pl.col("generations_per_phase") == gens)
         assert block.height == len(CLAIMS)
@@ -266,8 +269,8 @@ def test_a_report_of_two_budgets_sets_them_side_by_side(tiny_run, other_budget, 
     assert re.search(r'<img alt="figure" src="data:image/png;base64,[A-Za-z0-9+/=]+">'
                      + re.escape(f"<p>{html.escape(report.BUDGET_FIGURE_NOTE)}</p>"), found)
     assert found.count('<table class="findings">') == 2
-    assert f"<h3>{DEFAULT_SCENE}, 1 generation per phase, 2 replications: tiny</h3>" in found
-    assert f"<h3>{DEFAULT_SCENE}, 2 generations per phase, 2 replications: tiny-2</h3>" in found
+    assert f"<h3>{NEW_SCENE}, 1 generation per phase, 2 replications: tiny</h3>" in found
+    assert f"<h3>{NEW_SCENE}, 2 generations per phase, 2 replications: tiny-2</h3>" in found
     assert "scenes" not in found.split("<table")[0]  # one scene: no notice
 
 

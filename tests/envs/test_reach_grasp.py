@@ -133,7 +133,7 @@ def test_gymnasiums_checker_passes_and_the_id_is_registered():
     from gymnasium.utils.env_checker import check_env
 
     env = gymnasium.make(dart_reach.GYM_ID, phase="gross", steps=10)
-    assert dart_reach.GYM_ID == "dart_reach/ReachGrasp-v1"
+    assert dart_reach.GYM_ID == "dart_reach/ReachGrasp-v2"
     assert env.spec.max_episode_steps == 200
     assert isinstance(env.unwrapped, ReachGraspEnv) and env.unwrapped.config.acuity == 1.0
     assert env.action_space == gymnasium.spaces.Box(-1, 1, (14,), np.float32)
@@ -143,9 +143,13 @@ def test_gymnasiums_checker_passes_and_the_id_is_registered():
         check_env(env.unwrapped)  # its render check too: no Vulkan driver needed
 
 
-def test_the_old_id_is_refused_naming_the_new_one():
-    with pytest.warns(DeprecationWarning, match="v1"), pytest.raises(
-            gymnasium.error.DeprecatedEnv, match="Please use `dart_reach/ReachGrasp-v1`"):
+def test_v1_runs_model_version_1_and_v0_is_refused_naming_the_newest():
+    env = gymnasium.make("dart_reach/ReachGrasp-v1", phase="pre", steps=10).unwrapped
+    new = gymnasium.make(dart_reach.GYM_ID, phase="pre", steps=10).unwrapped
+    assert env.config.numerics.value == "reference" and new.config.numerics.value == "compiled"
+    assert env.world.config.sectors.radius < new.world.config.sectors.radius  # 0.344, 0.46 m
+    with pytest.warns(DeprecationWarning, match="v2"), pytest.raises(
+            gymnasium.error.DeprecatedEnv, match="Please use `dart_reach/ReachGrasp-v2`"):
         gymnasium.make("dart_reach/ReachGrasp-v0")
 
 

@@ -5,7 +5,7 @@ from __future__ import annotations
 
 import pytest
 
-from dart_reach.studies import bench
+from dart_reach.studies import bench, scaling
 
 
 def test_pairs_alternate_their_order_and_time_each_side():
@@ -126,3 +126,38 @@ def test_a_recordings_parts_add_up_to_it():
     assert all(r[name] > 0 for name in ("rrd_ms", "rrd_chunks_ms", "rrd_rows_ms", "rrd_poses_ms",
                                         "rrd_write_ms", "rrd_streamed_ms"))
     assert r["rrd_rest_ms"] == pytest.approx(r["rrd_ms"] - r["rrd_chunks_ms"] - r["rrd_write_ms"])
+
+
+def test_the_late_population_is_timed_as_the_campaign_runs_it():
+    from dart_reach.model.versions import model_version
+
+    jobs = scaling.late_generation(3, trials=2, steps=5)
+    assert len(jobs) == 40 and len({j.genome.tobytes() for j in jobs}) == 20  # 20, twice
+    assert jobs[0].world == model_version(3).world() and jobs[0].trial.numerics.value == \
+        "compiled" and jobs[0].trial.trials == 2
+    found = scaling.late_population(versions=(1, 2), rounds=2, workers=2, trials=1, steps=5)
+    assert set(found) == {"late_generation_core_s_v1", "late_generation_core_s_v2",
+                          "numerics_speedup_late", "numerics_speedup_late_iqr"}
+    assert found["late_generation_core_s_v1"] > 0 and found["numerics_speedup_late"] > 0
+
+
+def test_a_generation_projected_from_measured_costs_follows_its_model():
+    import polars as pl
+
+    # driver 1 ms a task, a trial 50 ms: 7,200 trials
+    one = scaling.project_generation(0.001, 0.05, 16, 1)
+    assert one["wall_s"] == pytest.approx(7200 * 0.05 / 16 + 0.05)  # the workers set the pace
+    one = scaling.project_generation(0.001, 0.05, 64, 1)
+    assert one["wall_s"] == pytest.approx(7200 * 0.001 + 0.05)  # the driver does
+    assert scaling.project_generation(0.001, 0.05, 256, 1)["driver_share"] > 0.5  # the driver's
+    lifetime = scaling.project_generation(0.001, 0.05, 256, 18)
+    assert lifetime["wall_s"] == pytest.approx(7200 * 0.05 / 256 + 18 * 0.05)
+    measured = pl.DataFrame({"driver_ms_per_task": [0.8, 1.0], "trial_cpu_s": [0.05, 0.05]})
+    table = scaling.scaling_projection(measured)
+    assert table.height == 9 and set(table["how"]) == {"one trial", "a lifetime", "chosen"}
+    chosen = table.filter(pl.col("how") == "chosen")
+    assert chosen["block"].to_list() == [2, 6, 18]  # ray_block: ceil(4 x 1 ms x N / 50 ms)
+    for n in (16, 64, 256):  # the chosen block is never worse than both others
+        rows = table.filter(pl.col("cpus") == n)
+        best = rows["efficiency"].max()
+        assert rows.filter(pl.col("how") == "chosen")["efficiency"][0] >= best - 0.05
