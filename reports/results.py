@@ -196,13 +196,13 @@ CLAIMS_LINK = "replication.md#every-claim-at-every-budget"
 
 def summary_row(paper: dict, budget: budgets.Budget) -> dict[str, str]:
     """The summary's row of a budget: its runs (linked to every claim at every budget) and the
-    paper's claims by verdict (``findings.summary``), the decided ones with how many survive
-    Holm's adjustment."""
+    paper's claims by verdict (``findings.summary``; those their measure cannot test apart
+    from those not run), the decided ones with how many survive Holm's adjustment."""
     return {"run": f"[`{paper['runs']}`]({CLAIMS_LINK})",
             "generations per phase x replications":
                 f"{budget.generations_per_phase} x {budget.replications}",
             **{v: (f"{paper[v]} ({paper[f'{v} (Holm)']} after Holm)" if f"{v} (Holm)" in paper
-                   else str(paper[v])) for v in verdicts.VERDICTS}}
+                   else str(paper[v])) for v in findings.COUNTED}}
 
 
 def _pre_replications(table: pl.DataFrame | None) -> tuple[str, str, str]:

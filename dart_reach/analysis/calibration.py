@@ -356,21 +356,135 @@ def _paired(nest, rng, n):
     rows.append(_row("paired change", nest, "change 1 s.d.", "reproduced",
                      _rate([o.verdict == v.REPRODUCED for o in out]), math.nan, "power"))
 
-    def same(r, change_by):
-        """Positive references (each replication's change is relative to its own level), each
-        changed by a relative change N(change_by x margin, margin / 4)."""
-        ref = robots(r, nest).mean(axis=1) + 10.0
-        c = r.normal(change_by * v.PAIRED_MARGIN, v.PAIRED_MARGIN / 4, nest.replications)
+    def same(r, change_by, k, modes=0.0):
+        """``k`` positive references (each replication's change is relative to its own
+        level), each changed by a relative change N(change_by x margin, margin), or with
+        ``modes`` at change_by x margin +- modes x margin (two modes, s.d. margin / 10)."""
+        ref = robots(r, nest).mean(axis=1)[:k] + 10.0  # k <= the nesting's replications
+        spread = PAIRED_SD if not modes else 0.1
+        c = r.normal(change_by * v.PAIRED_MARGIN, spread * v.PAIRED_MARGIN, k)
+        if modes:
+            c += r.choice((-modes, modes), k) * v.PAIRED_MARGIN
+        c = np.clip(c, -1.9, 1.9)
         return ref, ref * (2 + c) / (2 - c)  # (new - ref) / mean(new, ref) = c
     judge = lambda ref, new: v.paired_equivalent(ref, new, relative=True)  # noqa: E731
-    out = _repeat(rng, n, lambda r: judge(*same(r, 1.0)))
-    rows.append(_row("paired no change", nest, "change at the margin", "reproduced",
-                     _rate([o.verdict == v.REPRODUCED for o in out]), v.ALPHA, "at most"))
-    out = _repeat(rng, n, lambda r: judge(*same(r, 0.0)))
-    rows.append(_row("paired no change", nest, "no change", "contradicted",
-                     _rate([o.verdict == v.CONTRADICTED for o in out]), v.ALPHA, "at most"))
-    rows.append(_row("paired no change", nest, "no change", "reproduced",
-                     _rate([o.verdict == v.REPRODUCED for o in out]), math.nan, "power"))
+    for k in _pair_sizes(nest):
+        at = "" if k == nest.replications else f", {k} pairs"
+        for modes, shape in ((0.0, ""), (TWO_MODES, ", two-mode changes")):
+            for change_by, scenario, error in ((1.0, "change at the margin", v.REPRODUCED),
+                                               (0.0, "no change", v.CONTRADICTED)):
+                data = _repeat(rng, n, lambda r: same(r, change_by, k, modes))
+                out = [judge(a, b) for a, b in data]
+                rows.append(_row("paired no change", nest, scenario + shape + at, error,
+                                 _rate([o.verdict == error for o in out]), v.ALPHA,
+                                 "at most"))
+                rows.append(_row(PAIRED_BEFORE, nest, scenario + shape + at, error, _rate(
+                    [_t_tost(v.relative_changes(a, b), v.PAIRED_MARGIN) == error
+                     for a, b in data]), math.nan, "reported"))
+                if change_by == 0.0 and not modes:
+                    rows.append(_row("paired no change", nest, scenario + at, "reproduced",
+                                     _rate([o.verdict == v.REPRODUCED for o in out]),
+                                     math.nan, "power"))
+    return rows
+
+
+#: s.d. of the relative changes of "paired no change" (in margins): wide enough that the
+#: rule, shown no equivalence, can be wrong the other way (a row that can fail).
+PAIRED_SD = 1.0
+#: Two-mode changes: each replication changes by the null's change +- this many margins.
+TWO_MODES = 1.5
+#: The paired rules' rule before the sign-flip test (reported beside it).
+PAIRED_BEFORE = "paired no change: paired t TOST (the rule before, reported)"
+RATE_BEFORE = "paired rate no change: paired t TOST (the rule before, reported)"
+
+
+def _pair_sizes(nest: Nesting) -> tuple[int, ...]:
+    """The pairs a paired rule is calibrated at: the nesting's replications, and 3 beside 4
+    (the smallest run and the old gate)."""
+    return (3, 4) if nest.replications == 4 else (nest.replications,)
+
+
+def _t_tost(d, bound) -> str:
+    """The verdict of the paired rules before the sign-flip test: two one-sided paired
+    t-tests of the changes ``d`` (``verdicts.paired_tost``) from 3 pairs."""
+    d = np.asarray(d, float)
+    if len(d) < v.MIN_UNITS or np.ptp(d) == 0:
+        return v.UNDERPOWERED if len(d) < v.MIN_UNITS else v.INCONCLUSIVE
+    p_eq, p_diff, *_ = v.paired_tost(np.zeros_like(d), d, bound)
+    return v.REPRODUCED if p_eq < v.ALPHA else v.CONTRADICTED if p_diff < v.ALPHA \
+        else v.INCONCLUSIVE
+
+
+def _fifths(r, p):
+    """Replication rates over 5 robots each babbling or not (a no-ball robot's 45 trials are
+    one trial): Binomial(5, p) / 5."""
+    return r.binomial(5, np.clip(p, 0.0, 1.0)) / 5
+
+
+#: The shapes of a rate's paired changes (``rate_pairs``), and whether the changes are
+#: symmetric about their centre (where the sign-flip test is exact).
+RATE_SHAPES = {"rates in fifths": True, "30 % of replications still": True,
+               "50 % of replications still": True, "two-mode changes": True,
+               "zero-inflated changes (70 % unchanged)": False,
+               "skewed changes (exponential)": False}
+
+
+def rate_pairs(r: np.random.Generator, shape: str, k: int, change: float
+               ) -> tuple[np.ndarray, np.ndarray]:
+    """``k`` replications' rates under two conditions whose mean change is ``change``, in
+    ``shape`` (``RATE_SHAPES``): rates in fifths (each replication's chance uniform in
+    [0.2, 0.8], moved by ``change``); a share of replications still (0 under both, the others
+    in fifths, moved by change / (1 - share)); two-mode changes (+-0.15 about ``change``);
+    zero-inflated (70 % of replications unchanged, the others by change / 0.3); skewed (the
+    change plus an exponential of mean 0.1, less its mean, away from 0)."""
+    if shape == "rates in fifths":
+        p = r.uniform(0.2, 0.8, k)
+        return _fifths(r, p), _fifths(r, p + change)
+    if shape.endswith("of replications still"):
+        share = int(shape.split(" ")[0]) / 100
+        still = r.random(k) < share
+        p = r.uniform(0.2, 0.7, k)
+        return (np.where(still, 0.0, _fifths(r, p)),
+                np.where(still, 0.0, _fifths(r, p + change / (1 - share))))
+    p = r.uniform(0.3, 0.6, k)
+    if shape == "two-mode changes":
+        return p, p + change + r.choice((-0.15, 0.15), k) + r.normal(0.0, 0.01, k)
+    if shape.startswith("zero-inflated"):
+        moved = r.random(k) < 0.3
+        return p, p + moved * (change / 0.3 + r.normal(0.0, 0.02, k))
+    if shape.startswith("skewed"):
+        tail = (r.exponential(0.1, k) - 0.1) * (1 if change >= 0 else -1)
+        return p, p + change + tail
+    raise ValueError(f"unknown shape {shape!r}; known: {tuple(RATE_SHAPES)}")
+
+
+def _paired_rates(nest, rng, n):
+    """The rate rule (A1, A3: babbling, reach) under nulls shaped like its data
+    (``RATE_SHAPES``): at a mean change of +``RATE_MARGIN`` (a reproduction is an error:
+    bounded where the changes are symmetric, reported where they are not) and of 0 (a
+    contradiction is an error), at ``_pair_sizes``; the rule before (paired t TOST)
+    reported beside; the power to show no change in fifths."""
+    rule, rows = "paired rate no change", []
+    for k in _pair_sizes(nest):
+        at = "" if k == nest.replications else f", {k} pairs"
+        for shape, symmetric in RATE_SHAPES.items():
+            for change, error in ((v.RATE_MARGIN, v.REPRODUCED), (0.0, v.CONTRADICTED)):
+                scenario = (f"{shape}, change at the margin" if change else
+                            f"{shape}, no change") + at
+                data = _repeat(rng, n, lambda r: rate_pairs(r, shape, k, change))
+                out = [v.paired_rate_equivalent(a, b) for a, b in data]
+                bounded = symmetric or error == v.CONTRADICTED
+                rows.append(_row(rule, nest, scenario, error,
+                                 _rate([o.verdict == error for o in out]),
+                                 v.ALPHA if bounded else math.nan,
+                                 "at most" if bounded else "reported"))
+                rows.append(_row(RATE_BEFORE, nest, scenario, error, _rate(
+                    [_t_tost(b - a, v.RATE_MARGIN) == error for a, b in data]), math.nan,
+                    "reported"))
+                if change == 0.0 and shape == "rates in fifths":
+                    rows.append(_row(rule, nest, scenario, "reproduced",
+                                     _rate([o.verdict == v.REPRODUCED for o in out]),
+                                     math.nan, "power"))
     return rows
 
 
@@ -450,7 +564,7 @@ def _shapes(nest, rng, n):
 
 
 RULES = (_directional, _against_random, _equivalence, _band, _sectors, _paired, _senses,
-         _shapes)
+         _shapes, _paired_rates)
 
 
 def calibrate(nestings=NESTINGS, datasets: int = DATASETS, seed: int = 2013,

@@ -217,6 +217,10 @@ def _not_run(claim: Claim, missing: str) -> dict:
 #: The ``measured`` of a claim its measure cannot test (``Claim.untestable``): never judged,
 #: its verdict "not run", counted apart from those without data.
 UNTESTABLE = "cannot be tested with this measure: "
+#: The count of such claims (``summary``), apart from those not run for want of data.
+CANNOT = "cannot be tested"
+#: What ``summary`` counts, in order: every verdict, then the claims that cannot be tested.
+COUNTED = VERDICTS + (CANNOT,)
 
 
 def _judge_two(claim: Claim):
@@ -470,13 +474,18 @@ def reading(found: pl.DataFrame, who: str = ROBOTS) -> pl.DataFrame:
 
 def summary(found: pl.DataFrame, who: str = ROBOTS) -> dict[str, int]:
     """How many of ``who``'s claims (``reading``; default the paper's of its robots, the
-    headline) got each verdict, and how many decided ones survive Holm's adjustment
+    headline) got each verdict (``COUNTED``: "not run" is the claims without data, those
+    their measure cannot test, ``UNTESTABLE``, are counted apart as ``CANNOT``), and how many decided ones survive Holm's adjustment
     (``reproduced (Holm)``, ``contradicted (Holm)``; claims without a p, the band and
     every-sector rules, count as surviving only raw; Holm's family is the headline, so the
     other readings have none)."""
     rows = reading(found, who)
     counts = dict(rows.group_by("verdict").len().iter_rows())
     out = {v: int(counts.get(v, 0)) for v in VERDICTS}
+    cannot = rows.filter((pl.col("verdict") == NOT_RUN)
+                         & pl.col("measured").str.starts_with(UNTESTABLE)).height
+    out[NOT_RUN] -= cannot
+    out[CANNOT] = cannot
     out["reproduced (Holm)"] = rows.filter((pl.col("verdict") == verdicts.REPRODUCED)
                                            & (pl.col("p_holm") < ALPHA)).height
     out["contradicted (Holm)"] = rows.filter((pl.col("verdict") == verdicts.CONTRADICTED)

@@ -10,7 +10,7 @@ import math
 import numpy as np
 from scipy.stats import rankdata
 
-from .verdict_core import (ALPHA, CONTRADICTED, INCONCLUSIVE, MIN_UNITS, PAIRED_MARGIN,
+from .verdict_core import (ALPHA, CONTRADICTED, INCONCLUSIVE, PAIRED_MARGIN,
                        RATE_MARGIN, REPRODUCED, UNDERPOWERED, Outcome, no_spread, normal_sf,
                        tie_sum, finite, friedman, signed_rank_distribution, smallest_friedman_p,
                        smallest_signed_rank_p, t_cdf, t_quantile, t_sf, walsh_median)
@@ -76,7 +76,8 @@ def paired_directional(reference, changed, sign: int, level: float = ALPHA) -> O
 
 def paired_tost(reference, changed, bound: float) -> tuple[float, float, float, float, float]:
     """Two one-sided paired t-tests of the mean change against +-``bound``: (p of
-    equivalence, p of a difference (two-tailed), mean change, its 90 % interval)."""
+    equivalence, p of a difference (two-tailed), mean change, its 90 % interval). The rule
+    before ``sign_flip_tost`` (its calibration rows are reported beside the rule's)."""
     d = np.asarray(changed, float) - np.asarray(reference, float)
     d = d[np.isfinite(d)]
     n, mean, sd = len(d), float(d.mean()), float(d.std(ddof=1))
@@ -87,6 +88,79 @@ def paired_tost(reference, changed, bound: float) -> tuple[float, float, float, 
     p_diff = 2 * t_sf(abs(mean) / se, n - 1)
     half = t_quantile(1 - ALPHA, n - 1) * se
     return p_eq, p_diff, mean, mean - half, mean + half
+
+
+#: Units up to which ``sign_flip_tost`` enumerates every sign vector (2^16); beyond (the
+#: robot-level analyses beside the headline), ``FLIPS`` random ones drawn from ``FLIP_SEED``.
+EXACT_FLIP_UNITS = 16
+FLIPS = 9_999
+FLIP_SEED = 2013
+
+
+def _flipped_sets(d: np.ndarray) -> tuple[np.ndarray, np.ndarray, int]:
+    """The sums and sizes of the units whose sign a sign vector flips, over every sign
+    vector but the identity (exact up to ``EXACT_FLIP_UNITS`` units), or over ``FLIPS``
+    random ones (the empty set included, as drawn), and the count of vectors a p is over."""
+    n = len(d)
+    if n <= EXACT_FLIP_UNITS:
+        sums, sizes = np.zeros(1), np.zeros(1)
+        for x in d:
+            sums, sizes = np.concatenate([sums, sums + x]), np.concatenate([sizes, sizes + 1])
+        return sums[1:], sizes[1:], 2 ** n
+    flips = np.random.default_rng(FLIP_SEED).random((FLIPS, n)) < 0.5
+    return flips @ d, flips.sum(axis=1).astype(float), FLIPS + 1
+
+
+def sign_flip_tost(d, bound: float, confidence: float = 1 - 2 * ALPHA
+                   ) -> tuple[float, float, float, float]:
+    """The exact sign-flip test of paired changes ``d`` (Fisher's, on their sum; exact for
+    changes symmetric about their centre, whatever their shape, ties and zeros included) as
+    two one-sided tests against +-``bound`` and as a test of no change: (p of equivalence,
+    p of a difference (two-tailed), and the interval of the centre at ``confidence`` that
+    inverts the one-sided tests). A sign vector flips a set F of units; the sum of the
+    flipped changes less the bound is below the observed one exactly when the mean of d over
+    F is at least the bound, so each p counts the sets F whose mean lies beyond (ties count
+    against the claim) and the interval's ends are order statistics of those means."""
+    d = finite(d)
+    sums, sizes, total = _flipped_sets(d)
+    tol = 1e-9 * max(1.0, float(np.abs(d).sum()))
+    means = sums / np.where(sizes > 0, sizes, 1)
+    empty = sizes == 0  # an empty flipped set (random draws only): in every tail
+    p_upper = (1 + np.count_nonzero((sums >= bound * sizes - tol) | empty)) / total
+    p_lower = (1 + np.count_nonzero((sums <= -bound * sizes + tol) | empty)) / total
+    p_more = (1 + np.count_nonzero(sums <= tol)) / total
+    p_less = (1 + np.count_nonzero(sums >= -tol)) / total
+    # the one-sided tests at (1 - confidence) / 2 reject a centre beyond the k-th most
+    # extreme mean, k the most sets whose count still gives p below that level
+    k = math.ceil((1 - confidence) / 2 * total - 1) - 1
+    ordered = np.sort(means[~empty])
+    low = float(ordered[k]) if 0 <= k < len(ordered) else -math.inf
+    high = float(ordered[len(ordered) - 1 - k]) if 0 <= k < len(ordered) else math.inf
+    return (float(max(p_upper, p_lower)), float(min(1.0, 2 * min(p_more, p_less))), low,
+            high)
+
+
+def _equivalence(d: np.ndarray, bound: float, what: str) -> Outcome:
+    """The verdict of a claim of no change on the changes ``d`` within +-``bound``
+    (``sign_flip_tost``): underpowered where a difference could not be shown even with every
+    change of one sign (``smallest_signed_rank_p``: 2 / 2^n, fewer than 6 pairs);
+    inconclusive without spread (no evidence); reproduced when both one-sided tests reject,
+    contradicted when the test of no change does, else inconclusive."""
+    n = len(d)
+    if smallest_signed_rank_p(n) >= ALPHA:
+        return Outcome(UNDERPOWERED, effect=float(d.mean()) if n else math.nan,
+                       note=f"{n} pairs: the smallest possible p of the sign-flip test is "
+                            f"{smallest_signed_rank_p(n):.2g} (two-tailed), "
+                            f"{smallest_signed_rank_p(n) / 2:.2g} (one-sided)")
+    if no_spread(d):
+        return Outcome(INCONCLUSIVE, effect=float(d.mean()),
+                       note="every unit changed alike: no evidence")
+    p_eq, p_diff, low, high = sign_flip_tost(d, bound)
+    verdict = (REPRODUCED if p_eq < ALPHA else CONTRADICTED if p_diff < ALPHA
+               else INCONCLUSIVE)
+    return Outcome(verdict, p_eq, float(d.mean()), low, high, 1 - 2 * ALPHA, p_diff,
+                   note=f"{what} within +-{bound:.3g} (exact sign-flip test, {n} pairs); "
+                        f"difference p = {p_diff:.2g}")
 
 
 def relative_changes(reference, changed) -> np.ndarray:
@@ -100,30 +174,20 @@ def relative_changes(reference, changed) -> np.ndarray:
 
 def paired_equivalent(reference, changed, margin: float = PAIRED_MARGIN,
                       relative: bool = False) -> Outcome:
-    """Claim: ``changed`` is substantially the same as ``reference`` (paired). Two one-sided
-    paired t-tests (Lakens 2017) of the mean change against +-``margin`` x |median of the
-    reference|, or with ``relative`` of the mean of each unit's change relative to its own
-    level (``relative_changes``) against +-``margin`` (a still replication and a babbling one
-    each keep their own scale: a margin from the median of a group of two strategies lies
-    between them, too wide for the one and too narrow for the other): reproduced when both
-    reject; contradicted when the change differs from 0 (t, two-tailed); otherwise
-    inconclusive. Changes without spread are no evidence (inconclusive); underpowered below
-    ``MIN_UNITS`` pairs."""
+    """Claim: ``changed`` is substantially the same as ``reference`` (paired). The exact
+    sign-flip test (``sign_flip_tost``) of the mean change against +-``margin`` x |median of
+    the reference|, or with ``relative`` of the mean of each unit's change relative to its
+    own level (``relative_changes``) against +-``margin`` (a still replication and a babbling
+    one each keep their own scale): reproduced when both one-sided tests reject; contradicted
+    when the change differs from 0 (two-tailed); otherwise inconclusive; the interval is the
+    centre's 90 %. Underpowered below 6 pairs (``_equivalence``: the smallest one-sided p of
+    4 pairs is 1/16), whatever the data; changes without spread are no evidence."""
     ref, new = np.asarray(reference, float), np.asarray(changed, float)
     keep = np.isfinite(ref) & np.isfinite(new)
     ref, new = ref[keep], new[keep]
-    if len(ref) < MIN_UNITS:
-        return Outcome(UNDERPOWERED, note=f"{len(ref)} pairs")
     d = relative_changes(ref, new) if relative else new - ref
-    if no_spread(d):
-        return Outcome(INCONCLUSIVE, effect=float(d.mean()),
-                       note="every unit changed alike: no evidence")
-    bound = margin if relative else margin * abs(float(np.median(ref)))
-    p_eq, p_diff, mean, low, high = paired_tost(np.zeros_like(d), d, bound)
-    verdict = (REPRODUCED if p_eq < ALPHA else CONTRADICTED if p_diff < ALPHA
-               else INCONCLUSIVE)
-    return Outcome(verdict, p_eq, mean, low, high, 1 - 2 * ALPHA, p_diff,
-                   note=f"margin +-{bound:.3g}; difference p = {p_diff:.2g}")
+    bound = margin if relative else margin * abs(float(np.median(ref))) if len(ref) else margin
+    return _equivalence(d, bound, "relative change" if relative else "change")
 
 
 def paired_rate_equivalent(reference, changed, margin: float = RATE_MARGIN) -> Outcome:
@@ -132,27 +196,19 @@ def paired_rate_equivalent(reference, changed, margin: float = RATE_MARGIN) -> O
     rate is its mean over its trials, and a condition whose trials repeat one another, as the
     ball-absent ones do (the scene is the same in every trial and the controller is
     deterministic, so a robot's 45 no-ball trials are one trial 45 times), adds nothing to n:
-    n is the units, never the trials). Judged on the rate's own scale: two one-sided paired
-    t-tests (Lakens 2017; ``statsmodels.stats.weightstats.ttost_paired``, tested equal) of the
-    mean absolute change against +-``margin`` (``RATE_MARGIN``, rate units, fixed from the
-    paper): reproduced when both reject; contradicted when the mean change differs from 0
-    (paired t, two-tailed); otherwise inconclusive. A unit at 0 is a level like any other
-    (the relative change of ``paired_equivalent(relative=True)`` is -2 there). Underpowered
-    below ``MIN_UNITS`` pairs; changes without spread are no evidence (inconclusive)."""
+    n is the units, never the trials). Judged on the rate's own scale: the exact sign-flip
+    test (``sign_flip_tost``) of the mean absolute change against +-``margin``
+    (``RATE_MARGIN``, rate units, fixed from the paper): reproduced when both one-sided tests
+    reject; contradicted when the change differs from 0 (two-tailed); otherwise inconclusive.
+    A unit at 0 is a level like any other (the relative change of
+    ``paired_equivalent(relative=True)`` is -2 there). Underpowered below 6 pairs, whatever
+    the data; changes without spread are no evidence (inconclusive). The test is exact for
+    changes symmetric about their centre (rates in fifths, still replications, two-mode
+    changes); where a few replications change much and the rest not at all, its level is not
+    held (docs/results/calibration.md)."""
     ref, new = np.asarray(reference, float), np.asarray(changed, float)
     keep = np.isfinite(ref) & np.isfinite(new)
-    ref, new = ref[keep], new[keep]
-    if len(ref) < MIN_UNITS:
-        return Outcome(UNDERPOWERED, note=f"{len(ref)} pairs")
-    d = new - ref
-    if no_spread(d):
-        return Outcome(INCONCLUSIVE, effect=float(d.mean()),
-                       note="every unit changed alike: no evidence")
-    p_eq, p_diff, mean, low, high = paired_tost(ref, new, margin)
-    verdict = (REPRODUCED if p_eq < ALPHA else CONTRADICTED if p_diff < ALPHA
-               else INCONCLUSIVE)
-    return Outcome(verdict, p_eq, mean, low, high, 1 - 2 * ALPHA, p_diff,
-                   note=f"rate change within +-{margin:g}; difference p = {p_diff:.2g}")
+    return _equivalence(new[keep] - ref[keep], margin, "rate change")
 
 
 # ------------------------------------------------------------------------------ paired blocks
@@ -160,8 +216,10 @@ def senses_differ(matrix, level: float = ALPHA, margin: float = PAIRED_MARGIN) -
     """Claim: the treatments (columns, e.g. the four sensory conditions) differ, each row a
     block (a replication under every condition). Friedman's test; effect: Kendall's W (0: no
     agreement, 1: every block ranks the treatments alike). Contradicted when every pair of
-    treatments is equivalent (paired TOST within ``margin`` x |median of the pair's first|;
-    the largest p of the pairs, an intersection-union test); otherwise inconclusive."""
+    treatments is equivalent (the exact sign-flip test of each pair's changes within
+    ``margin`` x |median of the pair's first|, ``sign_flip_tost``; the largest p of the pairs,
+    an intersection-union test; never below 6 blocks, where no such test can decide);
+    otherwise inconclusive."""
     x = np.asarray(matrix, float)
     x = x[np.isfinite(x).all(axis=1)]
     n, k = x.shape
@@ -173,8 +231,9 @@ def senses_differ(matrix, level: float = ALPHA, margin: float = PAIRED_MARGIN) -
                        note="every value equal: no evidence")
     chi2, p = friedman(x)
     w = chi2 / (n * (k - 1))
-    p_same = max(paired_tost(x[:, i], x[:, j], margin * abs(float(np.median(x[:, i]))))[0]
-                 for i in range(k) for j in range(i + 1, k)) if n >= MIN_UNITS else 1.0
+    p_same = max(sign_flip_tost(x[:, j] - x[:, i], margin * abs(float(np.median(x[:, i]))))[0]
+                 for i in range(k) for j in range(i + 1, k)) \
+        if smallest_signed_rank_p(n) < ALPHA else 1.0
     verdict = (REPRODUCED if p < ALPHA else CONTRADICTED if p_same < ALPHA else INCONCLUSIVE)
     return Outcome(verdict, float(p), w, p_against=p_same, paper_level_met=bool(p < level),
                    note=f"{n} blocks x {k} conditions; all pairs equivalent p = {p_same:.2g}")

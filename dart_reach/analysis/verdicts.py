@@ -29,13 +29,14 @@ data like the runs' (``calibration``; the table in docs/results/calibration.md).
   intersection-union test); contradicted when some cell's upper bound, Bonferroni-adjusted
   over the cells, is below it.
 - ``paired_directional`` / ``paired_equivalent`` / ``paired_rate_equivalent``: the same units
-  under two conditions or at two moments: Wilcoxon signed-rank (exact without ties) / two
-  one-sided paired t-tests, of the change relative to each unit's level for a measure / of the
-  absolute change against ``RATE_MARGIN`` for a rate (a rate at 0 is a level like any other;
-  ``paired_verdicts``).
+  under two conditions or at two moments: Wilcoxon signed-rank (exact without ties) / the
+  exact sign-flip test as two one-sided tests (``sign_flip_tost``), of the change relative to
+  each unit's level for a measure / of the absolute change against ``RATE_MARGIN`` for a rate
+  (a rate at 0 is a level like any other; ``paired_verdicts``); each underpowered below 6
+  pairs, where no sign-flip or signed-rank test can reach ``ALPHA``.
 - ``senses_differ``: "performance varies across the sensory conditions": Friedman's test with
-  the replication as block; contradicted when every pair of conditions is equivalent (paired
-  TOST within ``PAIRED_MARGIN``, an intersection-union test).
+  the replication as block; contradicted when every pair of conditions is equivalent (the
+  sign-flip TOST within ``PAIRED_MARGIN``, an intersection-union test; from 6 blocks).
 
 Verdicts (``VERDICTS``): *reproduced* (the data show what the paper says), *contradicted* (they
 show the opposite, or a difference where the paper says none), *inconclusive* (the data cannot
@@ -56,7 +57,7 @@ from . import brunner_munzel
 from .brunner_munzel import probabilistic_index
 from .paired_verdicts import (  # noqa: F401  (re-exported: the paired rules)
     paired_directional, paired_equivalent, paired_rate_equivalent, paired_tost, relative_changes,
-    senses_differ, wilcoxon)
+    senses_differ, sign_flip_tost, wilcoxon)
 from .verdict_core import (  # noqa: F401  (re-exported: the rules' shared names)
     ALPHA, CONTRADICTED, DECIDED, EQUIVALENCE_MARGIN, INCONCLUSIVE, MIN_UNITS, NOT_RUN, Outcome,
     PAIRED_MARGIN, RATE_MARGIN, REPRODUCED, SECTOR_FLOOR, UNDERPOWERED, VERDICTS, finite,

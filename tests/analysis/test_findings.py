@@ -182,7 +182,13 @@ def test_a_claim_its_measure_cannot_test_says_so_and_is_never_judged():
     row = _row(fd.findings(trials), "D2 no touch, pre: reach same")
     assert row["verdict"] == vd.NOT_RUN and math.isnan(row["effect"])
     assert row["measured"].startswith(fd.UNTESTABLE + "a trial reaches")
-    assert [c.id for c in CLAIMS if c.untestable] == ["D2 no touch, pre: reach same"]
+    assert [c.id for c in CLAIMS if c.untestable] == ["A1 ball absent, pre: babbling same",
+                                                      "D2 no touch, pre: reach same"]
+    counts = fd.summary(fd.findings(trials))
+    assert counts[fd.CANNOT] == 2
+    assert counts[vd.NOT_RUN] == fd.reading(fd.findings(trials)).filter(
+        (pl.col("verdict") == vd.NOT_RUN)
+        & ~pl.col("measured").str.starts_with(fd.UNTESTABLE)).height
 
 
 def test_the_elbow_is_locked_against_the_same_robots_shoulder():
@@ -217,11 +223,11 @@ def test_holm_family_is_the_papers_claims_and_the_summary_counts_it():
     assert (headline["p_holm"] >= headline["p"]).all()
     counts = fd.summary(found)
     assert counts[vd.REPRODUCED] >= counts["reproduced (Holm)"] >= 1
-    assert sum(counts[v] for v in vd.VERDICTS) == found.filter(
+    assert sum(counts[v] for v in fd.COUNTED) == found.filter(
         ~pl.col("own") & ~pl.col("infants")).height
     for who, rows in ((fd.OWN, found.filter(pl.col("own"))),
                       (fd.INFANTS, found.filter(~pl.col("own") & pl.col("infants")))):
-        assert rows.height > 0 and sum(fd.summary(found, who)[v] for v in vd.VERDICTS) \
+        assert rows.height > 0 and sum(fd.summary(found, who)[v] for v in fd.COUNTED) \
             == rows.height
     assert set(fd.reading(found, fd.INFANTS)["claim"]) == {
         "T2 reach onset", "T6 anticipatory grasp", "T7 smoother reach (infants)",

@@ -8,7 +8,9 @@ a rate's claim of no change judged on the rate's own scale.
   the check can fail.
 - ``not_better`` runs its permutation test once.
 - The A1/A3 rule (``verdicts.paired_rate_equivalent``): a unit at 0 against a unit at 1/225
-  is not a difference; the rule is statsmodels' paired TOST.
+  is not a difference; the rule is the exact sign-flip test (scipy's ``permutation_test``)
+  as two one-sided tests, and no paired rule of no change decides below 6 pairs, where the
+  paired t-tests before it "contradicted" two-mode changes a quarter of the time at 3 pairs.
 """
 
 from __future__ import annotations
@@ -17,7 +19,7 @@ from unittest import mock
 
 import numpy as np
 import pytest
-from statsmodels.stats.weightstats import ttost_paired
+from scipy.stats import permutation_test
 
 from dart_reach.analysis import brunner_munzel
 from dart_reach.analysis import calibration as cal
@@ -127,15 +129,52 @@ def test_a_rate_that_rises_by_a_quarter_is_a_difference():
     assert out.verdict == v.CONTRADICTED and out.effect == pytest.approx(0.25, abs=0.05)
 
 
+def _flip_p(d, alternative):
+    """scipy's exact sign-flip test of the sum of ``d`` (every one of the 2^n sign vectors)."""
+    return permutation_test((np.asarray(d, float),), np.sum, permutation_type="samples",
+                            alternative=alternative, n_resamples=np.inf).pvalue
+
+
 @pytest.mark.parametrize("seed", range(5))
-def test_the_rate_rule_is_statsmodels_paired_tost(seed):
+def test_the_rate_rule_is_scipys_exact_sign_flip_test(seed):
+    """Both one-sided p (the changes less / plus the margin) and the two-tailed p of a
+    difference are scipy's exact permutation test of the changes' signs; the interval's ends
+    are the centres where the one-sided tests stop rejecting."""
     rng = np.random.default_rng(seed)
     ref = rng.uniform(0, 1, 10)
     new = np.clip(ref + rng.normal(0.03 * seed, 0.08, 10), 0, 1)
+    d = new - ref
     out = v.paired_rate_equivalent(ref, new)
-    p, _, _ = ttost_paired(new, ref, -v.RATE_MARGIN, v.RATE_MARGIN)
-    assert out.p == pytest.approx(p, rel=1e-10)
-    assert out.effect == pytest.approx(np.mean(new - ref), abs=1e-15)
+    p_eq = max(_flip_p(d - v.RATE_MARGIN, "less"), _flip_p(d + v.RATE_MARGIN, "greater"))
+    assert out.p == pytest.approx(p_eq, rel=1e-12)
+    assert out.p_against == pytest.approx(_flip_p(d, "two-sided"), rel=1e-12)
+    assert out.effect == pytest.approx(np.mean(d), abs=1e-15)
+    eps = 1e-9
+    assert _flip_p(d - (out.high + eps), "less") < v.ALPHA <= _flip_p(d - (out.high - eps),
+                                                                       "less")
+    assert _flip_p(d - (out.low - eps), "greater") < v.ALPHA <= _flip_p(d - (out.low + eps),
+                                                                        "greater")
+
+
+@pytest.mark.parametrize("pairs", [3, 4, 5])
+def test_no_paired_rule_of_no_change_decides_below_6_pairs(pairs):
+    """Two-mode changes all in one mode (the luck of 1 in 2^(n - 1) under no change) and
+    changes at 0: underpowered whatever the data, the note giving the smallest p; the paired
+    t TOST before decided both (a difference, and no change)."""
+    rng = np.random.default_rng(pairs)
+    ref = rng.uniform(0.3, 0.6, pairs)
+    one_mode = ref + 0.15 + rng.normal(0, 0.005, pairs)
+    same = ref + rng.normal(0, 0.005, pairs)
+    for new in (one_mode, same):
+        for out in (v.paired_rate_equivalent(ref, new),
+                    v.paired_equivalent(ref, new, relative=True)):
+            assert out.verdict == v.UNDERPOWERED, out
+            assert f"{pairs} pairs: the smallest possible p" in out.note
+    assert cal._t_tost(one_mode - ref, v.RATE_MARGIN) == v.CONTRADICTED
+    assert cal._t_tost(same - ref, v.RATE_MARGIN) == v.REPRODUCED
+    six = rng.uniform(0.3, 0.6, 6)
+    assert v.paired_rate_equivalent(six, six + 0.15 + rng.normal(0, 0.005, 6)).verdict \
+        == v.CONTRADICTED
 
 
 def test_the_rate_rule_is_underpowered_or_no_evidence_where_it_should_be():
