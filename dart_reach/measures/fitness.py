@@ -1,7 +1,7 @@
 """The terms of a trial's fitness (paper section III-C, Eq. 5), taken apart.
 
 Eq. 5 scores each step t by p_multimodal(t) = min(p_sight(t), p_touch(t)) and a trial by the
-mean of p_multimodal over its T steps. Here (``model.sensors``) p_sight is the closeness of the
+mean of p_multimodal over its T steps. Here (``model.compiled``) p_sight is the closeness of the
 ball's image to the centre of the visual field, in [0, 1], 0 out of view; p_touch is n / N, the
 fraction of the N = 16 inner faces of the hand's segments (the palm and 15 phalanges) touching
 the ball. A step scores only when the ball is both in sight and touched, so
@@ -25,7 +25,7 @@ import math
 
 import numpy as np
 
-from ..model import sensors
+from ..model.compiled import PAY_CODES, touch_pay
 from ..model.levers import TouchPay
 from .contacts import first_touch, touch_onsets
 from .kinematics import DT
@@ -131,9 +131,9 @@ def fitness_under_touch_pays(data) -> dict[str, float]:
     counts, segments = data.contacts.sum(axis=1).tolist(), data.contacts.shape[1]
     out = {}
     for pay in TouchPay:
-        p_touch = sensors.p_touch_of(pay)
+        code = PAY_CODES[pay]
         p = np.zeros(steps)
         for t in range(int(data.steps_run)):
-            p[t] = sensors.p_multimodal(float(data.p_sight[t]), p_touch(counts[t], segments))
+            p[t] = min(float(data.p_sight[t]), touch_pay(counts[t], segments, code))
         out[f"fitness_{pay.value.replace('-', '_')}"] = 0.0 if data.diverged else float(p.mean())
     return out

@@ -1,10 +1,11 @@
-"""The compiled numerics of model version 2 (``versions.Numerics.COMPILED``): the trial's Python
-around DART's step (the sensors, the network, the fitness terms and the motor commands of one
-0.1 s control step) compiled with Numba, so that a trial costs little more than its physics.
+"""The living model's numerics (model versions 2 and 3, ``versions.Numerics.COMPILED``): the
+trial's Python around DART's step (the sensors, the network, the fitness terms and the motor
+commands of one 0.1 s control step) compiled with Numba, so that a trial costs little more than
+its physics.
 
-Version 2 computes what version 1 computes (``ctrnn``, ``sensors``, ``task``; sections III-B,
-III-C): the same equations, the same physics, the same DART step. Only the rounding may differ,
-and it is the same on every processor, by construction:
+Version 2 computes what version 1 computes (its frozen code: ``model.reference``; sections
+III-B, III-C): the same equations, the same physics, the same DART step. Only the rounding may
+differ, and it is the same on every processor, by construction:
 
 - every sum is taken in index order, every product and quotient as written: compiled without
   ``fastmath``, LLVM may neither reorder nor fuse (no FMA) floating-point operations, so the
@@ -27,8 +28,8 @@ are pulled toward the motors' commanded positions by joint forces k q_cmd, their
 positions held at 0 (``spring_forces``): the same force, and DART does not prepare its world
 again at every control step, as it does after a new rest position.
 
-Version 1 keeps its own code and digests (``ctrnn.Network``, ``task.Trial.sense``): every run
-trained under it reproduces bit for bit.
+Version 1 keeps its own code, frozen in ``model.reference``, and its digests: every run trained
+under it reproduces bit for bit.
 """
 
 from __future__ import annotations
@@ -94,7 +95,7 @@ def logistic(z: float) -> float:
 @njit(cache=True)
 def _network_step(sensors_in, in_scale, w_sm, w_sh, w_hm, bias_h, bias_m, gain_h, tau_h, tau_m,
                   hidden_frozen, x, hidden, motor):
-    """One 0.1 s update of the network (``ctrnn.Network.step``'s equation), in place on
+    """One 0.1 s update of the network (``ctrnn.Network``'s update equation), in place on
     ``hidden`` and ``motor``; every sum in index order: the sensors', then the internal
     neurons'."""
     for j in range(N_SENSORS):
@@ -127,8 +128,8 @@ def targets_of_motor(motor, targets):
 
 
 class CompiledNetwork(Network):
-    """``ctrnn.Network`` (section III-B, Fig. 3) stepped by compiled code (model version 2):
-    the same parameters, reflexes, states and interface; ``step`` allocates nothing."""
+    """``ctrnn.Network`` (section III-B, Fig. 3) stepped by compiled code (the living model,
+    model versions 2 and 3); ``step`` allocates nothing."""
 
     def __init__(self, params: NetworkParams, *, reflexes: bool = False,
                  hidden_frozen: bool = False, reflex_inputs: ReflexInputs = ReflexInputs.HAND_SET):
@@ -185,6 +186,32 @@ def _in_camera(p, cam, out):
 
 
 @njit(cache=True)
+def project(x, y, z):
+    """Normalised image coordinates (c_x, c_y, in view) of a point (x, y, z) (m) in the head
+    camera's frame (+z the optical axis, +x right, +y down; section III-B): c_x = (x / z) /
+    tan(56 deg) (+ right), c_y = -(y / z) / tan(47 deg) (+ up), in view when z > 0 and both
+    lie in [-1, 1]; (0.0, 0.0, False) on or behind the image plane."""
+    if not z > 0.0:
+        return 0.0, 0.0, False
+    cx = (x / z) / _TAN_X
+    cy = -(y / z) / _TAN_Y
+    return cx, cy, abs(cx) <= 1.0 and abs(cy) <= 1.0
+
+
+@njit(cache=True)
+def touch_pay(n, n_segments, pay):
+    """p_touch (section III-C, Eq. 5) of ``n`` of ``n_segments`` hand segments touching the
+    ball on their inner face, in [0, 1], under the ``levers.TouchPay`` of code ``pay``
+    (``PAY_CODES``): n / N (faces), 1 if any (binary), min(n, TOUCH_CAP) / TOUCH_CAP
+    (capped)."""
+    if pay == 0:
+        return n / n_segments
+    if pay == 1:
+        return 1.0 if n > 0 else 0.0
+    return min(n, TOUCH_CAP) / TOUCH_CAP
+
+
+@njit(cache=True)
 def _power(c, a):
     """sgn(c) |c|^a of Eqs. 1-2: a product for a = 1 and a = 3, the C library's pow else."""
     m = abs(c)
@@ -222,11 +249,7 @@ def _sense(positions, ball, cam, hand, touching, motor_dofs, finger_dofs, lower,
         x[_TOUCH0 + i] = _NO_TOUCH if no_touch or not touching[touch_segments[i]] else _TOUCHING
     ball_cam = scratch[0:3]
     _in_camera(ball, cam, ball_cam)
-    cx, cy, visible = 0.0, 0.0, False
-    if ball_cam[2] > 0.0:
-        cx = (ball_cam[0] / ball_cam[2]) / _TAN_X
-        cy = -(ball_cam[1] / ball_cam[2]) / _TAN_Y
-        visible = abs(cx) <= 1.0 and abs(cy) <= 1.0
+    cx, cy, visible = project(ball_cam[0], ball_cam[1], ball_cam[2])
     if no_sight or not visible:
         x[SIGHT_X] = x[SIGHT_Y] = x[SIGHT_DISTANCE] = _NO_SIGHT
     else:
@@ -242,28 +265,20 @@ def _sense(positions, ball, cam, hand, touching, motor_dofs, finger_dofs, lower,
             palm_world[i] = (hand[i, 0] * palm[0] + hand[i, 1] * palm[1] + hand[i, 2] * palm[2]
                              ) + hand[i, 3]
         _in_camera(palm_world, cam, hand_cam)
-        if hand_cam[2] > 0.0:
-            hx = (hand_cam[0] / hand_cam[2]) / _TAN_X
-            hy = -(hand_cam[1] / hand_cam[2]) / _TAN_Y
-            if abs(hx) <= 1.0 and abs(hy) <= 1.0:
-                d = (math.atan2(ball_cam[0], ball_cam[2]) * _DEGREES
-                     - math.atan2(hand_cam[0], hand_cam[2]) * _DEGREES)
-                x[OFFSET_X] = _OFFSET_SCALE * min(max(d, -_OFFSET_D_MAX), _OFFSET_D_MAX)
-                d = (math.atan2(-ball_cam[1], ball_cam[2]) * _DEGREES
-                     - math.atan2(-hand_cam[1], hand_cam[2]) * _DEGREES)
-                x[OFFSET_Y] = _OFFSET_SCALE * min(max(d, -_OFFSET_D_MAX), _OFFSET_D_MAX)
+        if project(hand_cam[0], hand_cam[1], hand_cam[2])[2]:
+            d = (math.atan2(ball_cam[0], ball_cam[2]) * _DEGREES
+                 - math.atan2(hand_cam[0], hand_cam[2]) * _DEGREES)
+            x[OFFSET_X] = _OFFSET_SCALE * min(max(d, -_OFFSET_D_MAX), _OFFSET_D_MAX)
+            d = (math.atan2(-ball_cam[1], ball_cam[2]) * _DEGREES
+                 - math.atan2(-hand_cam[1], hand_cam[2]) * _DEGREES)
+            x[OFFSET_Y] = _OFFSET_SCALE * min(max(d, -_OFFSET_D_MAX), _OFFSET_D_MAX)
     p_sight = 0.0
     if visible:
         p_sight = max(0.0, 1.0 - math.sqrt(cx * cx + cy * cy) / _SQRT2)
     n = 0
     for i in range(touching.shape[0]):
         n += 1 if touching[i] else 0
-    if pay == 0:
-        p_touch = n / touching.shape[0]
-    elif pay == 1:
-        p_touch = 1.0 if n > 0 else 0.0
-    else:
-        p_touch = min(n, TOUCH_CAP) / TOUCH_CAP
+    p_touch = touch_pay(n, touching.shape[0], pay)
     p[0], p[1], p[2] = p_sight, p_touch, min(p_sight, p_touch)
     return finite
 

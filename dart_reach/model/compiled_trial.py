@@ -166,7 +166,7 @@ class CompiledSteps:
 
     def act(self, network: Network) -> bool:
         """The network's update from ``x`` and its targets into ``targets`` (``act_step``)."""
-        if type(network) is not CompiledNetwork:  # a version 1 network: its own step
+        if type(network) is not CompiledNetwork:  # another controller: its own step
             return targets_of_motor(network.step(self.x), self.targets)
         return act_step(self.state, network.state)
 
@@ -174,7 +174,7 @@ class CompiledSteps:
         """``Trial.fitness``'s loop after the reset, to the last bit: per control step
         ``sense``, ``act`` and ``command`` in one compiled call (``control_step``, the same
         step functions), p_multimodal into ``p`` (one per step), then ``advance``'s substeps;
-        None for a network of version 1, which the trial steps by its own loop."""
+        None for another controller, which the trial steps by its own loop."""
         if type(network) is not CompiledNetwork:
             return None
         w = self.world

@@ -10,6 +10,7 @@ Layout of the layers (shared by sensors, task, genome and recording):
 
 from __future__ import annotations
 
+import abc
 from dataclasses import dataclass
 
 import numpy as np
@@ -244,23 +245,6 @@ def reflex_biases() -> tuple[np.ndarray, np.ndarray]:
 
 #: Motor neuron state after ``Network.reset()``: target 0, the middle of every joint's range.
 RESET_MOTOR_STATE = 0.5
-#: Inputs of the logistic are clipped to +-this (sigma(500) == 1.0 in float64; avoids overflow
-#: warnings in exp without changing any representable result that matters).
-_SIGMOID_CLIP = 500.0
-
-
-def sigmoid(z, out=None) -> np.ndarray:
-    """The logistic sigma(z) = 1 / (1 + exp(-z)) of the update equation (section III-B),
-    elementwise; ``out`` may be ``z`` itself (in place)."""
-    out = np.array(z, dtype=float) if out is None else out
-    if out is not z:
-        out[...] = z
-    out.clip(-_SIGMOID_CLIP, _SIGMOID_CLIP, out=out)  # np.clip without its wrapper
-    np.negative(out, out=out)
-    np.exp(out, out=out)
-    out += 1.0
-    np.reciprocal(out, out=out)
-    return out
 
 
 def motor_targets(motor_state, out=None) -> np.ndarray:
@@ -272,8 +256,11 @@ def motor_targets(motor_state, out=None) -> np.ndarray:
     return out
 
 
-class Network:
-    """The controller of Fig. 3 (section III-B), stepped once per 0.1 s.
+class Network(abc.ABC):
+    """The controller of Fig. 3 (section III-B), stepped once per 0.1 s: its parameters and
+    states; its ``step`` is a model version's numerics (``task.network_for`` builds the one of
+    a trial: ``compiled.CompiledNetwork``, the living model, or version 1's frozen
+    ``reference.network.ReferenceNetwork``).
 
     25 sensory neurons (the sensor values; the two sight-offset values are multiplied by
     ``gain_offset``) project to 8 internal and 14 motor neurons; the internal neurons project to
@@ -323,15 +310,9 @@ class Network:
         self._gain_h = f(params.gain_hidden)
         self._tau_h = f(params.tau_hidden)
         self._tau_m = f(params.tau_motor)
-        self._one_minus_tau_h = 1.0 - self._tau_h
-        self._one_minus_tau_m = 1.0 - self._tau_m
         self._in_scale = np.ones(N_SENSORS)
         self._in_scale[OFFSET] = params.gain_offset
-        # Preallocated buffers of the step.
-        self._x = np.zeros(N_SENSORS)
-        self._s_h = np.zeros(N_HIDDEN)
-        self._s_m = np.zeros(N_MOTORS)
-        self._from_hidden = np.zeros(N_MOTORS)
+        self._x = np.zeros(N_SENSORS)  # the sensor values times their gains, of the last step
         self.hidden = np.zeros(N_HIDDEN)
         self.motor = np.full(N_MOTORS, RESET_MOTOR_STATE)
 
@@ -361,32 +342,7 @@ class Network:
             raise ValueError(f"motor reset state must lie in [0, 1], got {m}")
         self.motor[:] = m
 
+    @abc.abstractmethod
     def step(self, sensors: np.ndarray) -> np.ndarray:
         """One 0.1 s update from the 25 sensor values at time t; returns ``self.motor`` (14,)
-        in [0, 1] (the same array every call, updated in place). Allocates nothing."""
-        if type(sensors) is not np.ndarray or sensors.shape != (N_SENSORS,):
-            sensors = np.asarray(sensors, dtype=float)
-            if sensors.shape != (N_SENSORS,):
-                raise ValueError(f"expected {N_SENSORS} sensor values, got shape {sensors.shape}")
-        x = self._x
-        np.multiply(sensors, self._in_scale, out=x)
-        s_m = self._s_m
-        np.matmul(self._w_sm, x, out=s_m)
-        if not self.hidden_frozen:
-            h, s_h = self.hidden, self._s_h
-            np.matmul(self._w_sh, x, out=s_h)
-            s_h -= self._bias_h
-            sigmoid(s_h, out=s_h)
-            s_h *= self._gain_h
-            h *= self._tau_h
-            s_h *= self._one_minus_tau_h
-            h += s_h
-            np.matmul(self._w_hm, h, out=self._from_hidden)
-            s_m += self._from_hidden
-        s_m -= self._bias_m
-        sigmoid(s_m, out=s_m)
-        m = self.motor
-        m *= self._tau_m
-        s_m *= self._one_minus_tau_m
-        m += s_m
-        return m
+        in [0, 1] (the same array every call, updated in place)."""

@@ -1,13 +1,13 @@
 """The world's layout: which skeleton indices the model's quantities live at (section III-B).
 
 ``WorldLayout`` is the one public description of a built ``world.World`` that the trial's
-step functions read, under either numerics (``steps.ReferenceSteps``, ``compiled_trial.
-CompiledSteps``): the degrees of freedom of the 14 motors, the motors' ranges and speed cap,
-the springs' stiffness, the bodies of the camera, the hand, the shoulder and the 16 hand
-segments, the segments' inner faces (``icub.INNER_FACES``), the kinematic tree the compiled
-numerics compute the bodies' poses from, and which collision shapes are a hand segment or the
-ball. It is built once by ``World`` from its skeleton and never changes: a frozen dataclass
-whose arrays are read-only.
+step functions read, under either numerics (``compiled_trial.CompiledSteps``, version 1's
+``reference.steps.ReferenceSteps``): the degrees of freedom of the 14 motors, the motors'
+ranges and speed cap, the springs' stiffness, the bodies of the camera, the hand, the shoulder
+and the 16 hand segments, the segments' inner faces (``icub.INNER_FACES``), the kinematic tree
+the compiled numerics compute the bodies' poses from, and which collision shapes are a hand
+segment or the ball. It is built once by ``World`` from its skeleton and never changes: a
+frozen dataclass whose arrays are read-only.
 
 Units: angles in rad, lengths in m, stiffness in N m / rad, ``max_move`` in rad per control
 step (``WorldConfig.max_joint_speed`` x ``control_dt``).

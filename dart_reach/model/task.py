@@ -27,7 +27,7 @@ from ..pinning import require_pinned_kernels
 from .ctrnn import N_HIDDEN, N_MOTORS, N_SENSORS, Network, NetworkParams
 from .icub import HAND_SEGMENTS
 from .levers import NetworkStart, ReflexInputs, TouchPay, coerce_levers
-from .steps import ReferenceSteps, TrialSteps
+from .steps import TrialSteps
 from .versions import Numerics
 from .world import N_SECTORS, World
 
@@ -167,10 +167,10 @@ class Trial:
     the observation; each recorded trial gets its own ``TrialData``).
 
     The per-step work is its ``steps`` (``steps.TrialSteps``), chosen at construction by the
-    config's numerics (``steps_for``): ``steps.ReferenceSteps`` (model version 1) or
-    ``compiled_trial.CompiledSteps`` (version 2). Two ways through the same steps: ``run``
-    keeps every per-step record (post-evaluation, recordings); ``fitness`` keeps only what the
-    fitness needs (the genetic algorithm). Both sense the world and compute the fitness terms
+    config's numerics (``steps_for``): ``compiled_trial.CompiledSteps`` (the living model,
+    versions 2 and 3) or version 1's frozen ``reference.steps.ReferenceSteps``. Two ways
+    through the same steps: ``run`` keeps every per-step record (post-evaluation,
+    recordings); ``fitness`` keeps only what the fitness needs (the genetic algorithm). Both sense the world and compute the fitness terms
     with the same step functions, so a trial's fitness is the same to the last bit either way;
     the Gymnasium environment steps a trial with ``begin``, ``observe`` and ``control``."""
 
@@ -282,12 +282,14 @@ class Trial:
 
 
 def steps_for(world: World, config: TrialConfig) -> TrialSteps:
-    """The steps of ``config.numerics`` (``versions.Numerics``) in ``world``: version 1's
-    ``steps.ReferenceSteps`` or version 2's ``compiled_trial.CompiledSteps``."""
+    """The steps of ``config.numerics`` (``versions.Numerics``) in ``world``: the living
+    model's ``compiled_trial.CompiledSteps`` or version 1's frozen ``reference.steps.
+    ReferenceSteps``."""
     if config.numerics is Numerics.COMPILED:
-        from .compiled_trial import CompiledSteps  # loads Numba: only under version 2
+        from .compiled_trial import CompiledSteps  # loads Numba: only for the living model
         return CompiledSteps(world, config)
     require_pinned_kernels()  # version 1 rounds with numpy's kernels: refuse unpinned ones
+    from .reference.steps import ReferenceSteps  # only for version 1's runs
     return ReferenceSteps(world, config)
 
 
@@ -303,11 +305,13 @@ def trial_positions(world: World, rng: np.random.Generator, trials: int = 18
 
 def network_for(params: NetworkParams, config: TrialConfig) -> Network:
     """The network of ``params`` in the maturational state of ``config`` (reflexes, frozen
-    internal neurons, the reflex motors' inputs), computed by its numerics."""
-    kind = Network
+    internal neurons, the reflex motors' inputs), computed by its numerics: the living
+    model's ``compiled.CompiledNetwork`` or version 1's frozen ``reference.network.
+    ReferenceNetwork``."""
     if config.numerics is Numerics.COMPILED:
-        from .compiled import CompiledNetwork  # loads Numba: only under version 2
-        kind = CompiledNetwork
+        from .compiled import CompiledNetwork as kind  # loads Numba: only for the living model
+    else:
+        from .reference.network import ReferenceNetwork as kind  # only for version 1's runs
     return kind(params, reflexes=config.reflexes, hidden_frozen=config.hidden_frozen,
                    reflex_inputs=config.reflex_inputs)
 

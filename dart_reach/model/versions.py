@@ -27,7 +27,7 @@ class Numerics(enum.Enum):
     network, the fitness terms, the motor commands): the equations are the same, the rounding
     is not.
 
-    - ``REFERENCE`` (version 1): numpy and Python floats (``ctrnn``, ``sensors``, ``task``).
+    - ``REFERENCE`` (version 1): numpy and Python floats, frozen in ``model.reference``.
     - ``COMPILED`` (versions 2 and 3): compiled with Numba, every operation in a fixed order
       and the logistic's exponential written out (``model.compiled``).
     """

@@ -27,7 +27,7 @@ from ..analysis.stats import bootstrap_mean_interval
 from ..evolution.genome import ParamGroup, decode, random_genome
 from ..evolution.settings import standard_trial
 from ..measures.metrics import grasped, trial_metrics
-from ..model import sensors
+from ..model.compiled import project
 from ..model.ctrnn import MOTOR_INDEX, SENSOR_INDEX, motor_targets
 from ..model.levers import ReflexInputs
 from ..model.scripted import ScriptedReach, grasp_posture
@@ -119,7 +119,7 @@ def scene(world: World, grid: int = 7) -> dict:
             for v in fractions:
                 p = world.sector_point(sector, u, v)
                 p_cam = (p - origin) @ R
-                in_view.append(sensors.project(p_cam)[2])
+                in_view.append(project(*p_cam.tolist())[2])
                 distance.append(float(np.linalg.norm(p_cam)))
                 clearance.append(min(_surface_distance(s, p) for s in shapes) - radius)
                 palm_gap.append(float(np.linalg.norm(p - palm)) - radius)
@@ -215,7 +215,7 @@ def _image_offset(world: World, q: np.ndarray, ball: np.ndarray) -> float:
     """|c| of the ball's image with the robot at joint positions ``q`` (inf out of view)."""
     world.robot.setPositions(q)
     cam = world.camera_pose()
-    cx, cy, in_view = sensors.project((ball - cam[:3, 3]) @ cam[:3, :3])
+    cx, cy, in_view = project(*((ball - cam[:3, 3]) @ cam[:3, :3]).tolist())
     return math.hypot(cx, cy) if in_view else math.inf
 
 

@@ -20,8 +20,9 @@ from dart_reach.evolution.settings import Settings, standard_trial, trial_config
 from dart_reach.evolution.conditions import load_condition
 from dart_reach.model import compiled
 from dart_reach.model.compiled_trial import CompiledSteps
-from dart_reach.model.steps import ReferenceSteps
-from dart_reach.model.ctrnn import N_SENSORS, Network, random_params
+from dart_reach.model.ctrnn import N_SENSORS, random_params
+from dart_reach.model.reference.network import ReferenceNetwork
+from dart_reach.model.reference.steps import ReferenceSteps
 from dart_reach.model.versions import Numerics, numerics_of
 from dart_reach.model.task import Trial, network_for
 from dart_reach.model.world import World, WorldConfig
@@ -61,7 +62,7 @@ def test_the_compiled_network_follows_version_1s_equation(reflexes, frozen):
     rng = np.random.default_rng(3)
     for _ in range(5):
         params = random_params(rng)
-        a = Network(params, reflexes=reflexes, hidden_frozen=frozen)
+        a = ReferenceNetwork(params, reflexes=reflexes, hidden_frozen=frozen)
         b = compiled.CompiledNetwork(params, reflexes=reflexes, hidden_frozen=frozen)
         for _ in range(30):
             x = rng.uniform(-1, 1, N_SENSORS)

@@ -11,8 +11,10 @@ import numpy as np
 import pytest
 
 from dart_reach.model import ctrnn
-from dart_reach.model.ctrnn import (MOTOR_INDEX, N_HIDDEN, N_MOTORS, N_SENSORS, SENSOR_INDEX, Network,
-                              NetworkParams)
+from dart_reach.model.compiled import CompiledNetwork
+from dart_reach.model.ctrnn import (MOTOR_INDEX, N_HIDDEN, N_MOTORS, N_SENSORS, SENSOR_INDEX,
+                                    NetworkParams)
+from dart_reach.model.reference.network import ReferenceNetwork, sigmoid
 
 
 def with_(params: NetworkParams, **changes) -> NetworkParams:
@@ -33,7 +35,7 @@ def test_motor_neuron_follows_the_closed_form_under_constant_input():
     p = with_(ctrnn.zero_params(), w_sensor_motor=w,
               bias_motor=np.where(np.arange(N_MOTORS) == 4, -0.4, 0.0),
               tau_motor=np.full(N_MOTORS, tau))
-    net = Network(p)
+    net = ReferenceNetwork(p)
     start = np.full(N_MOTORS, 0.5)
     start[4] = x0
     net.reset(motor=start)
@@ -54,7 +56,7 @@ def test_hidden_neuron_follows_the_closed_form_with_gain():
     w[2, 10] = 2.0
     p = with_(ctrnn.zero_params(), w_sensor_hidden=w, bias_hidden=np.full(N_HIDDEN, 0.5),
               gain_hidden=np.full(N_HIDDEN, 0.6), tau_hidden=np.full(N_HIDDEN, 0.3))
-    net = Network(p)
+    net = ReferenceNetwork(p)
     net.reset()
     sensors = np.zeros(N_SENSORS)
     sensors[10] = -0.5
@@ -66,7 +68,7 @@ def test_hidden_neuron_follows_the_closed_form_with_gain():
 def test_tau_zero_follows_input_at_once_and_tau_one_holds_its_state():
     p = with_(ctrnn.zero_params(), bias_motor=np.full(N_MOTORS, -1.0),
               tau_motor=np.where(np.arange(N_MOTORS) < 7, 0.0, 1.0))
-    net = Network(p)
+    net = ReferenceNetwork(p)
     net.reset(motor=np.full(N_MOTORS, 0.2))
     for _ in range(3):
         m = net.step(np.zeros(N_SENSORS))
@@ -80,7 +82,7 @@ def test_gains():
     # hidden gain 0: the internal neurons' s is 0, so they stay at 0 whatever their input
     rng = np.random.default_rng(3)
     p = with_(ctrnn.random_params(rng), gain_hidden=np.zeros(N_HIDDEN))
-    net = Network(p)
+    net = ReferenceNetwork(p)
     for _ in range(5):
         net.step(rng.uniform(-1, 1, N_SENSORS))
         np.testing.assert_array_equal(net.hidden, 0.0)
@@ -88,7 +90,7 @@ def test_gains():
     w = np.zeros((N_MOTORS, N_SENSORS))
     w[5, 23] = 1.0
     w[6, 24] = 1.0
-    net = Network(with_(ctrnn.zero_params(), w_sensor_motor=w, gain_offset=np.array([2.5, 0.0])))
+    net = ReferenceNetwork(with_(ctrnn.zero_params(), w_sensor_motor=w, gain_offset=np.array([2.5, 0.0])))
     x = np.zeros(N_SENSORS)
     x[23] = x[24] = 0.4
     m = net.step(x)
@@ -103,8 +105,8 @@ def test_hidden_frozen_keeps_internal_neurons_at_zero_and_cuts_their_weights():
     q = with_(p, w_sensor_hidden=rng.uniform(-5, 5, (N_HIDDEN, N_SENSORS)),
               w_hidden_motor=rng.uniform(-5, 5, (N_MOTORS, N_HIDDEN)),
               bias_hidden=rng.uniform(-5, 5, N_HIDDEN))
-    frozen_p, frozen_q = (Network(x, hidden_frozen=True) for x in (p, q))
-    live_p, live_q = Network(p), Network(q)
+    frozen_p, frozen_q = (ReferenceNetwork(x, hidden_frozen=True) for x in (p, q))
+    live_p, live_q = ReferenceNetwork(p), ReferenceNetwork(q)
     for _ in range(20):
         s = rng.uniform(-1, 1, N_SENSORS)
         a, b = frozen_p.step(s), frozen_q.step(s)
@@ -144,7 +146,7 @@ def test_reflexes_override_evolved_weights_on_masked_connections_only():
     p = ctrnn.random_params(rng)
     mask, w = ctrnn.reflex_weights()
     bmask, b = ctrnn.reflex_biases()
-    on, off = Network(p, reflexes=True), Network(p, reflexes=False)
+    on, off = ReferenceNetwork(p, reflexes=True), ReferenceNetwork(p, reflexes=False)
     np.testing.assert_array_equal(on.effective_w_sensor_motor[mask], w[mask])
     np.testing.assert_array_equal(on.effective_w_sensor_motor[~mask], p.w_sensor_motor[~mask])
     np.testing.assert_array_equal(off.effective_w_sensor_motor, p.w_sensor_motor)
@@ -161,7 +163,7 @@ def test_reflexes_override_evolved_weights_on_masked_connections_only():
 
 
 def test_grasp_reflex_closes_the_hand_on_palm_touch():
-    net = Network(ctrnn.zero_params(), reflexes=True)  # tau = 0, no other input
+    net = ReferenceNetwork(ctrnn.zero_params(), reflexes=True)  # tau = 0, no other input
     hand = MOTOR_INDEX["r_hand_fingers"]
     x = np.zeros(N_SENSORS)
     x[14:20] = -1.0
@@ -174,7 +176,7 @@ def test_grasp_reflex_closes_the_hand_on_palm_touch():
 
 
 def test_orienting_reflex_holds_home_and_moves_the_neck_target_by_k_c():
-    net = Network(ctrnn.zero_params(), reflexes=True)  # tau = 0
+    net = ReferenceNetwork(ctrnn.zero_params(), reflexes=True)  # tau = 0
     k = ctrnn.ORIENT_GAIN
     for motor, sight, sign in (("neck_yaw", "sight/x", ctrnn.ORIENT_YAW_SIGN),
                                ("neck_pitch", "sight/y", ctrnn.ORIENT_PITCH_SIGN)):
@@ -239,8 +241,10 @@ def reference_trajectory(p: NetworkParams, inputs, reflexes: bool, hidden_frozen
     return rows
 
 
+@pytest.mark.parametrize("kind", [ReferenceNetwork, CompiledNetwork])
 @pytest.mark.parametrize("reflexes,hidden_frozen", [(True, False), (False, False), (True, True)])
-def test_network_matches_an_independent_per_neuron_loop(reflexes, hidden_frozen):
+def test_network_matches_an_independent_per_neuron_loop(reflexes, hidden_frozen, kind):
+    """Both numerics: the living model's (compiled) and version 1's frozen one."""
     rng = np.random.default_rng(2013)
     p = ctrnn.random_params(rng)
     # weights small enough that the trajectory is not saturated and every term matters
@@ -248,7 +252,7 @@ def test_network_matches_an_independent_per_neuron_loop(reflexes, hidden_frozen)
               gain_offset=np.array([0.7, 1.3]))
     inputs = rng.uniform(-1.0, 1.0, (15, N_SENSORS))
     motor0 = rng.uniform(0.0, 1.0, N_MOTORS)
-    net = Network(p, reflexes=reflexes, hidden_frozen=hidden_frozen)
+    net = kind(p, reflexes=reflexes, hidden_frozen=hidden_frozen)
     net.reset(motor=motor0)
     ref = reference_trajectory(p, inputs, reflexes, hidden_frozen, motor0.tolist())
     for s, (h, m) in zip(inputs, ref):
@@ -260,7 +264,7 @@ def test_network_matches_an_independent_per_neuron_loop(reflexes, hidden_frozen)
 
 # ------------------------------------------------------------------ buffers, reset, targets
 def test_step_reuses_its_buffers():
-    net = Network(ctrnn.random_params(np.random.default_rng(1)), reflexes=True)
+    net = ReferenceNetwork(ctrnn.random_params(np.random.default_rng(1)), reflexes=True)
     hidden, motor = net.hidden, net.motor
     s = np.random.default_rng(2).uniform(-1, 1, N_SENSORS)
     out1 = net.step(s)
@@ -276,7 +280,7 @@ def test_step_reuses_its_buffers():
 
 
 def test_reset_states():
-    net = Network(ctrnn.random_params(np.random.default_rng(4)))
+    net = ReferenceNetwork(ctrnn.random_params(np.random.default_rng(4)))
     net.step(np.ones(N_SENSORS))
     net.reset()
     np.testing.assert_array_equal(net.hidden, 0.0)
@@ -292,7 +296,7 @@ def test_reset_states():
 
 
 def test_step_rejects_wrong_sensor_count():
-    net = Network(ctrnn.zero_params())
+    net = ReferenceNetwork(ctrnn.zero_params())
     with pytest.raises(ValueError, match="25"):
         net.step(np.zeros(24))
     net.step([0.0] * N_SENSORS)  # any sequence of 25 numbers is fine
@@ -307,7 +311,7 @@ def test_motor_targets():
 def test_sigmoid_is_finite_and_exact_at_extremes():
     z = np.array([-1e6, -40.0, 0.0, 40.0, 1e6])
     with np.errstate(all="raise"):
-        s = ctrnn.sigmoid(z)
+        s = sigmoid(z)
     assert s[0] >= 0.0 and s[-1] == 1.0 and s[2] == 0.5
     assert s[1] == pytest.approx(sig(-40.0), rel=1e-12)
 
@@ -342,7 +346,7 @@ def test_validate_params_names_field_and_shape(field):
     with pytest.raises(ValueError, match=rf"{field}.*{re_shape(shape)}"):
         ctrnn.validate_params(bad)
     with pytest.raises(ValueError, match=field):
-        Network(bad)
+        ReferenceNetwork(bad)
     nan = np.zeros(shape)
     nan.flat[0] = np.nan
     with pytest.raises(ValueError, match=rf"{field}.*non-finite"):

@@ -12,8 +12,10 @@ import pytest
 from dart_reach.evolution.genome import ParamGroup, decode
 from dart_reach.evolution.settings import standard_trial
 from dart_reach.measures.fitness import fitness_under_touch_pays
-from dart_reach.model import compiled, sensors
-from dart_reach.model.ctrnn import (MOTOR_INDEX, N_SENSORS, SENSOR_INDEX, TOUCH, Network,
+from dart_reach.model import compiled
+from dart_reach.model.compiled import CompiledNetwork
+from dart_reach.model.sensors import TOUCHING
+from dart_reach.model.ctrnn import (MOTOR_INDEX, N_SENSORS, SENSOR_INDEX, TOUCH,
                                     random_params, reflex_weights)
 from dart_reach.model.levers import (REFLEX_EVOLVED_SCALE, Levers, NetworkStart, ReflexInputs,
                                      TouchPay)
@@ -54,10 +56,11 @@ def test_levers_refuse_unknown_values_and_name_the_choices():
 
 
 def test_touch_pays_follow_their_definitions():
-    assert [sensors.p_touch_binary(n, 16) for n in (0, 1, 16)] == [0.0, 1.0, 1.0]
-    assert [sensors.p_touch_capped(n, 16, 4) for n in (0, 1, 3, 4, 9)] == [0, .25, .75, 1, 1]
-    with pytest.raises(ValueError):
-        sensors.p_touch_binary(17, 16)
+    pay = compiled.touch_pay
+    assert [pay(n, 16, compiled.PAY_CODES[TouchPay.FACES]) for n in (0, 4, 16)] == [0, .25, 1]
+    assert [pay(n, 16, compiled.PAY_CODES[TouchPay.BINARY]) for n in (0, 1, 16)] == [0, 1, 1]
+    assert [pay(n, 16, compiled.PAY_CODES[TouchPay.CAPPED])
+            for n in (0, 1, 3, 4, 9)] == [0, .25, .75, 1, 1]
 
 
 def test_a_trial_under_another_touch_pay_moves_the_same_and_scores_as_rescored(world):
@@ -91,9 +94,9 @@ def test_network_start_zero_starts_every_state_at_zero(world):
 def test_evolved_reflex_inputs_scale_the_other_inputs_and_keep_the_arcs():
     params = random_params(np.random.default_rng(3))
     mask, w = reflex_weights()
-    hand_set = Network(params, reflexes=True).effective_w_sensor_motor
-    evolved = Network(params, reflexes=True,
-                      reflex_inputs=ReflexInputs.EVOLVED).effective_w_sensor_motor
+    hand_set = CompiledNetwork(params, reflexes=True).effective_w_sensor_motor
+    evolved = CompiledNetwork(params, reflexes=True,
+                              reflex_inputs=ReflexInputs.EVOLVED).effective_w_sensor_motor
     arcs = w != 0
     np.testing.assert_array_equal(hand_set[mask], w[mask])
     np.testing.assert_array_equal(evolved[arcs], w[arcs])
@@ -103,7 +106,7 @@ def test_evolved_reflex_inputs_scale_the_other_inputs_and_keep_the_arcs():
     np.testing.assert_array_equal(evolved[~mask], params.w_sensor_motor[~mask])
     # without the reflexes the lever changes nothing
     np.testing.assert_array_equal(
-        Network(params, reflex_inputs=ReflexInputs.EVOLVED).effective_w_sensor_motor,
+        CompiledNetwork(params, reflex_inputs=ReflexInputs.EVOLVED).effective_w_sensor_motor,
         params.w_sensor_motor)
 
 
@@ -112,7 +115,8 @@ def test_the_grasp_reflex_still_acts_with_evolved_inputs_in_random_networks():
     hand, palm = MOTOR_INDEX["r_hand_fingers"], SENSOR_INDEX["touch/palm"]
     closes = opens = 0
     for _ in range(300):
-        net = Network(random_params(rng), reflexes=True, reflex_inputs=ReflexInputs.EVOLVED)
+        net = CompiledNetwork(random_params(rng), reflexes=True,
+                              reflex_inputs=ReflexInputs.EVOLVED)
         W, b = net.effective_w_sensor_motor[hand], net.effective_bias_motor[hand]
         x = np.concatenate([rng.uniform(-1, 1, 14), rng.choice([-1.0, 1.0], 6),
                             rng.uniform(-1, 1, 2), rng.uniform(0, 1, 1), np.zeros(2)])
@@ -182,7 +186,7 @@ def test_the_touch_pay_is_the_one_sensing_steps(world, pay):
         assert steps.p_touch == EXPECTED_PAY[pay](n)
         assert steps.p_multimodal == min(steps.p_sight, steps.p_touch)
         touching = world.touched[world.layout.touch_segments]
-        assert np.array_equal(steps.x[TOUCH] == sensors.TOUCHING, touching)
+        assert np.array_equal(steps.x[TOUCH] == TOUCHING, touching)
         world.touched[:] = np.arange(16) < n
         p = np.zeros(1)
         assert compiled.control_step(0, robot.getPositions(), ball.getCOM(),

@@ -14,7 +14,8 @@ from dart_reach.model import compiled_trial, icub, steps, task
 from dart_reach.model.compiled_trial import CompiledSteps
 from dart_reach.model.ctrnn import MOTOR_NAMES, N_SENSORS
 from dart_reach.model.layout import TOUCH_SEGMENTS
-from dart_reach.model.steps import ReferenceSteps, TrialSteps
+from dart_reach.model.reference.steps import ReferenceSteps
+from dart_reach.model.steps import TrialSteps
 from dart_reach.model.task import Trial, TrialConfig
 from dart_reach.model.versions import Numerics
 from dart_reach.model.world import World

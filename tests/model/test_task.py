@@ -7,7 +7,8 @@ import numpy as np
 import pytest
 
 from dart_reach.model import ctrnn, sensors
-from dart_reach.model.ctrnn import SIGHT, TOUCH, OFFSET, Network, random_params, zero_params
+from dart_reach.model.ctrnn import SIGHT, TOUCH, OFFSET, random_params, zero_params
+from dart_reach.model.reference.network import ReferenceNetwork
 from dart_reach.model.scripted import ScriptedController
 from dart_reach.model.versions import Numerics
 from dart_reach.model.task import Senses, Trial, TrialConfig, lifetime, network_for
@@ -67,13 +68,13 @@ def test_deprivations_remove_the_information(world):
     near = world.neck_centre + [-0.6, 0.1, 0.0]
     far = world.neck_centre + [-1.0, -0.2, 0.1]
     blind = Trial(world, TrialConfig(steps=30, senses=Senses.NOTHING, offset_sensors=True))
-    a, b = (blind.run(Network(params), 4, p) for p in (near, far))
+    a, b = (blind.run(ReferenceNetwork(params), 4, p) for p in (near, far))
     assert np.array_equal(a.sensors, b.sensors)
     assert (a.sensors[:, TOUCH] == sensors.NO_TOUCH).all()
     assert (a.sensors[:, SIGHT] == sensors.NO_SIGHT).all()
     assert (a.sensors[:, OFFSET] == sensors.NO_SIGHT).all()
     seeing = Trial(world, TrialConfig(steps=30))
-    a, b = (seeing.run(Network(params), 4, p) for p in (near, far))
+    a, b = (seeing.run(ReferenceNetwork(params), 4, p) for p in (near, far))
     assert not np.array_equal(a.sensors[:, SIGHT], b.sensors[:, SIGHT])
 
 
@@ -87,8 +88,8 @@ def test_orienting_reflex_turns_the_head_toward_the_ball(world):
         trial = Trial(world, TrialConfig(steps=31, acuity=acuity))
         for sector, u, v in ((0, 0, 0), (2, 1, 0), (6, 0, 1), (8, 1, 1)):
             point = world.sector_point(sector, u, v)
-            on = trial.run(Network(params, reflexes=True), sector, point)
-            off = trial.run(Network(params, reflexes=False), sector, point)
+            on = trial.run(ReferenceNetwork(params, reflexes=True), sector, point)
+            off = trial.run(ReferenceNetwork(params, reflexes=False), sector, point)
             # low acuity drives the reflex by c^3: weaker near the centre
             assert on.p_sight[-1] > on.p_sight[0] + (0.05 if acuity == 1 else 0.01), sector
             assert off.p_sight[-1] == pytest.approx(off.p_sight[0], abs=0.01)
@@ -101,7 +102,7 @@ def test_orienting_reflex_turns_the_head_toward_the_ball(world):
 
 
 def test_grasp_reflex_closes_the_hand_on_a_palm_touch(world):
-    net = Network(zero_params(), reflexes=True)
+    net = ReferenceNetwork(zero_params(), reflexes=True)
     net.reset()
     x = np.zeros(ctrnn.N_SENSORS)
     x[TOUCH] = -1.0

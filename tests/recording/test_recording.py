@@ -19,8 +19,8 @@ from dart_reach.measures.units import with_unit
 from dart_reach.measures import metrics
 from dart_reach.recording import rrd as rec
 from dart_reach.recording.quaternion import quaternions
-from dart_reach.model.ctrnn import Network, random_params
-from dart_reach.model.task import Trial, TrialConfig
+from dart_reach.model.ctrnn import random_params
+from dart_reach.model.task import Trial, TrialConfig, network_for
 from dart_reach.model.world import World
 
 
@@ -31,8 +31,9 @@ def world():
 
 @pytest.fixture(scope="module")
 def trial(world):
-    runner = Trial(world, TrialConfig(steps=40, acuity=3.0))
-    network = Network(random_params(np.random.default_rng(5)))
+    config = TrialConfig(steps=40, acuity=3.0, reflexes=False)
+    runner = Trial(world, config)
+    network = network_for(random_params(np.random.default_rng(5)), config)
     return runner.run(network, 4, world.sector_point(4, 0.3, 0.6))
 
 
