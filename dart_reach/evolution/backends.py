@@ -239,6 +239,13 @@ def _check_reachable(address: str) -> None:
                          ) from None
 
 
+def _free_port() -> int:
+    """A TCP port free on the loopback address now (the system's choice)."""
+    with socket.socket() as s:
+        s.bind(("127.0.0.1", 0))
+        return s.getsockname()[1]
+
+
 def _driver_ip(address: str) -> dict:
     """``ray.init`` options for a cluster at ``address``: a cluster on this machine's loopback
     address (nodes started with ``--node-ip-address 127.0.0.1``) needs the driver on it too,
@@ -330,38 +337,56 @@ class LocalRayCluster:
     a cluster of machines is, on one machine, for tests and the bench. Each node runs in its
     own process group, so ``kill_node`` ends one as abruptly as a machine that dies.
 
+    Nodes start one after the other, each counted by the head before the next starts
+    (``add_node`` adds one later). What lets several nodes share one machine: each node's
+    own ports where Ray's defaults are fixed (the dashboard agent's HTTP port, 52365 on every
+    node) or drawn from one range by every node (the workers' ports: chosen by the system
+    here), a small object store (``object_store_mb``: a task carries a job, kilobytes; by
+    default every node would claim 30 % of the memory), one log monitor (the head's), no
+    dashboard, and the workers at the nodes' own priority (Ray runs its workers 15 steps
+    nicer than the raylet, ``RAY_worker_niceness``: beside other work on the same cores they
+    then get almost no CPU).
+
     Use as a context manager; ``address`` is what ``--ray`` takes.
     """
 
-    def __init__(self, nodes: int = 2, cpus: int = 1, timeout_s: float = 90.0):
+    def __init__(self, nodes: int = 2, cpus: int = 1, timeout_s: float = 120.0,
+                 object_store_mb: int = 100):
         ray = shutil.which("ray", path=os.path.dirname(sys.executable)) or shutil.which("ray")
         if ray is None:
             raise ValueError("a Ray cluster needs the 'cluster' extra: "
                              "pip install 'dart_reach[cluster]'")
-        self._ray, self._cpus_per_node = ray, cpus
-        self._env = dict(os.environ, RAY_USAGE_STATS_ENABLED="0")
+        self._ray, self._cpus_per_node, self._timeout_s = ray, cpus, timeout_s
+        self._object_store = str(object_store_mb * 2**20)
+        self._env = dict(os.environ, RAY_USAGE_STATS_ENABLED="0", RAY_worker_niceness="0")
         self._env.setdefault("RAY_AUTH_MODE", "disabled")
-        with socket.socket() as s:
-            s.bind(("127.0.0.1", 0))
-            port = s.getsockname()[1]
+        port = _free_port()
         self.address = f"127.0.0.1:{port}"
         self.nodes: list = []
+        self._logs = tempfile.TemporaryDirectory(prefix="dart-reach-ray-")
         try:
             self._start("--head", "--port", str(port), "--include-dashboard=false")
-            self._wait_for(cpus, timeout_s)
             for _ in range(nodes - 1):
-                self._start("--address", self.address)
-            self._wait_for(nodes * cpus, timeout_s)
+                self.add_node()
         except BaseException:
             self.close()
             raise
 
+    def add_node(self) -> None:
+        """Start one more node, and return once the head counts its CPUs."""
+        self._start("--address", self.address, "--include-log-monitor=false")
+
     def _start(self, *args) -> None:
-        self.nodes.append(subprocess.Popen(
-            [self._ray, "start", "--block", "--num-cpus", str(self._cpus_per_node),
-             "--node-ip-address", "127.0.0.1", "--disable-usage-stats", *args],
-            env=self._env, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL,
-            start_new_session=True))
+        log = open(Path(self._logs.name) / f"node-{len(self.nodes)}.log", "wb")
+        with log:  # the node writes on after this process has closed its copy
+            self.nodes.append(subprocess.Popen(
+                [self._ray, "start", "--block", "--num-cpus", str(self._cpus_per_node),
+                 "--node-ip-address", "127.0.0.1", "--disable-usage-stats",
+                 "--object-store-memory", self._object_store,
+                 "--dashboard-agent-listen-port", str(_free_port()),
+                 "--min-worker-port", "0", "--max-worker-port", "0", *args],
+                env=self._env, stdout=log, stderr=subprocess.STDOUT, start_new_session=True))
+        self._wait_for(len(self.nodes) * self._cpus_per_node, self._timeout_s)
 
     def cpus(self) -> float:
         """The CPUs the cluster's head counts among its live nodes (0 if it does not answer)."""
@@ -373,12 +398,23 @@ class LocalRayCluster:
         return 0.0
 
     def _wait_for(self, cpus: float, timeout_s: float) -> None:
+        """Wait until the last node says it has started (its log, read for free), then until
+        the head counts ``cpus`` CPUs (``ray status``: a process that imports Ray, over a
+        second of CPU, so asked rarely)."""
         deadline = time.monotonic() + timeout_s
-        while self.cpus() < cpus:
-            if time.monotonic() > deadline:
-                raise RuntimeError(f"the local Ray cluster at {self.address} did not reach "
-                                   f"{cpus} CPUs in {timeout_s:.0f} s")
-            time.sleep(1.0)
+        node, log = self.nodes[-1], Path(self._logs.name) / f"node-{len(self.nodes) - 1}.log"
+        started = False
+        while node.poll() is None and time.monotonic() < deadline:
+            if not started:
+                started = b"Ray runtime started" in log.read_bytes()
+                time.sleep(0.5)
+            elif self.cpus() >= cpus:
+                return
+            else:
+                time.sleep(2.0)
+        tail = log.read_text(errors="replace").strip().splitlines()[-5:]
+        raise RuntimeError(f"the local Ray cluster at {self.address} did not reach {cpus:g} "
+                           f"CPUs in {timeout_s:.0f} s; its last node said: " + " | ".join(tail))
 
     def kill_node(self, index: int) -> None:
         """SIGKILL every process of node ``index`` (0 is the head)."""
@@ -399,6 +435,7 @@ class LocalRayCluster:
                 current.unlink()
         except OSError:
             pass
+        self._logs.cleanup()
 
     def __enter__(self) -> "LocalRayCluster":
         return self

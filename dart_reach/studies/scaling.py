@@ -77,19 +77,23 @@ def late_population(versions: Sequence[int] = (1, 2, 3), rounds: int = 3,
 def ray_scaling(nodes: Sequence[int] = (2, 4), blocks: Sequence[int | None] = (1, 18, None),
                 lifetimes: int = 10, model_version: int = CURRENT_MODEL_VERSION
                 ) -> pl.DataFrame:
-    """What a generation costs on local Ray clusters of ``nodes`` one-CPU nodes (more nodes than
-    cores oversubscribes them: the driver's share shows) in blocks of each of ``blocks``
+    """What a generation costs on local Ray clusters of ``nodes`` one-CPU nodes (one cluster
+    grown to each size in turn; more nodes than cores oversubscribes them: the driver's share
+    shows) in blocks of each of ``blocks``
     trials (None: ``RayBackend``'s own choice, measured on its second generation):
     ``lifetimes`` lifetimes of the late population (``late_generation``). One row per cluster
-    and block: tasks, trials, the driver's CPU per task (ms) and per generation (s), a trial's
+    and block: tasks, trials, the driver's CPU per task (ms), per generation (s) and over its
+    wall time (``driver_busy``: the share of a core it took), a trial's
     CPU on a worker (s), the wall time (s) and the workers' idle share (1 - worker CPU /
     (wall x CPUs)). The inputs of ``project_generation``."""
     import ray
 
     batch = late_generation(model_version)[:lifetimes]
     rows = []
-    for n in nodes:
-        with LocalRayCluster(nodes=n) as cluster:
+    with LocalRayCluster(nodes=1) as cluster:
+        for n in sorted(set(nodes)):
+            while len(cluster.nodes) < n:  # one cluster, grown: each node starts once
+                cluster.add_node()
             for block in blocks:
                 backend = RayBackend(cluster.address, block=block)
                 try:
@@ -105,6 +109,7 @@ def ray_scaling(nodes: Sequence[int] = (2, 4), blocks: Sequence[int | None] = (1
                              "tasks": c.tasks, "trials": c.trials,
                              "driver_ms_per_task": 1e3 * c.driver_cpu_s / c.tasks,
                              "driver_cpu_s": c.driver_cpu_s,
+                             "driver_busy": c.driver_cpu_s / c.wall_s,
                              "trial_cpu_s": c.worker_cpu_s / c.trials, "wall_s": c.wall_s,
                              "idle": 1.0 - c.worker_cpu_s / (c.wall_s * n)})
     return pl.DataFrame(rows)

@@ -1,7 +1,8 @@
 """Trials scheduled in blocks (``backends.run_block``): the fitness of every job is the same to
-the last bit whatever the block size, the number of workers and the back-end (serial, the
-local pool, real Ray clusters of 1 and 2 one-CPU nodes), and the
-block a Ray back-end chooses follows the driver's measured cost as ``ray_block``'s model says."""
+the last bit whatever the block size, the number of workers and the back-end (serial and the
+local pool here; real Ray clusters of several one-CPU nodes in tests/evolution/
+test_ray_cluster.py, on these jobs), and the block a Ray back-end chooses follows the driver's
+measured cost as ``ray_block``'s model says."""
 
 from __future__ import annotations
 
@@ -10,8 +11,8 @@ import math
 import numpy as np
 import pytest
 
-from dart_reach.evolution.backends import (RAY_DRIVER_HEADROOM, Job, LocalRayCluster, MapCost,
-                                           PoolBackend, RayBackend, SerialBackend, ray_block)
+from dart_reach.evolution.backends import (RAY_DRIVER_HEADROOM, Job, MapCost, PoolBackend,
+                                           RayBackend, SerialBackend, ray_block)
 from dart_reach.evolution.conditions import load_condition
 from dart_reach.evolution.genome import as_groups
 from dart_reach.evolution.settings import Settings, trial_config
@@ -54,31 +55,6 @@ def test_blocks_and_pool_give_the_serial_bits_and_their_cost(serial):
         backend.block_for = lambda trials, b=block: b
         assert np.array_equal(backend.map(_jobs()), expected), block
         assert backend.last_cost.tasks == tasks
-
-
-def test_ray_clusters_of_1_and_2_nodes_and_any_block_give_the_serial_bits(serial):
-    """Blocks of one trial, and the default's: a lifetime (18) at first, then its chosen size
-    (two nodes: tests/evolution/test_ray_cluster.py, with a node lost mid-generation)."""
-    pytest.importorskip("ray")
-    import ray
-
-    expected, _ = serial
-    for nodes in (1, 2):
-        with LocalRayCluster(nodes=nodes) as cluster:
-            for block in (1, None):
-                backend = RayBackend(cluster.address, block=block)
-                try:
-                    assert backend.workers == nodes
-                    assert np.array_equal(backend.map(_jobs()), expected), (nodes, block)
-                    first = backend.last_cost
-                    assert first.tasks == 4 * math.ceil(TRIALS / (block or TRIALS))
-                    # the next generation: the default sizes its blocks from the first's cost
-                    chosen = backend.block_for(TRIALS)
-                    assert chosen == (block or ray_block(first, nodes, TRIALS))
-                    assert np.array_equal(backend.map(_jobs()), expected), (nodes, block)
-                    assert backend.last_cost.tasks == 4 * math.ceil(TRIALS / chosen)
-                finally:
-                    ray.shutdown()
 
 
 def test_ray_block_is_the_smallest_that_keeps_the_driver_within_its_share():
