@@ -24,8 +24,8 @@ from test_trainer import _result, _same
 
 ray = pytest.importorskip("ray")
 ENV = dict(os.environ, RAY_AUTH_MODE="disabled", RAY_USAGE_STATS_ENABLED="0")
-TRAIN = ["standard", "--replications", "2", "--trials", "2", "--steps", "30", "--seed", "5",
-         "--generations", "1"]  # 3 generations, one a phase
+TRAIN = ["gross-hat", "--replications", "1", "--trials", "2", "--steps", "10", "--seed", "5",
+         "--generations", "1"]  # 2 generations of one phase: 40 lifetimes of 2 trials each
 
 
 @pytest.fixture(scope="module")
@@ -77,8 +77,8 @@ def test_training_on_a_cluster_survives_losing_a_node_mid_generation(cluster, tm
     serial = in_process("train", *TRAIN, "--out", tmp_path / "serial", "--workers", "1")
     assert serial.returncode == 0, serial.stdout + serial.stderr
 
-    # Kill a worker node (SIGKILL to all its processes) as the second generation starts: its
-    # tasks are lost mid-generation and run again on the nodes left.
+    # Kill a worker node (SIGKILL to all its processes) as the second (last) generation starts:
+    # its tasks are lost mid-generation and run again on the nodes left.
     lossy = _train(tmp_path / "lossy", "--ray", cluster.address)
     lines = []
     for line in lossy.stdout:
