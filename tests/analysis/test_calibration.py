@@ -41,7 +41,8 @@ def test_every_rule_meets_its_level_and_coverage(table):
 def test_the_committed_table_is_the_simulations():
     """A block of the table recomputed alone (its own seed) is the committed block."""
     nest = cal.NESTINGS[0]
-    block = cal.calibrate((nest,), rules=(cal._band, cal._directional, cal._shapes))
+    block = cal.calibrate((nest,), rules=(cal._band, cal._directional, cal._shapes,
+                                          cal._paired_rates))
     keys = ["rule", "scenario", "measure"]
     committed = pl.read_parquet(TABLE).filter(
         (pl.col("replications") == nest.replications) & (pl.col("within_sd") == nest.within_sd)
@@ -86,7 +87,7 @@ def test_every_rule_is_calibrated_at_4_and_10_replications(table):
     rules = set(table["rule"])
     assert {"directional", "directional vs 10 random genomes", "no difference", "not better",
             "band", "every sector", "paired change", "paired no change",
-            "senses differ"} <= rules
+            "paired rate no change", "senses differ"} <= rules
     for rule in rules:
         assert set(table.filter(pl.col("rule") == rule)["replications"]) == {4, 10}, rule
 
@@ -176,3 +177,32 @@ def test_where_the_interval_falls_short_the_docs_say_so(table):
     section = section[:section.index("\n\n")]  # the paragraph, not the table below it
     for r in short.iter_rows(named=True):
         assert f"{r['value']:.3f}" in section, r
+
+
+def test_the_paired_rules_are_calibrated_under_their_datas_shapes_and_the_rule_before_fails(
+        table):
+    """The rules of no change in a pair (a rate's, a measure's relative change) have rows at
+    3 and 4 pairs and at 10 under each shape of ``RATE_SHAPES`` and two-mode changes, each
+    error bounded where the sign-flip test is exact (symmetric changes) and met; the paired
+    t TOST before them, reported beside, "contradicts" two-mode changes at 3 pairs above the
+    bound (so the rows can fail), and the rule never decides below 6 pairs."""
+    bound = v.ALPHA + cal.Z_MC * (v.ALPHA * (1 - v.ALPHA) / cal.DATASETS) ** 0.5
+    rate = table.filter(pl.col("rule") == "paired rate no change")
+    for shape, symmetric in cal.RATE_SHAPES.items():
+        for pairs in ("3 pairs", "4 pairs", None):
+            rows = rate.filter(pl.col("scenario").str.starts_with(shape)
+                               & (pl.col("scenario").str.ends_with(pairs) if pairs else
+                                  ~pl.col("scenario").str.contains("pairs")))
+            assert rows.height >= 2, (shape, pairs)
+            bounded = rows.filter(pl.col("kind") == "at most")
+            assert bounded.height == (2 if symmetric else 1) * rows["replications"].n_unique()
+            assert bounded["ok"].all(), bounded
+            if pairs:
+                assert (rows.filter(pl.col("kind") != "power")["value"] == 0).all()
+    before = table.filter((pl.col("rule") == cal.RATE_BEFORE)
+                          & (pl.col("scenario") == "two-mode changes, no change, 3 pairs"))
+    assert before.height and before["value"].min() > bound
+    same = table.filter((pl.col("rule") == "paired no change")
+                        & pl.col("scenario").str.starts_with("no change")
+                        & (pl.col("measure") == "contradicted") & (pl.col("replications") == 10))
+    assert same.height == 4 and same["value"].max() > 0  # the row can fail
