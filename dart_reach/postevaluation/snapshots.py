@@ -117,10 +117,11 @@ def measure_snapshots(run_dir, robots: int = 1, workers: int | None = None,
         table = load_development(run.out, senses=None)
         done = set() if table is None else set(table.select(_KEY).iter_rows())
         offsets = _offsets(run)
-        jobs, extra = [], []
+        jobs, extra, saved = [], [], set()
         for condition, phase in run.unique_phases():
             base = trial_config(phase, run.settings)
             for generation, genomes, fitness in run.snapshots(phase):
+                saved.add(generation)
                 if wanted is not None and generation not in wanted:
                     continue
                 for s in senses:
@@ -135,6 +136,10 @@ def measure_snapshots(run_dir, robots: int = 1, workers: int | None = None,
                                                  run.settings.world, False))
                             extra.append({"generation": generation,
                                           "offset": offsets[phase.key][1]})
+        if wanted is not None and (missing := wanted - saved):
+            raise ValueError(f"{run.out} has no snapshot of generation "
+                             f"{', '.join(map(str, sorted(missing)))} (its snapshots: "
+                             f"{', '.join(map(str, sorted(saved))) or 'none'})")
         if not jobs:
             return table if table is not None else pl.DataFrame()
         entry = results.session()

@@ -43,6 +43,12 @@ def tiny_run(tmp_path_factory):
 
 
 @pytest.fixture(scope="module")
+def tiny_report(tiny_run, tmp_path_factory) -> str:
+    """The report of ``tiny_run`` alone, built once for the tests that read it."""
+    return report.build([tiny_run], tmp_path_factory.mktemp("built") / "r.html").read_text()
+
+
+@pytest.fixture(scope="module")
 def other_budget(tmp_path_factory):
     """The standard condition at 2 generations per phase (``tiny_run``: 1), same scene."""
     out = tmp_path_factory.mktemp("report") / "tiny-2"
@@ -52,9 +58,8 @@ def other_budget(tmp_path_factory):
     return out
 
 
-def test_the_report_holds_every_section_figure_and_claim(tiny_run, tmp_path):
-    path = report.build([tiny_run], tmp_path / "r.html")
-    text = path.read_text()
+def test_the_report_holds_every_section_figure_and_claim(tiny_report):
+    text = tiny_report
     for anchor in ("findings", "provenance", "training", "baseline", "figures", "fig10",
                    "statistics"):
         assert f'<section id="{anchor}">' in text, anchor
@@ -84,11 +89,11 @@ def test_the_report_holds_every_section_figure_and_claim(tiny_run, tmp_path):
     assert html.escape(report.BUDGET_FIGURE_NOTE) not in text
 
 
-def test_the_report_opens_on_its_answers_and_reads_on_a_phone(tiny_run, tmp_path):
+def test_the_report_opens_on_its_answers_and_reads_on_a_phone(tiny_report):
     """A run of 2 replications decides nothing: the first section says so, every phenomenon
     "not yet testable"; the forest's caption says what its scale is; the page has a viewport
     and every table scrolls in its own box instead of widening the page."""
-    text = report.build([tiny_run], tmp_path / "r.html").read_text()
+    text = tiny_report
     assert '<meta name="viewport" content="width=device-width, initial-scale=1">' in text
     sections = re.findall(r'<section id="([^"]+)">', text)
     assert sections[:2] == ["answers", "summary"]
@@ -178,10 +183,10 @@ def test_the_report_leaves_the_runs_it_reads_untouched(tmp_path):
     assert "The runs are only read" in " ".join(help_text.split())
 
 
-def test_report_reads_at_100_percent_and_states_its_corrections(tiny_run, tmp_path):
+def test_report_reads_at_100_percent_and_states_its_corrections(tiny_run, tiny_report):
     from dart_reach.postevaluation.systematic import run_phases
 
-    text = report.build([tiny_run], tmp_path / "r.html").read_text()
+    text = tiny_report
     assert html.escape(report.TRAINING_NOTE) in text
     assert text.count(html.escape(report.HOLM_NOTE)) == 2  # Figs. 9 and 10
     assert "p_holm" in text

@@ -148,6 +148,10 @@ def test_chosen_snapshots_under_chosen_senses(runs, tmp_path):
                                   generations=(2,))
     assert set(table["generation"]) == {2} and set(table["senses"]) == {"normal", "no-ball"}
     assert table.height == 2 * 3 * 2 * 45  # senses x phases x replications x positions
+    saved = (out / dev.TABLE).read_bytes()
+    with pytest.raises(ValueError, match=r"no snapshot of generation 99 \(its snapshots: 1, 2"):
+        dev.measure_snapshots(out, robots=1, workers=1, generations=(2, 99))
+    assert (out / dev.TABLE).read_bytes() == saved  # refused: nothing evaluated or written
     absent = table.filter(pl.col("senses") == "no-ball")
     assert not absent["reached"].any()  # no ball, nothing reached
     normal = dev.load_development(out)
