@@ -24,8 +24,8 @@ from typing import Callable
 import numpy as np
 import polars as pl
 
-from dart_reach.analysis import (budgets, calibration, coverage, findings, formatting, report,
-                                 said, verdicts)
+from dart_reach.analysis import (budgets, coverage, findings, formatting, report, said, spreads,
+                                 verdicts)
 from dart_reach import integrity
 from dart_reach.evolution.rundir import RunDirectory
 from dart_reach.files import write_parquet
@@ -93,7 +93,7 @@ def _post_evaluation(run_dir: Path) -> str:
 
 def spreads_summary(run_dirs) -> pl.DataFrame:
     """Per post-evaluated run, the spreads of its robots against the calibration's nestings
-    (``calibration.spreads`` over every phase and measure): the ratio of the within- to the
+    (``spreads.spreads`` over every phase and measure): the ratio of the within- to the
     between-replication s.d., its quartiles and largest finite value, and how often the
     replications' means vary no more than their robots would alone (between s.d. 0)."""
     rows = []
@@ -101,7 +101,7 @@ def spreads_summary(run_dirs) -> pl.DataFrame:
         table = results.read_table(d / results.EVALUATION)
         if table is None:
             continue
-        found = calibration.spreads(table)
+        found = spreads.spreads(table)
         ratio = found["ratio"].to_numpy()
         finite = ratio[np.isfinite(ratio)]
         q1, q2, q3 = np.quantile(finite, [0.25, 0.5, 0.75]) if finite.size else [np.nan] * 3
@@ -225,13 +225,13 @@ def _pre_replications(table: pl.DataFrame | None) -> tuple[str, str, str]:
 
 def calibration_values(table: pl.DataFrame) -> dict[str, str]:
     """What the calibration shows, in the words of the summary and the replication page, from
-    the committed calibration ``table`` (``calibration.held``, ``coverage.label``), so that
+    the committed calibration ``table`` (``calibration_table.held``, ``coverage.label``), so that
     no page states it as fixed text: ``calibration`` (how many bounded rows are met, the
     highest rate of a wrong decision under a null, the lowest coverage and theta's reported
     coverage), ``theta_coverage`` (the label of theta's interval at 10 vs 10), and
     ``smallest_p_4`` / ``smallest_p_10`` (the smallest p of the directional rule's test at 4
     and 10 replications a group, ``verdicts.smallest_directional_p``)."""
-    held = calibration.held(table)
+    held = calibration_table.held(table)
     sizes = " and ".join(map(str, table["replications"].unique().sort().to_list()))
     shortfall = held["bounded"] - held["met"]
     rules = ", ".join(table.filter(pl.col("kind").is_in(["at most", "at least"]))["rule"]

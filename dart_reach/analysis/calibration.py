@@ -32,7 +32,6 @@ import polars as pl
 from scipy import optimize
 from scipy import stats as sps
 
-from . import summaries
 from . import verdicts as v
 
 #: Data sets per rule, nesting and scenario; the Monte-Carlo standard error of a rate near
@@ -597,85 +596,3 @@ def robot_level_null(nest: Nesting, datasets: int = DATASETS, seed: int = 2013) 
         friedman.append(v.senses_differ(rob.reshape(-1, k) + 10.0).verdict == v.REPRODUCED)
     return {"directional, robots as units": decided,
             "senses differ, robots as blocks": _rate(friedman)}
-
-
-#: The measures whose spreads ``spreads`` estimates: those most claims judge.
-SPREAD_MEASURES = ("fitness", "reached", "grasped", "speed", "straightness", "var_elbow",
-                   "var_shoulder", "var_trunk", "hand_shoulder_cv", "babbling")
-
-
-def spreads(table: pl.DataFrame, measures=SPREAD_MEASURES, senses: str = "normal"
-            ) -> pl.DataFrame:
-    """The spreads of a run's post-evaluation against the calibration's ``Nesting``: per
-    phase (``notation``) and measure, from the robots' means under ``senses``
-    (``summaries.robot_means``), ``within_sd`` (the pooled s.d. of robots around their
-    replication's mean), ``between_sd`` (the s.d. of replication effects: the variance of the
-    replication means less within_sd² / robots, 0 when that is negative) and ``ratio`` =
-    within / between (inf where between is 0). The calibration simulates ``RUN_RATIOS``."""
-    normal = table.filter(pl.col("senses") == senses)
-    names = [m for m in measures if m in normal.columns]
-    robots_ = summaries.robot_means(normal, names, by=("notation", "replication", "rank"))
-    rows = []
-    for (notation,), group in robots_.group_by("notation", maintain_order=True):
-        for m in names:
-            per = [g[m].drop_nans().to_numpy() for _, g in group.group_by("replication",
-                                                                          maintain_order=True)]
-            per = [x for x in per if len(x) >= 2]
-            if len(per) < 2:
-                continue
-            within = math.sqrt(sum(((x - x.mean()) ** 2).sum() for x in per)
-                               / sum(len(x) - 1 for x in per))
-            k = np.mean([len(x) for x in per])
-            var_means = float(np.var([x.mean() for x in per], ddof=1))
-            between = math.sqrt(max(var_means - within ** 2 / k, 0.0))
-            rows.append({"phase": notation, "measure": m, "replications": len(per),
-                         "robots": float(k), "between_sd": between, "within_sd": within,
-                         "ratio": within / between if between > 0 else math.inf})
-    return pl.DataFrame(rows)
-
-
-def held(table: pl.DataFrame) -> dict[str, float | int]:
-    """What a calibration table (``calibrate``'s) shows, for the prose of the pages that cite
-    it, so that no page states it as fixed text: ``bounded`` (rows with a bound: error rates
-    under a null and coverages), ``met`` (of them, those within Monte-Carlo error of their
-    bound), ``highest_error`` and ``error_bound`` (the highest rate of a wrong decision under
-    a null over the "at most" rows, and the bound of that row), ``lowest_coverage`` (the
-    lowest coverage over the "at least" rows) and ``reported_low``, ``reported_high`` (the
-    range of the coverages only reported: NaN without one). Rates in [0, 1]."""
-    bounded = table.filter(pl.col("kind").is_in(["at most", "at least"]))
-    errors = table.filter(pl.col("kind") == "at most").sort("value", descending=True)
-    covers = table.filter(pl.col("kind") == "at least")
-    reported = table.filter((pl.col("kind") == "reported")
-                            & pl.col("measure").str.starts_with("coverage"))
-    return {"bounded": bounded.height, "met": int(bounded["ok"].sum()),
-            "highest_error": float(errors["value"][0]), "error_bound": float(errors["bound"][0]),
-            "lowest_coverage": float(covers["value"].min()),
-            "reported_low": float(reported["value"].min()) if reported.height else math.nan,
-            "reported_high": float(reported["value"].max()) if reported.height else math.nan}
-
-
-def markdown(table: pl.DataFrame) -> str:
-    """The calibration table as Markdown: one row per rule, scenario and measure, one column
-    per nesting (rates in [0, 1]); the bound a rate must meet, and whether every nesting met
-    it."""
-    nests = table.select("replications", "robots", "between_sd", "within_sd").unique(
-        maintain_order=True).rows()
-    heads = [f"{r} x {k}, within s.d. {w:g}" for r, k, b, w in nests]
-    lines = ["| rule | scenario | measure | " + " | ".join(heads) + " | bound | met |",
-             "|---|---|---|" + "---:|" * len(heads) + "---:|---|"]
-    keys = table.select("rule", "scenario", "measure", "kind").unique(maintain_order=True)
-    first = {r: i for i, r in enumerate(table["rule"].unique(maintain_order=True))}
-    # rows grouped by rule (a rule's rows that only some nestings have come after the others)
-    for rule, scenario, measure, kind in sorted(keys.rows(), key=lambda k: first[k[0]]):
-        rows = table.filter((pl.col("rule") == rule) & (pl.col("scenario") == scenario)
-                            & (pl.col("measure") == measure))
-        values = []
-        for r, k, b, w in nests:
-            cell = rows.filter((pl.col("replications") == r) & (pl.col("within_sd") == w))
-            values.append(f"{cell['value'][0]:.3f}" if cell.height else "")
-        bound = (kind if kind in ("power", "reported") else
-                 f"≤ {rows['bound'][0]:g}" if kind == "at most" else f"≥ {rows['bound'][0]:g}")
-        met = "" if kind in ("power", "reported") else ("yes" if rows["ok"].all() else "**no**")
-        lines.append(f"| {rule} | {scenario} | {measure} | " + " | ".join(values)
-                     + f" | {bound} | {met} |")
-    return "\n".join(lines) + "\n"

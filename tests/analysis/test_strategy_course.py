@@ -12,6 +12,7 @@ import pytest
 
 from dart_reach.analysis import strategy_course as sc
 from dart_reach.analysis import verdicts as v
+from dart_reach.analysis.findings import UNTESTABLE
 from dart_reach.analysis.figures import (STRATEGY_PANELS, TRAINING_PANELS, strategy_figure,
                                          training_by_strategy)
 from dart_reach.analysis.strategies import BABBLING, STILL, STILL_SHARE
@@ -92,7 +93,8 @@ def test_the_claims_of_pre_reachers_alone():
 def test_claims_are_judged_at_the_generations_there_and_on_their_conditions():
     """Each judged generation is one family on its own snapshot: a condition evaluated there
     (no-ball) is judged, one that is not (no-sight) is not run; a generation without a
-    snapshot gives no row; the verdicts differ where the snapshots do."""
+    snapshot gives no row; the verdicts differ where the snapshots do; a claim its measure
+    cannot test is never judged, and says so."""
     shares = {(r, g): (0.6 if g == 50 else 0.0) for r in range(8) for g in (1, 2, 5, 50, 100)}
     dev = _development(shares)
     dev = dev.with_columns(pl.lit(0).alias("sector"))
@@ -100,7 +102,12 @@ def test_claims_are_judged_at_the_generations_there_and_on_their_conditions():
     assert found["generation"].unique().sort().to_list() == [50, 100]
     per = {(r["generation"], r["claim"]): r for r in found.iter_rows(named=True)}
     assert per[(50, "A3 no sight, pre: babbling same")]["verdict"] == "not run"
-    assert per[(50, "A1 ball absent, pre: babbling same")]["verdict"] != "not run"
+    assert per[(50, "A1 ball absent, pre: hand_path same")]["verdict"] != "not run"
+    # babbling without the ball: never judged, the detector is validated without it only
+    babbling = per[(50, "A1 ball absent, pre: babbling same")]
+    assert babbling["verdict"] == "not run"
+    assert babbling["measured"].startswith(UNTESTABLE)
+    assert not per[(50, "A3 no sight, pre: babbling same")]["measured"].startswith(UNTESTABLE)
     # V3: babbling at the end of the snapshots up to 50 (generation 50) above the start's
     assert per[(50, "V3 babbling appears in pre")]["verdict"] == "reproduced"
     assert per[(100, "V3 babbling appears in pre")]["verdict"] != "reproduced"

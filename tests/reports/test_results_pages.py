@@ -165,9 +165,10 @@ def test_the_readme_is_a_front_door_not_a_progress_board():
 def test_a_budgets_row_counts_each_verdict():
     budget = Budget("s", 50, 10)
     paper = {"runs": "r", "reproduced": 23, "reproduced (Holm)": 11, "contradicted": 3,
-             "contradicted (Holm)": 1, "inconclusive": 30, "underpowered": 0, "not run": 30}
+             "contradicted (Holm)": 1, "inconclusive": 30, "underpowered": 0, "not run": 28,
+             "cannot be tested": 2}
     assert results_docs.summary_row(paper, budget) == {
         "run": f"[`r`]({results_docs.CLAIMS_LINK})",
         "generations per phase x replications": "50 x 10",
         "reproduced": "23 (11 after Holm)", "contradicted": "3 (1 after Holm)",
-        "inconclusive": "30", "underpowered": "0", "not run": "30"}
+        "inconclusive": "30", "underpowered": "0", "not run": "28", "cannot be tested": "2"}
