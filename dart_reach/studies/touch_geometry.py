@@ -125,6 +125,12 @@ class KinematicTouch:
         #: (16,) bool, the inner-face and any-face touches of the last ``decide``
         self.touch, self.touch_any = np.zeros(n_seg, bool), np.zeros(n_seg, bool)
 
+    @property
+    def poses(self) -> np.ndarray:
+        """(n, 4, 4) the bodies' world poses (m) of the last ``decide`` (those of the hand
+        segments and their ancestors; the others are stale)."""
+        return self._args[7]
+
     def decide(self, positions: np.ndarray, ball: np.ndarray) -> int:
         """Overwrite ``touch`` and ``touch_any`` for joint positions ``positions`` (rad,
         skeleton order) and the ball's centre ``ball`` (m); the number touched on any face."""
@@ -132,12 +138,17 @@ class KinematicTouch:
                                  self.touch_any)
 
 
-def contact_touches(world: World, result, touch: np.ndarray, touch_any: np.ndarray) -> None:
+def contact_touches(world: World, result, touch: np.ndarray, touch_any: np.ndarray,
+                    before=None) -> None:
     """One substep's touches from DART's contacts (``result``: its collision result), not
     gathered with the control step's earlier substeps: the hand segments in contact with the
     ball on any face (``touch_any``) and on the inner face (``touch``, by
     ``world.inner_face_touch`` per contact, each segment's shape frame rotation as DART holds
-    it after the step). Both (16,) outputs are overwritten."""
+    it after the step, as the model decides). With ``before`` = (the ball's centre (m), the
+    bodies' world poses (n, 4, 4)) of the state before the step, the one DART's collision
+    detection saw (``KinematicTouch.poses`` of that state), the contact points are judged in
+    that state instead: the ball's centre and the segment's rotation of the same instant as
+    the points. Both (16,) outputs are overwritten."""
     touch[:] = False
     touch_any[:] = False
     layout = world.layout
@@ -151,6 +162,13 @@ def contact_touches(world: World, result, touch: np.ndarray, touch_any: np.ndarr
             continue
         touch_any[face[0]] = True
         if touch[face[0]]:
+            continue
+        if before is not None:
+            centre, poses = before
+            i = face[0]
+            rot = poses[layout.segment_body[i]][:3, :3]
+            o = rot.T @ (centre - contact.point)
+            touch[i] = o @ layout.face_direction[i] >= layout.face_cos_limit[i] * math.sqrt(o @ o)
             continue
         if ball is None:
             ball = world.ball_body.getCOM()
@@ -177,13 +195,18 @@ class Comparison:
         self.kin = {v: KinematicTouch(world) for v in self.VARIANTS}
         n_seg = len(icub.HAND_SEGMENTS)
         self.dart, self.dart_any = np.zeros(n_seg, bool), np.zeros(n_seg, bool)
+        #: DART's contact points judged in the state before the step (``contact_touches``'
+        #: ``before``), and that state's ball centre
+        self.dart_before, self._scratch = np.zeros(n_seg, bool), np.zeros(n_seg, bool)
+        self.ball_before = np.zeros(3)
         #: the kinematic inner-face touches gathered in a control step, per variant
         self.gathered = {v: np.zeros(n_seg, bool) for v in self.VARIANTS}
         self.reset()
 
     def reset(self) -> None:
         """Zero the counts and the times (after a warm-up)."""
-        c = self.counts = dict(substeps=0, substeps_in_contact=0, control_steps=0)
+        c = self.counts = dict(substeps=0, substeps_in_contact=0, control_steps=0,
+                               substeps_either_pre_points=0, substeps_same_pre_points=0)
         for v in self.VARIANTS:
             for key in ("substeps_either", "substeps_same", "substeps_either_any",
                         "substeps_same_any", "control_steps_either", "control_steps_same",
@@ -222,6 +245,7 @@ class Comparison:
                 t0 = clock()
                 pre.decide(robot.getPositions(), ball_body.getCOM())
                 t1 = clock()
+                self.ball_before[:] = ball_body.getCOM()  # untimed: for ``dart_before``
                 self.pre_ns.append(t1 - t0)
                 pre_sum += t1 - t0
                 step(False)
@@ -251,7 +275,15 @@ class Comparison:
                     post_sum += dt_post
                     c["substeps_in_contact"] += 1
                     contact_touches(w, result, self.dart, self.dart_any)
+                    contact_touches(w, result, self.dart_before, self._scratch,
+                                    (self.ball_before, pre.poses))
+                    if self.dart_before.any() or pre.touch.any():
+                        c["substeps_either_pre_points"] += 1
+                        c["substeps_same_pre_points"] += bool(
+                            (self.dart_before == pre.touch).all())
                 else:
+                    if pre.touch.any():
+                        c["substeps_either_pre_points"] += 1
                     deciding = False
                     post.touch[:] = False  # no contact reported: the gated variant decides none
                     post.touch_any[:] = False
@@ -289,6 +321,8 @@ class Comparison:
         c = self.counts
         share = lambda a, b: c[a] / c[b] if c[b] else float("nan")  # noqa: E731
         out = dict(c)
+        out["substep_agreement_pre_points"] = share("substeps_same_pre_points",
+                                                    "substeps_either_pre_points")
         for v in self.VARIANTS:
             out[f"substep_agreement_{v}"] = share(f"substeps_same_{v}", f"substeps_either_{v}")
             out[f"substep_agreement_any_face_{v}"] = share(f"substeps_same_any_{v}",

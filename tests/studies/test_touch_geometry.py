@@ -64,5 +64,7 @@ def test_a_scripted_grasp_touches_the_same_faces_both_ways(world):
     assert c["substeps_either_any_pre"] == c["substeps_same_any_pre"] > 20
     assert c["control_steps_either_pre"] == c["control_steps_same_pre"] > 5
     assert c["control_steps_sensors_differ_pre"] == 0
+    # DART's own contact points, judged in that state, give the kinematics' inner faces
+    assert c["substeps_either_pre_points"] == c["substeps_same_pre_points"] > 20
     # both paths were timed at every substep in contact
     assert len(comparison.dart_ns) == len(comparison.post_ns) == c["substeps_in_contact"]
