@@ -22,7 +22,9 @@ the ball's centre in the box's frame, the box's closest point to it, and
 
 ``measure`` runs trials of evolved robots under a model version's scene and numerics with
 both decisions at every physics substep, the model's own (DART's contacts) driving the trial,
-and reports their agreement and the time of each per decision (``python -m
+the kinematic one on the state after the step (``post``, only where DART reports contacts)
+and on the state before it, the one DART's collision detection saw (``pre``,
+``Comparison``), and reports their agreement and the time of each per decision (``python -m
 dart_reach.studies.touch_geometry``; docs/results/benchmarks.md, "Touch from the kinematics,
 measured (not adopted)").
 
@@ -39,9 +41,13 @@ import time
 import numpy as np
 from numba import njit
 
+from ..evolution.genome import decode
+from ..evolution.settings import seed_at
 from ..model import icub
-from ..model.compiled import body_poses
+from ..model.compiled import body_poses, inner_touches
+from ..model.task import Trial, network_for, trial_positions
 from ..model.world import World, inner_face_touch
+from .scaling import late_generation
 
 
 @njit(cache=True)
@@ -351,6 +357,11 @@ class Comparison:
         return out
 
 
+def _rng(job) -> np.random.Generator:
+    """The generator of a job's trial positions, as the genetic algorithm draws them."""
+    return np.random.default_rng(seed_at(job.seed))
+
+
 def measure(robots: int = 10, trials: int = 3, steps: int = 200, model_version: int = 3,
             seed: int = 0) -> dict:
     """Trials of the late population (``scaling.late_robots``: the shipped standard-condition
@@ -359,12 +370,6 @@ def measure(robots: int = 10, trials: int = 3, steps: int = 200, model_version: 
     ``trials`` trials of ``steps`` control steps, each physics substep decided both ways
     (``Comparison.instrument``). The agreement and the times (``Comparison.figures``), and
     the work done (``robots``, ``trials``, ``steps``, ``cpu_s``)."""
-    from ..evolution.backends import Job, _rng
-    from ..evolution.genome import decode
-    from ..model.compiled import inner_touches
-    from ..model.task import Trial, network_for, trial_positions
-    from .scaling import late_generation
-
     jobs = late_generation(model_version, seed=seed, trials=trials, steps=steps)[:robots]
     world = World(jobs[0].world)
     trial = Trial(world, jobs[0].trial)
