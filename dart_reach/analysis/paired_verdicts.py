@@ -146,12 +146,11 @@ def _equivalence(d: np.ndarray, bound: float, what: str) -> Outcome:
     change of one sign (``smallest_signed_rank_p``: 2 / 2^n, fewer than 6 pairs);
     inconclusive without spread (no evidence); reproduced when both one-sided tests reject,
     contradicted when the test of no change does, else inconclusive."""
-    n = len(d)
-    if smallest_signed_rank_p(n) >= ALPHA:
+    n, smallest = len(d), smallest_signed_rank_p(len(d))
+    if smallest >= ALPHA:
         return Outcome(UNDERPOWERED, effect=float(d.mean()) if n else math.nan,
                        note=f"{n} pairs: the smallest possible p of the sign-flip test is "
-                            f"{smallest_signed_rank_p(n):.2g} (two-tailed), "
-                            f"{smallest_signed_rank_p(n) / 2:.2g} (one-sided)")
+                            f"{smallest:.2g} (two-tailed), {smallest / 2:.2g} (one-sided)")
     if no_spread(d):
         return Outcome(INCONCLUSIVE, effect=float(d.mean()),
                        note="every unit changed alike: no evidence")
