@@ -110,6 +110,14 @@ class WorldConfig:
 class World:
     """The robot, the ball on its pendulum and the physics, stepped one control step at a time.
 
+    Shared by every model version: the construction and ``layout``, ``reset`` (which sets the
+    motors' commanded positions, ``commanded``, every version's steps start from), the
+    readings, ``mark_colliding_segments``. The world's own servo, ``step`` = ``set_targets``
+    and ``advance`` (the springs' rest positions, the touches gathered on Python floats), is
+    version 1's (``reference.steps``) and the stepping of every controller that is not a
+    trial's network (the scripted reach, the studies); versions 2 and 3 command and gather
+    with ``compiled_trial.CompiledSteps`` instead (docs/model/world.md).
+
     Built once per process (DART objects cannot be pickled: send a ``WorldConfig`` to workers).
     """
 
@@ -489,8 +497,8 @@ class World:
         return palm_point(self.hand_transform())
 
     def hand_transform(self) -> np.ndarray:
-        """4x4 world pose of the hand (``r_hand``): the palm point and the palm's normal
-        (``palm_point``, ``palm_normal``) from one read."""
+        """4x4 world pose of the hand (``r_hand``): the palm point (``palm_point``) and the
+        palm's normal (its rotation times ``PALM_NORMAL``) from one read."""
         return self.hand.getTransform().matrix()
 
     def shoulder_position(self) -> np.ndarray:
@@ -557,11 +565,8 @@ def palm_point(hand_pose: np.ndarray) -> np.ndarray:
     return hand_pose[:3, :3] @ icub.PALM_POINT + hand_pose[:3, 3]
 
 
-#: The palm's inner face normal in the ``r_hand`` frame (``icub.INNER_FACES``).
+#: The palm's inner face normal in the ``r_hand`` frame (``icub.INNER_FACES``): the records'
+#: palm normal (``TrialData.palm_normal``, the swipes of IV-A-2) is the hand's rotation times
+#: it, computed by each numerics' own code (``compiled.record_row``; version 1's
+#: ``reference.steps.palm_normal``).
 PALM_NORMAL = np.asarray(icub.INNER_FACES["palm"][0])
-
-
-def palm_normal(hand_pose: np.ndarray, out: np.ndarray | None = None) -> np.ndarray:
-    """Unit world direction the palm's inner face looks toward (+z = palm up) for a 4x4
-    world pose of the hand."""
-    return np.matmul(hand_pose[:3, :3], PALM_NORMAL, out=out)

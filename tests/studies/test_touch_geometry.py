@@ -12,7 +12,7 @@ from dart_reach.model import icub
 from dart_reach.model.scripted import ScriptedController
 from dart_reach.model.task import Trial, TrialConfig
 from dart_reach.model.versions import Numerics
-from dart_reach.model.world import World, palm_normal, palm_point
+from dart_reach.model.world import PALM_NORMAL, World, palm_point
 from dart_reach.studies.touch_geometry import Comparison, KinematicTouch
 
 PALM = icub.HAND_SEGMENTS.index("r_hand")
@@ -35,7 +35,7 @@ def test_the_palm_is_touched_on_its_inner_face_only_from_the_inner_side(world):
     touch = KinematicTouch(world)
     q = world.robot.getPositions()
     hand = world.hand_transform()
-    normal = palm_normal(hand)
+    normal = hand[:3, :3] @ PALM_NORMAL  # the palm's inner normal in the world
     # the palm point is on the inner face: a ball 1 mm into it from that side touches it there
     touch.decide(q, palm_point(hand) + (touch.radius - 0.001) * normal)
     assert touch.touch[PALM] and touch.touch_any[PALM]

@@ -1,7 +1,7 @@
 """Model version 1's steps of a trial (sections III-B, III-C), frozen: the sensors of
 ``reference.sensors`` on numpy arrays and Python floats, the network's own ``step``
 (``reference.network.ReferenceNetwork``), the world's ``set_targets`` and ``advance``, behind
-the interface of ``steps.TrialSteps``.
+the interface of ``steps.TrialSteps``; the palm's normal of its records (``palm_normal``).
 
 Never edited (``model.reference``): a change to the model is a new model version
 (docs/model/trial.md, "How to change the model").
@@ -16,10 +16,17 @@ import numpy as np
 from ..ctrnn import N_MOTORS, N_SENSORS, OFFSET, PROPRIO, SIGHT, TOUCH, Network, motor_targets
 from ..icub import HAND_SEGMENTS
 from ..steps import home_motor
-from ..world import BALL_PARKED, World, palm_normal, palm_point
+from ..world import BALL_PARKED, PALM_NORMAL, World, palm_point
 from . import sensors
 
 N_SEGMENTS = len(HAND_SEGMENTS)
+
+
+def palm_normal(hand_pose: np.ndarray, out: np.ndarray | None = None) -> np.ndarray:
+    """Unit world direction the palm's inner face looks toward (+z = palm up) for a 4x4
+    world pose of the hand (``World.hand_transform``): the records' palm normal (the swipes
+    of IV-A-2)."""
+    return np.matmul(hand_pose[:3, :3], PALM_NORMAL, out=out)
 
 
 class ReferenceSteps:
