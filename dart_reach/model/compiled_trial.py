@@ -111,7 +111,7 @@ class CompiledSteps:
         (cleared) records (``substeps``); a closure over what it calls."""
         w = self.world
         step, last_collisions = w.world.step, w.world.getLastCollisionResult
-        mark, gather = w.mark_colliding_segments, self._gather
+        mark, gather = w.mark_colliding_segments, self.gather
         self_collision, substeps = w.config.self_collision, w.config.substeps
 
         def run_substeps() -> None:
@@ -126,7 +126,7 @@ class CompiledSteps:
                     deciding = gather(result, n)
         return run_substeps
 
-    def _gather(self, result, n: int) -> bool:
+    def gather(self, result, n: int) -> bool:
         """Mark the touches of one substep's ``n`` contacts (``touch_any``: any face;
         ``touch``: the inner face, ``inner_touches``); whether any contact had an inner face to
         decide."""

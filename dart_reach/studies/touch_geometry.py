@@ -187,7 +187,7 @@ class Comparison:
     substeps (see ``measure``). Two kinematic variants beside DART's contacts:
 
     - ``post``: on the state after the physics step, the one the model reads its joint
-      positions from (``compiled_trial.CompiledSteps._gather``), taken only in the substeps
+      positions from (``compiled_trial.CompiledSteps.gather``), taken only in the substeps
       where DART reports contacts (its count comes with the step, no contact is read);
     - ``pre``: on the state before the step, the one DART's collision detection saw (a
       world's step detects the collisions before it integrates the positions), taken in
@@ -229,12 +229,12 @@ class Comparison:
         of one control period; the instance's attribute only, the class is not touched) by
         the same substeps with the decisions compared and timed (CPU time of this thread,
         so that the other processes' load does not count). The trial's touches stay the
-        model's own (its ``mark_colliding_segments`` and ``_gather``), so the robots move
+        model's own (its ``mark_colliding_segments`` and ``gather``), so the robots move
         as they do in training."""
         w = self.world
         world, robot, ball_body = w.world, w.robot, w.ball_body
         step, last = world.step, world.getLastCollisionResult
-        mark, gather = w.mark_colliding_segments, steps._gather
+        mark, gather = w.mark_colliding_segments, steps.gather
         self_collision, n_sub = w.config.self_collision, w.config.substeps
         post, pre, c = self.kin["post"], self.kin["pre"], self.counts
         gathered = self.gathered
