@@ -58,14 +58,16 @@ def draw(run_dir: Path) -> pl.DataFrame:
         pl.Series("code", [f"T{i + 1:02d}" for i in range(sample.height)]))
 
 
-def run_again(run_dir: Path, sample: pl.DataFrame) -> pl.DataFrame:
+def run_again(run_dir: Path, sample: pl.DataFrame,
+              generation: int = GENERATION) -> pl.DataFrame:
     """One row per trial of ``sample`` and step: the hand's x, y, z (m) and whether the hand
-    has touched the ball by then (``touched``), from the snapshot's genome run again."""
+    has touched the ball by then (``touched``), from the genome of snapshot ``generation``
+    run again."""
     run = RunDirectory.open(run_dir)
     rows = []
     for s in sample.iter_rows(named=True):
         job = stored_robot_job(run, s["phase_key"], s["senses"], s["replication"], s["rank"],
-                               generation=GENERATION, positions=(s["trial"],))
+                               generation=generation, positions=(s["trial"],))
         runner = worker_trial(job.world, job.trial)
         network = network_for(decode(job.genome, as_groups(job.phase.free_groups)), job.trial)
         position = runner.world.systematic_points()[s["trial"]]
@@ -80,9 +82,11 @@ def run_again(run_dir: Path, sample: pl.DataFrame) -> pl.DataFrame:
     return pl.concat(rows)
 
 
-def sheets(paths: pl.DataFrame, out: Path) -> list[Path]:
-    """PNG sheets of ``PER_SHEET`` trials each: x, y, z about their means (one scale for all)
-    over the 20 s, the first touch a dashed line, titled by code only."""
+def sheets(paths: pl.DataFrame, out: Path, per_sheet: int = PER_SHEET,
+           touch_line: bool = True) -> list[Path]:
+    """PNG sheets of ``per_sheet`` (even) trials each: x, y, z about their means (one scale
+    for all) over the 20 s, the first touch a dashed line (``touch_line``), titled by code
+    only."""
     import matplotlib
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
@@ -90,15 +94,16 @@ def sheets(paths: pl.DataFrame, out: Path) -> list[Path]:
     codes = sorted(paths["code"].unique())
     out.mkdir(parents=True, exist_ok=True)
     written = []
-    for k in range(0, len(codes), PER_SHEET):
-        fig, axes = plt.subplots(PER_SHEET // 2, 2, figsize=(12, 11), sharex=True, sharey=True)
-        for ax, code in zip(axes.ravel(), codes[k:k + PER_SHEET]):
+    for k in range(0, len(codes), per_sheet):
+        fig, axes = plt.subplots(per_sheet // 2, 2, figsize=(12, 11 * per_sheet / 8),
+                                 sharex=True, sharey=True)
+        for ax, code in zip(axes.ravel(), codes[k:k + per_sheet]):
             p = paths.filter(pl.col("code") == code)
             t = p["step"].to_numpy() * 0.1
             for axis, color in zip("xyz", ("tab:red", "tab:green", "tab:blue")):
                 v = p[axis].to_numpy()
                 ax.plot(t, v - v.mean(), color=color, lw=1.2, label=axis)
-            if p["touched"].any():
+            if touch_line and p["touched"].any():
                 ax.axvline(t[int(np.argmax(p["touched"].to_numpy()))], color="k", ls="--", lw=1)
             ax.set_title(code)
             ax.set_ylim(-0.3, 0.3)
@@ -110,7 +115,7 @@ def sheets(paths: pl.DataFrame, out: Path) -> list[Path]:
         for ax in axes[:, 0]:
             ax.set_ylabel("hand about its mean (m)")
         fig.tight_layout()
-        path = out / f"sheet-{k // PER_SHEET + 1}.png"
+        path = out / f"sheet-{k // per_sheet + 1}.png"
         fig.savefig(path, dpi=80)
         plt.close(fig)
         written.append(path)
