@@ -1,8 +1,9 @@
 """docs/results/babbling-detector.md: the babbling detector (``measures.kinematics``)
 against paths labelled without its output (docs/model/measures.md, "Validating the
 detector"): the synthetic set (``measures.babbling_synthetic``), the 40 real trials labelled
-by eye (``babbling_sample``: ``SAMPLE``, ``LABELS``), and the strategy by movement beside the
-strategy by rhythm at the judged generations of ``FULL``. Rendered by ``reports.results``."""
+by eye (``babbling_sample``: ``SAMPLE``, ``LABELS``), the second sample with and without the
+ball (``babbling_validation``), and the strategy by movement beside the strategy by rhythm at
+the judged generations of ``FULL``. Rendered by ``reports.results``."""
 
 from __future__ import annotations
 
@@ -15,6 +16,7 @@ from dart_reach.measures import babbling_synthetic as synthetic
 from dart_reach.measures import kinematics as k
 from dart_reach.postevaluation.snapshots import load_development
 
+from . import babbling_validation as second
 from .babbling_sample import CONDITIONS, GENERATION, LABELS, SAMPLE, SEED
 from .runs import FULL, JUDGED
 from .text import markdown_table
@@ -164,6 +166,7 @@ def values(recordings: Path) -> dict[str, str]:
     wide = moves.pivot("generation", index="replication", values="moving_share").sort(
         "replication")
     return {
+        **second.values(root),
         "run": FULL, "generation": str(GENERATION), "seed": str(SEED),
         "per_family": str(PER_FAMILY), "labels": LABELS, "sample": SAMPLE,
         "synthetic_table": markdown_table(syn),

@@ -11,8 +11,9 @@ fixed before any data was looked at and documented with its reason in docs/model
   ``straightness_onset``, ``movement_units`` (smoothness: speed peaks before the touch);
 - arm orienting (Table I, pre-reaching): ``approach``, ``heading``;
 - motor babbling (IV-A-1: "large quasi-periodic circular movements"): ``hand_periodicity``,
-  ``hand_amplitude``, ``is_babbling``; beside rhythm, the movement's amount and size:
-  ``is_moving``.
+  ``hand_amplitude``, ``is_babbling``; the same before the first touch (the candidate for the
+  ball-absent claim A1): ``before_touch``, ``babbling_before_touch``; beside rhythm, the
+  movement's amount and size: ``is_moving``.
 """
 
 from __future__ import annotations
@@ -46,6 +47,9 @@ BABBLING_AMPLITUDE = 0.05
 MOVING_PATH = 1.0
 #: RMS (m) of the detrended hand path below which the hand counts as at rest.
 REST_TOLERANCE = 1e-9
+#: s: the shortest window of ``babbling_before_touch`` (2.5 cycles of the slowest rhythm the
+#: rule accepts, a spectrum of 0.1 Hz bins); fixed before the second validation sample.
+BEFORE_TOUCH_MIN_S = 10.0
 
 
 def points(p, name: str = "points") -> np.ndarray:
@@ -278,3 +282,27 @@ def is_moving(path: float, amplitude: float) -> bool:
     (m, ``path_length``) is at least ``MOVING_PATH`` and its amplitude (m,
     ``hand_amplitude``) at least ``BABBLING_AMPLITUDE``, rhythm or not. NaN is not moving."""
     return bool(path >= MOVING_PATH and amplitude >= BABBLING_AMPLITUDE)
+
+
+def before_touch(hand, end: int, dt: float = DT,
+                 min_s: float = BEFORE_TOUCH_MIN_S) -> np.ndarray:
+    """The hand path (m) before the first touch, over at least the first ``min_s`` s: rows
+    0 .. max(``end``, ``min_s`` / ``dt``) - 1 of the (T, 3) path for a first touch at row
+    ``end``, the whole path without a touch (``end`` < 0) or when it is shorter."""
+    h = points(hand, "hand")
+    if end < 0:
+        return h
+    return h[:max(end, int(round(min_s / dt)))]
+
+
+def babbling_before_touch(hand, end: int, dt: float = DT,
+                          min_s: float = BEFORE_TOUCH_MIN_S) -> bool:
+    """Motor babbling before the first touch (section IV-A-1; the candidate measure of the
+    ball-absent claim A1, docs/model/measures.md, "The second validation sample"):
+    ``is_babbling`` of ``hand_periodicity`` and ``hand_amplitude`` on ``before_touch``
+    (thresholds unchanged: share >= 0.4 at >= 0.25 Hz, RMS >= 0.05 m). A touch that stops or
+    changes the rhythm no longer counts; without a touch (``end`` < 0, the ball absent) it is
+    the detector on the whole trial."""
+    window = before_touch(hand, end, dt, min_s)
+    frequency, share = hand_periodicity(window, dt)
+    return is_babbling(frequency, share, hand_amplitude(window))

@@ -134,3 +134,59 @@ def test_amplitude_of_a_circle_is_its_radius():
 def test_babbling_needs_a_rhythm_and_a_large_movement(hand, babbles):
     f, share = k.hand_periodicity(hand)
     assert k.is_babbling(f, share, k.hand_amplitude(hand)) is babbles
+
+
+def test_before_touch_is_the_path_to_the_touch_over_at_least_ten_seconds():
+    hand = circle(0.1, 0.5)
+    assert len(k.before_touch(hand, -1)) == 200  # no touch: the whole trial
+    assert len(k.before_touch(hand, 150)) == 150  # rows 0..149, before the touch at row 150
+    assert len(k.before_touch(hand, 30)) == 100  # an early touch: the first 10 s
+    assert len(k.before_touch(hand[:80], 30)) == 80  # never more than the trial
+    np.testing.assert_array_equal(k.before_touch(hand, 150), hand[:150])
+
+
+def _sweep_then(after: np.ndarray, touch: int, freq: float = 0.5) -> np.ndarray:
+    """A 15 cm to-and-fro sweep at ``freq`` Hz up to row ``touch``, ``after`` from then on
+    (starting where the sweep stopped)."""
+    t = np.arange(touch) * DT
+    sweep = np.column_stack([0.15 * np.sin(2 * np.pi * freq * t), np.zeros(touch),
+                             np.zeros(touch)])
+    return np.vstack([sweep, sweep[-1] + after[:200 - touch] - after[0]])
+
+
+@pytest.mark.parametrize("touch", [60, 110, 140])
+def test_a_sweep_broken_at_the_touch_is_babbling_before_it(touch):
+    """The first sample's misses with the ball: a sweep that stops at the ball or turns
+    irregular after the touch. The detector on the whole trial misses them; before the touch
+    (at least 10 s) they babble."""
+    held = _sweep_then(still([0, 0, 0], 200), touch)  # held at the ball to the end
+    rng = np.random.default_rng(touch)
+    raw = rng.normal(size=(240, 3))
+    kernel = np.exp(-0.5 * (np.arange(-20, 21) / 6.0) ** 2)
+    smooth = np.stack([np.convolve(raw[:, i], kernel, "same") for i in range(3)], 1)[20:-20]
+    irregular = _sweep_then(0.2 * smooth / np.sqrt((smooth ** 2).sum(1).mean()), touch)
+    f, share = k.hand_periodicity(irregular)
+    assert not k.is_babbling(f, share, k.hand_amplitude(irregular))  # the detector misses it
+    for hand in (held, irregular):
+        f, share = k.hand_periodicity(hand)
+        assert k.babbling_before_touch(hand, touch)
+        assert k.babbling_before_touch(hand, -1) == k.is_babbling(
+            f, share, k.hand_amplitude(hand))  # no touch: the detector itself
+
+
+@pytest.mark.parametrize("touch", [-1, 20, 120])
+def test_before_touch_sees_no_babbling_where_there_is_none(touch):
+    """Still paths of the synthetic set (rest, reach and hold, slow sweeps, small circles)
+    stay not babbling whatever the touch's row; a babbling circle stays babbling."""
+    from dart_reach.measures import babbling_synthetic as synthetic
+
+    rng = np.random.default_rng(5)
+    for family in ("rest", "reach and hold", "slow sweeps", "small circles", "drift"):
+        for _ in range(20):
+            assert not k.babbling_before_touch(synthetic.path(family, rng).hand, touch), family
+    circles = [synthetic.path("circle", rng).hand for _ in range(40)]
+    whole = sum(k.is_babbling(*k.hand_periodicity(h), k.hand_amplitude(h)) for h in circles)
+    before = sum(k.babbling_before_touch(h, touch) for h in circles)
+    assert whole >= 36
+    # 5-40 cycles in 20 s keep 2.5-20 in the first 10 s: nearly all still babble there
+    assert before == whole if touch < 0 else before >= 0.85 * whole
