@@ -66,8 +66,10 @@ def register_bench(subparsers) -> None:
     p.add_argument("--repeats", type=positive, default=30,
                    help="pairs of blocks for the physics ratio (default 30)")
     p.add_argument("--model-version", type=int, default=None, metavar="N",
-                   help="the model version whose numerics the trials compute with (default: "
-                        "the version new runs use)")
+                   help="the model version the trials compute with; with --physics the "
+                        "panel's random networks and scripted reach run under its whole model "
+                        "(scene, levers), the robots of --run under their run's (default: the "
+                        "version new runs use)")
     p.add_argument("--physics", action="store_true",
                    help="instead: the physics-step study (docs/results/physics-step.md): a panel of networks "
                         "post-evaluated at each candidate step and at a quarter of it")
@@ -92,6 +94,10 @@ def cmd_bench(args) -> int:
 
     if args.json is not None and args.json.exists():
         raise FileExistsError(f"--json {args.json} exists; choose another file")
+    from ..model.versions import CURRENT_MODEL_VERSION, check_model_version
+
+    version = (CURRENT_MODEL_VERSION if args.model_version is None
+               else check_model_version(args.model_version))
     if args.physics:
         from ..studies import physics_step as physics_study
 
@@ -99,7 +105,8 @@ def cmd_bench(args) -> int:
             show = checked(bar)
             results = physics_study.study(
                 candidates=args.physics_steps, random=args.networks, runs=args.run,
-                workers=args.workers, progress=lambda n, total: show((n, total)))
+                workers=args.workers, model_version=version,
+                progress=lambda n, total: show((n, total)))
         print("\n" + physics_study.format_study(results))
     elif args.scaling is not None:
         measured = scaling.ray_scaling(nodes=args.scaling or (2, 4))
@@ -111,10 +118,6 @@ def cmd_bench(args) -> int:
     else:
         if not (math.isfinite(args.seconds) and args.seconds > 0):
             raise ValueError(f"--seconds must be a positive number, got {args.seconds:g}")
-        from ..model.versions import CURRENT_MODEL_VERSION, check_model_version
-
-        version = (CURRENT_MODEL_VERSION if args.model_version is None
-                   else check_model_version(args.model_version))
         results = bench.run(seconds=args.seconds, pairs=args.repeats, model_version=version)
         results.update(scaling.late_population())
         print(bench.format_table(results))

@@ -8,9 +8,11 @@ of controllers on the 45 systematic positions at each candidate step and at a qu
 and compares the panel's statistics within ``Tolerances``; it also measures the open-loop hand
 tracking error against a fine reference and the cost of each step in core time.
 
-The panel: random networks of the pre- and gross-reaching phases (reflexes as in those phases),
-the scripted reach-and-grasp (``scripted.ScriptedController``) and, when run directories are
-given, the best 5 evolved robots of each replication of each of their phases.
+The panel: random networks of the pre- and gross-reaching phases (reflexes as in those phases)
+and the scripted reach-and-grasp (``scripted.ScriptedController``), under a model version
+(its numerics, levers, scene and self-collision: ``model.versions``), and, when run
+directories are given, the best 5 evolved robots of each replication of each of their phases,
+each in its own run's world (scene, self-collision) and numerics.
 
 The chosen step is the largest candidate whose statistics agree with its quarter step, over
 the whole panel and within each kind of controller.
@@ -32,6 +34,7 @@ from ..evolution.settings import Settings, trial_config
 from ..measures.metrics import trial_metrics
 from ..model.scripted import ScriptedController
 from ..model.task import Trial, TrialConfig, network_for
+from ..model.versions import CURRENT_MODEL_VERSION
 from ..model.world import POINTS_PER_SECTOR, World, WorldConfig
 from ..postevaluation.systematic import open_finished
 
@@ -54,13 +57,16 @@ class Tolerances:
 
 @dataclass(frozen=True)
 class Member:
-    """One controller of the panel. ``genome`` None means the scripted reach-and-grasp."""
+    """One controller of the panel. ``genome`` None means the scripted reach-and-grasp;
+    ``world`` the world it runs in (scene, self-collision; its physics step is replaced by the
+    step judged)."""
 
     kind: str  # one of KINDS
     label: str
     genome: np.ndarray | None
     free_groups: frozenset
     trial: TrialConfig
+    world: WorldConfig
     evolved_dt: float | None = None  # the physics step it evolved at (evolved robots only)
 
     def judges(self, candidate: float) -> bool:
@@ -71,22 +77,27 @@ class Member:
 
 
 def panel(random: int = 20, seed: int = 0, runs=(), steps: int = 200,
-          scripted: bool = True, evolved: int = 5) -> list[Member]:
-    """The study's controllers: ``random`` random networks (half pre-, half gross-reaching),
-    the scripted reach-and-grasp (unless ``scripted`` is False), and the best ``evolved``
-    robots of each replication of each phase of the finished run directories ``runs``.
+          scripted: bool = True, evolved: int = 5,
+          model_version: int = CURRENT_MODEL_VERSION) -> list[Member]:
+    """The study's controllers: ``random`` random networks (half pre-, half gross-reaching)
+    and the scripted reach-and-grasp (unless ``scripted`` is False) under ``model_version``
+    (default: the version new runs use), and the best ``evolved`` robots of each replication
+    of each phase of the finished run directories ``runs``, under their run's settings.
     Trials last ``steps`` control steps."""
-    settings = Settings(steps=steps)
+    settings = Settings(steps=steps, model_version=model_version)
     standard = load_condition("standard").phases[:2]
     genomes = random_genome(np.random.default_rng(seed), random)
     members = []
     for i, genome in enumerate(genomes):
         phase = standard[i % 2]
         members.append(Member("random", f"random-{phase.name}-{i}", genome,
-                              as_groups(phase.free_groups), trial_config(phase, settings)))
+                              as_groups(phase.free_groups), trial_config(phase, settings),
+                              settings.world))
     if scripted:
+        trial = trial_config(standard[0], settings)
         members.append(Member("scripted", "scripted", None, frozenset(),
-                              TrialConfig(steps=steps)))
+                              TrialConfig(steps=steps, numerics=trial.numerics),
+                              settings.world))
     for run_dir in runs:
         run = open_finished(run_dir)
         for _, phase in run.unique_phases():
@@ -96,20 +107,22 @@ def panel(random: int = 20, seed: int = 0, runs=(), steps: int = 200,
                 for i in range(min(evolved, population.shape[1])):
                     members.append(Member("evolved", f"{run.out.name}/{phase.name}/rep{r}/{i}",
                                           population[r, i], as_groups(phase.free_groups),
-                                          trial, run.settings.world.physics_dt))
+                                          trial, run.settings.world,
+                                          run.settings.world.physics_dt))
     return members
 
 
-_WORLDS: dict[float, World] = {}
+_WORLDS: dict[WorldConfig, World] = {}
 
 
 def run_member(job: tuple[Member, float]) -> dict:
-    """One member's 45 post-evaluation trials at one physics step: the per-trial measures
-    needed by the study and the core time they took (s)."""
+    """One member's 45 post-evaluation trials in its world at one physics step: the
+    per-trial measures needed by the study and the core time they took (s)."""
     member, physics_dt = job
-    world = _WORLDS.get(physics_dt)
+    config = replace(member.world, physics_dt=physics_dt)
+    world = _WORLDS.get(config)
     if world is None:
-        world = _WORLDS[physics_dt] = World(WorldConfig(physics_dt=physics_dt))
+        world = _WORLDS[config] = World(config)
     trial = Trial(world, member.trial)
     network = (None if member.genome is None
                else network_for(decode(member.genome, member.free_groups), member.trial))
@@ -182,7 +195,7 @@ def tracking_error(physics_dt: float, reference_dt: float, seeds: int = 5,
 def study(candidates=(0.02, 0.01), random: int = 20, runs=(), steps: int = 200,
           tolerances: Tolerances = Tolerances(), workers: int | None = None,
           reference_dt: float = 0.00125, seed: int = 0, scripted: bool = True,
-          progress=None) -> dict:
+          model_version: int = CURRENT_MODEL_VERSION, progress=None) -> dict:
     """Run the panel at every candidate step and at a quarter of it; compare. Returns the
     per-step panel statistics (per kind and over the whole panel), the agreement of each
     candidate with its quarter, the tracking errors, each step's cost (simulated s per core
@@ -191,7 +204,7 @@ def study(candidates=(0.02, 0.01), random: int = 20, runs=(), steps: int = 200,
     candidates = sorted(set(float(c) for c in candidates), reverse=True)
     for c in candidates:
         WorldConfig(physics_dt=c / 4)  # a step that does not divide 0.1 s fails here, early
-    members = panel(random, seed, runs, steps, scripted)
+    members = panel(random, seed, runs, steps, scripted, model_version=model_version)
     jobs = list(dict.fromkeys((i, dt) for c in candidates for dt in (c, c / 4)
                               for i, m in enumerate(members) if m.judges(c)))
     backend = make_backend(workers)
@@ -226,7 +239,8 @@ def study(candidates=(0.02, 0.01), random: int = 20, runs=(), steps: int = 200,
             "cost_ratio": steps_stats[c]["rtf_per_core"] / steps_stats[c / 4]["rtf_per_core"],
             **tracking_error(c, reference_dt)}
     chosen = next((c for c in candidates if comparisons[c]["agrees"]), None)
-    return {"steps": steps, "tolerances": {"rate_abs": tolerances.rate_abs,
+    return {"model_version": model_version, "steps": steps,
+            "tolerances": {"rate_abs": tolerances.rate_abs,
                                            "rel": tolerances.rel},
             "reference_dt": reference_dt, "comparisons": comparisons, "chosen": chosen}
 
@@ -235,7 +249,8 @@ def format_study(r: dict) -> str:
     """The study as text tables: per candidate, the statistics at it and at its quarter,
     the agreement, the tracking error and the cost."""
     names = [k for k, _ in STATISTICS]
-    lines = [f"45 trials of {r['steps']} steps per controller; tolerances: rates within "
+    lines = [f"model version {r['model_version']} (random and scripted); 45 trials of "
+             f"{r['steps']} steps per controller; tolerances: rates within "
              f"{r['tolerances']['rate_abs']:g} absolute, fitness, speed and straightness "
              f"within {r['tolerances']['rel']:.0%} relative"]
     header = f"{'step [s]':>9} {'group':<9}" + "".join(f"{n:>13}" for n in names)

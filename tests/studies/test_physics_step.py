@@ -5,8 +5,11 @@ from __future__ import annotations
 import math
 import subprocess
 import sys
+from dataclasses import replace
 
 import pytest
+
+from dart_reach.model.world import WorldConfig
 
 from dart_reach.studies.physics_step import (Tolerances, agreement, panel, panel_statistics,
                                       run_member, study, tracking_error)
@@ -60,9 +63,27 @@ def test_evolved_robots_are_judged_at_the_step_they_evolved_at():
     from dart_reach.studies.physics_step import Member
     from dart_reach.model.task import TrialConfig
 
-    member = Member("evolved", "x", None, frozenset(), TrialConfig(), evolved_dt=0.01)
+    member = Member("evolved", "x", None, frozenset(), TrialConfig(), WorldConfig(),
+                    evolved_dt=0.01)
     assert member.judges(0.01) and not member.judges(0.02)
-    assert Member("random", "y", None, frozenset(), TrialConfig()).judges(0.02)
+    assert Member("random", "y", None, frozenset(), TrialConfig(), WorldConfig()).judges(0.02)
+
+
+@pytest.mark.parametrize("version", [1, 3])
+def test_the_panel_runs_in_its_model_versions_world(version):
+    """Random networks and the scripted reach run under the version's whole model: its
+    scene and numerics, in a world of that scene at the step judged."""
+    from dart_reach.model.versions import model_version
+    from dart_reach.studies import physics_step
+
+    record = model_version(version)
+    members = panel(random=1, steps=2, model_version=version)
+    assert [m.kind for m in members] == ["random", "scripted"]
+    for m in members:
+        assert m.world == record.world() and m.trial.numerics is record.numerics
+    assert len(run_member((members[1], 0.01))["rows"]) == 45
+    world = physics_step._WORLDS[replace(record.world(), physics_dt=0.01)]
+    assert world.config.sectors == record.sectors() and world.config.physics_dt == 0.01
 
 
 def test_tiny_study_is_deterministic_and_complete():
@@ -115,5 +136,6 @@ def test_panel_takes_the_best_robots_of_a_run_with_their_step(tmp_path):
     evolved = [m for m in members if m.kind == "evolved"]
     assert len(evolved) == 3 * 2 * 2  # phases x replications x best 2
     assert all(m.evolved_dt == 0.01 and m.trial.steps == 5 for m in evolved)
+    assert all(m.world == run.settings.world for m in evolved)
     population, _ = run.load_final(run.conditions[0].phases[2])
     assert (evolved[-1].genome == population[1, 1]).all()
