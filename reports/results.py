@@ -322,7 +322,8 @@ DOCS: dict[str, dict[str, Callable[[Path], dict[str, str]]]] = {
     "summary.md": {"": replication_values, "course.": pre_reaching_course.values},
     "stillness.md": {"": stillness_values},
     "pre-reaching-course.md": {"": pre_reaching_course.values},
-    "babbling-detector.md": {"": babbling_detector.values}}
+    "babbling-detector.md": {"": babbling_detector.values},
+    "calibration.md": {"": calibration_table.values}}
 
 
 #: Each figure of the results docs: its path under docs/results and the function of the

@@ -24,8 +24,6 @@ Every number is a pure function of the seed.
 from __future__ import annotations
 
 import math
-from collections.abc import Callable
-from dataclasses import dataclass
 
 import numpy as np
 import polars as pl
@@ -33,56 +31,12 @@ from scipy import optimize
 from scipy import stats as sps
 
 from . import verdicts as v
-
-#: Data sets per rule, nesting and scenario; the Monte-Carlo standard error of a rate near
-#: ALPHA is then sqrt(0.05 x 0.95 / 2000) = 0.0049.
-DATASETS = 2000
-#: The outlying replication of the robustness null, in between-replication s.d.
-OUTLIER = 4.0
-#: One-sided z of the Monte-Carlo tolerance (99 %): a rule fails when its rate exceeds
-#: ALPHA + Z_MC x its standard error, or its coverage falls below the level - Z_MC x s.e.
-Z_MC = 2.33
-
-
-@dataclass(frozen=True)
-class Nesting:
-    """Replications per group, robots per replication, and the s.d. of replication effects
-    and of robots within a replication, in the measure's units."""
-
-    replications: int
-    robots: int = 5
-    between_sd: float = 1.0
-    within_sd: float = 0.2
-
-    @property
-    def label(self) -> str:
-        return (f"{self.replications} x {self.robots} (s.d. {self.between_sd:g} between, "
-                f"{self.within_sd:g} within)")
-
-    @property
-    def mean_sd(self) -> float:
-        """s.d. of a replication's mean over its robots."""
-        return math.sqrt(self.between_sd ** 2 + self.within_sd ** 2 / self.robots)
-
-
-#: The runs' ratio of within- to between-replication s.d. (``spreads``, over phases and
-#: measures; docs/results/replication.md): the lowest lower quartile (0.62) and the highest
-#: upper quartile (2.97) over the project's committed replication runs, rounded.
-RUN_RATIOS = (0.6, 3.0)
-#: The nestings of the runs: 4 replications (the 10- and 50-generation runs), 10 (the
-#: paper's), each at the two ends of the runs' quartile ratios.
-NESTINGS = tuple(Nesting(r, 5, 1.0, w) for r in (4, 10) for w in RUN_RATIOS)
-
-
-def robots(rng: np.random.Generator, nest: Nesting, shift: float = 0.0,
-           outlier: bool = False) -> np.ndarray:
-    """One group's robot values, shape (replications, robots): replication effects
-    N(shift, between_sd), robots N(replication, within_sd); with ``outlier`` one replication
-    moved by ``OUTLIER`` between-replication s.d."""
-    rep = rng.normal(shift, nest.between_sd, nest.replications)
-    if outlier:
-        rep[rng.integers(nest.replications)] += OUTLIER * nest.between_sd
-    return rep[:, None] + rng.normal(0.0, nest.within_sd, (nest.replications, nest.robots))
+from .calibration_core import (  # noqa: F401  (re-exported: the calibration's shared names)
+    DATASETS, NESTINGS, OUTLIER, RUN_RATIOS, Z_MC, Nesting, rate as _rate, repeat as _repeat,
+    robots, row as _row)
+from .paired_calibration import (  # noqa: F401  (re-exported: the paired rules' blocks)
+    PAIRED_BEFORE, PAIRED_UNGATED, RATE_BEFORE, RATE_SHAPES, RATE_UNGATED, SENSES_UNGATED,
+    paired, paired_rates, rate_pairs, senses, t_tost)
 
 
 def _pair(rng, nest, shift_b=0.0, outlier=False):
@@ -93,33 +47,11 @@ def _pair(rng, nest, shift_b=0.0, outlier=False):
     return a, b
 
 
+
 def _theta_shift(theta: float, sd: float) -> float:
     """The shift of b over a (both normal with s.d. ``sd``) that gives P(B > A) = theta."""
     return math.sqrt(2) * sd * sps.norm.ppf(theta)
 
-
-def _rate(flags) -> float:
-    return float(np.mean(flags))
-
-
-def _row(rule: str, nest: Nesting, scenario: str, measure: str, value: float, bound: float,
-         kind: str) -> dict:
-    """``kind``: "at most" (an error rate against ``bound``), "at least" (a coverage),
-    "power" or "reported" (a rule not used, for comparison; neither has a bound)."""
-    if kind not in ("at most", "at least", "power", "reported"):
-        raise ValueError(f"unknown kind {kind!r}")
-    free = kind in ("power", "reported")
-    se = math.sqrt(max(bound * (1 - bound), 1e-12) / DATASETS) if not free else math.nan
-    ok = (value <= bound + Z_MC * se if kind == "at most" else
-          value >= bound - Z_MC * se if kind == "at least" else None)
-    return {"rule": rule, "replications": nest.replications, "robots": nest.robots,
-            "between_sd": nest.between_sd, "within_sd": nest.within_sd, "scenario": scenario,
-            "measure": measure, "value": value, "bound": bound if not free else math.nan,
-            "kind": kind, "ok": ok}
-
-
-def _repeat(rng, n, draw: Callable):
-    return [draw(rng) for _ in range(n)]
 
 
 # ------------------------------------------------------------------- groups of unequal shapes
@@ -331,193 +263,9 @@ def _sectors(nest, rng, n):
     return rows
 
 
-def _paired(nest, rng, n):
-    """One group's replications under two conditions (or in two generation windows): each
-    replication changes by N(shift, between_sd) on the replication-mean scale."""
-    rows = []
-
-    def pairs(r, shift, outlier=False):
-        ref = robots(r, nest).mean(axis=1)
-        change = r.normal(shift, nest.mean_sd, nest.replications)
-        if outlier:
-            change[r.integers(nest.replications)] += OUTLIER * nest.mean_sd * r.choice((-1, 1))
-        return ref, ref + change
-    for outlier in (False, True):
-        out = _repeat(rng, n, lambda r: v.paired_directional(*pairs(r, 0.0, outlier), +1))
-        rows.append(_row("paired change", nest, "null" + (", one outlying replication"
-                                                          if outlier else ""),
-                         "decided", _rate([o.verdict in v.DECIDED for o in out]), v.ALPHA,
-                         "at most"))
-    shift = nest.mean_sd
-    out = _repeat(rng, n, lambda r: v.paired_directional(*pairs(r, shift), +1))
-    rows.append(_row("paired change", nest, "change 1 s.d.", "coverage of the 95 % interval",
-                     _rate([o.low <= shift <= o.high for o in out]), 0.95, "at least"))
-    rows.append(_row("paired change", nest, "change 1 s.d.", "reproduced",
-                     _rate([o.verdict == v.REPRODUCED for o in out]), math.nan, "power"))
-
-    def same(r, change_by, k, modes=0.0):
-        """``k`` positive references (each replication's change is relative to its own
-        level), each changed by a relative change N(change_by x margin, margin), or with
-        ``modes`` at change_by x margin +- modes x margin (two modes, s.d. margin / 10)."""
-        ref = robots(r, nest).mean(axis=1)[:k] + 10.0  # k <= the nesting's replications
-        spread = PAIRED_SD if not modes else 0.1
-        c = r.normal(change_by * v.PAIRED_MARGIN, spread * v.PAIRED_MARGIN, k)
-        if modes:
-            c += r.choice((-modes, modes), k) * v.PAIRED_MARGIN
-        c = np.clip(c, -1.9, 1.9)
-        return ref, ref * (2 + c) / (2 - c)  # (new - ref) / mean(new, ref) = c
-    judge = lambda ref, new: v.paired_equivalent(ref, new, relative=True)  # noqa: E731
-    for k in _pair_sizes(nest):
-        at = "" if k == nest.replications else f", {k} pairs"
-        for modes, shape in ((0.0, ""), (TWO_MODES, ", two-mode changes")):
-            for change_by, scenario, error in ((1.0, "change at the margin", v.REPRODUCED),
-                                               (0.0, "no change", v.CONTRADICTED)):
-                data = _repeat(rng, n, lambda r: same(r, change_by, k, modes))
-                out = [judge(a, b) for a, b in data]
-                rows.append(_row("paired no change", nest, scenario + shape + at, error,
-                                 _rate([o.verdict == error for o in out]), v.ALPHA,
-                                 "at most"))
-                rows.append(_row(PAIRED_BEFORE, nest, scenario + shape + at, error, _rate(
-                    [_t_tost(v.relative_changes(a, b), v.PAIRED_MARGIN) == error
-                     for a, b in data]), math.nan, "reported"))
-                if change_by == 0.0 and not modes:
-                    rows.append(_row("paired no change", nest, scenario + at, "reproduced",
-                                     _rate([o.verdict == v.REPRODUCED for o in out]),
-                                     math.nan, "power"))
-    return rows
-
-
-#: s.d. of the relative changes of "paired no change" (in margins): wide enough that the
-#: rule, shown no equivalence, can be wrong the other way (a row that can fail).
-PAIRED_SD = 1.0
-#: Two-mode changes: each replication changes by the null's change +- this many margins.
-TWO_MODES = 1.5
-#: The paired rules' rule before the sign-flip test (reported beside it).
-PAIRED_BEFORE = "paired no change: paired t TOST (the rule before, reported)"
-RATE_BEFORE = "paired rate no change: paired t TOST (the rule before, reported)"
-
-
-def _pair_sizes(nest: Nesting) -> tuple[int, ...]:
-    """The pairs a paired rule is calibrated at: the nesting's replications, and 3 beside 4
-    (the smallest run and the old gate)."""
-    return (3, 4) if nest.replications == 4 else (nest.replications,)
-
-
-def _t_tost(d, bound) -> str:
-    """The verdict of the paired rules before the sign-flip test: two one-sided paired
-    t-tests of the changes ``d`` (``verdicts.paired_tost``) from 3 pairs."""
-    d = np.asarray(d, float)
-    if len(d) < v.MIN_UNITS or np.ptp(d) == 0:
-        return v.UNDERPOWERED if len(d) < v.MIN_UNITS else v.INCONCLUSIVE
-    p_eq, p_diff, *_ = v.paired_tost(np.zeros_like(d), d, bound)
-    return v.REPRODUCED if p_eq < v.ALPHA else v.CONTRADICTED if p_diff < v.ALPHA \
-        else v.INCONCLUSIVE
-
-
-def _fifths(r, p):
-    """Replication rates over 5 robots each babbling or not (a no-ball robot's 45 trials are
-    one trial): Binomial(5, p) / 5."""
-    return r.binomial(5, np.clip(p, 0.0, 1.0)) / 5
-
-
-#: The shapes of a rate's paired changes (``rate_pairs``), and whether the changes are
-#: symmetric about their centre (where the sign-flip test is exact).
-RATE_SHAPES = {"rates in fifths": True, "30 % of replications still": True,
-               "50 % of replications still": True, "two-mode changes": True,
-               "zero-inflated changes (70 % unchanged)": False,
-               "skewed changes (exponential)": False}
-
-
-def rate_pairs(r: np.random.Generator, shape: str, k: int, change: float
-               ) -> tuple[np.ndarray, np.ndarray]:
-    """``k`` replications' rates under two conditions whose mean change is ``change``, in
-    ``shape`` (``RATE_SHAPES``): rates in fifths (each replication's chance uniform in
-    [0.2, 0.8], moved by ``change``); a share of replications still (0 under both, the others
-    in fifths, moved by change / (1 - share)); two-mode changes (+-0.15 about ``change``);
-    zero-inflated (70 % of replications unchanged, the others by change / 0.3); skewed (the
-    change plus an exponential of mean 0.1, less its mean, away from 0)."""
-    if shape == "rates in fifths":
-        p = r.uniform(0.2, 0.8, k)
-        return _fifths(r, p), _fifths(r, p + change)
-    if shape.endswith("of replications still"):
-        share = int(shape.split(" ")[0]) / 100
-        still = r.random(k) < share
-        p = r.uniform(0.2, 0.7, k)
-        return (np.where(still, 0.0, _fifths(r, p)),
-                np.where(still, 0.0, _fifths(r, p + change / (1 - share))))
-    p = r.uniform(0.3, 0.6, k)
-    if shape == "two-mode changes":
-        return p, p + change + r.choice((-0.15, 0.15), k) + r.normal(0.0, 0.01, k)
-    if shape.startswith("zero-inflated"):
-        moved = r.random(k) < 0.3
-        return p, p + moved * (change / 0.3 + r.normal(0.0, 0.02, k))
-    if shape.startswith("skewed"):
-        tail = (r.exponential(0.1, k) - 0.1) * (1 if change >= 0 else -1)
-        return p, p + change + tail
-    raise ValueError(f"unknown shape {shape!r}; known: {tuple(RATE_SHAPES)}")
-
-
-def _paired_rates(nest, rng, n):
-    """The rate rule (A1, A3: babbling, reach) under nulls shaped like its data
-    (``RATE_SHAPES``): at a mean change of +``RATE_MARGIN`` (a reproduction is an error:
-    bounded where the changes are symmetric, reported where they are not) and of 0 (a
-    contradiction is an error), at ``_pair_sizes``; the rule before (paired t TOST)
-    reported beside; the power to show no change in fifths."""
-    rule, rows = "paired rate no change", []
-    for k in _pair_sizes(nest):
-        at = "" if k == nest.replications else f", {k} pairs"
-        for shape, symmetric in RATE_SHAPES.items():
-            for change, error in ((v.RATE_MARGIN, v.REPRODUCED), (0.0, v.CONTRADICTED)):
-                scenario = (f"{shape}, change at the margin" if change else
-                            f"{shape}, no change") + at
-                data = _repeat(rng, n, lambda r: rate_pairs(r, shape, k, change))
-                out = [v.paired_rate_equivalent(a, b) for a, b in data]
-                bounded = symmetric or error == v.CONTRADICTED
-                rows.append(_row(rule, nest, scenario, error,
-                                 _rate([o.verdict == error for o in out]),
-                                 v.ALPHA if bounded else math.nan,
-                                 "at most" if bounded else "reported"))
-                rows.append(_row(RATE_BEFORE, nest, scenario, error, _rate(
-                    [_t_tost(b - a, v.RATE_MARGIN) == error for a, b in data]), math.nan,
-                    "reported"))
-                if change == 0.0 and shape == "rates in fifths":
-                    rows.append(_row(rule, nest, scenario, "reproduced",
-                                     _rate([o.verdict == v.REPRODUCED for o in out]),
-                                     math.nan, "power"))
-    return rows
-
-
-def _senses(nest, rng, n):
-    """Four conditions, each replication a block. Under the null of the claim each replication
-    orders the conditions its own way (condition effects N(0, between_sd) drawn per
-    replication); under the null of a contradiction one pair of conditions differs by the
-    margin."""
-    k, level = 4, 10.0
-
-    def matrix(r, spread=1.0, apart=0.0):
-        per_rep = r.normal(0.0, spread * nest.between_sd, (nest.replications, 1, k)) \
-            + apart * np.arange(k) * nest.between_sd
-        return (per_rep + r.normal(level, nest.between_sd, (nest.replications, 1, 1))
-                + r.normal(0.0, nest.within_sd, (nest.replications, nest.robots, k))).mean(axis=1)
-    out = _repeat(rng, n, lambda r: v.senses_differ(matrix(r)))
-    rows = [_row("senses differ", nest, "null: each replication its own order", "reproduced",
-                 _rate([o.verdict == v.REPRODUCED for o in out]), v.ALPHA, "at most")]
-
-    def at_margin(r):
-        x = matrix(r, spread=0.1)
-        x[:, 1] = x[:, 0] + v.PAIRED_MARGIN * level  # one pair apart by the margin
-        x[:, 1] += r.normal(0.0, nest.mean_sd / 5, nest.replications)
-        return x
-    out = _repeat(rng, n, lambda r: v.senses_differ(at_margin(r)))
-    rows.append(_row("senses differ", nest, "one pair apart by the margin", "contradicted",
-                     _rate([o.verdict == v.CONTRADICTED for o in out]), v.ALPHA, "at most"))
-    out = _repeat(rng, n, lambda r: v.senses_differ(matrix(r, apart=1.0)))
-    rows.append(_row("senses differ", nest, "conditions 1 s.d. apart", "reproduced",
-                     _rate([o.verdict == v.REPRODUCED for o in out]), math.nan, "power"))
-    out = _repeat(rng, n, lambda r: v.senses_differ(matrix(r, spread=0.05)))
-    rows.append(_row("senses differ", nest, "no difference", "contradicted",
-                     _rate([o.verdict == v.CONTRADICTED for o in out]), math.nan, "power"))
-    return rows
+#: The paired rules' blocks (``paired_calibration``), under the names ``RULES`` and the
+#: tests use.
+_paired, _senses, _paired_rates, _t_tost = paired, senses, paired_rates, t_tost
 
 
 #: Sizes of the groups where the strategies split a run's replications (7 babbling, 3 still):

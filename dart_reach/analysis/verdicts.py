@@ -33,10 +33,13 @@ data like the runs' (``calibration``; the table in docs/results/calibration.md).
   exact sign-flip test as two one-sided tests (``sign_flip_tost``), of the change relative to
   each unit's level for a measure / of the absolute change against ``RATE_MARGIN`` for a rate
   (a rate at 0 is a level like any other; ``paired_verdicts``); each underpowered below 6
-  pairs, where no sign-flip or signed-rank test can reach ``ALPHA``.
+  pairs, where no sign-flip or signed-rank test can reach ``ALPHA``; no change is never shown
+  where the changes are lopsided (``lopsided``: the sign-flip test of a mean is exact only for
+  changes symmetric about their centre).
 - ``senses_differ``: "performance varies across the sensory conditions": Friedman's test with
   the replication as block; contradicted when every pair of conditions is equivalent (the
-  sign-flip TOST within ``PAIRED_MARGIN``, an intersection-union test; from 6 blocks).
+  sign-flip TOST within ``PAIRED_MARGIN``, an intersection-union test; from 6 blocks; never
+  where a pair's changes are lopsided).
 
 Verdicts (``VERDICTS``): *reproduced* (the data show what the paper says), *contradicted* (they
 show the opposite, or a difference where the paper says none), *inconclusive* (the data cannot
@@ -56,8 +59,8 @@ from scipy import special
 from . import brunner_munzel
 from .brunner_munzel import probabilistic_index
 from .paired_verdicts import (  # noqa: F401  (re-exported: the paired rules)
-    paired_directional, paired_equivalent, paired_rate_equivalent, paired_tost, relative_changes,
-    senses_differ, sign_flip_tost, wilcoxon)
+    LOPSIDED_MINORITY, lopsided, paired_directional, paired_equivalent, paired_rate_equivalent,
+    paired_tost, relative_changes, senses_differ, sign_flip_tost, wilcoxon)
 from .verdict_core import (  # noqa: F401  (re-exported: the rules' shared names)
     ALPHA, CONTRADICTED, DECIDED, EQUIVALENCE_MARGIN, INCONCLUSIVE, MIN_UNITS, NOT_RUN, Outcome,
     PAIRED_MARGIN, RATE_MARGIN, REPRODUCED, SECTOR_FLOOR, UNDERPOWERED, VERDICTS, finite,

@@ -14,6 +14,7 @@ import polars as pl
 import pytest
 
 from dart_reach.analysis import calibration as cal
+from dart_reach.analysis import paired_calibration
 from dart_reach.analysis.spreads import spreads
 from reports import calibration as calibration_page
 from dart_reach.analysis import verdicts as v
@@ -51,6 +52,20 @@ def test_the_committed_table_is_the_simulations():
     ).join(block.select(keys), on=keys, how="semi")
     assert block.sort("rule", "scenario", "measure").equals(
         committed.sort("rule", "scenario", "measure"))
+
+
+def test_a_block_recomputed_alone_merges_into_the_table_in_place():
+    """``python -m reports.calibration --blocks``: a block computed alone replaces its rows
+    where they were; merged back unchanged, the committed table is itself."""
+    committed = pl.read_parquet(TABLE)
+    nest = cal.NESTINGS[0]
+    block = cal.calibrate((nest,), rules=(cal._band,))
+    assert calibration_page.merged(committed, {"_band": block}).equals(committed)
+    moved = block.with_columns(pl.col("value") + 1.0)
+    out = calibration_page.merged(committed, {"_band": moved})
+    assert out.height == committed.height
+    assert out.filter(pl.col("rule") == "band")["value"].sum() == pytest.approx(
+        committed.filter(pl.col("rule") == "band")["value"].sum() + block.height)
 
 
 #: Data sets of the recomputed shape nulls, and the bound a rate then must meet: ALPHA plus
@@ -185,9 +200,10 @@ def test_the_paired_rules_are_calibrated_under_their_datas_shapes_and_the_rule_b
         table):
     """The rules of no change in a pair (a rate's, a measure's relative change) have rows at
     3 and 4 pairs and at 10 under each shape of ``RATE_SHAPES`` and two-mode changes, each
-    error bounded where the sign-flip test is exact (symmetric changes) and met; the paired
-    t TOST before them, reported beside, "contradicts" two-mode changes at 3 pairs above the
-    bound (so the rows can fail), and the rule never decides below 6 pairs."""
+    error bounded (lopsided changes too, since the gate) and met; the paired t TOST before
+    them, reported beside, "contradicts" two-mode changes at 3 pairs above the bound, and the
+    sign-flip test without the gate calls lopsided changes at the margin no change above it
+    at 10 pairs (so the rows can fail); the rule never decides below 6 pairs."""
     bound = v.ALPHA + cal.Z_MC * (v.ALPHA * (1 - v.ALPHA) / cal.DATASETS) ** 0.5
     rate = table.filter(pl.col("rule") == "paired rate no change")
     for shape, symmetric in cal.RATE_SHAPES.items():
@@ -198,7 +214,7 @@ def test_the_paired_rules_are_calibrated_under_their_datas_shapes_and_the_rule_b
             assert rows.height >= 2, (shape, pairs)
             bounded = rows.filter(pl.col("kind") == "at most")
             nestings = rows.select("replications", "within_sd").n_unique()
-            assert bounded.height == (2 if symmetric else 1) * nestings
+            assert bounded.height == 2 * nestings
             assert bounded["ok"].all(), bounded
             below_gate = rows if pairs else rows.filter(pl.col("replications") < 6)
             assert below_gate.height and (
@@ -206,7 +222,27 @@ def test_the_paired_rules_are_calibrated_under_their_datas_shapes_and_the_rule_b
     before = table.filter((pl.col("rule") == cal.RATE_BEFORE)
                           & (pl.col("scenario") == "two-mode changes, no change, 3 pairs"))
     assert before.height and before["value"].min() > bound
+    lopsided = [s for s, symmetric in cal.RATE_SHAPES.items() if not symmetric]
+    ungated = table.filter((pl.col("rule") == cal.RATE_UNGATED) & (pl.col("replications") == 10)
+                           & pl.col("scenario").is_in([f"{s}, change at the margin"
+                                                       for s in lopsided]))
+    assert ungated.height == 4 and ungated["value"].min() > bound
     same = table.filter((pl.col("rule") == "paired no change")
                         & pl.col("scenario").str.starts_with("no change")
                         & (pl.col("measure") == "contradicted") & (pl.col("replications") == 10))
     assert same.height == 4 and same["value"].max() > 0  # the row can fail
+
+
+@pytest.mark.parametrize("shape", [s for s, sym in cal.RATE_SHAPES.items() if not sym])
+def test_the_gate_holds_lopsided_changes_at_the_margin(shape):
+    """Recomputed here at 400 data sets of 10 pairs (seconds): zero-inflated and skewed changes
+    whose mean is at the margin are called no change at most SHAPE_BOUND of the time by the
+    gated rate rule, and more often than that by the same sign-flip test without the gate (so
+    this test fails when the gate is removed)."""
+    rng = np.random.default_rng(17)
+    out = [v.paired_rate_equivalent(*cal.rate_pairs(rng, shape, 10, v.RATE_MARGIN))
+           for _ in range(SHAPE_DATASETS)]
+    gated = np.mean([o.verdict == v.REPRODUCED for o in out])
+    ungated = np.mean([paired_calibration.ungated(o) == v.REPRODUCED for o in out])
+    assert gated <= SHAPE_BOUND, gated
+    assert ungated > SHAPE_BOUND, ungated

@@ -11,6 +11,8 @@ a rate's claim of no change judged on the rate's own scale.
   is not a difference; the rule is the exact sign-flip test (scipy's ``permutation_test``)
   as two one-sided tests, and no paired rule of no change decides below 6 pairs, where the
   paired t-tests before it "contradicted" two-mode changes a quarter of the time at 3 pairs.
+- Where the changes are lopsided (``verdicts.lopsided``) no paired rule of no change shows no
+  change, though the sign-flip test alone would; a change shown still contradicts.
 """
 
 from __future__ import annotations
@@ -197,3 +199,60 @@ def test_the_directional_rule_s_smallest_p_is_the_one_its_test_reaches(n_a, n_b,
     if n_a >= 6 and n_b >= 6 and n_a + n_b <= 16:
         apart = v.directional(np.arange(n_a) * 1.0, np.arange(n_b) + 100.0, +1)
         assert apart.verdict == v.REPRODUCED and apart.p == pytest.approx(smallest)
+
+
+# -------------------------------------------------------------------------- lopsided changes
+def _nine_still_one_moved(rng, level=None):
+    """Ten replications' rates: nine unchanged, one up by a third (the mean change 0.033,
+    the most common draw of a zero-inflated change whose mean is at the margin, 0.10)."""
+    ref = rng.uniform(0.3, 0.6, 10) if level is None else np.full(10, level)
+    new = ref.copy()
+    new[0] += 1 / 3
+    return ref, new
+
+
+def test_lopsided_changes_cannot_show_no_change():
+    """Nine replications unchanged and one moved far: the sign-flip test alone shows the
+    change within the margin (p < ALPHA), which a mean at the margin gives 0.12 of the time;
+    the gated rules refuse it (inconclusive, the note saying why, with the pairs and the
+    smallest p), for a rate and a measure's relative change alike."""
+    rng = np.random.default_rng(3)
+    ref, new = _nine_still_one_moved(rng)
+    p_eq, p_diff, *_ = v.sign_flip_tost(new - ref, v.RATE_MARGIN)
+    assert p_eq < v.ALPHA and p_diff >= v.ALPHA  # without the gate: "no change"
+    assert v.lopsided(new - ref)
+    out = v.paired_rate_equivalent(ref, new)
+    assert out.verdict == v.INCONCLUSIVE, out
+    assert "lopsided" in out.note and "10 pairs" in out.note and "smallest possible p" in out.note
+    assert out.p == pytest.approx(p_eq)  # the test's p kept beside the refusal
+    ref, new = _nine_still_one_moved(rng, level=10.0)
+    new[0] = 2 * ref[0]  # a relative change of 2/3: the mean 0.067 (the margin 0.2)
+    assert v.sign_flip_tost(v.relative_changes(ref, new), v.PAIRED_MARGIN)[0] < v.ALPHA
+    assert v.paired_equivalent(ref, new, relative=True).verdict == v.INCONCLUSIVE
+
+
+def test_lopsided_pairs_never_make_the_senses_the_same():
+    """Four conditions alike in ten replications but for one, whose change from the first is
+    lopsided (nine unchanged, one far): "senses differ" is not contradicted, though every
+    pair's sign-flip TOST alone shows equivalence."""
+    rng = np.random.default_rng(4)
+    base = rng.uniform(9.0, 11.0, (10, 1)) + rng.normal(0.0, 0.05, (10, 4))
+    x = base.copy()
+    x[:, 3] = x[:, 0]
+    x[0, 3] += 0.7  # a relative change of 0.07 of the level 10, within the margin
+    pairs = [(i, j) for i in range(4) for j in range(i + 1, 4)]
+    assert max(v.sign_flip_tost(x[:, j] - x[:, i], v.PAIRED_MARGIN * abs(np.median(x[:, i])))[0]
+               for i, j in pairs) < v.ALPHA
+    out = v.senses_differ(x)
+    assert out.verdict != v.CONTRADICTED and "lopsided" in out.note, out
+
+
+def test_symmetric_changes_pass_the_gate():
+    """Changes of both signs about 0 (the symmetric shapes' power) are not lopsided, and a
+    unit that did not change is not lopsided alone."""
+    rng = np.random.default_rng(8)
+    d = rng.normal(0.0, 0.05, 10)
+    d[:3] = np.abs(d[:3]) * np.array([1, -1, 1])
+    d[3:5] = -np.abs(d[3:5])
+    assert not v.lopsided(d)
+    assert not v.lopsided(np.zeros(10))

@@ -1,0 +1,278 @@
+"""Calibration of the paired rules (``paired_verdicts``: a change in the same replications,
+the claims of no change of section IV-A, A1 and A3, on a rate or a measure's relative change,
+and "senses differ" across the four sensory conditions of Fig. 9) by simulation of nested data
+like the runs' (``calibration_core``), under nulls shaped like their data: rates in fifths,
+still replications, two-mode, zero-inflated and skewed changes (``RATE_SHAPES``). Beside each
+rule, reported: the rule before it (paired t TOST) and the rule without its gate for lopsided
+changes (``verdicts.lopsided``), on the same data sets. ``calibration`` runs these blocks
+among the others (``calibration.RULES``)."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from . import verdicts as v
+from .calibration_core import OUTLIER, Nesting, rate, repeat, robots, row
+
+
+def paired(nest, rng, n):
+    """One group's replications under two conditions (or in two generation windows): each
+    replication changes by N(shift, between_sd) on the replication-mean scale."""
+    rows = []
+
+    def pairs(r, shift, outlier=False):
+        ref = robots(r, nest).mean(axis=1)
+        change = r.normal(shift, nest.mean_sd, nest.replications)
+        if outlier:
+            change[r.integers(nest.replications)] += OUTLIER * nest.mean_sd * r.choice((-1, 1))
+        return ref, ref + change
+    for outlier in (False, True):
+        out = repeat(rng, n, lambda r: v.paired_directional(*pairs(r, 0.0, outlier), +1))
+        rows.append(row("paired change", nest, "null" + (", one outlying replication"
+                                                          if outlier else ""),
+                         "decided", rate([o.verdict in v.DECIDED for o in out]), v.ALPHA,
+                         "at most"))
+    shift = nest.mean_sd
+    out = repeat(rng, n, lambda r: v.paired_directional(*pairs(r, shift), +1))
+    rows.append(row("paired change", nest, "change 1 s.d.", "coverage of the 95 % interval",
+                     rate([o.low <= shift <= o.high for o in out]), 0.95, "at least"))
+    rows.append(row("paired change", nest, "change 1 s.d.", "reproduced",
+                     rate([o.verdict == v.REPRODUCED for o in out]), math.nan, "power"))
+
+    def same(r, change_by, k, modes=0.0):
+        """``k`` positive references (each replication's change is relative to its own
+        level), each changed by a relative change N(change_by x margin, margin), or with
+        ``modes`` at change_by x margin +- modes x margin (two modes, s.d. margin / 10)."""
+        ref = robots(r, nest).mean(axis=1)[:k] + 10.0  # k <= the nesting's replications
+        spread = PAIRED_SD if not modes else 0.1
+        c = r.normal(change_by * v.PAIRED_MARGIN, spread * v.PAIRED_MARGIN, k)
+        if modes:
+            c += r.choice((-modes, modes), k) * v.PAIRED_MARGIN
+        c = np.clip(c, -1.9, 1.9)
+        return ref, ref * (2 + c) / (2 - c)  # (new - ref) / mean(new, ref) = c
+    judge = lambda ref, new: v.paired_equivalent(ref, new, relative=True)  # noqa: E731
+    for k in pair_sizes(nest):
+        at = "" if k == nest.replications else f", {k} pairs"
+        for modes, shape in ((0.0, ""), (TWO_MODES, ", two-mode changes")):
+            for change_by, scenario, error in ((1.0, "change at the margin", v.REPRODUCED),
+                                               (0.0, "no change", v.CONTRADICTED)):
+                data = repeat(rng, n, lambda r: same(r, change_by, k, modes))
+                out = [judge(a, b) for a, b in data]
+                rows.append(row("paired no change", nest, scenario + shape + at, error,
+                                 rate([o.verdict == error for o in out]), v.ALPHA,
+                                 "at most"))
+                rows.append(row(PAIRED_UNGATED, nest, scenario + shape + at, error,
+                                 rate([ungated(o) == error for o in out]), math.nan,
+                                 "reported"))
+                rows.append(row(PAIRED_BEFORE, nest, scenario + shape + at, error, rate(
+                    [t_tost(v.relative_changes(a, b), v.PAIRED_MARGIN) == error
+                     for a, b in data]), math.nan, "reported"))
+                if change_by == 0.0 and not modes:
+                    rows.append(row("paired no change", nest, scenario + at, "reproduced",
+                                     rate([o.verdict == v.REPRODUCED for o in out]),
+                                     math.nan, "power"))
+                    rows.append(row(PAIRED_UNGATED, nest, scenario + at, "reproduced",
+                                     rate([ungated(o) == v.REPRODUCED for o in out]),
+                                     math.nan, "reported"))
+    # what the gate costs where every replication moves a little the same way (after the
+    # rows above: their data sets are those of the block before the gate)
+    k = nest.replications
+    scenario = f"small consistent change ({CONSISTENT[0]:g} margin, s.d. {CONSISTENT[1]:g})"
+
+    def consistent(r):
+        ref = robots(r, nest).mean(axis=1) + 10.0
+        c = r.normal(CONSISTENT[0] * v.PAIRED_MARGIN, CONSISTENT[1] * v.PAIRED_MARGIN, k)
+        return ref, ref * (2 + c) / (2 - c)
+    out = [judge(a, b) for a, b in repeat(rng, n, consistent)]
+    rows.append(row("paired no change", nest, scenario, "reproduced",
+                    rate([o.verdict == v.REPRODUCED for o in out]), math.nan, "power"))
+    rows.append(row(PAIRED_UNGATED, nest, scenario, "reproduced",
+                    rate([ungated(o) == v.REPRODUCED for o in out]), math.nan, "reported"))
+    return rows
+
+
+#: s.d. of the relative changes of "paired no change" (in margins): wide enough that the
+#: rule, shown no equivalence, can be wrong the other way (a row that can fail).
+PAIRED_SD = 1.0
+#: Two-mode changes: each replication changes by the null's change +- this many margins.
+TWO_MODES = 1.5
+#: A small consistent relative change, in margins: its mean and s.d. (most replications move
+#: the same way: what the gate for lopsided changes refuses and costs).
+CONSISTENT = (0.3, 0.25)
+#: A skewed change that straddles 0 (the mean at the margin, an exponential of this many
+#: margins less its mean): beyond what a gate on the changes' form can tell from symmetric
+#: changes at 10 pairs; reported, the limit of the gate.
+STRADDLING = 2.0
+#: The paired rules' rule before the sign-flip test (reported beside it).
+PAIRED_BEFORE = "paired no change: paired t TOST (the rule before, reported)"
+RATE_BEFORE = "paired rate no change: paired t TOST (the rule before, reported)"
+#: The paired rules without their gate for lopsided changes (the sign-flip test alone, the
+#: rule before the gate; reported beside, on the same data sets).
+PAIRED_UNGATED = "paired no change: without the lopsided gate (reported)"
+RATE_UNGATED = "paired rate no change: without the lopsided gate (reported)"
+SENSES_UNGATED = "senses differ: without the lopsided gate (reported)"
+
+
+def pair_sizes(nest: Nesting) -> tuple[int, ...]:
+    """The pairs a paired rule is calibrated at: the nesting's replications, and 3 beside 4
+    (the smallest run and the old gate)."""
+    return (3, 4) if nest.replications == 4 else (nest.replications,)
+
+
+def t_tost(d, bound) -> str:
+    """The verdict of the paired rules before the sign-flip test: two one-sided paired
+    t-tests of the changes ``d`` (``verdicts.paired_tost``) from 3 pairs."""
+    d = np.asarray(d, float)
+    if len(d) < v.MIN_UNITS or np.ptp(d) == 0:
+        return v.UNDERPOWERED if len(d) < v.MIN_UNITS else v.INCONCLUSIVE
+    p_eq, p_diff, *_ = v.paired_tost(np.zeros_like(d), d, bound)
+    return v.REPRODUCED if p_eq < v.ALPHA else v.CONTRADICTED if p_diff < v.ALPHA \
+        else v.INCONCLUSIVE
+
+
+def _fifths(r, p):
+    """Replication rates over 5 robots each babbling or not (a no-ball robot's 45 trials are
+    one trial): Binomial(5, p) / 5."""
+    return r.binomial(5, np.clip(p, 0.0, 1.0)) / 5
+
+
+#: The shapes of a rate's paired changes (``rate_pairs``), and whether the changes are
+#: symmetric about their centre (where the sign-flip test is exact).
+RATE_SHAPES = {"rates in fifths": True, "30 % of replications still": True,
+               "50 % of replications still": True, "two-mode changes": True,
+               "zero-inflated changes (70 % unchanged)": False,
+               "skewed changes (exponential)": False}
+
+
+def rate_pairs(r: np.random.Generator, shape: str, k: int, change: float
+               ) -> tuple[np.ndarray, np.ndarray]:
+    """``k`` replications' rates under two conditions whose mean change is ``change``, in
+    ``shape`` (``RATE_SHAPES``): rates in fifths (each replication's chance uniform in
+    [0.2, 0.8], moved by ``change``); a share of replications still (0 under both, the others
+    in fifths, moved by change / (1 - share)); two-mode changes (+-0.15 about ``change``);
+    zero-inflated (70 % of replications unchanged, the others by change / 0.3); skewed (the
+    change plus an exponential of mean 0.1, less its mean, away from 0)."""
+    if shape == "rates in fifths":
+        p = r.uniform(0.2, 0.8, k)
+        return _fifths(r, p), _fifths(r, p + change)
+    if shape.endswith("of replications still"):
+        share = int(shape.split(" ")[0]) / 100
+        still = r.random(k) < share
+        p = r.uniform(0.2, 0.7, k)
+        return (np.where(still, 0.0, _fifths(r, p)),
+                np.where(still, 0.0, _fifths(r, p + change / (1 - share))))
+    p = r.uniform(0.3, 0.6, k)
+    if shape == "two-mode changes":
+        return p, p + change + r.choice((-0.15, 0.15), k) + r.normal(0.0, 0.01, k)
+    if shape.startswith("zero-inflated"):
+        moved = r.random(k) < 0.3
+        return p, p + moved * (change / 0.3 + r.normal(0.0, 0.02, k))
+    if shape.startswith("skewed"):
+        tail = (r.exponential(0.1, k) - 0.1) * (1 if change >= 0 else -1)
+        return p, p + change + tail
+    raise ValueError(f"unknown shape {shape!r}; known: {tuple(RATE_SHAPES)}")
+
+
+def ungated(out) -> str:
+    """The verdict a paired rule of no change would give without its gate for lopsided
+    changes (``verdicts.lopsided``), read from its outcome (the gated rule keeps the sign-flip
+    test's p of equivalence and of a difference)."""
+    return (v.REPRODUCED if out.p < v.ALPHA else v.CONTRADICTED if out.p_against < v.ALPHA
+            else v.INCONCLUSIVE if out.verdict != v.UNDERPOWERED else v.UNDERPOWERED)
+
+
+def paired_rates(nest, rng, n):
+    """The rate rule (A1, A3: babbling, reach) under nulls shaped like its data
+    (``RATE_SHAPES``): at a mean change of +``RATE_MARGIN`` (a reproduction is the error) and
+    of 0 (a contradiction is the error), each bounded, at ``pair_sizes``; beside it, reported,
+    the same rule without its gate for lopsided changes (``RATE_UNGATED``: what the gate
+    costs and gains, on the same data sets) and the rule before (paired t TOST); the power to
+    show no change in fifths."""
+    rule, rows = "paired rate no change", []
+    for k in pair_sizes(nest):
+        at = "" if k == nest.replications else f", {k} pairs"
+        for shape in RATE_SHAPES:
+            for change, error in ((v.RATE_MARGIN, v.REPRODUCED), (0.0, v.CONTRADICTED)):
+                scenario = (f"{shape}, change at the margin" if change else
+                            f"{shape}, no change") + at
+                data = repeat(rng, n, lambda r: rate_pairs(r, shape, k, change))
+                out = [v.paired_rate_equivalent(a, b) for a, b in data]
+                rows.append(row(rule, nest, scenario, error,
+                                 rate([o.verdict == error for o in out]), v.ALPHA, "at most"))
+                rows.append(row(RATE_UNGATED, nest, scenario, error,
+                                 rate([ungated(o) == error for o in out]), math.nan,
+                                 "reported"))
+                rows.append(row(RATE_BEFORE, nest, scenario, error, rate(
+                    [t_tost(b - a, v.RATE_MARGIN) == error for a, b in data]), math.nan,
+                    "reported"))
+                if change == 0.0 and RATE_SHAPES[shape]:
+                    for name, verdicts_ in ((rule, [o.verdict for o in out]),
+                                            (RATE_UNGATED, [ungated(o) for o in out])):
+                        rows.append(row(name, nest, scenario, "reproduced",
+                                         rate([x == v.REPRODUCED for x in verdicts_]),
+                                         math.nan, "power" if name == rule else "reported"))
+    k = nest.replications
+    if k >= 6:  # below, the rule never decides (its rows above)
+        scenario = (f"skewed changes straddling 0 (exponential of {STRADDLING:g} margins), "
+                    "change at the margin")
+
+        def straddling(r):
+            p = r.uniform(0.3, 0.6, k)
+            return p, p + v.RATE_MARGIN * (1 + STRADDLING * (r.exponential(1.0, k) - 1))
+        out = [v.paired_rate_equivalent(a, b) for a, b in repeat(rng, n, straddling)]
+        for name, verdicts_ in ((rule, [o.verdict for o in out]),
+                                (RATE_UNGATED, [ungated(o) for o in out])):
+            rows.append(row(name, nest, scenario, v.REPRODUCED,
+                            rate([x == v.REPRODUCED for x in verdicts_]), math.nan,
+                            "reported"))
+    return rows
+
+
+def senses(nest, rng, n):
+    """Four conditions, each replication a block. Under the null of the claim each replication
+    orders the conditions its own way (condition effects N(0, between_sd) drawn per
+    replication); under the null of a contradiction one pair of conditions differs by the
+    margin."""
+    k, level = 4, 10.0
+
+    def matrix(r, spread=1.0, apart=0.0):
+        per_rep = r.normal(0.0, spread * nest.between_sd, (nest.replications, 1, k)) \
+            + apart * np.arange(k) * nest.between_sd
+        return (per_rep + r.normal(level, nest.between_sd, (nest.replications, 1, 1))
+                + r.normal(0.0, nest.within_sd, (nest.replications, nest.robots, k))).mean(axis=1)
+    out = repeat(rng, n, lambda r: v.senses_differ(matrix(r)))
+    rows = [row("senses differ", nest, "null: each replication its own order", "reproduced",
+                 rate([o.verdict == v.REPRODUCED for o in out]), v.ALPHA, "at most")]
+
+    def at_margin(r):
+        x = matrix(r, spread=0.1)
+        x[:, 1] = x[:, 0] + v.PAIRED_MARGIN * level  # one pair apart by the margin
+        x[:, 1] += r.normal(0.0, nest.mean_sd / 5, nest.replications)
+        return x
+    out = repeat(rng, n, lambda r: v.senses_differ(at_margin(r)))
+    rows.append(row("senses differ", nest, "one pair apart by the margin", "contradicted",
+                     rate([o.verdict == v.CONTRADICTED for o in out]), v.ALPHA, "at most"))
+    out = repeat(rng, n, lambda r: v.senses_differ(matrix(r, apart=1.0)))
+    rows.append(row("senses differ", nest, "conditions 1 s.d. apart", "reproduced",
+                     rate([o.verdict == v.REPRODUCED for o in out]), math.nan, "power"))
+    data = repeat(rng, n, lambda r: matrix(r, spread=0.05))
+    rows.append(row("senses differ", nest, "no difference", "contradicted",
+                     rate([v.senses_differ(x).verdict == v.CONTRADICTED for x in data]),
+                     math.nan, "power"))
+    rows.append(row(SENSES_UNGATED, nest, "no difference", "contradicted",
+                     rate([_all_pairs_same(x) for x in data]), math.nan, "reported"))
+    return rows
+
+
+def _all_pairs_same(x: np.ndarray) -> bool:
+    """Whether ``senses_differ`` without its gate for lopsided changes would contradict the
+    blocks ``x`` (every pair of treatments equivalent by the sign-flip test, Friedman's test
+    not significant)."""
+    n, k = x.shape
+    if v.smallest_signed_rank_p(n) >= v.ALPHA or v.friedman(x)[1] < v.ALPHA:
+        return False
+    return max(v.sign_flip_tost(x[:, j] - x[:, i], v.PAIRED_MARGIN * abs(float(np.median(
+        x[:, i]))))[0] for i in range(k) for j in range(i + 1, k)) < v.ALPHA
+
