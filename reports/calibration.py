@@ -38,18 +38,27 @@ def held(table: pl.DataFrame) -> dict[str, float | int]:
     under a null and coverages), ``met`` (of them, those within Monte-Carlo error of their
     bound), ``highest_error`` and ``error_bound`` (the highest rate of a wrong decision under
     a null over the "at most" rows, and the bound of that row), ``lowest_coverage`` (the
-    lowest coverage over the "at least" rows) and ``reported_low``, ``reported_high`` (the
-    range of the coverages only reported: NaN without one). Rates in [0, 1]."""
+    lowest coverage over the "at least" rows), ``reported_low``, ``reported_high`` (the
+    range of the coverages only reported: NaN without one), ``unbounded`` (the rules in use
+    whose error rate under some null is only reported, with that null) and
+    ``unbounded_high`` (the highest of those rates: NaN without one). Rates in [0, 1]."""
     bounded = table.filter(pl.col("kind").is_in(["at most", "at least"]))
     errors = table.filter(pl.col("kind") == "at most").sort("value", descending=True)
     covers = table.filter(pl.col("kind") == "at least")
     reported = table.filter((pl.col("kind") == "reported")
                             & pl.col("measure").str.starts_with("coverage"))
+    # a rule in use (one with bounded rows) whose error rate under some null is only reported
+    unbounded = table.filter((pl.col("kind") == "reported")
+                             & pl.col("rule").is_in(bounded["rule"].unique().implode())
+                             & ~pl.col("measure").str.starts_with("coverage"))
     return {"bounded": bounded.height, "met": int(bounded["ok"].sum()),
             "highest_error": float(errors["value"][0]), "error_bound": float(errors["bound"][0]),
             "lowest_coverage": float(covers["value"].min()),
             "reported_low": float(reported["value"].min()) if reported.height else math.nan,
-            "reported_high": float(reported["value"].max()) if reported.height else math.nan}
+            "reported_high": float(reported["value"].max()) if reported.height else math.nan,
+            "unbounded": ", ".join(f"{r}: {s.split(' (')[0]}" for r, s in unbounded.select(
+                "rule", "scenario").unique(maintain_order=True).rows()),
+            "unbounded_high": float(unbounded["value"].max()) if unbounded.height else math.nan}
 
 
 def markdown(table: pl.DataFrame) -> str:

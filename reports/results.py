@@ -246,6 +246,9 @@ def calibration_values(table: pl.DataFrame) -> dict[str, str]:
     if held["reported_low"] == held["reported_low"]:
         text += (f"; θ's interval away from θ = 0.5 between groups of unequal shapes, only "
                  f"reported, covers {held['reported_low']:.2f}-{held['reported_high']:.2f}")
+    if held["unbounded_high"] == held["unbounded_high"]:
+        text += (f"; where a rule's error rate is only reported ({held['unbounded']}), it "
+                 f"decides wrongly up to {held['unbounded_high']:.2f} of the time")
     return {"calibration": text, "theta_coverage": coverage.label(table, 10, 10),
             "smallest_p_4": formatting.significant(verdicts.smallest_directional_p(4, 4)),
             "smallest_p_10": formatting.significant(verdicts.smallest_directional_p(10, 10))}
