@@ -137,12 +137,13 @@ def scene(world: World, grid: int = 7) -> dict:
 
 
 # ----------------------------------------------------------------------------- scripted grasp
-def scripted_grasps(world: World, seconds: float = 10.0) -> dict:
-    """The scripted reach-and-grasp at the 45 post-evaluation points: how many grasps (the
-    paper's definition, ``metrics.grasped``) and the hand's peak speed (m/s)."""
+def scripted_grasps(world: World, seconds: float = 10.0, points=None) -> dict:
+    """The scripted reach-and-grasp at the 45 post-evaluation points (or at ``points``, ball
+    positions of shape (n, 3)): how many grasps (the paper's definition, ``metrics.grasped``)
+    and the hand's peak speed (m/s, the median over the points)."""
     steps = round(seconds / world.config.control_dt)
     grasps, peak = 0, []
-    for point in world.systematic_points():
+    for point in world.systematic_points() if points is None else np.asarray(points, float):
         world.reset(point)
         reach = ScriptedReach(world, point)
         contacts = np.zeros((steps, len(world.layout.segment_body)), bool)

@@ -11,6 +11,7 @@ import pytest
 
 from dart_reach.model import icub
 from dart_reach.studies import validate
+from dart_reach.model.sectors import N_SECTORS, SYSTEMATIC_FRACTIONS
 from dart_reach.model.world import World
 
 
@@ -108,9 +109,15 @@ def test_scene_every_start_in_view_clear_and_reachable(world):
     assert r["reach_error_max_m"] < 0.01
 
 
-def test_scripted_reach_and_grasp_grasps_at_all_45_points(world):
-    r = validate.scripted_grasps(world)
-    assert r["scripted_grasps"] == r["scripted_points"] == 45
+def test_scripted_reach_and_grasp_grasps_at_a_point_of_every_sector(world):
+    """One of the 45 post-evaluation points in each sector, sector k at its placement k mod 5
+    (every placement met): a grasp at each. ``dart-reach validate`` grasps at all 45 (its
+    verdict asks for 45 of 45: test_verdicts_fail_when_a_figure_is_bad)."""
+    placements = len(SYSTEMATIC_FRACTIONS)
+    points = world.systematic_points().reshape(N_SECTORS, placements, 3)
+    chosen = points[np.arange(N_SECTORS), np.arange(N_SECTORS) % placements]
+    r = validate.scripted_grasps(world, points=chosen)
+    assert r["scripted_grasps"] == r["scripted_points"] == N_SECTORS
     assert 0.2 < r["scripted_peak_hand_speed_m_s"] < 1.5
 
 
