@@ -24,6 +24,7 @@ import polars as pl
 
 from ..evolution.rundir import RunDirectory
 from ..model.world import SectorConfig
+from ..postevaluation import before_touch
 from ..postevaluation.systematic import load_evaluation, run_phases
 from . import unfinished
 
@@ -100,6 +101,7 @@ def load_runs(run_dirs: Sequence) -> pl.DataFrame:
     frames = []
     for i, (run_dir, label) in enumerate(zip(run_dirs, labels)):
         table = unfinished.trials(run_dir)  # an unfinished run: its snapshots
+        table = before_touch.attach(table, run_dir)  # where measured again (claim A1)
         order = (run_phases(run_dir).unique("phase_key", keep="first", maintain_order=True)
                  .with_row_index("phase_order").select("phase_key", "phase_order"))
         table = (table.join(order, on="phase_key", how="left", maintain_order="left")

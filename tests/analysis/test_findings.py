@@ -182,10 +182,9 @@ def test_a_claim_its_measure_cannot_test_says_so_and_is_never_judged():
     row = _row(fd.findings(trials), "D2 no touch, pre: reach same")
     assert row["verdict"] == vd.NOT_RUN and math.isnan(row["effect"])
     assert row["measured"].startswith(fd.UNTESTABLE + "a trial reaches")
-    assert [c.id for c in CLAIMS if c.untestable] == ["A1 ball absent, pre: babbling same",
-                                                      "D2 no touch, pre: reach same"]
+    assert [c.id for c in CLAIMS if c.untestable] == ["D2 no touch, pre: reach same"]
     counts = fd.summary(fd.findings(trials))
-    assert counts[fd.CANNOT] == 2
+    assert counts[fd.CANNOT] == 1
     assert counts[vd.NOT_RUN] == fd.reading(fd.findings(trials)).filter(
         (pl.col("verdict") == vd.NOT_RUN)
         & ~pl.col("measured").str.starts_with(fd.UNTESTABLE)).height
@@ -270,3 +269,19 @@ def test_smoothness_not_better_is_the_projects_reading():
     assert by_id["T7 smoothness not better"].own
     assert by_id["T7 smoother reach (infants)"].infants
     assert not any(c.id.startswith("T7") for c in CLAIMS if not (c.own or c.infants))
+
+
+def test_a1_babbling_is_judged_on_babbling_before_the_touch():
+    """A1's babbling uses the measure validated with and without the ball
+    (``babbling_before_touch``), not the detector on the whole trial; a table without it
+    leaves the claim not run, saying which measure it lacks."""
+    trials = _trials({"pre": {"babbling": 0.5}}, senses=("normal", "no-ball"), ranks=5)
+    row = _row(fd.findings(trials), "A1 ball absent, pre: babbling same")
+    assert row["verdict"] == vd.NOT_RUN
+    assert row["measured"] == "not run: no babbling_before_touch"
+    rng = np.random.default_rng(1)
+    both = trials.with_columns(pl.Series("babbling_before_touch",
+                                         rng.random(trials.height) < 0.5))
+    row = _row(fd.findings(both), "A1 ball absent, pre: babbling same")
+    assert row["verdict"] != vd.NOT_RUN
+    assert row["measured"].startswith("babbling_before_touch: normal")

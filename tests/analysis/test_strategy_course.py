@@ -103,10 +103,11 @@ def test_claims_are_judged_at_the_generations_there_and_on_their_conditions():
     per = {(r["generation"], r["claim"]): r for r in found.iter_rows(named=True)}
     assert per[(50, "A3 no sight, pre: babbling same")]["verdict"] == "not run"
     assert per[(50, "A1 ball absent, pre: hand_path same")]["verdict"] != "not run"
-    # babbling without the ball: never judged, the detector is validated without it only
+    # babbling without the ball: judged on babbling before the touch (validated with and
+    # without the ball), which snapshots' tables do not hold: not run, saying which measure
     babbling = per[(50, "A1 ball absent, pre: babbling same")]
     assert babbling["verdict"] == "not run"
-    assert babbling["measured"].startswith(UNTESTABLE)
+    assert babbling["measured"] == "not run: no babbling_before_touch"
     assert not per[(50, "A3 no sight, pre: babbling same")]["measured"].startswith(UNTESTABLE)
     # V3: babbling at the end of the snapshots up to 50 (generation 50) above the start's
     assert per[(50, "V3 babbling appears in pre")]["verdict"] == "reproduced"
