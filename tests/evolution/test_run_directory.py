@@ -148,14 +148,26 @@ def _kind(line: str, out: Path) -> str:
     return re.sub(r"gen\d+[^/]*$", "*" + Path(name).suffix, name)
 
 
-def _fault_then_resume(condition, root: Path, inject: str, n: int) -> tuple[int, str, dict]:
-    out = root / f"{inject.split('=')[1].split(':')[0]}-{n}"
-    cut = _cli(*_train_args(condition, out), prefix=_strace(f"{inject}:when={n}"))
-    # stopped before its manifest was written, the run is started again, not resumed
-    resume = ("--resume",) if (out / "manifest.json").exists() else ()
-    again = _cli(*_train_args(condition, out, *resume))
-    assert again.returncode == 0, (n, cut.stderr, again.stderr)
-    return cut.returncode, cut.stderr, snapshot(out)
+def _faults_then_resume(condition, root: Path, cases, in_process) -> list[tuple[int, str, dict]]:
+    """Each case (``inject``, n): a training process with the fault injected at its n-th
+    rename (two such processes at a time), then the run resumed in this process (the same
+    command and code, without a new process's imports): the exit code and stderr of the
+    faulted process and a ``snapshot`` of the resumed run, per case."""
+    def cut(case):
+        inject, n = case
+        out = root / f"{inject.split('=')[1].split(':')[0]}-{n}"
+        return out, _cli(*_train_args(condition, out), prefix=_strace(f"{inject}:when={n}"))
+
+    with ThreadPoolExecutor(2) as pool:
+        faulted = list(pool.map(cut, cases))
+    results = []
+    for (_, n), (out, first) in zip(cases, faulted):
+        # stopped before its manifest was written, the run is started again, not resumed
+        resume = ("--resume",) if (out / "manifest.json").exists() else ()
+        again = in_process(*_train_args(condition, out, *resume))
+        assert again.returncode == 0, (n, first.stderr, again.stderr)
+        results.append((first.returncode, first.stderr, snapshot(out)))
+    return results
 
 
 def _kill_points(targets: list[str]) -> list[int]:
@@ -166,7 +178,7 @@ def _kill_points(targets: list[str]) -> list[int]:
     What the last phase cannot show is added: the renames before any phase began (nothing to
     resume from yet) and, in the first phase, its checkpoint and its final (a phase resumed
     from its checkpoint with no phase finished; all of a phase's results in but its final not).
-    Here 17 of the run's 28 renames: a kill at each costs two processes."""
+    Here 17 of the run's 28 renames: a kill at each costs a process, and its resume."""
     finals = [i for i, t in enumerate(targets) if t == "phases/*/final.npz"]
     # a file's rename comes between two of the ledger's (integrity.recorded_write): a phase
     # begins with the ledger accepting its first file and ends with the ledger naming its final
@@ -183,26 +195,24 @@ def _kill_points(targets: list[str]) -> list[int]:
 
 @pytest.mark.skipif(not STRACE, reason="needs strace to inject faults at exact renames")
 def test_sigkill_at_each_kind_of_rename_resumes_to_the_same_directory(condition, reference,
-                                                                       tmp_path):
+                                                                       tmp_path, in_process):
     _, expected, renames, targets = reference
     assert renames >= 10  # manifest, recordings, checkpoints, tables, finals
     points = _kill_points(targets)
     assert {targets[n - 1] for n in points} == set(targets)
-    with ThreadPoolExecutor(2) as pool:
-        results = list(pool.map(lambda n: _fault_then_resume(
-            condition, tmp_path, "signal=SIGKILL", n), points))
+    results = _faults_then_resume(condition, tmp_path, [("signal=SIGKILL", n) for n in points],
+                                  in_process)
     for n, (code, err, snap) in zip(points, results):
         assert code == -signal.SIGKILL, (n, err)
         assert same(snap, expected), f"killed at rename {n}: resumed run differs"
 
 
 @pytest.mark.skipif(not STRACE, reason="needs strace to inject faults at exact renames")
-def test_sigterm_and_full_disk_at_renames(condition, reference, tmp_path):
+def test_sigterm_and_full_disk_at_renames(condition, reference, tmp_path, in_process):
     _, expected, renames, _ = reference
     cases = [("signal=SIGTERM", n) for n in (2, renames // 2, renames - 1)]
     cases += [("error=ENOSPC", n) for n in (1, 3, renames // 2 + 1, renames)]
-    with ThreadPoolExecutor(2) as pool:
-        results = list(pool.map(lambda c: _fault_then_resume(condition, tmp_path, *c), cases))
+    results = _faults_then_resume(condition, tmp_path, cases, in_process)
     for (inject, n), (code, err, snap) in zip(cases, results):
         if inject == "signal=SIGTERM":
             assert code == 143 and "--resume" in err and "Traceback" not in err, (n, err)
