@@ -42,10 +42,26 @@ def tiny_run(tmp_path_factory):
     return out
 
 
+def _report_process(*args, cwd) -> subprocess.CompletedProcess:
+    """``dart-reach report ARGS`` in a process of its own, in ``cwd``."""
+    return subprocess.run([sys.executable, "-m", "dart_reach.cli", "report", *map(str, args)],
+                          capture_output=True, text=True, timeout=600, cwd=cwd)
+
+
 @pytest.fixture(scope="module")
-def tiny_report(tiny_run, tmp_path_factory) -> str:
-    """The report of ``tiny_run`` alone, built once for the tests that read it."""
-    return report.build([tiny_run], tmp_path_factory.mktemp("built") / "r.html").read_text()
+def built(tiny_run, tmp_path_factory) -> tuple[Path, subprocess.CompletedProcess]:
+    """The report of ``tiny_run`` alone, built once by ``dart-reach report`` in a process of
+    its own with every default (in the current directory, the folder returned), for the tests
+    that read it and the test of the command."""
+    cwd = tmp_path_factory.mktemp("built")
+    return cwd, _report_process(tiny_run, cwd=cwd)
+
+
+@pytest.fixture(scope="module")
+def tiny_report(built) -> str:
+    cwd, result = built
+    assert result.returncode == 0, result.stderr
+    return (cwd / "tiny-report.html").read_text()
 
 
 @pytest.fixture(scope="module")
@@ -110,20 +126,21 @@ def test_the_report_opens_on_its_answers_and_reads_on_a_phone(tiny_report):
         + text.count("<div class='scroll'><table") > 10
 
 
-def test_cli_writes_the_report_and_never_overwrites_a_foreign_file(tiny_run, tmp_path,
+def test_cli_writes_the_report_and_never_overwrites_a_foreign_file(tiny_run, built, tmp_path,
                                                                   in_process):
+    """The build is ``built``'s, which the other tests read; a report of ours is built over
+    in test_a_report_of_two_budgets_sets_them_side_by_side. The refusals here come before
+    any build."""
     def process(*args):
-        return subprocess.run([sys.executable, "-m", "dart_reach.cli", "report", *args],
-                              capture_output=True, text=True, timeout=300, cwd=tmp_path)
+        return _report_process(*args, cwd=tmp_path)
 
     def cli(*args):  # the rest in this process: the same command, without a process's imports
         return in_process("report", *args, cwd=tmp_path)
 
-    r = process(str(tiny_run))  # by default in the current directory, never in the run
+    cwd, r = built  # by default in the current directory, never in the run
     assert r.returncode == 0, r.stderr
-    assert (tmp_path / "tiny-report.html").is_file() and "tiny-report.html" in r.stdout
+    assert (cwd / "tiny-report.html").is_file() and "tiny-report.html" in r.stdout
     assert not (tiny_run / "report.html").exists()
-    assert cli(str(tiny_run)).returncode == 0  # its own report is rebuilt
     for inside in ("--out", "--findings"):
         name = "r.html" if inside == "--out" else "f.parquet"
         r = cli(str(tiny_run), inside, str(tiny_run / "phases" / name))
@@ -248,9 +265,13 @@ def test_budgets_are_never_pooled_and_runs_of_one_budget_are(tiny_run, other_bud
     assert _same(pooled.drop(budgets.KEY_COLUMNS), _alone([tiny_run, twin]))
 
 
-def test_a_report_of_two_budgets_sets_them_side_by_side(tiny_run, other_budget, tmp_path):
+def test_a_report_of_two_budgets_sets_them_side_by_side(tiny_run, other_budget, built,
+                                                        tmp_path):
+    # built over a report of ours (the tiny run's): a report is rebuilt where one was
+    shutil.copy(built[0] / "tiny-report.html", tmp_path / "r.html")
     text = report.build([tiny_run, other_budget], tmp_path / "r.html",
                         findings_out=tmp_path / "found.parquet").read_text()
+    assert text != (built[0] / "tiny-report.html").read_text()
     # the findings as data: the frame the table is drawn from, every claim at both budgets
     found_data = pl.read_parquet(tmp_path / "found.parquet")
     assert _same(found_data, budgets.findings_by_budget([tiny_run, other_budget]))
