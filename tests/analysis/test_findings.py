@@ -42,8 +42,8 @@ def _trials(groups: dict[str, dict], replications: int = 10, ranks: int = 3,
                                "babbling": bool(rng.random() < spec.get("babbling", 0.0))}
                         for m in MEASURES:
                             row[m] = spec.get(m, 0.5) + jitter + rng.normal(0, within / 2)
-                        if s != "normal":
-                            row["fitness"] = spec.get(f"fitness {s}", row["fitness"]) + jitter
+                        if s != "normal" and f"fitness {s}" in spec:
+                            row["fitness"] = spec[f"fitness {s}"] + jitter
                             row["reached"] = bool(rng.random() < spec.get(f"reach {s}",
                                                                           spec.get("reach", .5)))
                         rows.append(row)
