@@ -283,12 +283,12 @@ campaign-state: $(VENV)/.installed
 	rm -f $(CAMPAIGN)/ledger.json && $(BIN)/dart-reach migrate $(CAMPAIGN)
 # Its snapshots post-evaluated as they come (best 5, 45 positions, normal and ball absent),
 # on a copy of the compact state (the training holds its directory's lock); the tables come
-# back here with the copy's ledger.
+# back here with the copy's ledger. SNAPSHOTS=G,G,... evaluates those alone (default: all kept).
 CAMPAIGN_COPY := $(or $(TMPDIR),/tmp)/dart-reach-campaign-copy
 campaign-snapshots: $(VENV)/.installed
 	rm -rf $(CAMPAIGN_COPY) && mkdir -p $(CAMPAIGN_COPY) && cp -r $(CAMPAIGN)/. $(CAMPAIGN_COPY)/
 	$(BIN)/dart-reach evaluate $(CAMPAIGN_COPY) --finished-only --development 5 \
-		--development-sensors normal,no-ball
+		--development-sensors normal,no-ball $(if $(SNAPSHOTS),--snapshots $(SNAPSHOTS))
 	cd $(CAMPAIGN_COPY) && find . -path ./development.parquet -o -path './development/part-*' \
 		-o -path ./ledger.json | while read f; do mkdir -p $(CURDIR)/$(CAMPAIGN)/$$(dirname $$f); \
 		cp $$f $(CURDIR)/$(CAMPAIGN)/$$f; done

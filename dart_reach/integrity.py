@@ -122,12 +122,41 @@ def _name(out: Path, path: Path) -> str:
 
 
 def run_of(path: Path) -> Path | None:
-    """The run directory a file lies in (the nearest directory above it holding a manifest
-    or a ledger), or None."""
-    for parent in Path(path).resolve().parents:
-        if (parent / MANIFEST).is_file() or (parent / LEDGER_FILE).is_file():
+    """The run directory a file lies in, or None: the nearest directory above it that holds
+    a run's manifest and ledger, a run's manifest alone (a run written before the ledger),
+    or a ledger naming the file. A ``manifest.json`` that is not a run's (a web app's, say)
+    or a lone copy of a ledger in a folder above a user's output captures nothing."""
+    path = Path(path).resolve()
+    for parent in path.parents:
+        if _is_run_of(parent, path):
             return parent
     return None
+
+
+#: The keys every run's manifest holds (``evolution.rundir`` writes and checks them).
+RUN_MANIFEST_KEYS = frozenset({"format", "conditions", "settings"})
+
+
+def _is_run_of(parent: Path, path: Path) -> bool:
+    manifest, ledger_file = parent / MANIFEST, parent / LEDGER_FILE
+    has_manifest, has_ledger_file = manifest.is_file(), ledger_file.is_file()
+    if has_manifest and has_ledger_file:
+        return True
+    if has_manifest:
+        content = _json_or_none(manifest)
+        return isinstance(content, dict) and RUN_MANIFEST_KEYS <= content.keys()
+    if has_ledger_file:
+        content = _json_or_none(ledger_file)
+        files = content.get("files") if isinstance(content, dict) else None
+        return isinstance(files, dict) and path.relative_to(parent).as_posix() in files
+    return False
+
+
+def _json_or_none(path: Path):
+    try:
+        return json.loads(path.read_bytes())
+    except (OSError, ValueError):
+        return None
 
 
 def run_files(out: Path) -> list[Path]:

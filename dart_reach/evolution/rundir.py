@@ -75,7 +75,7 @@ def read_manifest(path: Path) -> dict:
         raise RunError(f"{path}: unreadable manifest ({exc})") from None
     if not isinstance(m, dict):
         raise RunError(f"{path}: malformed manifest (a JSON {type(m).__name__}, not an object)")
-    if not {"format", "conditions", "settings"} <= m.keys():
+    if not integrity.RUN_MANIFEST_KEYS <= m.keys():
         raise RunError(f"{path}: not a run's manifest (a run's manifest.json, written by "
                        f"'dart-reach train', holds its format, conditions and settings)")
     if m.get("format") != MANIFEST_FORMAT:

@@ -292,3 +292,27 @@ def test_the_ledger_accepts_the_file_on_disk_whenever_a_write_stops(run):
     path.write_bytes(b"new content")  # an old version is no longer accepted
     with pytest.raises(DamagedFile):
         integrity.check(run, path)
+
+
+def test_a_stray_ledger_or_a_foreign_manifest_above_a_file_captures_nothing(tmp_path):
+    """Only a run's own directory takes a file into its ledger: a lone copy of a ledger in a
+    folder above (not naming the file) and a manifest that is not a run's (a web app's) are
+    not runs; the file is written plainly and read unchecked, and neither is touched."""
+    stray = tmp_path / integrity.LEDGER_FILE
+    stray.write_bytes(integrity._render({"manifest.json": ["0" * 64]}))
+    foreign = tmp_path / "site" / integrity.MANIFEST
+    foreign.parent.mkdir()
+    foreign.write_text(json.dumps({"name": "a web app", "start_url": "/"}))
+    before = stray.read_bytes(), foreign.read_bytes()
+    out = foreign.parent / "figures" / "hand.png"
+    out.parent.mkdir()
+    assert integrity.run_of(out) is None
+    integrity.write(out, lambda p: p.write_bytes(b"picture"))
+    assert integrity.verified(out).read_bytes() == b"picture"
+    assert (stray.read_bytes(), foreign.read_bytes()) == before
+    # a ledger that names the file is its run's, manifest or not
+    named = tmp_path / "site" / "figures"
+    (named / integrity.LEDGER_FILE).write_bytes(integrity._render({"hand.png": ["0" * 64]}))
+    assert integrity.run_of(out) == named.resolve()
+    with pytest.raises(DamagedFile, match="damaged"):
+        integrity.verified(out)

@@ -132,11 +132,17 @@ def reference(condition, tmp_path_factory):
         result = _cli(*_train_args(condition, out), prefix=[STRACE, "-f", "-qq", "-o",
                                                             str(trace), "-e", f"trace={RENAMES}"])
         targets = [_kind(line, out) for line in trace.read_text().splitlines()
-                   if "rename" in line]
+                   if "rename" in line and _in_run(line, out)]
     else:
         result, targets = _cli(*_train_args(condition, out)), []
     assert result.returncode == 0, result.stderr
     return out, snapshot(out), len(targets), targets
+
+
+def _in_run(line: str, out: Path) -> bool:
+    """Whether a rename in strace's output lands in the run directory (not, say, Numba's
+    cache of a function compiled afresh, which the same process writes beside its source)."""
+    return Path(re.findall(r'"([^"]*)"', line)[-1]).is_relative_to(out)
 
 
 def _kind(line: str, out: Path) -> str:
