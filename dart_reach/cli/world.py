@@ -24,6 +24,7 @@ def cmd_reach(args) -> int:
 
     from ..model.icub import HAND_SEGMENTS
     from ..model.scripted import ScriptedReach
+    from ..model.servo import Servo
     from ..model.versions import CURRENT_MODEL_VERSION, model_version
     from ..model.world import World, WorldConfig
 
@@ -32,8 +33,9 @@ def cmd_reach(args) -> int:
                          f"{args.seconds:g}")
     world = World(world_config(args, model_version(CURRENT_MODEL_VERSION).world(
         WorldConfig(skeleton=args.skeleton))))
+    servo = Servo(world)  # the living model's motors and touch
     ball = world.sector_point(args.sector, 0.5, 0.5)
-    world.reset(ball)
+    servo.reset(ball)
     reach = ScriptedReach(world, ball)
     print(f"world: {world.robot.getNumBodyNodes()} robot bodies, {world.robot.getNumDofs()} "
           f"joints, ball r={world.config.ball.radius} m in sector {args.sector} at "
@@ -44,7 +46,7 @@ def cmd_reach(args) -> int:
     for k in range(int(round(args.seconds / world.config.control_dt))):
         contacts = world.hand_contacts()
         touched.update(np.array(HAND_SEGMENTS)[contacts])
-        world.step(reach.targets(contacts))
+        servo.step(reach.targets(contacts))
         if k % 5 == 4:
             names = [n.removeprefix("r_hand_") for n in np.array(HAND_SEGMENTS)[contacts]]
             d = np.linalg.norm(world.hand_position() - world.ball_position())

@@ -325,10 +325,10 @@ def motor_commands(targets, half_range, mid_range, lower, upper, max_move, dof_m
                    q_cmd, gravity, forces):
     """The joint forces (N m, per degree of freedom, ``forces``) that drive the springs toward
     14 motor targets in [-1, 1]: each target scaled into its motor's range and the motor's
-    commanded position ``q_cmd`` (rad) moved toward it by at most ``max_move``, as
-    ``world.World.set_targets`` does (the same operations in the same order); then
-    ``spring_forces``. Returns whether the targets are finite (``q_cmd`` is left as it was
-    when not)."""
+    commanded position ``q_cmd`` (rad) moved toward it by at most ``max_move``, as version
+    1's ``reference.servo.ReferenceServo.set_targets`` does (the same operations in the same
+    order); then ``spring_forces``. Returns whether the targets are finite (``q_cmd`` is
+    left as it was when not)."""
     for i in range(N_MOTORS):
         if not math.isfinite(targets[i]):
             return False
@@ -476,7 +476,7 @@ def control_step(t, positions, ball, gravity, s, n, p_series):
     after the last (the joint positions, the ball's centre, the gravity forces): the steps the
     recorded trial and the environment take one by one, in their order: ``sense_step``, step
     ``t``'s p_multimodal into ``p_series[t]``, ``act_step``, the touches cleared for the next
-    period's substeps to gather (as ``World.advance`` does before them), ``command_step``.
+    period's substeps to gather (as ``servo.Servo.advance`` does before them), ``command_step``.
     Whether the state read and the targets are finite (the trial's fitness is 0 when not)."""
     if not sense_step(positions, ball, s):
         return False
@@ -565,9 +565,10 @@ def inner_touches(positions, ball, n, s):
     ``s.segments``, ``s.points``: the segment's index, the contact point in m) touch it on
     their inner face: the vector from the contact point to the ball's centre, in the segment's
     body frame, lies within the face's cone (``s.direction`` in the body frame,
-    ``s.cos_limit``), as ``world.inner_face_touch`` decides in the shape's frame (a rotation
-    keeps the angle). Only the poses of those segments' bodies and their ancestors are
-    computed (``s.need`` and ``s.order``: scratches of one bool and one index per body)."""
+    ``s.cos_limit``), as version 1's ``reference.servo.inner_face_touch`` decides in the
+    shape's frame (a rotation keeps the angle). Only the poses of those segments' bodies and
+    their ancestors are computed (``s.need`` and ``s.order``: scratches of one bool and one
+    index per body)."""
     need, order, parent, segment_body = s.need, s.order, s.parent, s.segment_body
     segments, points, touch = s.segments, s.points, s.touch
     need[:] = False

@@ -1,13 +1,15 @@
 """The world's layout: which skeleton indices the model's quantities live at (section III-B).
 
 ``WorldLayout`` is the one public description of a built ``world.World`` that the trial's
-step functions read, under either numerics (``compiled_trial.CompiledSteps``, version 1's
-``reference.steps.ReferenceSteps``): the degrees of freedom of the 14 motors, the motors'
-ranges and speed cap, the springs' stiffness, the bodies of the camera, the hand, the shoulder
-and the 16 hand segments, the segments' inner faces (``icub.INNER_FACES``), the kinematic tree
-the compiled numerics compute the bodies' poses from, and which collision shapes are a hand
-segment or the ball. It is built once by ``World`` from its skeleton and never changes: a
-frozen dataclass whose arrays are read-only.
+step functions and the servo read, under either numerics (the living model's
+``compiled_trial.CompiledSteps`` and ``servo.Servo``; version 1's ``reference.steps.
+ReferenceSteps`` and ``reference.servo.ReferenceServo``): the degrees of freedom of the 14
+motors, the motors' ranges and speed cap, the springs' stiffness, the bodies of the camera,
+the hand, the shoulder and the 16 hand segments, the segments' inner faces
+(``icub.INNER_FACES``), the kinematic tree the compiled numerics compute the bodies' poses
+from, and which collision shapes and bodies are a hand segment or the ball. It is built once
+by ``World`` from its skeleton and never changes: a frozen dataclass whose arrays are
+read-only.
 
 Units: angles in rad, lengths in m, stiffness in N m / rad, ``max_move`` in rad per control
 step (``WorldConfig.max_joint_speed`` x ``control_dt``).
@@ -155,6 +157,9 @@ class WorldLayout:
     tree: KinematicTree
     #: each hand segment's collision shape node -> its ``TouchFace``
     touch_faces: Mapping
+    #: each hand segment's body node -> its index in ``icub.HAND_SEGMENTS`` (the segments
+    #: among a substep's colliding bodies)
+    segment_index: Mapping
     #: the ball's shape nodes
     ball_shapes: frozenset
 

@@ -7,17 +7,18 @@ sectors of a sphere centred on the robot's neck.
 Frames: the world frame is the iCub ``root_link`` frame (pelvis): +x backward, +y to the robot's
 right, +z up. Lengths in metres, angles in radians, time in seconds.
 
-Control (section III-B): every ``control_dt`` = 0.1 s the world takes 14 desired joint positions
-in [-1, 1] (3 neck, 3 torso, 7 arm, 1 hand), scales them linearly into each joint's limits and
-runs the physics substeps (the range is the joint's limits less 1 % at each end); a motor's
-commanded position moves toward its target at ``max_joint_speed`` at most. Each joint tracks
-its commanded position through an implicit spring-damper (DART's joint spring with rest
-position = the commanded position, integrated implicitly, stable at any stiffness) plus gravity
-compensation computed once per control step. Targets lie inside the limits, limits are
+Control (section III-B): every ``control_dt`` = 0.1 s a controller gives 14 desired joint
+positions in [-1, 1] (3 neck, 3 torso, 7 arm, 1 hand), scaled linearly into each motor's range
+(the joint's limits less 1 % at each end, ``layout``), and the physics runs its substeps. Each
+joint carries an implicit spring-damper (DART's joint spring, integrated implicitly, stable at
+any stiffness) whose gains the world sets here; what drives the springs toward the targets, at
+``max_joint_speed`` at most, with gravity compensation, and gathers the hand's touches in the
+substeps is the model's servo, not the world's (the living model's ``servo.Servo``; version
+1's frozen ``reference.servo.ReferenceServo``). Targets lie inside the limits, limits are
 enforced by the constraint solver, and no actuator holds a joint at a limit, so no joint can
-stay stuck there (the SERVO actuator can: DART issues #1683, #2422). The 15 finger flexion joints all
-take the hand motor's target: the five fingers follow one motor, as in the paper; each finger
-stops on its own when it meets the ball, like the iCub's tendon-driven fingers.
+stay stuck there (the SERVO actuator can: DART issues #1683, #2422). The 15 finger flexion
+joints all take the hand motor's target: the five fingers follow one motor, as in the paper;
+each finger stops on its own when it meets the ball, like the iCub's tendon-driven fingers.
 """
 
 from __future__ import annotations
@@ -36,7 +37,6 @@ from .ctrnn import HAND_MOTOR, JOINT_MOTORS, N_MOTORS
 from .layout import TOUCH_SEGMENTS, TouchFace, WorldLayout, kinematic_tree, segment_faces
 from .sectors import (N_SECTORS, POINTS_PER_SECTOR, SYSTEMATIC_FRACTIONS, SectorConfig,
                       check_sector, sector_angles, sphere_point)
-from .sensors import clip
 
 #: Fraction of each joint's range kept free of targets at both ends (see ``World``).
 LIMIT_MARGIN = 0.01
@@ -72,8 +72,8 @@ class WorldConfig:
     natural_frequency: float = 20.0  # rad/s of each joint's spring at the home posture
     damping_ratio: float = 1.0  # of each joint's spring-damper
     #: rad/s, the fastest a motor's commanded position may move (docs/model/world.md, III-B): the
-    #: springs' rest positions step toward the network's targets by at most this times
-    #: ``control_dt`` per control step.
+    #: servo steps it toward the controller's targets by at most this times ``control_dt`` per
+    #: control step (``layout.max_move``).
     max_joint_speed: float = 2.0
     gravity: float = 9.81  # m/s^2
     ball: BallConfig = field(default_factory=BallConfig)
@@ -108,15 +108,11 @@ class WorldConfig:
 
 
 class World:
-    """The robot, the ball on its pendulum and the physics, stepped one control step at a time.
-
-    Shared by every model version: the construction and ``layout``, ``reset`` (which sets the
-    motors' commanded positions, ``commanded``, every version's steps start from), the
-    readings, ``mark_colliding_segments``. The world's own servo, ``step`` = ``set_targets``
-    and ``advance`` (the springs' rest positions, the touches gathered on Python floats), is
-    version 1's (``reference.steps``) and the stepping of every controller that is not a
-    trial's network (the scripted reach, the studies); versions 2 and 3 command and gather
-    with ``compiled_trial.CompiledSteps`` instead (docs/model/world.md).
+    """The robot, the ball on its pendulum and the physics: the skeletons, their ``layout``,
+    ``reset`` and the readings, shared by every model version. No model equation: the motors
+    are driven and the touches gathered by a servo over this world (the living model's
+    ``servo.Servo``, which the trials of versions 2 and 3, the scripted reach and the studies
+    step with; version 1's frozen ``reference.servo.ReferenceServo``; docs/model/world.md).
 
     Built once per process (DART objects cannot be pickled: send a ``WorldConfig`` to workers).
     """
@@ -188,19 +184,10 @@ class World:
         self.motor_limit_lower, self.motor_limit_upper = lo, hi
         self.motor_lower = lo + LIMIT_MARGIN * (hi - lo)
         self.motor_upper = hi - LIMIT_MARGIN * (hi - lo)
-        # Per motor, as Python floats for ``set_targets``.
-        self._half_range = (0.5 * (self.motor_upper - self.motor_lower)).tolist()
-        self._mid_range = (0.5 * (self.motor_upper + self.motor_lower)).tolist()
-        self._lower_list, self._upper_list = self.motor_lower.tolist(), self.motor_upper.tolist()
         self._dofs = [r.getDof(i) for i in range(n)]
-        self._dof_motor_pairs = list(zip(self._dofs, self._dof_motor.tolist()))
         for j in r.getJoints()[1:]:
             j.setActuatorType(dart.dynamics.ActuatorType.FORCE)
             j.setLimitEnforcement(True)
-        # Internal buffers of the control step.
-        self._q_cmd = [0.0] * N_MOTORS  # the springs' rest positions per motor (rad)
-        self._max_move = self.config.max_joint_speed * self.config.control_dt
-        self._substeps = self.config.substeps
 
     def _describe(self) -> WorldLayout:
         """The world's ``WorldLayout``: copies of what the construction resolved, frozen."""
@@ -216,15 +203,18 @@ class World:
             finger_dofs=ints(self._finger_dofs), dof_motor=ints(self._dof_motor),
             motor_limit_lower=floats(self.motor_limit_lower),
             motor_limit_span=floats(self.motor_limit_upper - self.motor_limit_lower),
-            motor_lower=floats(self._lower_list), motor_upper=floats(self._upper_list),
-            half_range=floats(self._half_range), mid_range=floats(self._mid_range),
-            max_move=float(self._max_move), stiffness=floats(self.stiffness),
+            motor_lower=floats(self.motor_lower), motor_upper=floats(self.motor_upper),
+            half_range=floats(0.5 * (self.motor_upper - self.motor_lower)),
+            mid_range=floats(0.5 * (self.motor_upper + self.motor_lower)),
+            max_move=float(self.config.max_joint_speed * self.config.control_dt),
+            stiffness=floats(self.stiffness),
             touch_segments=TOUCH_SEGMENTS, camera_body=camera, hand_body=hand,
             shoulder_body=index[icub.SHOULDER],
             segment_body=ints([index[name] for name in icub.HAND_SEGMENTS]),
             face_direction=direction, face_cos_limit=cos_limit,
             sensed_bodies=tree.chain(camera, hand), tree=tree,
             touch_faces=MappingProxyType(self._touch_faces),
+            segment_index=MappingProxyType(self._segment_index),
             ball_shapes=frozenset(self._ball_shapes))
 
     def _collide_arm_with_body(self) -> None:
@@ -265,7 +255,8 @@ class World:
         #: (16,) bool per hand segment (``icub.HAND_SEGMENTS``), the touches of the last
         #: control step, gathered by its physics substeps: on the segment's inner face
         #: (``touched``, III-B, III-C) and on any face (``touched_any``, the reach of IV-A-1).
-        #: Written by ``advance`` or by the compiled numerics' substeps, cleared by ``reset``.
+        #: Written by the servo's substeps (``servo.Servo``; version 1's ``reference.servo``),
+        #: cleared by ``reset``.
         self.touched = np.zeros(len(self._segments), bool)
         self.touched_any = np.zeros(len(self._segments), bool)
         self._segment_index = {body: i for i, body in enumerate(self._segments)}
@@ -308,8 +299,10 @@ class World:
 
     # ------------------------------------------------------------------ trial control
     def reset(self, ball_position) -> None:
-        """Start a trial: home posture, every velocity and force zero, the ball at rest at
-        ``ball_position`` (its pivot ``string_length`` straight above), time 0."""
+        """Start a trial: home posture, every velocity, force and command zero, the ball at
+        rest at ``ball_position`` (its pivot ``string_length`` straight above), time 0, no
+        touch. The motors are commanded by the servo's reset after it (``servo.Servo.reset``;
+        version 1's ``reference.servo.ReferenceServo.reset``)."""
         p = np.asarray(ball_position, dtype=float)
         if p.shape != (3,) or not np.isfinite(p).all():
             raise ValueError(f"ball position must be 3 finite numbers, got {ball_position!r}")
@@ -330,8 +323,6 @@ class World:
         self.world.setTime(0.0)
         self.touched[:] = False
         self.touched_any[:] = False
-        self._q_cmd[:] = self.home_motor.tolist()
-        self.set_targets(self.home_targets)
 
     def _motor_angles(self, q: np.ndarray) -> np.ndarray:
         """The 14 motor-space angles (rad) of a full joint vector: 13 joints, then the mean
@@ -342,127 +333,6 @@ class World:
         """The 14 motor targets in [-1, 1] that hold the robot at joint positions ``q``."""
         motor_q = self._motor_angles(np.asarray(q, float))
         return 2.0 * (motor_q - self.motor_lower) / (self.motor_upper - self.motor_lower) - 1.0
-
-    def set_targets(self, targets) -> None:
-        """Scale 14 targets in [-1, 1] into the joint limits and move the springs' rest
-        positions toward them, by at most ``max_joint_speed * control_dt`` per motor; refresh
-        the gravity compensation. Values outside [-1, 1] are clipped. Computed on Python
-        floats: the same IEEE operations in the same order as on numpy arrays, for a third
-        of the cost on 14 values."""
-        t = targets if type(targets) is np.ndarray else np.asarray(targets, dtype=float)
-        if t.shape != (N_MOTORS,):
-            raise ValueError(f"expected {N_MOTORS} motor targets, got shape {t.shape}")
-        q_des = [clip(v * h + m, lo, hi) for v, h, m, lo, hi in
-                 zip(t.tolist(), self._half_range, self._mid_range, self._lower_list,
-                     self._upper_list)]
-        if not math.isfinite(sum(q_des)):
-            raise ValueError(f"motor targets must be finite, got {t}")
-        move = self._max_move
-        q_cmd = self._q_cmd
-        for i, q in enumerate(q_des):
-            q_cmd[i] += clip(q - q_cmd[i], -move, move)
-        for dof, motor in self._dof_motor_pairs:
-            dof.setRestPosition(q_cmd[motor])
-        self.robot.setCommands(self.robot.getGravityForces())
-
-    def set_spring_rest_positions(self, value: float) -> None:
-        """Every joint spring's rest position set to ``value`` (rad). The compiled numerics
-        hold them at 0 and command the springs' pull as joint forces
-        (``compiled.spring_forces``)."""
-        for dof in self._dofs:
-            dof.setRestPosition(value)
-
-    @property
-    def commanded(self) -> np.ndarray:
-        """The 14 motors' commanded positions (rad): the springs' rest positions per motor."""
-        return np.array(self._q_cmd)
-
-    def step(self, targets) -> None:
-        """One control step (0.1 s): new targets (``set_targets``), then the physics substeps
-        (``advance``)."""
-        self.set_targets(targets)
-        self.advance()
-
-    def advance(self) -> None:
-        """The physics substeps of one control step toward the targets set. The touches of
-        every substep are gathered: on the inner faces (``hand_contacts``) and on any face
-        (``hand_contacts_any``)."""
-        touch = self.touched
-        touch[:] = False
-        self.touched_any[:] = False
-        step, last_collisions = self.world.step, self.world.getLastCollisionResult
-        self_collision = self.config.self_collision
-        for _ in range(self._substeps):
-            step(False)
-            result = last_collisions()
-            if not result.getNumContacts():
-                continue
-            if self_collision:
-                self._gather_ball_touch(result)
-            else:
-                # Only the ball collides with the robot (self-collision is off), so a hand
-                # segment among the colliding bodies touches the ball on some face. List the
-                # contacts (costly) only when a segment not yet marked as touching on its inner
-                # face collides.
-                if self.mark_colliding_segments(result):
-                    self._gather_touch(result, touch)
-
-    def mark_colliding_segments(self, result) -> bool:
-        """With self-collision off (only the ball collides with the robot): mark the hand
-        segments among a substep's colliding bodies as touching on some face
-        (``hand_contacts_any``); whether one of them is not yet marked as touching on its
-        inner face, so that the contacts must be read."""
-        touch, touch_any, segment = self.touched, self.touched_any, self._segment_index
-        pending = False
-        for body in result.getCollidingBodyNodes():
-            i = segment.get(body)
-            if i is not None:
-                touch_any[i] = True
-                pending = pending or not touch[i]
-        return pending
-
-    def _gather_ball_touch(self, result) -> None:
-        """With self-collision on: mark the hand segments in one substep's contacts with the
-        ball (any face, and inner face as ``_gather_touch``), ignoring the robot's contacts
-        with itself."""
-        faces, ball_shapes = self._touch_faces, self._ball_shapes
-        touch, touch_any = self.touched, self.touched_any
-        ball = None
-        for contact in result.getContacts():
-            frame1 = contact.collisionObject1.getShapeFrame()
-            frame2 = contact.collisionObject2.getShapeFrame()
-            frame = frame2 if frame1 in ball_shapes else frame1 if frame2 in ball_shapes else None
-            face = None if frame is None else faces.get(frame)
-            if face is None:  # not with the ball, or not a hand segment
-                continue
-            touch_any[face[0]] = True
-            if touch[face[0]]:
-                continue
-            if ball is None:
-                ball = self.ball_body.getCOM()
-            if inner_face_touch(frame.getTransform().rotation(), ball - contact.point, face):
-                touch[face[0]] = True
-
-    def _gather_touch(self, result, touch: np.ndarray) -> None:
-        """Mark the hand segments that touch the ball on their inner face in one substep's
-        contacts: the direction from the contact point to the ball's centre (the outward
-        normal of the segment's surface there), in the segment's shape frame, must lie within
-        the face's cone (``inner_face_touch``)."""
-        ball = None
-        faces = self._touch_faces
-        for contact in result.getContacts():
-            frame = contact.collisionObject1.getShapeFrame()
-            face = faces.get(frame)
-            if face is None:  # the robot's shape is the other one of the pair
-                frame = contact.collisionObject2.getShapeFrame()
-                face = faces.get(frame)
-            if face is None or touch[face[0]]:  # not a hand segment, or already touched
-                continue
-            if ball is None:
-                ball = self.ball_body.getCOM()  # its centre: the body's origin, 10x cheaper
-            # ``Frame.getTransform()`` of the world frame is ``getWorldTransform()``, cheaper
-            if inner_face_touch(frame.getTransform().rotation(), ball - contact.point, face):
-                touch[face[0]] = True
 
     @property
     def time(self) -> float:
@@ -530,33 +400,6 @@ class World:
         return bool(np.isfinite(self.robot.getPositions()).all()
                     and np.isfinite(self.robot.getVelocities()).all()
                     and np.isfinite(self.ball_skeleton.getPositions()).all())
-
-
-#: Relative margin of ``inner_face_touch``'s Python-float decision; a case nearer the cone's
-#: edge than this is decided again with numpy's operations (rounding differs by ~1e-15).
-TOUCH_DECISION_MARGIN = 1e-9
-
-
-def inner_face_touch(rotation: np.ndarray, to_ball: np.ndarray, face: tuple) -> bool:
-    """Whether a contact touches a segment on its inner face (III-B, III-C): ``to_ball``, the
-    world vector from the contact point to the ball's centre, turned into the shape's frame
-    (``rotation``: the shape frame's world rotation) as o = R^T v, lies within the face's
-    cone: o . inner >= cos(half angle) |o|; ``face`` = (segment, inner, cos_limit, inner as
-    a tuple of floats).
-
-    The decision is numpy's (``R.T @ v``, then ``@`` products) to the last bit: it is first
-    taken on Python floats (a fifth of the cost) and, where that falls within
-    ``TOUCH_DECISION_MARGIN`` of the cone's edge, where the two roundings could disagree,
-    taken again with numpy's operations."""
-    _, inner, cos_limit, (n0, n1, n2) = face
-    (r0, r1, r2), (v0, v1, v2) = rotation.tolist(), to_ball.tolist()
-    o = [r0[i] * v0 + r1[i] * v1 + r2[i] * v2 for i in range(3)]
-    along = o[0] * n0 + o[1] * n1 + o[2] * n2
-    edge = cos_limit * math.sqrt(o[0] * o[0] + o[1] * o[1] + o[2] * o[2])
-    if abs(along - edge) > TOUCH_DECISION_MARGIN * (abs(v0) + abs(v1) + abs(v2)):
-        return along >= edge
-    outward = rotation.T @ to_ball
-    return bool(outward @ inner >= cos_limit * math.sqrt(outward @ outward))
 
 
 def palm_point(hand_pose: np.ndarray) -> np.ndarray:

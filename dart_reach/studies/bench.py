@@ -32,6 +32,7 @@ from ..evolution.settings import Settings, standard_trial, trial_config
 from ..measures.metrics import trial_metrics
 from ..model.versions import CURRENT_MODEL_VERSION, numerics_of
 from ..model.scripted import ScriptedReach
+from ..model.servo import Servo
 from ..model.task import Trial, network_for
 from ..model.world import World, WorldConfig
 from ..recording import rrd
@@ -79,27 +80,29 @@ def ratio(name: str, values) -> dict:
 
 
 # ------------------------------------------------------------------------------- physics
-def _grasping_world(config: WorldConfig) -> tuple[World, np.ndarray]:
-    """A world whose hand holds the ball (after a scripted reach of 4 s), and the hold targets."""
+def _grasping_world(config: WorldConfig) -> tuple[World, Servo, np.ndarray]:
+    """A world whose hand holds the ball (after a scripted reach of 4 s, stepped by the living
+    model's servo), its servo and the hold targets."""
     world = World(config)
+    servo = Servo(world)
     ball = world.sector_point(4, 0.5, 0.5)
-    world.reset(ball)
+    servo.reset(ball)
     reach = ScriptedReach(world, ball)
     for _ in range(40):
-        world.step(reach.targets(world.hand_contacts()))
-    return world, reach.targets(world.hand_contacts())
+        servo.step(reach.targets(world.hand_contacts()))
+    return world, servo, reach.targets(world.hand_contacts())
 
 
 def world_rtf(config: WorldConfig | None = None, seconds: float = 2.0, pairs: int = 30) -> dict:
     """``limit_rtf``: the bare physics step loop with the ball in the hand; ``controlled_rtf``:
-    the same world through ``World.step`` (new targets every 0.1 s, touch gathered) holding
-    the same grasp; ``controlled_over_limit``: their pairwise ratio, in blocks of
-    ``seconds``."""
+    the same world through the living model's servo (``Servo.step``: new targets every 0.1 s,
+    touch gathered) holding the same grasp; ``controlled_over_limit``: their pairwise ratio,
+    in blocks of ``seconds``."""
     config = config or WorldConfig()
-    world, hold = _grasping_world(config)
+    world, servo, hold = _grasping_world(config)
     n_control = int(round(seconds / config.control_dt))
     n_physics = n_control * config.substeps
-    step, world_step = world.world.step, world.step
+    step, world_step = world.world.step, servo.step
 
     def limit():
         for _ in range(n_physics):

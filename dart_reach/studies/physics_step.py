@@ -33,6 +33,7 @@ from ..evolution.genome import as_groups, decode, random_genome
 from ..evolution.settings import Settings, trial_config
 from ..measures.metrics import trial_metrics
 from ..model.scripted import ScriptedController
+from ..model.servo import Servo
 from ..model.task import Trial, TrialConfig, network_for
 from ..model.versions import CURRENT_MODEL_VERSION
 from ..model.world import POINTS_PER_SECTOR, World, WorldConfig
@@ -172,19 +173,21 @@ def agreement(coarse: dict, fine: dict, tol: Tolerances = Tolerances()) -> dict:
 def tracking_error(physics_dt: float, reference_dt: float, seeds: int = 5,
                    seconds: float = 10.0) -> dict:
     """Open-loop hand tracking: random motor targets, a new vector every second (moved at the
-    bounded joint speed), the ball out of reach; the palm's distance (m) from where it is at
-    ``reference_dt``, every control step. Max and mean over ``seeds`` target sequences."""
-    worlds = {dt: World(WorldConfig(physics_dt=dt)) for dt in (physics_dt, reference_dt)}
-    steps = round(seconds / worlds[physics_dt].config.control_dt)
+    bounded joint speed, the living model's servo: ``servo.Servo``), the ball out of reach;
+    the palm's distance (m) from where it is at ``reference_dt``, every control step. Max and
+    mean over ``seeds`` target sequences."""
+    servos = {dt: Servo(World(WorldConfig(physics_dt=dt))) for dt in (physics_dt, reference_dt)}
+    steps = round(seconds / servos[physics_dt].world.config.control_dt)
     errors = []
     for seed in range(seeds):
         targets = np.random.default_rng(seed).uniform(-1.0, 1.0, (steps // 10 + 1, 14))
         paths = {}
-        for dt, world in worlds.items():
-            world.reset(world.sector_point(4, 0.5, 0.5) + [0.0, 0.0, 1.0])
+        for dt, servo in servos.items():
+            world = servo.world
+            servo.reset(world.sector_point(4, 0.5, 0.5) + [0.0, 0.0, 1.0])
             path = np.empty((steps, 3))
             for t in range(steps):
-                world.step(targets[t // 10])
+                servo.step(targets[t // 10])
                 path[t] = world.hand_position()
             paths[dt] = path
         errors.append(np.linalg.norm(paths[physics_dt] - paths[reference_dt], axis=1))

@@ -3,11 +3,11 @@
 The living model decides which hand segments touch the ball on their inner face (sections
 III-B, III-C) from DART's contacts: per physics substep in contact it reads the contact list
 through dartpy (each contact's objects and point) and turns the vector from the contact point
-to the ball's centre into the segment's frame (``world.inner_face_touch``,
-``compiled.inner_touches``). This module decides the same from the kinematics alone: the
-segments' poses composed from the joint positions (``compiled.body_poses`` over the world's
-``layout.KinematicTree``), their collision boxes, and the ball's centre and radius, with no
-contact read. It is a measurement for a later model version: it changes what the sensor
+to the ball's centre into the segment's frame (``compiled.inner_touches``, which the servo's
+substeps call: ``servo.Servo.gather``). This module decides the same from the kinematics
+alone: the segments' poses composed from the joint positions (``compiled.body_poses`` over the
+world's ``layout.KinematicTree``), their collision boxes, and the ball's centre and radius,
+with no contact read. It is a measurement for a later model version: it changes what the sensor
 computes, so no model version uses it.
 
 ``KinematicTouch`` is the decision: for each of the 16 hand segments (``icub.HAND_SEGMENTS``)
@@ -16,7 +16,7 @@ the ball's centre in the box's frame, the box's closest point to it, and
 - a touch on any face when the centre is within the ball's radius of the box (as DART's
   sphere-box test: penetration r - |centre - closest point| >= 0);
 - a touch on the inner face when, besides, the vector from the closest point to the centre
-  lies in the face's cone (``icub.INNER_FACES``), the rule of ``world.inner_face_touch`` with
+  lies in the face's cone (``icub.INNER_FACES``), the rule of ``compiled.inner_touches`` with
   the closest point for DART's contact point (a centre inside the box gives the zero vector,
   which the rule counts as inner, as it does for DART's contact there).
 
@@ -46,7 +46,7 @@ from ..evolution.settings import seed_at
 from ..model import icub
 from ..model.compiled import body_poses, inner_touches
 from ..model.task import Trial, network_for, trial_positions
-from ..model.world import World, inner_face_touch
+from ..model.world import World
 from .scaling import late_generation
 
 
@@ -148,38 +148,34 @@ def contact_touches(world: World, result, touch: np.ndarray, touch_any: np.ndarr
                     before=None) -> None:
     """One substep's touches from DART's contacts (``result``: its collision result), not
     gathered with the control step's earlier substeps: the hand segments in contact with the
-    ball on any face (``touch_any``) and on the inner face (``touch``, by
-    ``world.inner_face_touch`` per contact, each segment's shape frame rotation as DART holds
-    it after the step, as the model decides). With ``before`` = (the ball's centre (m), the
-    bodies' world poses (n, 4, 4)) of the state before the step, the one DART's collision
-    detection saw (``KinematicTouch.poses`` of that state), the contact points are judged in
-    that state instead: the ball's centre and the segment's rotation of the same instant as
-    the points. Both (16,) outputs are overwritten."""
+    ball on any face (``touch_any``) and on the inner face (``touch``: per contact, the
+    vector from its point to the ball's centre in the segment's body frame within the face's
+    cone, the rule of ``compiled.inner_touches``, in the state after the step, as the model
+    decides). With ``before`` = (the ball's centre (m), the bodies' world poses (n, 4, 4))
+    of the state before the step, the one DART's collision detection saw
+    (``KinematicTouch.poses`` of that state), the contact points are judged in that state
+    instead: the ball's centre and the segment's rotation of the same instant as the points.
+    Both (16,) outputs are overwritten."""
     touch[:] = False
     touch_any[:] = False
     layout = world.layout
     faces, ball_shapes = layout.touch_faces, layout.ball_shapes
-    ball = None
+    centre, poses = (world.ball_body.getCOM(), None) if before is None else before
     for contact in result.getContacts():
         f1, f2 = contact.collisionObject1.getShapeFrame(), contact.collisionObject2.getShapeFrame()
         frame = f2 if f1 in ball_shapes else f1 if f2 in ball_shapes else None
         face = None if frame is None else faces.get(frame)
         if face is None:
             continue
-        touch_any[face[0]] = True
-        if touch[face[0]]:
+        i = face.segment
+        touch_any[i] = True
+        if touch[i]:
             continue
-        if before is not None:
-            centre, poses = before
-            i = face[0]
-            rot = poses[layout.segment_body[i]][:3, :3]
-            o = rot.T @ (centre - contact.point)
-            touch[i] = o @ layout.face_direction[i] >= layout.face_cos_limit[i] * math.sqrt(o @ o)
-            continue
-        if ball is None:
-            ball = world.ball_body.getCOM()
-        if inner_face_touch(frame.getTransform().rotation(), ball - contact.point, face):
-            touch[face[0]] = True
+        body = int(layout.segment_body[i])
+        rot = (world.robot.getBodyNode(body).getTransform().rotation() if poses is None
+               else poses[body][:3, :3])
+        o = rot.T @ (centre - contact.point)
+        touch[i] = o @ layout.face_direction[i] >= layout.face_cos_limit[i] * math.sqrt(o @ o)
 
 
 class Comparison:
@@ -225,16 +221,17 @@ class Comparison:
         self.step_ns = []
 
     def instrument(self, steps) -> None:
-        """Replace ``steps.substeps`` (a ``compiled_trial.CompiledSteps``' physics substeps
-        of one control period; the instance's attribute only, the class is not touched) by
-        the same substeps with the decisions compared and timed (CPU time of this thread,
-        so that the other processes' load does not count). The trial's touches stay the
-        model's own (its ``mark_colliding_segments`` and ``gather``), so the robots move
-        as they do in training."""
+        """Replace ``steps.servo.substeps`` (a ``compiled_trial.CompiledSteps``' servo's
+        physics substeps of one control period; the instance's attribute only, the class is
+        not touched) by the same substeps with the decisions compared and timed (CPU time of
+        this thread, so that the other processes' load does not count). The trial's touches
+        stay the model's own (the servo's ``mark_colliding_segments`` and ``gather``), so the
+        robots move as they do in training."""
         w = self.world
         world, robot, ball_body = w.world, w.robot, w.ball_body
         step, last = world.step, world.getLastCollisionResult
-        mark, gather = w.mark_colliding_segments, steps.gather
+        servo = steps.servo
+        mark, gather = servo.mark_colliding_segments, servo.gather
         self_collision, n_sub = w.config.self_collision, w.config.substeps
         post, pre, c = self.kin["post"], self.kin["pre"], self.counts
         gathered = self.gathered
@@ -315,7 +312,7 @@ class Comparison:
                     (model[touch_segments] != g[touch_segments]).any())
                 c[f"control_steps_count_differ_{v}"] += int(model.sum() != g.sum())
 
-        steps.substeps = run_substeps
+        servo.substeps = run_substeps
 
     def figures(self) -> dict:
         """The counts, the agreement shares (of the substeps or control steps where either
@@ -378,7 +375,7 @@ def measure(robots: int = 10, trials: int = 3, steps: int = 200, model_version: 
     # compile and warm both paths (the model's contact decision loaded with no contact; a
     # whole trial), not counted
     inner_touches(world.robot.getPositions(), world.ball_body.getCOM(), 0,
-                  trial.steps._touch_state)
+                  trial.steps.servo.touch_state)
     warm = jobs[0]
     trial.fitness(network_for(decode(warm.genome, warm.free_groups), warm.trial),
                   trial_positions(world, _rng(warm), warm.trial.trials)[0][1])

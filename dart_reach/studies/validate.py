@@ -31,6 +31,7 @@ from ..model.compiled import project
 from ..model.ctrnn import MOTOR_INDEX, SENSOR_INDEX, motor_targets
 from ..model.levers import ReflexInputs
 from ..model.scripted import ScriptedReach, grasp_posture
+from ..model.servo import Servo
 from ..model.task import Trial, network_for, trial_positions
 from ..model.world import N_SECTORS, World
 
@@ -140,18 +141,20 @@ def scene(world: World, grid: int = 7) -> dict:
 def scripted_grasps(world: World, seconds: float = 10.0, points=None) -> dict:
     """The scripted reach-and-grasp at the 45 post-evaluation points (or at ``points``, ball
     positions of shape (n, 3)): how many grasps (the paper's definition, ``metrics.grasped``)
-    and the hand's peak speed (m/s, the median over the points)."""
+    and the hand's peak speed (m/s, the median over the points). The world is stepped by the
+    living model's servo (``servo.Servo``)."""
     steps = round(seconds / world.config.control_dt)
     grasps, peak = 0, []
+    servo = Servo(world)
     for point in world.systematic_points() if points is None else np.asarray(points, float):
-        world.reset(point)
+        servo.reset(point)
         reach = ScriptedReach(world, point)
         contacts = np.zeros((steps, len(world.layout.segment_body)), bool)
         hand = np.zeros((steps, 3))
         for t in range(steps):
             world.hand_contacts(contacts[t])
             hand[t] = world.hand_position()
-            world.step(reach.targets(contacts[t]))
+            servo.step(reach.targets(contacts[t]))
         grasps += grasped(contacts)
         peak.append(_peak_speed(hand, world.config.control_dt))
     return {"scripted_grasps": int(grasps), "scripted_points": len(peak),

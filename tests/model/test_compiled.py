@@ -191,14 +191,14 @@ def test_version_2s_fitness_scores_an_explosion_zero_and_steps_a_version_1_netwo
     assert f1 == f2 > 0 and np.array_equal(p1, p2) and np.array_equal(q1, q2)
     network, steps = network_for(params, cfg), trial.steps
     assert trial.fitness(network, ball) > 0
-    original, calls = steps.substeps, []
+    original, calls = steps.servo.substeps, []
 
     def exploding():  # the real substeps, then the state blown up after 5 control steps
         original()
         calls.append(1)
         if len(calls) == 5:
             world.robot.setVelocities(np.full(world.robot.getNumDofs(), np.nan))
-    steps.substeps = exploding
+    steps.servo.substeps = exploding
     assert trial.fitness(network, ball) == 0.0 and len(calls) == 6
 
 
@@ -211,9 +211,9 @@ def test_version_2_grows_its_contact_buffers_and_decides_the_same_touches(world)
     for size in (None, 1):
         trial = Trial(world, cfg)
         if size:
-            trial.steps.hold_contacts(size)
+            trial.steps.servo.hold_contacts(size)
         runs.append(trial.run(network_for(params, cfg), 2, ball))
-    assert len(trial.steps.contact_segments) > 1 and runs[0].contacts.any()
+    assert len(trial.steps.servo.contact_segments) > 1 and runs[0].contacts.any()
     for name in ("contacts", "contacts_any", "dofs", "sensors"):
         assert np.array_equal(getattr(runs[0], name), getattr(runs[1], name)), name
 

@@ -3,8 +3,8 @@ so that every run trained under it resumes, evaluates and reproduces bit for bit
 (tests/model/test_task.py and tests/evolution/test_training_digest.py pin its trials).
 
 Two pins. Every file of the reference folder, by a digest of its bytes: editing any of them
-fails. The shared code version 1 runs besides (the DART world's construction, commands and
-touch decisions, the network's parameters and reflexes, ``ctrnn.motor_targets``, the sensors'
+fails. The shared code version 1 runs besides (the DART world's construction, layout, reset
+and readings, the network's parameters and reflexes, ``ctrnn.motor_targets``, the sensors'
 constants), by a digest of each function's source and of the constants' values: that code is
 the living model's as well, so a change there changes every version's results.
 
@@ -27,12 +27,20 @@ from dart_reach.model import ctrnn, levers, reference, sensors, steps, world
 #: compute with it) moved in from ``world``, where it was pinned as shared code: its code
 #: unchanged, its docstring naming the section; no result changes (the trial digests of
 #: tests/model/test_task.py stay).
+#: ``servo.py``: version 1's servo (``set_targets``, ``advance``, ``mark_colliding_segments``,
+#: ``_gather_ball_touch``, ``_gather_touch``, ``inner_face_touch``, ``TOUCH_DECISION_MARGIN``)
+#: moved in from ``world``, where it was pinned as shared code, its source unchanged (each
+#: function's digest below as it was there), as ``ReferenceServo`` over the world's layout;
+#: ``steps.py`` builds it and runs its reset after ``World.reset`` (which ran it itself), and
+#: ``__init__.py`` names it. No result changes (the trial digests of tests/model/test_task.py
+#: and tests/evolution/test_training_digest.py stay).
 REFERENCE_FOLDER = Path(reference.__file__).parent
 FROZEN_FILES = {
-    "__init__.py": "8cf8408dac73767c",
+    "__init__.py": "5f5c320e0bc66249",
     "network.py": "5908184f4c20f0de",
     "sensors.py": "035c76577a7052f0",
-    "steps.py": "f138624bb9beab43",
+    "servo.py": "8ba6cfdf7e642004",
+    "steps.py": "91cb3696e41627db",
 }
 
 #: The shared code version 1's steps run, outside the reference folder, by name.
@@ -47,17 +55,12 @@ SHARED_CODE = {
     "world.World._resolve_contacts": world.World._resolve_contacts,
     "world.World._set_home": world.World._set_home,
     "world.World._motor_angles": world.World._motor_angles,
+    "world.World._describe": world.World._describe,
     "world.World.targets_for": world.World.targets_for,
     "world.World.reset": world.World.reset,
-    "world.World.set_targets": world.World.set_targets,
-    "world.World.advance": world.World.advance,
-    "world.World.mark_colliding_segments": world.World.mark_colliding_segments,
-    "world.World._gather_ball_touch": world.World._gather_ball_touch,
-    "world.World._gather_touch": world.World._gather_touch,
     "world.World.motor_positions": world.World.motor_positions,
     "world.World.hand_contacts": world.World.hand_contacts,
     "world.World.hand_contacts_any": world.World.hand_contacts_any,
-    "world.inner_face_touch": world.inner_face_touch,
     "world.palm_point": world.palm_point,
 }
 
@@ -68,13 +71,18 @@ SHARED_CONSTANTS = {
               "GRASP_WEIGHT", "GRASP_BIAS", "RESET_MOTOR_STATE"),
     "sensors": ("HALF_FOV_X_DEG", "HALF_FOV_Y_DEG", "NO_TOUCH", "TOUCHING", "NO_SIGHT",
                 "SIGHT_RANGE_M", "OFFSET_D_MAX_DEG", "OFFSET_SCALE"),
-    "world": ("LIMIT_MARGIN", "BALL_PARKED", "TOUCH_DECISION_MARGIN", "PALM_NORMAL"),
+    "world": ("LIMIT_MARGIN", "BALL_PARKED", "PALM_NORMAL"),
     "levers": ("TOUCH_CAP", "REFLEX_EVOLVED_SCALE"),
 }
 
 #: sha256 (first 16 hex digits) of each shared function's source, and of each module's
 #: constants' values. ``ctrnn.Network``: the network's parameters, reflexes and states (its
-#: numpy update moved, unchanged, to ``reference.network.ReferenceNetwork``).
+#: numpy update moved, unchanged, to ``reference.network.ReferenceNetwork``). ``world``:
+#: the servo's code and buffers moved out to ``reference/servo.py`` (``_resolve_robot`` no
+#: longer builds the servo's lists, ``_resolve_contacts`` and ``_describe`` hand the segments'
+#: bodies to the layout, ``reset`` no longer commands the motors, ``TOUCH_DECISION_MARGIN``
+#: left the constants); ``_describe`` pinned since version 1's servo reads the layout it
+#: builds.
 FROZEN_SHARED = {
     "steps.home_motor": "746229f5e2093a8b",
     "ctrnn.Network": "71f14fc26ac60ec0",
@@ -82,25 +90,20 @@ FROZEN_SHARED = {
     "ctrnn.reflex_weights": "5dcd028507b00610",
     "ctrnn.reflex_biases": "76f2702502ecfd8a",
     "sensors.clip": "5d484cd37821dd1a",
-    "world.World._resolve_robot": "0cc98e4e4cc6cf16",
-    "world.World._resolve_contacts": "2b8e80aca17d7436",
+    "world.World._resolve_robot": "429383ebfcb469fb",
+    "world.World._resolve_contacts": "fc51bc3ee3b79101",
     "world.World._set_home": "49565c1ebd0f75af",
     "world.World._motor_angles": "6f37030562ad8302",
+    "world.World._describe": "307870a0fe6734f0",
     "world.World.targets_for": "20578f88cae757cc",
-    "world.World.reset": "6619d2cf0763a9ce",
-    "world.World.set_targets": "141a40d9c95db6f1",
-    "world.World.advance": "231a4ba7102e4abb",
-    "world.World.mark_colliding_segments": "360ef10f7bd2639b",
-    "world.World._gather_ball_touch": "8cae4675e19989b1",
-    "world.World._gather_touch": "7329303b37bc4441",
+    "world.World.reset": "28342d2f365910da",
     "world.World.motor_positions": "2f485392efa02009",
     "world.World.hand_contacts": "92e292dacf3093a7",
     "world.World.hand_contacts_any": "c18b4001a7a8ee51",
-    "world.inner_face_touch": "46236f614faaecfd",
     "world.palm_point": "5859255b0972470b",
     "constants.ctrnn": "37be81c181f74a6a",
     "constants.sensors": "e97643c044925f52",
-    "constants.world": "ff4a2ce4db6f5bc3",
+    "constants.world": "8af76c496d420322",
     "constants.levers": "abe2fef0a99be91d",
 }
 

@@ -10,7 +10,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from dart_reach.model import compiled_trial, icub, steps, task
+from dart_reach.model import compiled_trial, icub, servo, steps, task
 from dart_reach.model.compiled_trial import CompiledSteps
 from dart_reach.model.ctrnn import MOTOR_NAMES, N_SENSORS
 from dart_reach.model.layout import TOUCH_SEGMENTS
@@ -61,6 +61,8 @@ def test_the_layout_names_the_skeletons_indices(world):
     assert not layout.tree.unsupported
     assert sorted({f.segment for f in layout.touch_faces.values()}) == \
         list(range(len(icub.HAND_SEGMENTS)))
+    assert {body.getName(): i for body, i in layout.segment_index.items()} == \
+        {name: i for i, name in enumerate(icub.HAND_SEGMENTS)}
 
 
 @pytest.mark.parametrize("numerics, kind", [(Numerics.REFERENCE, ReferenceSteps),
@@ -79,7 +81,7 @@ def test_a_trial_takes_its_numerics_steps_by_composition(world, numerics, kind):
     assert trial.steps.x.shape == (N_SENSORS,)
 
 
-@pytest.mark.parametrize("module", [task, steps, compiled_trial])
+@pytest.mark.parametrize("module", [task, steps, compiled_trial, servo])
 def test_the_step_code_reads_no_private_attribute_of_another_object(module):
     """``self._name`` only: never ``world._name``, ``trial._name``, ``network._name``."""
     source = Path(module.__file__).read_text()

@@ -10,6 +10,7 @@ from dart_reach.model import ctrnn, sensors
 from dart_reach.model.ctrnn import SIGHT, TOUCH, OFFSET, random_params, zero_params
 from dart_reach.model.reference.network import ReferenceNetwork
 from dart_reach.model.scripted import ScriptedController
+from dart_reach.model.servo import Servo
 from dart_reach.model.versions import Numerics
 from dart_reach.model.task import Senses, Trial, TrialConfig, lifetime, network_for
 from dart_reach.model.world import World
@@ -111,12 +112,13 @@ def test_grasp_reflex_closes_the_hand_on_a_palm_touch(world):
     for _ in range(10):
         m = net.step(x)
     assert ctrnn.motor_targets(m.copy())[13] > 0.9 > -0.9 > open_target
-    # and in the world: the hand motor's target closes the fingers
-    world.reset(world.sector_point(6, 0, 0) + [0, -0.5, 0])
+    # and in the world (the living model's servo): the hand motor's target closes the fingers
+    servo = Servo(world)
+    servo.reset(world.sector_point(6, 0, 0) + [0, -0.5, 0])
     t = world.home_targets.copy()
     t[13] = ctrnn.motor_targets(m.copy())[13]
     for _ in range(10):
-        world.step(t)
+        servo.step(t)
     assert world.motor_positions()[13] > 1.4
 
 
@@ -271,3 +273,33 @@ def test_any_face_touches_include_the_inner_ones_and_the_palm_normal_is_a_unit_v
         n = np.linalg.norm(d.palm_normal, axis=1)
         assert np.allclose(n, 1.0)
     assert seen_more, "evolved pre-reachers also touch with the back or sides of the hand"
+
+
+def test_version_1s_inner_face_touch_decides_as_numpy_does_even_at_the_cone_s_edge():
+    """Version 1's touch decision (``reference.servo.inner_face_touch``) on Python floats
+    falls back to numpy's operations near the edge of the cone, so it agrees with them
+    everywhere: random directions, and directions placed on the edge itself (where a rounding
+    difference would flip a decision)."""
+    import math
+
+    from dart_reach.model.reference.servo import inner_face_touch
+
+    rng = np.random.default_rng(5)
+    inner = np.array([0.0, 0.5 ** 0.5, 0.5 ** 0.5])
+    cos_limit = math.cos(math.radians(67.5))
+    face = (0, inner, cos_limit, tuple(inner.tolist()))
+    edge_cases = 0
+    for i in range(4000):
+        q, _ = np.linalg.qr(rng.normal(size=(3, 3)))  # a random rotation (or reflection)
+        if i % 2:  # on the edge: o at exactly the cone's half angle from inner, in the frame
+            side = np.cross(inner, rng.normal(size=3))
+            side /= np.linalg.norm(side)
+            o = cos_limit * inner + math.sqrt(1 - cos_limit ** 2) * side
+            v = q @ (o * rng.uniform(0.01, 0.05))
+        else:
+            v = rng.normal(size=3) * 0.03
+        outward = q.T @ v
+        expected = bool(outward @ inner >= cos_limit * math.sqrt(outward @ outward))
+        assert inner_face_touch(q, v, face) == expected
+        edge_cases += abs(outward @ inner - cos_limit * math.sqrt(outward @ outward)) < 1e-12
+    assert edge_cases > 1000  # the edge was really visited

@@ -1,4 +1,5 @@
-"""The DART world against the official iCub model and the paper's set-up (sections III, III-A)."""
+"""The DART world against the official iCub model and the paper's set-up (sections III, III-A),
+stepped by the living model's servo (``servo.Servo``)."""
 
 from __future__ import annotations
 
@@ -10,6 +11,7 @@ import pytest
 
 from dart_reach.model import icub
 from dart_reach.model.scripted import grasp_posture
+from dart_reach.model.servo import Servo
 from dart_reach.model.world import (N_SECTORS, SYSTEMATIC_FRACTIONS, SkeletonError, World,
                               WorldConfig, sector_angles)
 
@@ -17,6 +19,11 @@ from dart_reach.model.world import (N_SECTORS, SYSTEMATIC_FRACTIONS, SkeletonErr
 @pytest.fixture(scope="module")
 def world():
     return World()
+
+
+@pytest.fixture(scope="module")
+def servo(world):
+    return Servo(world)
 
 
 # ------------------------------------------------------------------ kinematics vs the official model
@@ -97,15 +104,15 @@ def test_every_sector_is_reachable(world, sector):
 TRACKING_BOUND = 0.01  # rad: every joint within this of its target after 2 s of hold
 
 
-def test_joints_track_targets_within_bound_after_two_seconds(world):
+def test_joints_track_targets_within_bound_after_two_seconds(world, servo):
     rng = np.random.default_rng(3)
     far = world.sector_point(6, 0.0, 0.0) + [0.0, -0.5, 0.0]  # ball out of the arm's way
     worst = 0.0
     for _ in range(6):
-        world.reset(far)
+        servo.reset(far)
         targets = rng.uniform(-0.9, 0.9, 14)
         for _ in range(20):
-            world.step(targets)
+            servo.step(targets)
         q_des = world.motor_lower + (targets + 1) / 2 * (world.motor_upper - world.motor_lower)
         error = np.abs(world.motor_positions() - q_des)
         worst = max(worst, error.max())
@@ -115,20 +122,20 @@ def test_joints_track_targets_within_bound_after_two_seconds(world):
     assert worst < TRACKING_BOUND, f"worst tracking error {worst:.4f} rad"
 
 
-def test_joint_speed_is_bounded(world):
+def test_joint_speed_is_bounded(world, servo):
     """From one end of the range to the other, no joint moves faster than the speed bound
-    (30% for the springs' transient: the rest position moves in steps of 0.1 s), and the move
-    takes the time the bound says."""
-    world.reset(world.sector_point(6, 0, 0) + [0.0, -0.5, 0.0])
+    (30% for the springs' transient: the commanded position moves in steps of 0.1 s), and the
+    move takes the time the bound says."""
+    servo.reset(world.sector_point(6, 0, 0) + [0.0, -0.5, 0.0])
     v_max = world.config.max_joint_speed
     t = np.full(14, -1.0)
     for _ in range(30):
-        world.step(t)
+        servo.step(t)
     t[:] = 1.0
     start = world.motor_positions()
     peak = 0.0
     for _ in range(5):
-        world.step(t)
+        servo.step(t)
         peak = max(peak, np.abs(world.robot.getVelocities()).max())
     moved = np.abs(world.motor_positions() - start)
     assert peak < 1.3 * v_max
@@ -136,94 +143,95 @@ def test_joint_speed_is_bounded(world):
     assert peak > 0.8 * v_max
 
 
-def test_fingers_all_follow_the_hand_motor(world):
-    world.reset(world.sector_point(6, 0, 0) + [0, -0.5, 0])
+def test_fingers_all_follow_the_hand_motor(world, servo):
+    servo.reset(world.sector_point(6, 0, 0) + [0, -0.5, 0])
     for target, expected in ((1.0, np.pi / 2), (-1.0, 0.0), (0.0, np.pi / 4)):
         t = world.home_targets.copy()
         t[13] = target
         for _ in range(10):
-            world.step(t)
+            servo.step(t)
         fingers = world.joint_positions()[world.layout.finger_dofs]
         assert fingers.shape == (15,)
         assert np.allclose(fingers, expected, atol=0.02), (target, fingers)
         assert world.motor_positions()[13] == pytest.approx(fingers.mean())
 
 
-def test_joint_never_stays_stuck_at_a_limit(world):
+def test_joint_never_stays_stuck_at_a_limit(world, servo):
     """Drive the shoulder and elbow to their limits (gravity pulling), then away: they leave."""
-    world.reset(world.sector_point(6, 0, 0) + [0, -0.5, 0])
+    servo.reset(world.sector_point(6, 0, 0) + [0, -0.5, 0])
     t = world.home_targets.copy()
     t[[6, 9]] = (-1.0, 1.0)
     for _ in range(20):
-        world.step(t)
+        servo.step(t)
     q = world.motor_positions()
     assert q[6] == pytest.approx(world.motor_lower[6], abs=0.02)
     assert q[9] == pytest.approx(world.motor_upper[9], abs=0.02)
     t[[6, 9]] = 0.0
     for _ in range(10):
-        world.step(t)
+        servo.step(t)
     q = world.motor_positions()
     mid = (world.motor_lower + world.motor_upper) / 2
     assert abs(q[6] - mid[6]) < TRACKING_BOUND and abs(q[9] - mid[9]) < TRACKING_BOUND
 
 
 # ------------------------------------------------------------------ ball
-def test_ball_swings_after_a_push_and_returns_to_rest(world):
+def test_ball_swings_after_a_push_and_returns_to_rest(world, servo):
     rest = world.sector_point(0, 0.5, 0.5)
-    world.reset(rest)
+    servo.reset(rest)
     assert np.allclose(world.ball_position(), rest)
     for _ in range(10):  # untouched, it hangs still
-        world.step(world.home_targets)
+        servo.step(world.home_targets)
     assert np.linalg.norm(world.ball_position() - rest) < 1e-6
     world.ball_skeleton.setVelocities([1.0, 0.0])  # rad/s about the pivot: ~8 cm swing
     excursion = 0.0
     for _ in range(30):
-        world.step(world.home_targets)
+        servo.step(world.home_targets)
         excursion = max(excursion, np.linalg.norm(world.ball_position() - rest))
     assert excursion > 0.05, "the push makes it swing"
     for _ in range(250):
-        world.step(world.home_targets)
+        servo.step(world.home_targets)
     assert np.linalg.norm(world.ball_position() - rest) < 0.003, "back to rest"
     assert np.abs(world.ball_skeleton.getVelocities()).max() < 0.02
 
 
-def test_ball_never_rises_to_its_pivot(world):
+def test_ball_never_rises_to_its_pivot(world, servo):
     """Hit as hard as the arm could ever hit it (10 m/s), the ball stays below its pivot."""
     rest = world.sector_point(4, 0.5, 0.5)
     length = world.config.ball.string_length
     for velocity in ([30.0, 0.0], [0.0, -30.0], [21.0, 21.0]):  # rad/s: 12 m/s at the ball
-        world.reset(rest)
+        servo.reset(rest)
         world.ball_skeleton.setVelocities(velocity)
         highest = -np.inf
         for _ in range(20):
-            world.step(world.home_targets)
+            servo.step(world.home_targets)
             highest = max(highest, world.ball_position()[2])
         assert highest < rest[2] + length - 0.01, velocity
         assert world.is_finite()
 
 
 # ------------------------------------------------------------------ determinism and reset
-def _trajectory(world: World, seed: int) -> np.ndarray:
+def _trajectory(servo: Servo, seed: int) -> np.ndarray:
     rng = np.random.default_rng(seed)
-    world.reset(world.sector_point(4, 0.5, 0.5))
+    world = servo.world
+    servo.reset(world.sector_point(4, 0.5, 0.5))
     out = []
     for _ in range(30):
-        world.step(rng.uniform(-1, 1, 14))
+        servo.step(rng.uniform(-1, 1, 14))
         out.append(np.concatenate([world.joint_positions(), world.ball_position()]))
     return np.array(out)
 
 
-def test_same_seed_same_trajectory_and_reset_is_complete(world):
-    a = _trajectory(world, 11)
-    b = _trajectory(world, 11)  # the same world after reset
-    c = _trajectory(World(), 11)  # a fresh world
+def test_same_seed_same_trajectory_and_reset_is_complete(world, servo):
+    a = _trajectory(servo, 11)
+    b = _trajectory(servo, 11)  # the same world after reset
+    c = _trajectory(Servo(World()), 11)  # a fresh world
     assert np.array_equal(a, b) and np.array_equal(a, c)
-    d = _trajectory(world, 12)
+    d = _trajectory(servo, 12)
     assert not np.array_equal(a, d)
 
 
 # ------------------------------------------------------------------ bad input
-def test_bad_inputs_raise_clear_errors(world, tmp_path):
+def test_bad_inputs_raise_clear_errors(world, servo, tmp_path):
     with pytest.raises(SkeletonError, match="not found"):
         World(WorldConfig(skeleton=tmp_path / "missing.urdf"))
     garbage = tmp_path / "garbage.urdf"
@@ -245,9 +253,11 @@ def test_bad_inputs_raise_clear_errors(world, tmp_path):
         with pytest.raises(ValueError, match="sector"):
             world.sector_point(sector, 0.5, 0.5)
     with pytest.raises(ValueError, match="14 motor targets"):
-        world.step(np.zeros(13))
+        servo.step(np.zeros(13))
+    commanded = servo.q_cmd.copy()
     with pytest.raises(ValueError, match="finite"):
-        world.step(np.r_[np.zeros(13), np.nan])
+        servo.step(np.r_[np.zeros(13), np.nan])
+    assert np.array_equal(servo.q_cmd, commanded)  # a refused command moves no motor
     with pytest.raises(ValueError, match="ball position"):
         world.reset([0.0, np.inf, 0.0])
     with pytest.raises(ValueError, match="multiple"):
@@ -276,32 +286,3 @@ def test_cli_scripted_reach_touches_the_ball():
     result = _cli("reach", "--seconds", "3")
     assert result.returncode == 0, result.stderr
     assert "segments that touched the ball: r_hand" in result.stdout
-
-
-def test_inner_face_touch_decides_as_numpy_does_even_at_the_cone_s_edge():
-    """The touch decision on Python floats falls back to numpy's operations near the edge of
-    the cone, so it agrees with them everywhere: random directions, and directions placed on
-    the edge itself (where a rounding difference would flip a decision)."""
-    import math
-
-    from dart_reach.model.world import inner_face_touch
-
-    rng = np.random.default_rng(5)
-    inner = np.array([0.0, 0.5 ** 0.5, 0.5 ** 0.5])
-    cos_limit = math.cos(math.radians(67.5))
-    face = (0, inner, cos_limit, tuple(inner.tolist()))
-    edge_cases = 0
-    for i in range(4000):
-        q, _ = np.linalg.qr(rng.normal(size=(3, 3)))  # a random rotation (or reflection)
-        if i % 2:  # on the edge: o at exactly the cone's half angle from inner, in the frame
-            side = np.cross(inner, rng.normal(size=3))
-            side /= np.linalg.norm(side)
-            o = cos_limit * inner + math.sqrt(1 - cos_limit ** 2) * side
-            v = q @ (o * rng.uniform(0.01, 0.05))
-        else:
-            v = rng.normal(size=3) * 0.03
-        outward = q.T @ v
-        expected = bool(outward @ inner >= cos_limit * math.sqrt(outward @ outward))
-        assert inner_face_touch(q, v, face) == expected
-        edge_cases += abs(outward @ inner - cos_limit * math.sqrt(outward @ outward)) < 1e-12
-    assert edge_cases > 1000  # the edge was really visited

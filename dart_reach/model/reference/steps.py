@@ -1,7 +1,8 @@
 """Model version 1's steps of a trial (sections III-B, III-C), frozen: the sensors of
 ``reference.sensors`` on numpy arrays and Python floats, the network's own ``step``
-(``reference.network.ReferenceNetwork``), the world's ``set_targets`` and ``advance``, behind
-the interface of ``steps.TrialSteps``; the palm's normal of its records (``palm_normal``).
+(``reference.network.ReferenceNetwork``), the servo's ``set_targets`` and ``advance``
+(``reference.servo.ReferenceServo``), behind the interface of ``steps.TrialSteps``; the palm's
+normal of its records (``palm_normal``).
 
 Never edited (``model.reference``): a change to the model is a new model version
 (docs/model/trial.md, "How to change the model").
@@ -18,6 +19,7 @@ from ..icub import HAND_SEGMENTS
 from ..steps import home_motor
 from ..world import BALL_PARKED, PALM_NORMAL, World, palm_point
 from . import sensors
+from .servo import ReferenceServo
 
 N_SEGMENTS = len(HAND_SEGMENTS)
 
@@ -32,8 +34,9 @@ def palm_normal(hand_pose: np.ndarray, out: np.ndarray | None = None) -> np.ndar
 class ReferenceSteps:
     """Model version 1's steps (``versions.Numerics.REFERENCE``): the sensors of ``sensors``
     on numpy arrays and Python floats, the network's own ``step`` (``ReferenceNetwork``), the
-    world's ``set_targets`` and ``advance``. Every run trained under version 1 reproduces with
-    them bit for bit (tests/model/test_task.py). ``config`` is the trial's ``task.TrialConfig``.
+    servo's ``set_targets`` and ``advance`` (``ReferenceServo``). Every run trained under
+    version 1 reproduces with them bit for bit (tests/model/test_task.py). ``config`` is the
+    trial's ``task.TrialConfig``.
     """
 
     def __init__(self, world: World, config):
@@ -52,10 +55,12 @@ class ReferenceSteps:
         self._proprio_span = layout.motor_limit_span.tolist()
         self._touch_segments = layout.touch_segments.tolist()
         self._pay_touch = sensors.p_touch_of(config.touch_pay)  # levers.TouchPay
+        #: version 1's servo over the world
+        self.servo = servo = ReferenceServo(world)
         #: the world's motors commanded toward 14 targets in [-1, 1], no physics yet
-        self.command = world.set_targets
+        self.command = servo.set_targets
         #: the physics substeps of one control period, the touches gathered
-        self.advance = world.advance
+        self.advance = servo.advance
         self._no_touch, self._no_sight = config.touch_deprived, config.sight_deprived
         self._offsets = config.offsets_sensed
         self._no_ball = config.ball_absent
@@ -67,6 +72,7 @@ class ReferenceSteps:
     def reset(self, ball_position) -> None:
         self.ball_at[:] = ball_position
         self.world.reset(BALL_PARKED if self._no_ball else ball_position)
+        self.servo.reset()
 
     def sense(self) -> bool:
         """Read the world into the sensor vector (the network's input) and the fitness terms
