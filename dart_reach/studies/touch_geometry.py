@@ -183,7 +183,7 @@ class Comparison:
     substeps (see ``measure``). Two kinematic variants beside DART's contacts:
 
     - ``post``: on the state after the physics step, the one the model reads its joint
-      positions from (``compiled_trial.CompiledSteps.gather``), taken only in the substeps
+      positions from (``servo.Servo.gather``), taken only in the substeps
       where DART reports contacts (its count comes with the step, no contact is read);
     - ``pre``: on the state before the step, the one DART's collision detection saw (a
       world's step detects the collisions before it integrates the positions), taken in
