@@ -122,17 +122,23 @@ def sheets(paths: pl.DataFrame, out: Path, per_sheet: int = PER_SHEET,
     return written
 
 
-def main(argv: list[str] | None = None) -> int:
-    parser = argparse.ArgumentParser(prog="python -m reports.babbling_sample",
-                                     description=__doc__.split("\n\n")[0])
+def repository_root(module: str, doc: str, argv: list[str] | None) -> Path:
+    """The repository's root, the one argument of a sample's command (``module``: its name
+    under ``reports``, ``doc``: its module text, whose first paragraph describes it)."""
+    parser = argparse.ArgumentParser(prog=f"python -m reports.{module}",
+                                     description=doc.split("\n\n")[0])
     parser.add_argument("root", type=Path, help="the repository's root")
-    args = parser.parse_args(argv)
-    sample = draw(args.root / "recordings" / FULL)
-    paths = run_again(args.root / "recordings" / FULL, sample)
+    return parser.parse_args(argv).root
+
+
+def main(argv: list[str] | None = None) -> int:
+    root = repository_root("babbling_sample", __doc__, argv)
+    sample = draw(root / "recordings" / FULL)
+    paths = run_again(root / "recordings" / FULL, sample)
     table = paths.join(sample.select("code", "senses", "replication", "rank", "trial"),
                        on="code")
-    integrity.write(args.root / SAMPLE, lambda p: write_parquet(table, p))  # in the run's ledger
-    for path in sheets(paths, args.root / PLOTS):
+    integrity.write(root / SAMPLE, lambda p: write_parquet(table, p))  # in the run's ledger
+    for path in sheets(paths, root / PLOTS):
         print(path, file=sys.stderr)
     return 0
 

@@ -15,7 +15,6 @@ detector."""
 
 from __future__ import annotations
 
-import argparse
 import sys
 from pathlib import Path
 
@@ -130,19 +129,16 @@ def sheets(paths: pl.DataFrame, out: Path) -> list[Path]:
 
 
 def main(argv: list[str] | None = None) -> int:
-    parser = argparse.ArgumentParser(prog="python -m reports.babbling_second_sample",
-                                     description=__doc__.split("\n\n")[0])
-    parser.add_argument("root", type=Path, help="the repository's root")
-    args = parser.parse_args(argv)
-    run_dir = args.root / "recordings" / FULL
-    old = pl.read_parquet(args.root / first.SAMPLE).select(
+    root = first.repository_root("babbling_second_sample", __doc__, argv)
+    run_dir = root / "recordings" / FULL
+    old = pl.read_parquet(root / first.SAMPLE).select(
         "senses", "replication", "rank", "trial").unique()
     sample = draw(run_dir, old)
     paths = run_again(run_dir, sample)
     table = paths.join(sample.select("code", "senses", "generation", "replication", "rank",
                                      "trial"), on="code")
-    integrity.write(args.root / SAMPLE, lambda p: write_parquet(table, p))  # in the run's ledger
-    for path in sheets(paths, args.root / PLOTS):
+    integrity.write(root / SAMPLE, lambda p: write_parquet(table, p))  # in the run's ledger
+    for path in sheets(paths, root / PLOTS):
         print(path, file=sys.stderr)
     return 0
 

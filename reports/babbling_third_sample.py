@@ -14,7 +14,6 @@ on these trials (``reports.babbling_validation``). Nothing here computes one."""
 
 from __future__ import annotations
 
-import argparse
 import sys
 from pathlib import Path
 
@@ -25,6 +24,7 @@ from dart_reach import integrity
 from dart_reach.evolution.rundir import RunDirectory
 from dart_reach.files import write_parquet
 
+from . import babbling_sample as first
 from . import babbling_second_sample as second
 
 #: The run drawn from (its committed compact state) and the snapshots' generations: every
@@ -77,17 +77,14 @@ def draw(run_dir: Path) -> pl.DataFrame:
 
 
 def main(argv: list[str] | None = None) -> int:
-    parser = argparse.ArgumentParser(prog="python -m reports.babbling_third_sample",
-                                     description=__doc__.split("\n\n")[0])
-    parser.add_argument("root", type=Path, help="the repository's root")
-    args = parser.parse_args(argv)
-    run_dir = args.root / "recordings" / RUN
+    root = first.repository_root("babbling_third_sample", __doc__, argv)
+    run_dir = root / "recordings" / RUN
     sample = draw(run_dir)
     paths = second.run_again(run_dir, sample)
     table = paths.join(sample.drop("phase_key"), on="code")
-    (args.root / SAMPLE).parent.mkdir(parents=True, exist_ok=True)
-    integrity.write(args.root / SAMPLE, lambda p: write_parquet(table, p))
-    for path in second.sheets(paths, args.root / PLOTS):
+    (root / SAMPLE).parent.mkdir(parents=True, exist_ok=True)
+    integrity.write(root / SAMPLE, lambda p: write_parquet(table, p))
+    for path in second.sheets(paths, root / PLOTS):
         print(path, file=sys.stderr)
     return 0
 

@@ -1,10 +1,13 @@
 """The calibration table of docs/results/calibration.md, a compact result committed beside the
 runs' (``recordings/calibration/calibration.parquet``): every verdict rule calibrated by
-simulation (``dart_reach.analysis.calibration.calibrate``), and the page's values (``values``:
+simulation (``dart_reach.analysis.calibration.calibrate``) and beside it what the headline
+avoids (``ROBOT_LEVEL``: the robot as the unit), and the page's values (``values``:
 the table and every number its prose states, read from the table; ``make results`` renders
 docs/results/templates/calibration.md with them).
 
     python -m reports.calibration     # writes the table and prints it as the page shows it
+    python -m reports.calibration --blocks paired_rates    # recomputes one block of it
+    python -m reports.calibration --robot-level            # the robot-level table alone
 
 About an hour on 2 cores beside a training run; tests/analysis/test_calibration.py checks the
 committed table and recomputes parts of it.
@@ -21,9 +24,12 @@ import polars as pl
 from dart_reach.analysis import calibration as cal
 from dart_reach.analysis import paired_calibration as paired_cal
 from dart_reach.analysis import verdicts
-from dart_reach.analysis.calibration import NESTINGS, calibrate, robot_level_null
+from dart_reach.analysis.calibration import NESTINGS, calibrate, robot_level
 
 TABLE = Path(__file__).resolve().parents[1] / "recordings" / "calibration" / "calibration.parquet"
+#: What the headline avoids, beside the table (``calibration.robot_level``): one row per
+#: nesting.
+ROBOT_LEVEL = TABLE.with_name("robot-level.parquet")
 
 
 def committed() -> pl.DataFrame:
@@ -109,10 +115,11 @@ def span(values, digits: int = 2) -> str:
 
 
 def _paired_values(table: pl.DataFrame) -> dict[str, str]:
-    """The numbers of the page's paragraph on the paired claims of no change (the rate rule,
+    """The numbers of the page's paragraphs on the paired claims of no change (the rate rule,
     the relative-change rule, senses differ's equivalence; ``paired_calibration``), at 3 and
-    10 pairs, the rule, the rule without its gate for lopsided changes and the t TOST before
-    it (rates in [0, 1])."""
+    10 pairs: the rule, beside it the rule without its gate for lopsided changes, with its
+    one-sided tests at 0.05 (the rule before ``PAIRED_EQUIVALENCE_LEVEL``) and the t TOST
+    before both (rates in [0, 1])."""
     rate, rel = "paired rate no change", "paired no change"
     lopsided = [s for s, symmetric in cal.RATE_SHAPES.items() if not symmetric]
     symmetric = [s for s, sym in cal.RATE_SHAPES.items() if sym]
@@ -121,12 +128,25 @@ def _paired_values(table: pl.DataFrame) -> dict[str, str]:
                                          k)]
     at_10 = table.filter((pl.col("replications") == 10) & (pl.col("kind") == "at most")
                          & pl.col("rule").is_in([rate, rel, "senses differ"]))
-    power = {
-        "fifths": ("rates in fifths, no change", rate, cal.RATE_UNGATED),
-        "still": ("50 % of replications still, no change", rate, cal.RATE_UNGATED),
-        "two_mode": ("two-mode changes, no change", rate, cal.RATE_UNGATED),
-        "relative": ("no change", rel, cal.PAIRED_UNGATED)}
-    out = {
+    both = lambda values: " / ".join(f"{x:.3f}" for x in values)  # noqa: E731
+    mean_sd = paired_cal.CONSISTENT
+    consistent = f"small consistent change ({mean_sd[0]:g} margin, s.d. {mean_sd[1]:g})"
+    # the power rows (words, scenario, rule), each beside the rule without its gate and at 0.05
+    power = [("a rate in fifths", "rates in fifths, no change", rate),
+             ("with half the replications still", "50 % of replications still, no change",
+              rate),
+             ("two-mode changes", "two-mode changes, no change", rate),
+             ("a measure's relative change (s.d. one margin)", "no change", rel),
+             (f"a small consistent relative change ({mean_sd[0]:g} margin, s.d. {mean_sd[1]:g}),"
+              " most replications moving the same way", consistent, rel)]
+    beside = {rate: (cal.RATE_UNGATED, paired_cal.RATE_AT_ALPHA),
+              rel: (cal.PAIRED_UNGATED, paired_cal.PAIRED_AT_ALPHA)}
+    reproduced = lambda rule, scenario: cells(table, rule, scenario, "reproduced", 10)  # noqa
+    straddling = [paired_cal.straddling_scenario(s) for s in paired_cal.STRADDLING]
+    at = lambda rule: [x for s in straddling for x in reproduced(rule, s)]  # noqa: E731
+    skewed_none = f"{lopsided[1]}, no change"
+    senses = lambda rule: both(cells(table, rule, "no difference", "contradicted", 10))  # noqa
+    return {
         "t_two_mode_3": span(cells(table, cal.RATE_BEFORE, "two-mode changes, no change, 3 pairs",
                                    "contradicted")
                              + cells(table, cal.PAIRED_BEFORE, "no change, two-mode changes, "
@@ -137,49 +157,28 @@ def _paired_values(table: pl.DataFrame) -> dict[str, str]:
         "t_still_10": span(cells(table, cal.RATE_BEFORE, "50 % of replications still, change "
                                  "at the margin", "reproduced", 10)),
         "symmetric_10": span(at_margin(symmetric, rate), 3),
-        "ungated_lopsided_10": span(at_margin(lopsided, cal.RATE_UNGATED)),
+        "ungated_lopsided_10": span(at_margin(lopsided, cal.RATE_UNGATED), 3),
         "gated_lopsided_10": span(at_margin(lopsided, rate), 3),
         "highest_10": f"{at_10['value'].max():.3f}",
-        "minority": str(verdicts.LOPSIDED_MINORITY),
-        "senses_power": span(cells(table, "senses differ", "no difference", "contradicted", 10)),
-        "senses_power_ungated": span(cells(table, cal.SENSES_UNGATED, "no difference",
-                                           "contradicted", 10))}
-    for key, (scenario, rule, ungated) in power.items():
-        out[f"power_{key}"] = span(cells(table, rule, scenario, "reproduced", 10), 3)
-        out[f"power_{key}_ungated"] = span(cells(table, ungated, scenario, "reproduced", 10), 3)
-    words = {"fifths": "a rate in fifths", "still": "with half the replications still",
-             "two_mode": "two-mode changes", "relative": "a measure's relative change (s.d. one "
-             "margin)"}
-    both = lambda values: " / ".join(f"{x:.3f}" for x in values)  # noqa: E731
-    consistent = (f"small consistent change ({paired_cal.CONSISTENT[0]:g} margin, "
-                  f"s.d. {paired_cal.CONSISTENT[1]:g})")
-    rows = {k: (cells(table, rule, scenario, "reproduced", 10),
-                cells(table, ungated, scenario, "reproduced", 10))
-            for k, (scenario, rule, ungated) in power.items()}
-    rows["consistent"] = (cells(table, rel, consistent, "reproduced", 10),
-                          cells(table, cal.PAIRED_UNGATED, consistent, "reproduced", 10))
-    mean_sd = paired_cal.CONSISTENT
-    words["consistent"] = (f"a small consistent relative change ({mean_sd[0]:g} margin, s.d. "
-                           f"{mean_sd[1]:g}), most replications moving the same way")
-    out["gate_cost"] = "; ".join(f"{words[k]} {both(g)} against {both(u)}"
-                                 for k, (g, u) in rows.items()) + (
-        "; \"senses differ\" contradicted where the senses are alike "
-        f"{both(cells(table, 'senses differ', 'no difference', 'contradicted', 10))} against "
-        f"{both(cells(table, cal.SENSES_UNGATED, 'no difference', 'contradicted', 10))}")
-    skewed_none = f"{lopsided[1]}, no change"
-    out["skewed_contradicted"] = span(cells(table, rate, skewed_none, "contradicted", 10), 3)
-    out["skewed_contradicted_ungated"] = span(cells(table, cal.RATE_UNGATED, skewed_none,
-                                                    "contradicted", 10), 3)
-    straddling = table.filter((pl.col("rule") == rate) & (pl.col("replications") == 10)
-                              & pl.col("scenario").str.contains("straddling"))
-    out["straddling"] = (f"the margin plus an exponential of {paired_cal.STRADDLING:g} margins "
-                         "less its mean")
-    out["straddling_rate"] = span(straddling["value"].to_list())
-    out["straddling_ungated"] = span(cells(table, cal.RATE_UNGATED, straddling["scenario"][0],
-                                           "reproduced", 10))
-    out["gate_rule"] = (f"at most {verdicts.LOPSIDED_MINORITY} of the replications that "
-                        "changed at all moved against the rest")
-    return out
+        "gate_rule": (f"at most {verdicts.LOPSIDED_MINORITY} of the replications that changed "
+                      "at all moved against the rest"),
+        "gate_cost": "; ".join(
+            f"{words} {both(reproduced(rule, scenario))} against "
+            f"{both(reproduced(beside[rule][0], scenario))}" for words, scenario, rule in power)
+        + f"; \"senses differ\" contradicted where the senses are alike "
+          f"{senses('senses differ')} against {senses(cal.SENSES_UNGATED)}",
+        "level_cost": "; ".join(
+            f"{words} {both(reproduced(rule, scenario))} against "
+            f"{both(reproduced(beside[rule][1], scenario))}" for words, scenario, rule in power),
+        "skewed_contradicted": span(cells(table, rate, skewed_none, "contradicted", 10), 3),
+        "skewed_contradicted_ungated": span(cells(table, cal.RATE_UNGATED, skewed_none,
+                                                  "contradicted", 10), 3),
+        "straddling_scales": ", ".join(f"{s:g}" for s in paired_cal.STRADDLING),
+        "straddling_rate": f"{span(at(rate), 3)} (rates), {span(at(rel), 3)} (relative changes)",
+        "straddling_at_alpha": (f"{span(at(paired_cal.RATE_AT_ALPHA))} (rates), "
+                                f"{span(at(paired_cal.PAIRED_AT_ALPHA))} (relative changes)"),
+        "equivalence_level": f"{verdicts.PAIRED_EQUIVALENCE_LEVEL:g}",
+        "interval_level": f"{100 * (1 - 2 * verdicts.PAIRED_EQUIVALENCE_LEVEL):g}"}
 
 
 def _interval_short(table: pl.DataFrame) -> str:
@@ -194,6 +193,34 @@ def _interval_short(table: pl.DataFrame) -> str:
             f"{r['value']:.3f} (within s.d. {r['within_sd']:g})" for r in rows.iter_rows(
                 named=True)))
     return ", ".join(parts)
+
+
+def paired_interval() -> str:
+    """The label of a paired claim of no change's interval (the centres its one-sided tests at
+    ``verdicts.PAIRED_EQUIVALENCE_LEVEL`` do not reject), saying what is and is not known of
+    its coverage."""
+    return (f"{100 * (1 - 2 * verdicts.PAIRED_EQUIVALENCE_LEVEL):g} % (exact where the changes "
+            "are symmetric about their centre; its coverage under skewed changes is not "
+            "measured)")
+
+
+def robot_level_markdown(table: pl.DataFrame) -> str:
+    """The robot-level rates under the null (``ROBOT_LEVEL``'s rows) as the page's table."""
+    rates = [c for c in table.columns
+             if c not in ("replications", "robots", "between_sd", "within_sd")]
+    lines = ["| nesting | " + " | ".join(rates) + " |", "|---|" + "---:|" * len(rates)]
+    for r in table.iter_rows(named=True):
+        nest = cal.Nesting(r["replications"], r["robots"], r["between_sd"], r["within_sd"])
+        lines.append(f"| {nest.label} | " + " | ".join(f"{r[c]:.3f}" for c in rates) + " |")
+    return "\n".join(lines)
+
+
+def _ungated_split(table: pl.DataFrame) -> str:
+    """How often the no-difference and not-better rules without their two-mode gate
+    contradicted the null at ``calibration.SPLIT`` (3 vs 7), over the nestings."""
+    scenario = f"null, {cal.SHAPES[0]}, {cal.SPLIT[0]} vs {cal.SPLIT[1]}"
+    return " and ".join(f"{span(cells(table, cal.UNGATED[rule], scenario, 'contradicted'))} "
+                        f"({rule})" for rule in cal.UNGATED)
 
 
 def values(recordings: Path | None = None) -> dict[str, str]:
@@ -214,6 +241,8 @@ def values(recordings: Path | None = None) -> dict[str, str]:
             "band_power_4": f"{pct(band[1])} of the time at 4 replications against "
                             f"{pct(band[0])} at 0.6",
             "senses_power_4": f"{pct(senses[1])} against {pct(senses[0])}",
+            "ungated_split": _ungated_split(table),
+            "robot_level": robot_level_markdown(pl.read_parquet(ROBOT_LEVEL)),
             **_paired_values(table)}
 
 
@@ -245,7 +274,15 @@ def main(argv=None) -> int:
     parser.add_argument("--blocks", nargs="+", metavar="RULE",
                         help="recompute only these blocks of calibration.RULES (e.g. paired "
                              "senses paired_rates) and merge them into the committed table")
+    parser.add_argument("--robot-level", action="store_true",
+                        help="recompute only the robot-level table (ROBOT_LEVEL)")
     args = parser.parse_args(argv)
+    if args.robot_level or not args.blocks:
+        ROBOT_LEVEL.parent.mkdir(parents=True, exist_ok=True)
+        robot_level().write_parquet(ROBOT_LEVEL)
+        print(robot_level_markdown(pl.read_parquet(ROBOT_LEVEL)))
+        if args.robot_level:
+            return 0
     if args.blocks:
         rules = [r for r in cal.RULES if r.__name__.lstrip("_") in args.blocks]
         if len(rules) != len(args.blocks):
@@ -256,9 +293,6 @@ def main(argv=None) -> int:
     TABLE.parent.mkdir(parents=True, exist_ok=True)
     table.write_parquet(TABLE)
     print(markdown(table))
-    if not args.blocks:
-        for nest in NESTINGS:
-            print(nest.label, robot_level_null(nest))
     return 0
 
 

@@ -12,8 +12,9 @@ from pathlib import Path
 import numpy as np
 import polars as pl
 
-from dart_reach.analysis import budgets, coverage, formatting, said, verdicts
+from dart_reach.analysis import budgets, coverage, findings, formatting, said, verdicts
 from dart_reach.analysis import strategy_course as sc
+from dart_reach.analysis.claims import BABBLING_BOTH
 from dart_reach.analysis.figures import strategy_figure, training_by_strategy
 from dart_reach.analysis.strategies import BABBLING, STILL, STILL_SHARE, trained_trials
 from dart_reach.evolution import cost
@@ -21,7 +22,7 @@ from dart_reach.evolution.ga import Scheme
 from dart_reach.evolution.rundir import RunDirectory
 from dart_reach.evolution.settings import SNAPSHOT_ROBOTS, snapshot_due
 from dart_reach.model.world import N_SECTORS, POINTS_PER_SECTOR
-from dart_reach.postevaluation import results
+from dart_reach.postevaluation import before_touch, results
 from dart_reach.postevaluation.snapshots import load_development
 from dart_reach.postevaluation.systematic import TESTS, load_evaluation
 from dart_reach.studies import fitness_terms
@@ -283,6 +284,7 @@ def values(recordings: Path) -> dict[str, str]:
     if development is None or not development.filter(pl.col("phase") == "pre").height:
         raise ValueError(f"{directory}: no pre-reaching snapshot post-evaluated (dart-reach "
                          f"evaluate COPY --finished-only --development 5)")
+    development = before_touch.attach(development, directory)  # A1's babbling, where measured
     course = sc.course(development)
     conditions = (development.filter(pl.col("phase") == "pre").group_by("generation")
                   .agg(pl.col("senses").unique().sort()).sort("generation"))
@@ -344,7 +346,8 @@ def values(recordings: Path) -> dict[str, str]:
     claims = [c.id for c in sc.claims_of_pre()]
     grid = pl.DataFrame({"claim": claims})
     for g in found["generation"].unique().sort().to_list():
-        cells = {r["claim"]: f"{r['verdict']}: "
+        cells = {r["claim"]: "cannot be tested with this measure (replication.md says why)"
+                 if r["measured"].startswith(findings.UNTESTABLE) else f"{r['verdict']}: "
                  + formatting.effect(r["effect"], r["effect_low"], r["effect_high"])
                  + (f", p {formatting.number(r['p'])}" if r["p"] == r["p"] else "")
                  + (f" ({r['note']})" if r["note"] else "")
@@ -363,17 +366,22 @@ def values(recordings: Path) -> dict[str, str]:
         for r in changed.iter_rows(named=True)) or "none"
     ends = sc.scale_ends(development, JUDGED)
     out["rate_margin"] = f"{verdicts.RATE_MARGIN:g}"
+    out["equivalence_level"] = f"{verdicts.PAIRED_EQUIVALENCE_LEVEL:g}"
+    out["paired_interval"] = calibration.paired_interval()
     out["theta_margin"] = f"{verdicts.EQUIVALENCE_MARGIN:g}"
     out["scale_ends"] = ("none." if not ends.height else "\n\n" + markdown_table(ends.rename(
         {"senses": "condition", "reference": "value", "versus": "against",
          "changed": "value there"})))
-    rates = sc.babbling_by_condition(development, course)
-    out["by_condition"] = markdown_table(rates.select(
-        "generation", pl.col("senses").alias("condition"),
-        pl.col("babbling").alias("babbling populations"),
-        pl.col("median").alias("their babbling rate: median"),
-        pl.col("babbling_low").alias("lowest"), pl.col("babbling_high").alias("highest"),
-        pl.col("still_high").alias("still populations: highest rate")))
+    for key, measure in (("by_condition", "babbling"), ("by_condition_touch", BABBLING_BOTH)):
+        rates = sc.babbling_by_condition(development, course, measure=measure)
+        out[key] = markdown_table(rates.select(
+            "generation", pl.col("senses").alias("condition"),
+            pl.col("babbling").alias("babbling populations"),
+            pl.col("median").alias("their babbling rate: median"),
+            pl.col("babbling_low").alias("lowest"), pl.col("babbling_high").alias("highest"),
+            pl.col("still_high").alias("still populations: highest rate"))
+        ) if rates.height else (f"(not yet measured: `python -m reports.babbling_before_touch "
+                                f". --runs {FULL}`)")
     return out
 
 

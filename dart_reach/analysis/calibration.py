@@ -310,8 +310,29 @@ def _shapes(nest, rng, n):
     return rows
 
 
+#: The no-difference and not-better rules without their two-mode gate (reported beside the
+#: gated rules' rows at ``SPLIT``: what the gate prevents).
+UNGATED = {"no difference": "no difference: without the two-mode gate (reported)",
+           "not better": "not better: without the two-mode gate (reported)"}
+
+
+def _split_ungated(nest, rng, n):
+    """The no-difference and not-better rules without their gate (``UNGATED``, reported) under
+    the null at ``SPLIT`` (3 two-mode units against 7 narrow ones, theta = 0.5), where the
+    gated rules never decide (``_shapes``): how often each would contradict. A block of its
+    own, so that the gated rules' blocks keep their data sets."""
+    small = Nesting(SPLIT[0], nest.robots, nest.between_sd, nest.within_sd)
+    data = _repeat(rng, n, lambda r: shaped(r, small, SHAPES[0], replications=SPLIT[1]))
+    judges = {"no difference": lambda a, b: v.equivalent(a, b, gated=False),
+              "not better": lambda a, b: v.not_better(a, b, +1, gated=False)}
+    return [_row(UNGATED[rule], nest, f"null, {SHAPES[0]}, {SPLIT[0]} vs {SPLIT[1]}",
+                 "contradicted", _rate([judge(a, b).verdict == v.CONTRADICTED
+                                        for a, b in data]), math.nan, "reported")
+            for rule, judge in judges.items()]
+
+
 RULES = (_directional, _against_random, _equivalence, _band, _sectors, _paired, _senses,
-         _shapes, _paired_rates)
+         _shapes, _paired_rates, _split_ungated)
 
 
 def calibrate(nestings=NESTINGS, datasets: int = DATASETS, seed: int = 2013,
@@ -344,3 +365,11 @@ def robot_level_null(nest: Nesting, datasets: int = DATASETS, seed: int = 2013) 
         friedman.append(v.senses_differ(rob.reshape(-1, k) + 10.0).verdict == v.REPRODUCED)
     return {"directional, robots as units": decided,
             "senses differ, robots as blocks": _rate(friedman)}
+
+
+def robot_level(nestings=NESTINGS, datasets: int = DATASETS, seed: int = 2013) -> pl.DataFrame:
+    """``robot_level_null`` of every nesting: one row per nesting (its replications, robots
+    and spreads, as ``calibrate``'s rows) with both rates."""
+    return pl.DataFrame([{"replications": nest.replications, "robots": nest.robots,
+                          "between_sd": nest.between_sd, "within_sd": nest.within_sd,
+                          **robot_level_null(nest, datasets, seed)} for nest in nestings])

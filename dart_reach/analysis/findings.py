@@ -71,12 +71,16 @@ TESTS = {
     Kind.NEVER.value: "\"never\" read as less than pre-reachers: the directional test on "
                       "replications",
     Kind.PAIRED.value: "Friedman's test, replication as block; contradicted when every pair of "
-                       f"conditions is equivalent (paired TOST, +-{verdicts.PAIRED_MARGIN:.0%})",
-    Kind.SAME_PAIRED.value: "two one-sided paired t-tests on replications: a rate's mean "
-                            "change within +-"
-                            f"{verdicts.RATE_MARGIN:g} (rate units; n the replications, never "
-                            "the trials), another measure's mean change relative to each "
-                            f"replication's level within +-{verdicts.PAIRED_MARGIN:.0%}",
+                       "conditions is equivalent (the exact sign-flip TOST within "
+                       f"+-{verdicts.PAIRED_MARGIN:.0%}, each one-sided test at "
+                       f"{verdicts.PAIRED_EQUIVALENCE_LEVEL:g}; never through lopsided changes)",
+    Kind.SAME_PAIRED.value: "the exact sign-flip test on replications as two one-sided tests, "
+                            f"each at {verdicts.PAIRED_EQUIVALENCE_LEVEL:g}: a rate's mean "
+                            f"change within +-{verdicts.RATE_MARGIN:g} (rate units; n the "
+                            "replications, never the trials), another measure's mean change "
+                            "relative to each replication's level within "
+                            f"+-{verdicts.PAIRED_MARGIN:.0%}; never where the changes are "
+                            "lopsided; contradicted by a sign-flip difference (two-tailed)",
     Kind.CHANGE_PAIRED.value: "Wilcoxon signed-rank on replications (exact); effect: "
                               "Hodges-Lehmann change [exact 95 % CI]",
     Kind.WITHIN.value: "Wilcoxon signed-rank on replications of one measure against another",

@@ -70,12 +70,9 @@ def paired(nest, rng, n):
                     [t_tost(v.relative_changes(a, b), v.PAIRED_MARGIN) == error
                      for a, b in data]), math.nan, "reported"))
                 if change_by == 0.0 and not modes:
-                    rows.append(row("paired no change", nest, scenario + at, "reproduced",
-                                     rate([o.verdict == v.REPRODUCED for o in out]),
-                                     math.nan, "power"))
-                    rows.append(row(PAIRED_UNGATED, nest, scenario + at, "reproduced",
-                                     rate([ungated(o) == v.REPRODUCED for o in out]),
-                                     math.nan, "reported"))
+                    rows += _beside_rows("paired no change", PAIRED_UNGATED, PAIRED_AT_ALPHA,
+                                         nest, scenario + at, out,
+                                         [v.relative_changes(a, b) for a, b in data])
     # what the gate costs where every replication moves a little the same way (after the
     # rows above: their data sets are those of the block before the gate)
     k = nest.replications
@@ -85,12 +82,37 @@ def paired(nest, rng, n):
         ref = robots(r, nest).mean(axis=1) + 10.0
         c = r.normal(CONSISTENT[0] * v.PAIRED_MARGIN, CONSISTENT[1] * v.PAIRED_MARGIN, k)
         return ref, ref * (2 + c) / (2 - c)
-    out = [judge(a, b) for a, b in repeat(rng, n, consistent)]
-    rows.append(row("paired no change", nest, scenario, "reproduced",
-                    rate([o.verdict == v.REPRODUCED for o in out]), math.nan, "power"))
-    rows.append(row(PAIRED_UNGATED, nest, scenario, "reproduced",
-                    rate([ungated(o) == v.REPRODUCED for o in out]), math.nan, "reported"))
+    data = repeat(rng, n, consistent)
+    rows += _beside_rows("paired no change", PAIRED_UNGATED, PAIRED_AT_ALPHA, nest, scenario,
+                         [judge(a, b) for a, b in data],
+                         [v.relative_changes(a, b) for a, b in data])
+    if k >= 6:  # below, the rule never decides (its rows above)
+        for scale in STRADDLING:
+            def skewed(r, scale=scale):
+                ref = robots(r, nest).mean(axis=1) + 10.0
+                c = np.clip(straddling_changes(r, k, scale, v.PAIRED_MARGIN), -1.9, 1.9)
+                return ref, ref * (2 + c) / (2 - c)
+            data = repeat(rng, n, skewed)
+            rows += _beside_rows("paired no change", PAIRED_UNGATED, PAIRED_AT_ALPHA, nest,
+                                 straddling_scenario(scale), [judge(a, b) for a, b in data],
+                                 [v.relative_changes(a, b) for a, b in data], error=True)
     return rows
+
+
+def _beside_rows(rule: str, ungated_rule: str, at_alpha_rule: str, nest, scenario: str, out,
+                 changes, error: bool = False) -> list[dict]:
+    """How often a paired rule of no change shows no change: its power where there is none
+    (or, ``error``, its error rate, bounded at ``ALPHA``, where the change is at the margin),
+    and beside it, reported, the rule without the lopsided gate and with its one-sided tests
+    at ``ALPHA`` (the rule before ``PAIRED_EQUIVALENCE_LEVEL``): what each costs or gains."""
+    return [row(rule, nest, scenario, v.REPRODUCED,
+                rate([o.verdict == v.REPRODUCED for o in out]),
+                v.ALPHA if error else math.nan, "at most" if error else "power"),
+            row(ungated_rule, nest, scenario, v.REPRODUCED,
+                rate([ungated(o) == v.REPRODUCED for o in out]), math.nan, "reported"),
+            row(at_alpha_rule, nest, scenario, v.REPRODUCED,
+                rate([at_alpha(o, d) == v.REPRODUCED for o, d in zip(out, changes)]), math.nan,
+                "reported")]
 
 
 #: s.d. of the relative changes of "paired no change" (in margins): wide enough that the
@@ -101,10 +123,12 @@ TWO_MODES = 1.5
 #: A small consistent relative change, in margins: its mean and s.d. (most replications move
 #: the same way: what the gate for lopsided changes refuses and costs).
 CONSISTENT = (0.3, 0.25)
-#: A skewed change that straddles 0 (the mean at the margin, an exponential of this many
-#: margins less its mean): beyond what a gate on the changes' form can tell from symmetric
-#: changes at 10 pairs; reported, the limit of the gate.
-STRADDLING = 2.0
+#: Skewed changes that straddle 0 (the mean at the margin, an exponential of this many margins
+#: less its mean: ``straddling_changes``): beyond what a gate on the changes' form can tell
+#: from symmetric changes at 10 pairs; held by ``verdicts.PAIRED_EQUIVALENCE_LEVEL``, the
+#: least favourable level over them and ``RATE_SHAPES`` (docs/model/claims.md, "Skewed
+#: changes across 0").
+STRADDLING = (2.0, 3.0, 4.0)
 #: The paired rules' rule before the sign-flip test (reported beside it).
 PAIRED_BEFORE = "paired no change: paired t TOST (the rule before, reported)"
 RATE_BEFORE = "paired rate no change: paired t TOST (the rule before, reported)"
@@ -112,6 +136,10 @@ RATE_BEFORE = "paired rate no change: paired t TOST (the rule before, reported)"
 #: rule before the gate; reported beside, on the same data sets).
 PAIRED_UNGATED = "paired no change: without the lopsided gate (reported)"
 RATE_UNGATED = "paired rate no change: without the lopsided gate (reported)"
+#: The paired rules with their one-sided tests at ``ALPHA`` (the rule before
+#: ``verdicts.PAIRED_EQUIVALENCE_LEVEL``, gated; reported beside, on the same data sets).
+PAIRED_AT_ALPHA = "paired no change: one-sided tests at 0.05 (the rule before, reported)"
+RATE_AT_ALPHA = "paired rate no change: one-sided tests at 0.05 (the rule before, reported)"
 SENSES_UNGATED = "senses differ: without the lopsided gate (reported)"
 
 
@@ -175,12 +203,35 @@ def rate_pairs(r: np.random.Generator, shape: str, k: int, change: float
     raise ValueError(f"unknown shape {shape!r}; known: {tuple(RATE_SHAPES)}")
 
 
+def straddling_scenario(scale: float) -> str:
+    return (f"skewed changes straddling 0 (exponential of {scale:g} margins), change at the "
+            "margin")
+
+
+def straddling_changes(r: np.random.Generator, k: int, scale: float, margin: float
+                       ) -> np.ndarray:
+    """``k`` changes whose mean is ``margin``: the margin plus an exponential of ``scale``
+    margins less its mean (skewness 2; of both signs from ``scale`` > 1)."""
+    return margin * (1 + scale * (r.exponential(1.0, k) - 1))
+
+
 def ungated(out) -> str:
     """The verdict a paired rule of no change would give without its gate for lopsided
     changes (``verdicts.lopsided``), read from its outcome (the gated rule keeps the sign-flip
     test's p of equivalence and of a difference)."""
-    return (v.REPRODUCED if out.p < v.ALPHA else v.CONTRADICTED if out.p_against < v.ALPHA
-            else v.INCONCLUSIVE if out.verdict != v.UNDERPOWERED else v.UNDERPOWERED)
+    return (v.REPRODUCED if out.p < v.PAIRED_EQUIVALENCE_LEVEL else v.CONTRADICTED
+            if out.p_against < v.ALPHA else out.verdict if out.verdict == v.UNDERPOWERED
+            else v.INCONCLUSIVE)
+
+
+def at_alpha(out, d) -> str:
+    """The verdict a paired rule of no change gave before ``verdicts.PAIRED_EQUIVALENCE_LEVEL``
+    (its one-sided tests at ``ALPHA``, gated for lopsided changes ``d``), read from its
+    outcome (below 6 pairs: underpowered, as the rule)."""
+    if out.p_against != out.p_against:  # no test: underpowered or no spread
+        return out.verdict
+    return (v.REPRODUCED if out.p < v.ALPHA and not v.lopsided(d) else v.CONTRADICTED
+            if out.p_against < v.ALPHA else v.INCONCLUSIVE)
 
 
 def paired_rates(nest, rng, n):
@@ -208,26 +259,59 @@ def paired_rates(nest, rng, n):
                     [t_tost(b - a, v.RATE_MARGIN) == error for a, b in data]), math.nan,
                     "reported"))
                 if change == 0.0 and RATE_SHAPES[shape]:
-                    for name, verdicts_ in ((rule, [o.verdict for o in out]),
-                                            (RATE_UNGATED, [ungated(o) for o in out])):
-                        rows.append(row(name, nest, scenario, "reproduced",
-                                         rate([x == v.REPRODUCED for x in verdicts_]),
-                                         math.nan, "power" if name == rule else "reported"))
+                    rows += _beside_rows(rule, RATE_UNGATED, RATE_AT_ALPHA, nest, scenario,
+                                         out, [b - a for a, b in data])
     k = nest.replications
     if k >= 6:  # below, the rule never decides (its rows above)
-        scenario = (f"skewed changes straddling 0 (exponential of {STRADDLING:g} margins), "
-                    "change at the margin")
-
-        def straddling(r):
-            p = r.uniform(0.3, 0.6, k)
-            return p, p + v.RATE_MARGIN * (1 + STRADDLING * (r.exponential(1.0, k) - 1))
-        out = [v.paired_rate_equivalent(a, b) for a, b in repeat(rng, n, straddling)]
-        for name, verdicts_ in ((rule, [o.verdict for o in out]),
-                                (RATE_UNGATED, [ungated(o) for o in out])):
-            rows.append(row(name, nest, scenario, v.REPRODUCED,
-                            rate([x == v.REPRODUCED for x in verdicts_]), math.nan,
-                            "reported"))
+        for scale in STRADDLING:
+            data = repeat(rng, n, lambda r, s=scale: straddling_rates(r, k, s))
+            rows += _beside_rows(rule, RATE_UNGATED, RATE_AT_ALPHA, nest,
+                                 straddling_scenario(scale),
+                                 [v.paired_rate_equivalent(a, b) for a, b in data],
+                                 [b - a for a, b in data], error=True)
     return rows
+
+
+def straddling_rates(r: np.random.Generator, k: int, scale: float
+                     ) -> tuple[np.ndarray, np.ndarray]:
+    """``k`` replications' rates (uniform in [0.3, 0.6]) and the same changed by
+    ``straddling_changes`` of ``scale`` margins, their mean change ``RATE_MARGIN``."""
+    p = r.uniform(0.3, 0.6, k)
+    return p, p + straddling_changes(r, k, scale, v.RATE_MARGIN)
+
+
+#: The pilot that chose ``verdicts.PAIRED_EQUIVALENCE_LEVEL`` (docs/model/claims.md, "Skewed
+#: changes across 0"): its seed, pairs and the levels it tried.
+PILOT_SEED, PILOT_PAIRS = 2113, 10
+PILOT_LEVELS = tuple(round(0.05 - 0.005 * i, 3) for i in range(10))
+
+
+def level_pilot(datasets: int = 2000, seed: int = PILOT_SEED,
+                levels=PILOT_LEVELS) -> dict[float, float]:
+    """The largest error of the rate rule over the declared null family at ``PILOT_PAIRS``
+    pairs, per one-sided level of its two one-sided tests (gated for lopsided changes): every
+    shape of ``RATE_SHAPES`` at a mean change of ``RATE_MARGIN`` (no change shown is the error)
+    and of 0 (a change shown), and changes straddling 0 (``STRADDLING``), each over
+    ``datasets`` data sets of its own child of ``seed``. The level is the largest of
+    ``levels`` whose error is at most ``ALPHA``."""
+    k = PILOT_PAIRS
+    draws = [(lambda r, sh=shape, c=change: rate_pairs(r, sh, k, c), error)
+             for shape in RATE_SHAPES
+             for change, error in ((v.RATE_MARGIN, v.REPRODUCED), (0.0, v.CONTRADICTED))]
+    draws += [(lambda r, s=scale: straddling_rates(r, k, s), v.REPRODUCED)
+              for scale in STRADDLING]
+    worst = dict.fromkeys(levels, 0.0)
+    for child, (draw, error) in zip(np.random.SeedSequence(seed).spawn(len(draws)), draws):
+        r = np.random.default_rng(child)
+        changes = [b - a for a, b in (draw(r) for _ in range(datasets))]
+        tests = [(*v.sign_flip_tost(d, v.RATE_MARGIN)[:2], bool(v.lopsided(d)))
+                 for d in changes if not v.no_spread(d)]  # no spread: no evidence
+        for level in levels:
+            shown = [p_eq < level and not refused for p_eq, _, refused in tests]
+            wrong = (shown if error == v.REPRODUCED else
+                     [p_diff < v.ALPHA and not same for (_, p_diff, _), same in zip(tests, shown)])
+            worst[level] = max(worst[level], sum(wrong) / datasets)
+    return worst
 
 
 def senses(nest, rng, n):

@@ -10,10 +10,11 @@ import math
 import numpy as np
 from scipy.stats import rankdata
 
-from .verdict_core import (ALPHA, CONTRADICTED, INCONCLUSIVE, PAIRED_MARGIN,
-                       RATE_MARGIN, REPRODUCED, UNDERPOWERED, Outcome, no_spread, normal_sf,
-                       tie_sum, finite, friedman, signed_rank_distribution, smallest_friedman_p,
-                       smallest_signed_rank_p, t_cdf, t_quantile, t_sf, walsh_median)
+from .verdict_core import (ALPHA, CONTRADICTED, INCONCLUSIVE, PAIRED_EQUIVALENCE_LEVEL,
+                           PAIRED_MARGIN, RATE_MARGIN, REPRODUCED, UNDERPOWERED, Outcome,
+                           finite, friedman, no_spread, normal_sf, signed_rank_distribution,
+                           smallest_friedman_p, smallest_signed_rank_p, t_cdf, t_quantile, t_sf,
+                           tie_sum, walsh_median)
 
 
 # ------------------------------------------------------------------------------ paired units
@@ -169,14 +170,17 @@ def lopsided(d) -> str:
 
 def _equivalence(d: np.ndarray, bound: float, what: str) -> Outcome:
     """The verdict of a claim of no change on the changes ``d`` within +-``bound``
-    (``sign_flip_tost``): underpowered where a difference could not be shown even with every
-    change of one sign (``smallest_signed_rank_p``: 2 / 2^n, fewer than 6 pairs);
-    inconclusive without spread (no evidence); reproduced when both one-sided tests reject
-    and the changes are not lopsided (``lopsided``: the gate; there the test of the mean is
-    not exact, and no change cannot be decided), contradicted when the test of no change
-    rejects (a change shown), else inconclusive. ``p`` stays the sign-flip test's, gated or
-    not."""
+    (``sign_flip_tost``, its one-sided tests at ``PAIRED_EQUIVALENCE_LEVEL``): underpowered
+    where a difference could not be shown even with every change of one sign
+    (``smallest_signed_rank_p``: 2 / 2^n, fewer than 6 pairs); inconclusive without spread (no
+    evidence); reproduced when both one-sided tests reject and the changes are not lopsided
+    (``lopsided``: the gate; there the test of the mean is not exact, and no change cannot be
+    decided), contradicted when the test of no change rejects at ``ALPHA`` (a change shown),
+    else underpowered where no change could not be shown whatever the data (1 / 2^n, the
+    smallest one-sided p, not below the level: fewer than 8 pairs), else inconclusive. ``p``
+    stays the sign-flip test's, gated or not."""
     n, smallest = len(d), smallest_signed_rank_p(len(d))
+    level = PAIRED_EQUIVALENCE_LEVEL
     if smallest >= ALPHA:
         return Outcome(UNDERPOWERED, effect=float(d.mean()) if n else math.nan,
                        note=f"{n} pairs: the smallest possible p of the sign-flip test is "
@@ -184,17 +188,20 @@ def _equivalence(d: np.ndarray, bound: float, what: str) -> Outcome:
     if no_spread(d):
         return Outcome(INCONCLUSIVE, effect=float(d.mean()),
                        note="every unit changed alike: no evidence")
-    p_eq, p_diff, low, high = sign_flip_tost(d, bound)
+    p_eq, p_diff, low, high = sign_flip_tost(d, bound, confidence=1 - 2 * level)
     why = lopsided(d)
-    verdict = (REPRODUCED if p_eq < ALPHA and not why else CONTRADICTED if p_diff < ALPHA
-               else INCONCLUSIVE)
-    note = (f"{what} within +-{bound:.3g} (exact sign-flip test, {n} pairs); "
-            f"difference p = {p_diff:.2g}")
+    verdict = (REPRODUCED if p_eq < level and not why else CONTRADICTED if p_diff < ALPHA
+               else UNDERPOWERED if smallest / 2 >= level else INCONCLUSIVE)
+    note = (f"{what} within +-{bound:.3g} (exact sign-flip test, {n} pairs, each one-sided "
+            f"test at {level:g}); difference p = {p_diff:.2g}")
+    if verdict == UNDERPOWERED:
+        note = (f"{n} pairs: no change cannot be shown, the smallest one-sided p being "
+                f"{smallest / 2:.2g}, not below {level:g}; " + note)
     if why:
         note = (f"cannot decide no change: the changes are lopsided ({why}), where the "
                 f"sign-flip test of their mean is not exact ({n} pairs: its smallest possible "
                 f"p is {smallest / 2:.2g} one-sided; equivalence p = {p_eq:.2g}); " + note)
-    return Outcome(verdict, p_eq, float(d.mean()), low, high, 1 - 2 * ALPHA, p_diff, note=note)
+    return Outcome(verdict, p_eq, float(d.mean()), low, high, 1 - 2 * level, p_diff, note=note)
 
 
 def relative_changes(reference, changed) -> np.ndarray:
@@ -212,10 +219,12 @@ def paired_equivalent(reference, changed, margin: float = PAIRED_MARGIN,
     sign-flip test (``sign_flip_tost``) of the mean change against +-``margin`` x |median of
     the reference|, or with ``relative`` of the mean of each unit's change relative to its
     own level (``relative_changes``) against +-``margin`` (a still replication and a babbling
-    one each keep their own scale): reproduced when both one-sided tests reject; contradicted
-    when the change differs from 0 (two-tailed); otherwise inconclusive; the interval is the
-    centre's 90 %. Underpowered below 6 pairs (``_equivalence``: the smallest one-sided p of
-    4 pairs is 1/16), whatever the data; changes without spread are no evidence."""
+    one each keep their own scale): reproduced when both one-sided tests reject at
+    ``PAIRED_EQUIVALENCE_LEVEL``; contradicted when the change differs from 0 (two-tailed,
+    ``ALPHA``); otherwise inconclusive; the interval is the centre's 1 - 2 x that level.
+    Underpowered below 6 pairs (``_equivalence``: the smallest one-sided p of 4 pairs is
+    1/16), whatever the data, and below 8 unless a change is shown; changes without spread
+    are no evidence."""
     ref, new = np.asarray(reference, float), np.asarray(changed, float)
     keep = np.isfinite(ref) & np.isfinite(new)
     ref, new = ref[keep], new[keep]
@@ -233,13 +242,14 @@ def paired_rate_equivalent(reference, changed, margin: float = RATE_MARGIN) -> O
     n is the units, never the trials). Judged on the rate's own scale: the exact sign-flip
     test (``sign_flip_tost``) of the mean absolute change against +-``margin``
     (``RATE_MARGIN``, rate units, fixed from the paper): reproduced when both one-sided tests
-    reject; contradicted when the change differs from 0 (two-tailed); otherwise inconclusive.
-    A unit at 0 is a level like any other (the relative change of
-    ``paired_equivalent(relative=True)`` is -2 there). Underpowered below 6 pairs, whatever
-    the data; changes without spread are no evidence (inconclusive). The test is exact for
-    changes symmetric about their centre (rates in fifths, still replications, two-mode
-    changes); where a few replications change much and the rest not at all, its level is not
-    held (docs/results/calibration.md)."""
+    reject at ``PAIRED_EQUIVALENCE_LEVEL``; contradicted when the change differs from 0
+    (two-tailed, ``ALPHA``); otherwise inconclusive. A unit at 0 is a level like any other
+    (the relative change of ``paired_equivalent(relative=True)`` is -2 there). Underpowered
+    below 6 pairs, whatever the data, and below 8 unless a change is shown; changes without
+    spread are no evidence (inconclusive). The test is exact for changes symmetric about their
+    centre (rates in fifths, still replications, two-mode changes); lopsided changes are gated
+    (``lopsided``) and skewed ones that straddle 0 are held by the level
+    (docs/results/calibration.md)."""
     ref, new = np.asarray(reference, float), np.asarray(changed, float)
     keep = np.isfinite(ref) & np.isfinite(new)
     return _equivalence(new[keep] - ref[keep], margin, "rate change")
@@ -251,9 +261,9 @@ def senses_differ(matrix, level: float = ALPHA, margin: float = PAIRED_MARGIN) -
     block (a replication under every condition). Friedman's test; effect: Kendall's W (0: no
     agreement, 1: every block ranks the treatments alike). Contradicted when every pair of
     treatments is equivalent (the exact sign-flip test of each pair's changes within
-    ``margin`` x |median of the pair's first|, ``sign_flip_tost``; the largest p of the pairs,
-    an intersection-union test; never below 6 blocks, where no such test can decide);
-    otherwise inconclusive."""
+    ``margin`` x |median of the pair's first|, ``sign_flip_tost``; the largest p of the pairs
+    below ``PAIRED_EQUIVALENCE_LEVEL``, an intersection-union test; never below 8 blocks, where
+    no such test can decide, nor through a lopsided pair); otherwise inconclusive."""
     x = np.asarray(matrix, float)
     x = x[np.isfinite(x).all(axis=1)]
     n, k = x.shape
@@ -265,14 +275,16 @@ def senses_differ(matrix, level: float = ALPHA, margin: float = PAIRED_MARGIN) -
                        note="every value equal: no evidence")
     chi2, p = friedman(x)
     w = chi2 / (n * (k - 1))
-    decidable = smallest_signed_rank_p(n) < ALPHA
+    decidable = smallest_signed_rank_p(n) / 2 < PAIRED_EQUIVALENCE_LEVEL
     pairs = {(i, j): x[:, j] - x[:, i] for i in range(k) for j in range(i + 1, k)}
     uneven = sum(bool(lopsided(d)) for d in pairs.values()) if decidable else 0
     p_same = max(sign_flip_tost(d, margin * abs(float(np.median(x[:, i]))))[0]
                  for (i, _), d in pairs.items()) if decidable and not uneven else 1.0
-    verdict = (REPRODUCED if p < ALPHA else CONTRADICTED if p_same < ALPHA else INCONCLUSIVE)
+    verdict = (REPRODUCED if p < ALPHA else CONTRADICTED if p_same < PAIRED_EQUIVALENCE_LEVEL
+               else INCONCLUSIVE)
     return Outcome(verdict, float(p), w, p_against=p_same, paper_level_met=bool(p < level),
-                   note=f"{n} blocks x {k} conditions; all pairs equivalent p = {p_same:.2g}"
+                   note=f"{n} blocks x {k} conditions; all pairs equivalent p = {p_same:.2g} "
+                        f"(each one-sided test at {PAIRED_EQUIVALENCE_LEVEL:g})"
                         + (f" (cannot be shown: {uneven} of the {len(pairs)} pairs' changes are "
                            "lopsided)" if uneven else ""))
 

@@ -226,19 +226,26 @@ def scale_ends(development: pl.DataFrame, generations: Sequence[int],
 
 
 def babbling_by_condition(development: pl.DataFrame, course_table: pl.DataFrame,
-                          phase: str = "pre") -> pl.DataFrame:
+                          phase: str = "pre", measure: str = "babbling") -> pl.DataFrame:
     """Per generation evaluated under more than normal senses and per condition (``senses``):
     how much the populations babble, each population's babbling rate being the share of its
-    best robots' trials that babble, grouped by its strategy under normal senses (``course``'s
-    table): ``babbling`` (how many populations babble), ``median`` (of their rates),
-    ``babbling_low``-``babbling_high`` (their range) and ``still_high`` (the highest rate of
-    the still populations)."""
+    best robots' trials that babble by ``measure`` (the detector on the whole trial, or
+    ``claims.BABBLING_BOTH``: before the first touch, conditions where it is measured only),
+    grouped by its strategy under normal senses (``course``'s table): ``babbling`` (how many
+    populations babble), ``median`` (of their rates), ``babbling_low``-``babbling_high``
+    (their range) and ``still_high`` (the highest rate of the still populations)."""
     rows = development.filter(pl.col("phase") == phase)
+    if measure not in rows.columns:
+        return pl.DataFrame(schema={"generation": pl.Int64, "senses": pl.String,
+                                    "babbling": pl.UInt32, "median": pl.Float64,
+                                    "babbling_low": pl.Float64, "babbling_high": pl.Float64,
+                                    "still_high": pl.Float64})
+    rows = rows.filter(pl.col(measure).is_not_null())
     several = (rows.group_by("generation").agg(pl.col("senses").n_unique().alias("n"))
                .filter(pl.col("n") > 1)["generation"])
     keys = ["replication", "generation"]
     rates = (rows.filter(pl.col("generation").is_in(several.implode()))
-             .group_by(*keys, "senses").agg(pl.col("babbling").mean().alias("rate"))
+             .group_by(*keys, "senses").agg(pl.col(measure).mean().alias("rate"))
              .join(course_table.select(*keys, "strategy"), on=keys))
     babbles = pl.col("strategy") == BABBLING
     rate = pl.col("rate").filter(babbles)

@@ -35,6 +35,16 @@ PAIRED_MARGIN = 0.20
 #: judged on it: 4.5 of a robot's 45 trials. A relative change ((new - ref) / mean) is -2
 #: whenever one side is 0, so one babbling trial in 225 would decide a rate near 0.
 RATE_MARGIN = 0.10
+#: One-sided level of each of the two one-sided tests of a paired claim of no change
+#: (``paired_verdicts``: a rate, a relative change, the equivalence side of "senses differ"):
+#: the least favourable level over the declared null family of the changes' shapes (the
+#: calibration's, and skewed changes straddling 0 by 2-4 margins; pre-registered in
+#: docs/model/claims.md, "Skewed changes across 0"): the largest of 0.050, 0.045, ..., 0.005
+#: whose largest error over the family was at most ``ALPHA`` on a pilot apart from the
+#: calibration (seed 2113, ``paired_calibration.level_pilot``): 0.010 gave 0.0505, 0.050 gave
+#: 0.130, under changes straddling 0 by 2 margins. Its interval is the centre's 1 - 2 x this.
+#: A difference (the contradiction) stays at ``ALPHA``, two-tailed.
+PAIRED_EQUIVALENCE_LEVEL = 0.005
 #: "Succeed in all 9 sectors": each sector's reach and grasp rate at least this (lower bound).
 SECTOR_FLOOR = 0.10
 #: The fewest units of an interval rule: Student's t with at least 2 degrees of freedom.

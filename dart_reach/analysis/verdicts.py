@@ -33,13 +33,15 @@ data like the runs' (``calibration``; the table in docs/results/calibration.md).
   exact sign-flip test as two one-sided tests (``sign_flip_tost``), of the change relative to
   each unit's level for a measure / of the absolute change against ``RATE_MARGIN`` for a rate
   (a rate at 0 is a level like any other; ``paired_verdicts``); each underpowered below 6
-  pairs, where no sign-flip or signed-rank test can reach ``ALPHA``; no change is never shown
-  where the changes are lopsided (``lopsided``: the sign-flip test of a mean is exact only for
-  changes symmetric about their centre).
+  pairs, where no sign-flip or signed-rank test can reach ``ALPHA``; no change is shown by
+  one-sided tests at ``PAIRED_EQUIVALENCE_LEVEL`` (the least favourable level over the
+  declared shapes of the changes, skewed ones across 0 included: from 8 pairs), and never
+  where the changes are lopsided (``lopsided``: the sign-flip test of a mean is exact only
+  for changes symmetric about their centre).
 - ``senses_differ``: "performance varies across the sensory conditions": Friedman's test with
   the replication as block; contradicted when every pair of conditions is equivalent (the
-  sign-flip TOST within ``PAIRED_MARGIN``, an intersection-union test; from 6 blocks; never
-  where a pair's changes are lopsided).
+  sign-flip TOST within ``PAIRED_MARGIN`` at ``PAIRED_EQUIVALENCE_LEVEL``, an
+  intersection-union test; from 8 blocks; never where a pair's changes are lopsided).
 
 Verdicts (``VERDICTS``): *reproduced* (the data show what the paper says), *contradicted* (they
 show the opposite, or a difference where the paper says none), *inconclusive* (the data cannot
@@ -63,8 +65,8 @@ from .paired_verdicts import (  # noqa: F401  (re-exported: the paired rules)
     paired_tost, relative_changes, senses_differ, sign_flip_tost, wilcoxon)
 from .verdict_core import (  # noqa: F401  (re-exported: the rules' shared names)
     ALPHA, CONTRADICTED, DECIDED, EQUIVALENCE_MARGIN, INCONCLUSIVE, MIN_UNITS, NOT_RUN, Outcome,
-    PAIRED_MARGIN, RATE_MARGIN, REPRODUCED, SECTOR_FLOOR, UNDERPOWERED, VERDICTS, finite,
-    friedman, hodges_lehmann, no_spread, normal_sf, one_mode, order_index,
+    PAIRED_EQUIVALENCE_LEVEL, PAIRED_MARGIN, RATE_MARGIN, REPRODUCED, SECTOR_FLOOR, UNDERPOWERED,
+    VERDICTS, finite, friedman, hodges_lehmann, no_spread, normal_sf, one_mode, order_index,
     signed_rank_distribution, smallest_directional_p, smallest_friedman_p,
     smallest_mann_whitney_p, smallest_signed_rank_p, t_cdf, t_quantile, t_sf, tie_sum,
     two_mode_gate, u_distribution, walsh_median)
@@ -110,18 +112,19 @@ def equivalence_reachable(n_a: int, n_b: int, margin: float = EQUIVALENCE_MARGIN
     return margin / se > special.ndtri(1 - ALPHA)
 
 
-def equivalent(a, b, margin: float = EQUIVALENCE_MARGIN) -> Outcome:
+def equivalent(a, b, margin: float = EQUIVALENCE_MARGIN, gated: bool = True) -> Outcome:
     """Claim: a and b do not differ. Reproduced when both one-sided tests reject theta outside
     0.5 +- ``margin`` (p = the larger of the two); contradicted when the two-sided
     Brunner-Munzel permutation test shows a difference; otherwise inconclusive, or
     underpowered where the sizes could never show equivalence (``equivalence_reachable``) and
-    no difference shows."""
+    no difference shows, or below the two-mode gate (``two_mode_gate``; ``gated`` False: the
+    rule without it, which the calibration reports beside)."""
     a, b = finite(a), finite(b)
     if min(len(a), len(b)) < 2:
         return Outcome(UNDERPOWERED, note=f"{len(b)} vs {len(a)}: no spread to estimate")
     theta, se, df = probabilistic_index(a, b)
-    if (gated := two_mode_gate(a, b, theta)) is not None:
-        return gated
+    if gated and (gate := two_mode_gate(a, b, theta)) is not None:
+        return gate
     if no_spread(a, b):
         return Outcome(INCONCLUSIVE, math.nan, theta, note="every value equal: no evidence")
     p_diff = brunner_munzel.test(a, b).p
@@ -143,19 +146,21 @@ def equivalent(a, b, margin: float = EQUIVALENCE_MARGIN) -> Outcome:
                    note=f"theta within 0.5 +- {margin:g}; difference p = {p_diff:.2g}")
 
 
-def not_better(a, b, better: int, margin: float = EQUIVALENCE_MARGIN) -> Outcome:
+def not_better(a, b, better: int, margin: float = EQUIVALENCE_MARGIN,
+               gated: bool = True) -> Outcome:
     """Claim: b is not significantly better than a, where "better" is higher (``better`` +1)
     or lower (-1): the paper's one-sided "no significant improvement". Non-superiority on
     theta_better (theta, or 1 - theta when lower is better): reproduced when its upper
     one-sided 95 % bound is below 0.5 + ``margin``; contradicted when b is better (one-sided
-    Brunner-Munzel permutation p < ``ALPHA``); otherwise inconclusive."""
+    Brunner-Munzel permutation p < ``ALPHA``); otherwise inconclusive; underpowered below the
+    two-mode gate (``gated`` False: without it, as ``equivalent``)."""
     a, b = finite(a), finite(b)
     if min(len(a), len(b)) < 2:
         return Outcome(UNDERPOWERED, note=f"{len(b)} vs {len(a)}: no spread to estimate")
     theta, se, df = probabilistic_index(a, b)
     theta = theta if better > 0 else 1 - theta
-    if (gated := two_mode_gate(a, b, theta)) is not None:
-        return gated
+    if gated and (gate := two_mode_gate(a, b, theta)) is not None:
+        return gate
     if no_spread(a, b):
         return Outcome(INCONCLUSIVE, math.nan, theta, note="every value equal: no evidence")
     res = brunner_munzel.test(a, b)  # once: both one-sided p from the same splits

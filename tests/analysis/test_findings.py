@@ -176,15 +176,19 @@ def test_paired_claims_pair_each_replication_with_itself():
 def test_a_claim_its_measure_cannot_test_says_so_and_is_never_judged():
     """D2's reach is a first touch, and every touch sensor is silent until it: a trial
     reaches under no touch exactly when it does under normal senses, so even reach rates
-    that differ (here 0.9 and 0.3) leave it untested, not contradicted."""
+    that differ (here 0.9 and 0.3) leave it untested, not contradicted. A3's babbling has no
+    measure validated without sight: untested too, and both counted apart."""
     trials = _trials({"pre": {"reach": 0.9, "reach no-touch": 0.3}},
                      senses=("normal", "no-touch"), ranks=5)
     row = _row(fd.findings(trials), "D2 no touch, pre: reach same")
     assert row["verdict"] == vd.NOT_RUN and math.isnan(row["effect"])
     assert row["measured"].startswith(fd.UNTESTABLE + "a trial reaches")
-    assert [c.id for c in CLAIMS if c.untestable] == ["D2 no touch, pre: reach same"]
+    assert [c.id for c in CLAIMS if c.untestable] == ["A3 no sight, pre: babbling same",
+                                                      "D2 no touch, pre: reach same"]
+    babbling = _row(fd.findings(trials), "A3 no sight, pre: babbling same")
+    assert babbling["measured"].startswith(fd.UNTESTABLE + "no babbling measure is validated")
     counts = fd.summary(fd.findings(trials))
-    assert counts[fd.CANNOT] == 1
+    assert counts[fd.CANNOT] == 2
     assert counts[vd.NOT_RUN] == fd.reading(fd.findings(trials)).filter(
         (pl.col("verdict") == vd.NOT_RUN)
         & ~pl.col("measured").str.starts_with(fd.UNTESTABLE)).height

@@ -108,7 +108,11 @@ def test_claims_are_judged_at_the_generations_there_and_on_their_conditions():
     babbling = per[(50, "A1 ball absent, pre: babbling same")]
     assert babbling["verdict"] == "not run"
     assert babbling["measured"] == "not run: no babbling_before_touch"
-    assert not per[(50, "A3 no sight, pre: babbling same")]["measured"].startswith(UNTESTABLE)
+    # without sight: a measure not evaluated there is not run; babbling, which no measure
+    # validated without sight can see, cannot be tested whatever the data (said as such)
+    assert per[(50, "A3 no sight, pre: hand_path same")]["verdict"] == "not run"
+    assert not per[(50, "A3 no sight, pre: hand_path same")]["measured"].startswith(UNTESTABLE)
+    assert per[(50, "A3 no sight, pre: babbling same")]["measured"].startswith(UNTESTABLE)
     # V3: babbling at the end of the snapshots up to 50 (generation 50) above the start's
     assert per[(50, "V3 babbling appears in pre")]["verdict"] == "reproduced"
     assert per[(100, "V3 babbling appears in pre")]["verdict"] != "reproduced"
@@ -196,6 +200,14 @@ def test_babbling_under_each_condition_by_strategy():
     assert normal["babbling"] == 1 and normal["median"] == pytest.approx(0.5)
     assert normal["still_high"] == 0.0
     assert no_ball["median"] == 1.0 and no_ball["still_high"] == 1.0
+    # by another measure (A1's babbling before the touch) where it is measured: the rates
+    # are that column's, and a table without it has no rows
+    touch = dev.with_columns((~pl.col("babbling")).alias("babbling_before_touch"))
+    other = sc.babbling_by_condition(touch, sc.course(dev), measure="babbling_before_touch")
+    normal = other.filter(pl.col("senses") == "normal").row(0, named=True)
+    assert normal["median"] == pytest.approx(0.5) and normal["still_high"] == 1.0
+    assert sc.babbling_by_condition(dev, sc.course(dev),
+                                    measure="babbling_before_touch").height == 0
 
 
 def test_a_rates_same_claim_is_never_at_a_scale_end():

@@ -1,7 +1,8 @@
-"""The second validation of the babbling measures (``reports.babbling_validation``): the
-sample is the draw the protocol describes and its trials are the committed ones, every trial
-is labelled, the page's counts are the labels against the measures recomputed here, and the
-acceptance rule says what it was written to say."""
+"""The second and third validations of the babbling measures (``reports.babbling_validation``):
+each sample is the draw its protocol describes (the second's trials are the committed ones;
+the third's were never measured), every trial is labelled, the page's counts are the labels
+against the measures recomputed here, and the acceptance rule says what it was written to
+say."""
 
 from __future__ import annotations
 
@@ -16,6 +17,7 @@ from dart_reach.measures import kinematics as k
 from dart_reach.postevaluation.snapshots import load_development
 from reports import babbling_sample as first
 from reports import babbling_second_sample as second
+from reports import babbling_third_sample as third
 from reports import babbling_validation as page
 from reports.runs import FULL, JUDGED
 
@@ -131,7 +133,8 @@ def test_the_pages_counts_are_the_labels_against_the_measures(trials, paths):
 def test_the_committed_page_is_the_rendering_of_the_labels():
     values = page.values(ROOT)
     text = (ROOT / "docs/results/babbling-detector.md").read_text(encoding="utf-8")
-    for key in ("second_label_counts", "second_validation", "second_words"):
+    for key in ("second_label_counts", "second_validation", "second_words",
+                "third_label_counts", "third_validation", "third_words"):
         assert values[key] in text, key
 
 
@@ -150,3 +153,57 @@ def test_the_rule_needs_both_sides_each_large_and_bounded():
     # 12 of 15 is 0.8, but its lower limit (0.56) is under 0.6
     assert page.lower_limit(12, 15) < 0.6
     assert not page.passes({"tp": 12, "fn": 3, "tn": 15, "fp": 0})
+
+
+# ------------------------------------------------------------------------------ third sample
+@pytest.fixture(scope="module")
+def third_trials() -> pl.DataFrame:
+    return page.trials(ROOT, page.THIRD)
+
+
+def test_the_third_sample_is_its_draw_forty_a_condition(third_trials):
+    """The draw made again is the committed sample, codes and all: 40 trials under each
+    condition, 40 distinct (generation, replication) units each, from the protocol's
+    snapshots, no genome drawn twice without the ball."""
+    paths = pl.read_parquet(ROOT / third.SAMPLE)
+    keys = paths.group_by("code").agg(pl.col("senses", "generation", "replication", "rank",
+                                             "trial").first())
+    drawn = third.draw(ROOT / "recordings" / third.RUN)
+    columns = ["code", "senses", "generation", "replication", "rank", "trial"]
+    assert drawn.select(columns).sort("code").equals(keys.select(columns).sort("code"))
+    for senses in third.CONDITIONS:
+        part = keys.filter(pl.col("senses") == senses)
+        assert part.height == third.PER_CONDITION
+        assert part.select("generation", "replication").n_unique() == third.PER_CONDITION
+    assert set(keys["generation"]) <= set(third.GENERATIONS)
+    assert third_trials.height == len(third.CONDITIONS) * third.PER_CONDITION
+    assert third_trials.filter((pl.col("babbling") == page.YES)
+                               & (pl.col("moving") != page.YES)).height == 0
+
+
+def test_the_third_samples_counts_are_the_labels_against_the_measures(third_trials):
+    """Sensitivity and specificity of the candidate and of the moving rule per condition,
+    counted here from the labels and the measures written out again from their definitions
+    (the moving rule: a path of at least 1.0 m and an amplitude of at least 0.05 m)."""
+    paths = pl.read_parquet(ROOT / third.SAMPLE)
+    before = {code: _before_touch_by_hand(part) for (code,), part in paths.group_by("code")}
+    moving = {}
+    for (code,), part in paths.group_by("code"):
+        hand = part.sort("step").select("x", "y", "z").to_numpy()
+        moving[code] = bool(k.path_length(hand) >= 1.0 and k.hand_amplitude(hand) >= 0.05)
+    table = page.validation(third_trials)
+    for senses in third.CONDITIONS:
+        part = third_trials.filter(pl.col("senses") == senses)
+        for name, label, measure in (("candidate (before the touch)", "babbling", before),
+                                     ("moving rule", "moving", moving)):
+            yes = part.filter(pl.col(label) == page.YES)["code"]
+            no = part.filter(pl.col(label) == page.NO)["code"]
+            row = table.filter((pl.col("measure") == name) & (pl.col("senses") == senses)
+                               & (pl.col("unsure labels") == "left out")).row(0, named=True)
+            assert row["sensitivity"].startswith(f"{sum(measure[c] for c in yes)}/{len(yes)} ")
+            assert row["specificity"].startswith(
+                f"{sum(not measure[c] for c in no)}/{len(no)} ")
+    apart = third_trials.filter((pl.col("moving") == page.YES)
+                                & (pl.col("babbling") == page.NO)).height
+    assert apart > 0  # this sample tells babbling from moving
+    assert f"{apart} trials are labelled one and not the other" in page.words(third_trials)
