@@ -228,7 +228,7 @@ def values(recordings: Path | None = None) -> dict[str, str]:
     (``committed``): ``table`` (``markdown``), the prose's numbers of the directional rule
     (``shift_coverage``, ``interval_short``), of the paired rules (``_paired_values``) and of
     the spreads (``band_power``, ``senses_power_4``: at 4 replications, within s.d. 3 and
-    0.6). ``recordings`` is unused (the table has its own path): the signature of
+    0.6), and the powers the closing lines read. ``recordings`` is unused (the table has its own path): the signature of
     ``reports.results.DOCS``."""
     table = committed()
     band = cells(table, "band", "mean 0.5", "reproduced", 4)
@@ -242,6 +242,15 @@ def values(recordings: Path | None = None) -> dict[str, str]:
                             f"{pct(band[0])} at 0.6",
             "senses_power_4": f"{pct(senses[1])} against {pct(senses[0])}",
             "ungated_split": _ungated_split(table),
+            "power_4": span(cells(table, "directional", "shift 2 s.d.", "reproduced", 4)
+                            + cells(table, "no difference", "no difference", "reproduced", 4)
+                            + cells(table, "not better", "no difference", "reproduced", 4), 3),
+            "power_1sd_10": span(cells(table, "directional", "shift 1 s.d.", "reproduced", 10)),
+            "power_2sd_10": span(cells(table, "directional", "shift 2 s.d.", "reproduced", 10)),
+            "equivalence_power": span(cells(table, "no difference", "no difference",
+                                            "reproduced"), 3),
+            "not_better_power_10": span(cells(table, "not better", "no difference",
+                                              "reproduced", 10)),
             "robot_level": robot_level_markdown(pl.read_parquet(ROBOT_LEVEL)),
             **_paired_values(table)}
 

@@ -286,3 +286,23 @@ def test_the_pilot_that_chose_the_paired_level_can_choose_otherwise():
                                            levels=(v.ALPHA, v.PAIRED_EQUIVALENCE_LEVEL))
     assert worst[v.PAIRED_EQUIVALENCE_LEVEL] <= SHAPE_BOUND
     assert worst[v.ALPHA] > SHAPE_BOUND
+
+
+def test_the_pages_sentences_give_the_tables_numbers(table):
+    """The numbers of the page's sentences, read here from the committed table itself: the
+    straddling rows the level holds (rates), the directional rule's power at 10 replications,
+    the not-better rule's where the groups are equal; a wrong reading changes them."""
+    text = " ".join(DOC.read_text().split())  # the prose's line breaks aside
+
+    def span(values, digits=2):
+        low, high = f"{values.min():.{digits}f}", f"{values.max():.{digits}f}"
+        return low if low == high else f"{low}-{high}"
+    at_10 = table.filter(pl.col("replications") == 10)
+    straddling = at_10.filter((pl.col("rule") == "paired rate no change")
+                              & pl.col("scenario").str.contains("straddling"))["value"]
+    assert f"{span(straddling, 3)} (rates)" in text
+    shift = at_10.filter((pl.col("rule") == "directional") & (pl.col("scenario") == "shift 1 s.d.")
+                         & (pl.col("measure") == "reproduced"))["value"]
+    assert f"1 s.d. of a replication mean is reproduced {span(shift)} of the time" in text
+    equal = at_10.filter((pl.col("rule") == "not better") & (pl.col("kind") == "power"))["value"]
+    assert f"{span(equal)} of the time at 10 replications" in text
