@@ -50,15 +50,14 @@ RULE = Acceptance()
 @dataclass(frozen=True)
 class Sample:
     """A labelled sample: its table of hand paths and its labels (paths from the repository's
-    root), and the conditions it draws from, in the page's order."""
+    root; its conditions are its table's, ``conditions``)."""
 
     sample: str
     labels: str
-    conditions: tuple[str, ...]
 
 
-SECOND = Sample(second.SAMPLE, second.LABELS, second.CONDITIONS)
-THIRD = Sample(third.SAMPLE, third.LABELS, third.CONDITIONS)
+SECOND = Sample(second.SAMPLE, second.LABELS)
+THIRD = Sample(third.SAMPLE, third.LABELS)
 
 
 def lower_limit(hits: int, n: int, confidence: float = RULE.confidence) -> float:
