@@ -380,8 +380,8 @@ def values(recordings: Path) -> dict[str, str]:
             pl.col("median").alias("their babbling rate: median"),
             pl.col("babbling_low").alias("lowest"), pl.col("babbling_high").alias("highest"),
             pl.col("still_high").alias("still populations: highest rate"))
-        ) if rates.height else (f"(not yet measured: `python -m reports.babbling_before_touch "
-                                f". --runs {FULL}`)")
+        ) if rates.height or measure != BABBLING_BOTH else (
+            f"(not yet measured: `python -m reports.babbling_before_touch . --runs {FULL}`)")
     return out
 
 
