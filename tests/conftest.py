@@ -2,16 +2,22 @@
 numpy's dispatch level only if it comes before numpy is loaded, so it comes first here.
 
 ``in_process``: the command line run inside the test's process, for the tests of what a
-command does rather than of the process around it."""
+command does rather than of the process around it. ``built_once``: an expensive directory
+(a trained and post-evaluated run) built once for the whole session and read by every
+pytest-xdist worker that needs it."""
 
 import dart_reach  # noqa: F401
 
+import fcntl
 import io
 import os
+import shutil
 import signal
 import subprocess
 import sys
 from contextlib import redirect_stderr, redirect_stdout
+from pathlib import Path
+from typing import Callable
 
 import pytest
 
@@ -56,3 +62,31 @@ def in_process():
     """``in_process(*args, cwd=None)``: ``dart-reach ARGS`` run in this process
     (``_main_in_process``)."""
     return _main_in_process
+
+
+@pytest.fixture(scope="session")
+def built_once(tmp_path_factory):
+    """``built_once(name, build)``: a directory of its own, filled by ``build(directory)`` once
+    in the whole session: the first pytest-xdist worker to ask builds it, holding a lock on
+    it, and every other worker that asks (one that took some of the same file's tests, say)
+    waits for it and reads the same directory instead of building its own. For what tests only
+    read; a test that writes copies it first. A build that fails is made afresh by the next
+    who asks."""
+    root = tmp_path_factory.getbasetemp()
+    if os.environ.get("PYTEST_XDIST_WORKER"):
+        root = root.parent  # the session's, shared by its workers
+    root = root / "built-once"
+    root.mkdir(exist_ok=True)
+
+    def get(name: str, build: Callable[[Path], object]) -> Path:
+        path, done = root / name, root / f"{name}.done"
+        with open(root / f"{name}.lock", "a") as lock:
+            fcntl.flock(lock, fcntl.LOCK_EX)
+            if not done.exists():
+                shutil.rmtree(path, ignore_errors=True)
+                path.mkdir()
+                build(path)
+                done.touch()
+        return path
+
+    return get

@@ -39,15 +39,18 @@ PHASES = ["pre", "gross", "fine"]
 
 
 @pytest.fixture(scope="module")
-def tiny_run(tmp_path_factory):
+def tiny_run(built_once):
     """The standard condition, 1 generation per phase, 2 replications, trials of 6 steps, then
     post-evaluated: 2 robots per replication, every sensory condition, the best robot of the
-    best replication of each phase recorded."""
-    out = tmp_path_factory.mktemp("notebooks") / "tiny"
-    train([scaled(load_condition("standard"), 1)],
-          Settings(replications=2, trials=1, steps=6, seed=1), out, workers=1)
-    evaluate_run(out, senses=SENSES, robots=2, workers=1)
-    return out
+    best replication of each phase recorded. Built once for the session (35 CPU-s), read by
+    every test and notebook."""
+    def build(root):
+        out = root / "tiny"
+        train([scaled(load_condition("standard"), 1)],
+              Settings(replications=2, trials=1, steps=6, seed=1), out, workers=1)
+        evaluate_run(out, senses=SENSES, robots=2, workers=1)
+
+    return built_once("notebooks", build) / "tiny"
 
 
 @pytest.fixture(scope="module")

@@ -37,20 +37,23 @@ def _cli(*args, cwd=None):
 
 
 @pytest.fixture(scope="module")
-def evaluated(tmp_path_factory, in_process) -> Path:
+def evaluated(built_once, in_process) -> Path:
     """A tiny trained and post-evaluated run (under a minute): one robot per replication
-    recorded, a random baseline, and the development over generations stored in parts."""
-    out = tmp_path_factory.mktemp("integrity") / "run"
-    assert in_process(*TRAIN, "--out", out).returncode == 0
-    result = in_process("evaluate", out, "--robots", "1", "--record", "best", "--baseline", "1",
-                        "--workers", "1")
-    assert result.returncode == 0, result.stderr
-    with pytest.MonkeyPatch.context() as patch:  # small parts, to have a table in parts
-        patch.setattr(results, "PART_BYTES", 30_000)
-        result = in_process("evaluate", out, *EVALUATE, "--development", "1")
-    assert result.returncode == 0, result.stderr
-    (out / LOCK_NAME).unlink()
-    return out
+    recorded, a random baseline, and the development over generations stored in parts. Made
+    once for the session (read only: ``run`` copies it)."""
+    def build(root):
+        out = root / "run"
+        assert in_process(*TRAIN, "--out", out).returncode == 0
+        result = in_process("evaluate", out, "--robots", "1", "--record", "best", "--baseline",
+                            "1", "--workers", "1")
+        assert result.returncode == 0, result.stderr
+        with pytest.MonkeyPatch.context() as patch:  # small parts, to have a table in parts
+            patch.setattr(results, "PART_BYTES", 30_000)
+            result = in_process("evaluate", out, *EVALUATE, "--development", "1")
+        assert result.returncode == 0, result.stderr
+        (out / LOCK_NAME).unlink()
+
+    return built_once("integrity", build) / "run"
 
 
 @pytest.fixture

@@ -27,12 +27,20 @@ def _cli(*args):
 
 
 @pytest.fixture(scope="module")
-def evaluated(trained, tmp_path_factory):
-    out = tmp_path_factory.mktemp("evaluated") / "run"
-    shutil.copytree(trained, out)
-    result = _cli("evaluate", out, "--sensors", "no-touch", "--robots", "2", "--workers", "1")
-    assert result.returncode == 0, result.stderr
-    return out, result
+def evaluated(request, built_once):
+    """``trained`` post-evaluated by ``dart-reach evaluate`` (a process of its own), made once
+    for the session (read only: copy it to write): the run and what the command wrote."""
+    def build(root):
+        out = root / "run"
+        shutil.copytree(request.getfixturevalue("trained"), out)
+        result = _cli("evaluate", out, "--sensors", "no-touch", "--robots", "2", "--workers",
+                      "1")
+        assert result.returncode == 0, result.stderr
+        (root / "stderr.txt").write_text(result.stderr)
+
+    root = built_once("systematic-evaluated", build)
+    return root / "run", subprocess.CompletedProcess(
+        ["dart-reach", "evaluate"], 0, "", (root / "stderr.txt").read_text())
 
 
 def test_table_and_recordings(evaluated):
