@@ -7,6 +7,7 @@ from __future__ import annotations
 import json
 import os
 import re
+import select
 import shutil
 import signal
 import subprocess
@@ -69,6 +70,132 @@ def _strace(inject: str) -> list[str]:
             f"inject={RENAMES}:{inject}"]
 
 
+#: A process that has imported the command line and the trainer and run one lifetime of the
+#: model (its compiled functions loaded), then forks a training for each request: a real
+#: process of its own, faulted by strace attached to it before it begins (``Zygote``). The
+#: threads those imports start (OpenBLAS's, jemalloc's, polars' and rerun's) are idle at the
+#: fork and not carried into the child, whose writes do not wait on them: the reference run,
+#: made so, is the run a new process makes (the tests that resume a copy of it in one). A
+#: request is a JSON line (the arguments, the file for stderr, whether to wait for a tracer);
+#: the answer, the child's PID, then its exit code as ``subprocess`` gives it (-9 for
+#: SIGKILL). The child ends as ``python -m dart_reach.cli`` does (``sys.exit(main())``), with
+#: ``sys.argv`` as there.
+ZYGOTE = r"""
+import ctypes, json, os, sys, time, warnings
+
+import dart_reach.cli  # first, as the command's own process: it pins numpy's kernels
+import dart_reach.evolution.trainer
+import numpy as np
+from dart_reach.evolution.backends import Job, SerialBackend
+from dart_reach.evolution.conditions import load_condition
+from dart_reach.evolution.genome import N_GENES, as_groups
+from dart_reach.evolution.settings import Settings, trial_config
+
+warnings.filterwarnings("ignore", ".*multi-threaded.*fork", DeprecationWarning)
+pre, settings = load_condition("standard").phases[0], Settings(trials=1, steps=3)
+SerialBackend().map([Job(np.zeros(N_GENES, np.uint8), as_groups(pre.free_groups),
+                         trial_config(pre, settings), settings.world, (0,))])
+
+
+def traced():
+    with open("/proc/self/status") as status:
+        return any(line.split()[1:] != ["0"] for line in status if line.startswith("TracerPid:"))
+
+
+def serve():
+    for line in sys.stdin:
+        request = json.loads(line)
+        pid = os.fork()
+        if pid == 0:
+            return request
+        print(pid, flush=True)
+        print(os.waitstatus_to_exitcode(os.waitpid(pid, 0)[1]), flush=True)
+    sys.exit(0)
+
+
+request = serve()
+try:
+    null = os.open(os.devnull, os.O_RDWR)
+    err = os.open(request["stderr"], os.O_WRONLY | os.O_CREAT | os.O_TRUNC, 0o644)
+    for fd, target in ((0, null), (1, null), (2, err)):
+        os.dup2(target, fd)
+    sys.argv = ["dart-reach", *request["args"]]
+    if request["traced"]:
+        # PR_SET_PTRACER, PR_SET_PTRACER_ANY: where Yama lets a process trace only its
+        # descendants (ptrace_scope 1), strace, not this child's ancestor, may attach
+        ctypes.CDLL(None).prctl(0x59616D61, ctypes.c_ulong(-1), 0, 0, 0)
+    deadline = time.monotonic() + 60
+    while request["traced"] and not traced():
+        if time.monotonic() > deadline:
+            os._exit(3)
+        time.sleep(0.002)
+except BaseException:
+    os._exit(3)
+sys.exit(dart_reach.cli.main(request["args"]))
+"""
+
+
+class Zygote:
+    """``ZYGOTE`` running: ``run`` forks a training from it, strace attached if given. A fault
+    costs the child's own work (1.4 CPU-s for the whole run under strace) where a new
+    interpreter's imports and loading of the compiled model came on top (6 CPU-s)."""
+
+    def __init__(self):
+        self._proc, self._buffer = None, b""
+
+    def _line(self, deadline: float) -> int:
+        fd = self._proc.stdout.fileno()
+        while b"\n" not in self._buffer:
+            if not select.select([fd], [], [], max(0.0, deadline - time.monotonic()))[0]:
+                raise TimeoutError("no answer from the zygote")
+            chunk = os.read(fd, 4096)
+            assert chunk, "the zygote ended"
+            self._buffer += chunk
+        line, _, self._buffer = self._buffer.partition(b"\n")
+        return int(line)
+
+    def run(self, args, stderr: Path, strace: list[str] | None = None,
+            timeout: float = 300) -> tuple[int, str]:
+        """``dart-reach ARGS`` in a child, strace (its command, without ``-p``) attached before
+        the child begins: the exit code and what it wrote to stderr."""
+        deadline = time.monotonic() + timeout
+        if self._proc is None:  # started at its first run
+            self._proc = subprocess.Popen([sys.executable, "-c", ZYGOTE],
+                                          stdin=subprocess.PIPE, stdout=subprocess.PIPE)
+        request = {"args": [str(a) for a in args], "stderr": str(stderr),
+                   "traced": strace is not None}
+        self._proc.stdin.write(json.dumps(request).encode() + b"\n")
+        self._proc.stdin.flush()
+        pid = self._line(deadline)
+        tracer = subprocess.Popen([*strace, "-p", str(pid)], stderr=subprocess.PIPE,
+                                  text=True) if strace else None
+        try:
+            code = self._line(deadline)
+        except TimeoutError:
+            os.kill(pid, signal.SIGKILL)
+            raise
+        finally:
+            if tracer is not None:
+                tracer.wait(timeout=60)
+        # 3: the child was never traced (strace could not attach: its error says why)
+        assert tracer is None or code != 3, tracer.stderr.read()
+        return code, stderr.read_text()
+
+    def close(self) -> None:
+        if self._proc is not None:
+            self._proc.stdin.close()
+            self._proc.wait(timeout=60)
+
+
+@pytest.fixture(scope="module")
+def zygotes():
+    """Two ``Zygote``s (each started when first used): faults are injected two at a time."""
+    pair = [Zygote(), Zygote()]
+    yield pair
+    for z in pair:
+        z.close()
+
+
 def _npz(path: Path) -> dict:
     with np.load(path) as d:
         return {k: d[k].copy() for k in d.files if k != "stats/wall_s"}
@@ -124,18 +251,21 @@ def same(a: dict, b: dict) -> bool:
 
 
 @pytest.fixture(scope="module")
-def reference(condition, tmp_path_factory):
-    """An uninterrupted run, and how many renames it makes."""
-    out = tmp_path_factory.mktemp("reference") / "run"
-    if STRACE:
-        trace = out.parent / "renames.txt"
-        result = _cli(*_train_args(condition, out), prefix=[STRACE, "-f", "-qq", "-o",
-                                                            str(trace), "-e", f"trace={RENAMES}"])
-        targets = [_kind(line, out) for line in trace.read_text().splitlines()
-                   if "rename" in line and _in_run(line, out)]
-    else:
-        result, targets = _cli(*_train_args(condition, out)), []
-    assert result.returncode == 0, result.stderr
+def reference(condition, built_once, zygotes):
+    """An uninterrupted run, and how many renames it makes: a process forked as the faulted
+    ones are (the tests that compare a new process's run with it check that both are one),
+    made once for the session (read only: copy it to write)."""
+    def build(root):
+        out = root / "run"
+        trace = [STRACE, "-f", "-qq", "-o", str(root / "renames.txt"), "-e",
+                 f"trace={RENAMES}"] if STRACE else None
+        code, err = zygotes[0].run(_train_args(condition, out), root / "stderr.txt", trace)
+        assert code == 0, err
+
+    root = built_once("run-directory-reference", build)
+    out = root / "run"
+    targets = [_kind(line, out) for line in (root / "renames.txt").read_text().splitlines()
+               if "rename" in line and _in_run(line, out)] if STRACE else []
     return out, snapshot(out), len(targets), targets
 
 
@@ -154,25 +284,31 @@ def _kind(line: str, out: Path) -> str:
     return re.sub(r"gen\d+[^/]*$", "*" + Path(name).suffix, name)
 
 
-def _faults_then_resume(condition, root: Path, cases, in_process) -> list[tuple[int, str, dict]]:
-    """Each case (``inject``, n): a training process with the fault injected at its n-th
-    rename (two such processes at a time), then the run resumed in this process (the same
-    command and code, without a new process's imports): the exit code and stderr of the
-    faulted process and a ``snapshot`` of the resumed run, per case."""
-    def cut(case):
+def _faults_then_resume(condition, root: Path, cases, zygotes,
+                        in_process) -> list[tuple[int, str, dict]]:
+    """Each case (``inject``, n): a training process (forked from a ``Zygote``) with the
+    fault injected at its n-th rename (two such processes at a time), then the run resumed in
+    this process (the same command and code, without a new process's imports): the exit code
+    and stderr of the faulted process and a ``snapshot`` of the resumed run, per case."""
+    def cut(case, zygote):
         inject, n = case
         out = root / f"{inject.split('=')[1].split(':')[0]}-{n}"
-        return out, _cli(*_train_args(condition, out), prefix=_strace(f"{inject}:when={n}"))
+        return out, zygote.run(_train_args(condition, out), root / f"{out.name}.stderr",
+                               _strace(f"{inject}:when={n}"))
+
+    def cut_all(i):
+        return [cut(case, zygotes[i]) for case in cases[i::2]]
 
     with ThreadPoolExecutor(2) as pool:
-        faulted = list(pool.map(cut, cases))
+        halves = list(pool.map(cut_all, range(2)))
+    faulted = [halves[i % 2][i // 2] for i in range(len(cases))]
     results = []
-    for (_, n), (out, first) in zip(cases, faulted):
+    for (_, n), (out, (code, err)) in zip(cases, faulted):
         # stopped before its manifest was written, the run is started again, not resumed
         resume = ("--resume",) if (out / "manifest.json").exists() else ()
         again = in_process(*_train_args(condition, out, *resume))
-        assert again.returncode == 0, (n, first.stderr, again.stderr)
-        results.append((first.returncode, first.stderr, snapshot(out)))
+        assert again.returncode == 0, (n, err, again.stderr)
+        results.append((code, err, snapshot(out)))
     return results
 
 
@@ -184,7 +320,7 @@ def _kill_points(targets: list[str]) -> list[int]:
     What the last phase cannot show is added: the renames before any phase began (nothing to
     resume from yet) and, in the first phase, its checkpoint and its final (a phase resumed
     from its checkpoint with no phase finished; all of a phase's results in but its final not).
-    Here 17 of the run's 28 renames: a kill at each costs a process, and its resume."""
+    Here 30 of the run's 49 renames: a kill at each costs a process, and its resume."""
     finals = [i for i, t in enumerate(targets) if t == "phases/*/final.npz"]
     # a file's rename comes between two of the ledger's (integrity.recorded_write): a phase
     # begins with the ledger accepting its first file and ends with the ledger naming its final
@@ -201,24 +337,25 @@ def _kill_points(targets: list[str]) -> list[int]:
 
 @pytest.mark.skipif(not STRACE, reason="needs strace to inject faults at exact renames")
 def test_sigkill_at_each_kind_of_rename_resumes_to_the_same_directory(condition, reference,
-                                                                       tmp_path, in_process):
+                                                                       tmp_path, zygotes,
+                                                                       in_process):
     _, expected, renames, targets = reference
     assert renames >= 10  # manifest, recordings, checkpoints, tables, finals
     points = _kill_points(targets)
     assert {targets[n - 1] for n in points} == set(targets)
     results = _faults_then_resume(condition, tmp_path, [("signal=SIGKILL", n) for n in points],
-                                  in_process)
+                                  zygotes, in_process)
     for n, (code, err, snap) in zip(points, results):
         assert code == -signal.SIGKILL, (n, err)
         assert same(snap, expected), f"killed at rename {n}: resumed run differs"
 
 
 @pytest.mark.skipif(not STRACE, reason="needs strace to inject faults at exact renames")
-def test_sigterm_and_full_disk_at_renames(condition, reference, tmp_path, in_process):
+def test_sigterm_and_full_disk_at_renames(condition, reference, tmp_path, zygotes, in_process):
     _, expected, renames, _ = reference
     cases = [("signal=SIGTERM", n) for n in (2, renames // 2, renames - 1)]
     cases += [("error=ENOSPC", n) for n in (1, 3, renames // 2 + 1, renames)]
-    results = _faults_then_resume(condition, tmp_path, cases, in_process)
+    results = _faults_then_resume(condition, tmp_path, cases, zygotes, in_process)
     for (inject, n), (code, err, snap) in zip(cases, results):
         if inject == "signal=SIGTERM":
             assert code == 143 and "--resume" in err and "Traceback" not in err, (n, err)
@@ -229,14 +366,14 @@ def test_sigterm_and_full_disk_at_renames(condition, reference, tmp_path, in_pro
         assert same(snap, expected), f"{inject} at rename {n}: resumed run differs"
 
 
-def test_file_size_limit_is_one_line_and_resumable(condition, reference, tmp_path):
+def test_file_size_limit_is_one_line_and_resumable(condition, reference, tmp_path, in_process):
     _, expected, *_ = reference
     out = tmp_path / "run"
     cut = _cli(*_train_args(condition, out), prefix=["prlimit", "--fsize=12000"])
     assert cut.returncode == 2, cut.stderr
     line = cut.stderr.strip().splitlines()[-1]
     assert "File too large" in line and str(out) in line, cut.stderr
-    again = _cli(*_train_args(condition, out, "--resume"))
+    again = in_process(*_train_args(condition, out, "--resume"))
     assert again.returncode == 0, again.stderr
     assert same(snapshot(out), expected)
 
