@@ -45,9 +45,15 @@ def _same(a, b) -> bool:
         np.array_equal(fa[k][0], fb[k][0]) and np.array_equal(fa[k][1], fb[k][1]) for k in fa)
 
 
-def test_same_seed_same_result_whatever_the_backend(tmp_path):
+@pytest.fixture(scope="module")
+def serial(tmp_path_factory):
+    """The standard condition, 2 generations per phase, trained on one process (read only)."""
+    return train([scaled(load_condition("standard"), 2)], TINY,
+                 tmp_path_factory.mktemp("serial") / "run", workers=1)
+
+
+def test_same_seed_same_result_whatever_the_backend(serial, tmp_path):
     cond = [scaled(load_condition("standard"), 2)]
-    serial = train(cond, TINY, tmp_path / "serial", workers=1)
     pool = train(cond, TINY, tmp_path / "pool", workers=2)
     a, b = _result(serial.out), _result(pool.out)
     assert _same(a, b)
@@ -58,15 +64,25 @@ def test_same_seed_same_result_whatever_the_backend(tmp_path):
     assert stats.height == 3 * 2 * 2  # phases x replications x generations
     assert set(stats.columns) >= {"condition", "phase", "replication", "generation", "best",
                                   "mean", "min"}
-    pytest.importorskip("ray")
-    os.environ.setdefault("RAY_AUTH_MODE", "disabled")
-    ray_run = train(cond, TINY, tmp_path / "ray", workers=2, ray_address="local")
-    import ray
-    ray.shutdown()
-    assert _same(a, _result(ray_run.out))
     other = train(cond, Settings(replications=2, trials=1, steps=4, seed=4), tmp_path / "s4",
                   workers=1)
     assert not _same(a, _result(other.out))
+
+
+def test_a_private_ray_instance_trains_the_serial_bits(serial, tmp_path, monkeypatch):
+    """``ray_address="local"`` (``--ray local``): a Ray instance of this process's own. Its
+    workers at the driver's priority (Ray's default puts them 15 steps nicer: beside the
+    suite's other process they would wait for minutes), as ``LocalRayCluster``'s."""
+    pytest.importorskip("ray")
+    monkeypatch.setenv("RAY_AUTH_MODE", os.environ.get("RAY_AUTH_MODE", "disabled"))
+    monkeypatch.setenv("RAY_worker_niceness", "0")
+    import ray
+    try:
+        ray_run = train([scaled(load_condition("standard"), 2)], TINY, tmp_path / "ray",
+                        workers=2, ray_address="local")
+    finally:
+        ray.shutdown()
+    assert _same(_result(serial.out), _result(ray_run.out))
 
 
 def test_model_version_2_trains_the_same_whatever_the_workers(tmp_path):
@@ -123,12 +139,14 @@ def _train_cmd(out, *extra):
 
 
 @pytest.fixture(scope="module")
-def whole(tmp_path_factory, in_process) -> Path:
-    """``_train_cmd``'s run, uninterrupted (read only: copy it to write)."""
-    out = tmp_path_factory.mktemp("whole") / "run"
-    result = in_process(*_train_cmd(out))
-    assert result.returncode == 0, result.stderr
-    return out
+def whole(built_once, in_process) -> Path:
+    """``_train_cmd``'s run, uninterrupted, made once for the session (read only: copy it to
+    write)."""
+    def build(root):
+        result = in_process(*_train_cmd(root / "run"))
+        assert result.returncode == 0, result.stderr
+
+    return built_once("trainer-whole", build) / "run"
 
 
 def test_resume_after_sigkill_is_bit_identical(whole, tmp_path):
