@@ -39,10 +39,10 @@ def _cli(*args):
                           capture_output=True, text=True, timeout=600)
 
 
-def _train(condition, out, *extra):
-    return _cli("train", condition, "--replications", "3", "--trials", "1", "--steps", "20",
-                "--seed", "4", "--workers", "1", "--record-every", "0", "--snapshot-every",
-                "1", "--out", out, *extra)
+def _train(condition, out, *extra, via=_cli):
+    return via("train", condition, "--replications", "3", "--trials", "1", "--steps", "20",
+               "--seed", "4", "--workers", "1", "--record-every", "0", "--snapshot-every",
+               "1", "--out", out, *extra)
 
 
 @pytest.fixture(scope="module")
@@ -86,7 +86,7 @@ def test_a_manifest_from_before_versions_is_version_1_with_its_levers():
     assert settings.world.self_collision is False
 
 
-def test_resume_keeps_the_levers_and_refuses_others_without_touching_the_run(run):
+def test_resume_keeps_the_levers_and_refuses_others_without_touching_the_run(run, in_process):
     condition, out = run
     before = {p: p.read_bytes() for p in out.rglob("*") if p.is_file() and p.name != ".lock"}
     result = _train(condition, out, "--touch-pay", "capped", "--self-collision", "on",
@@ -94,16 +94,17 @@ def test_resume_keeps_the_levers_and_refuses_others_without_touching_the_run(run
     assert result.returncode == 2 and "touch_pay given here differs" in result.stderr, \
         result.stderr
     assert result.stderr.count("\n") == 1
-    other = _train(condition, out, "--scene", "near", "--seed", "5", "--resume")
+    # the others in this process: the same code, without a new process's imports
+    other = _train(condition, out, "--scene", "near", "--seed", "5", "--resume", via=in_process)
     assert other.returncode == 2 and "scene, seed given here differ" in other.stderr, \
         other.stderr
     after = {p: p.read_bytes() for p in out.rglob("*") if p.is_file() and p.name != ".lock"}
     assert after == before
     again = _train(condition, out, "--touch-pay", "binary", "--self-collision", "on",
-                   "--resume")
+                   "--resume", via=in_process)
     assert again.returncode == 0, again.stderr  # the same levers: it resumes (here: done)
     # nothing typed twice: without the levers, the resume takes them from the manifest
-    plain = _cli("train", condition, "--out", out, "--workers", "1", "--resume")
+    plain = in_process("train", condition, "--out", out, "--workers", "1", "--resume")
     assert plain.returncode == 0, plain.stderr
 
 

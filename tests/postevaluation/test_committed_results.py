@@ -99,13 +99,9 @@ def test_a_slice_reproduces_bit_for_bit_at_the_same_dispatch_level_else_nearly()
     assert checks.reproduced(found({15}), mixed)[0] and not checks.reproduced(found({3}), mixed)[0]
 
 
-def test_status_says_what_the_results_hold_and_reproduces_them():
-    import subprocess
-    import sys
-
+def test_status_says_what_the_results_hold_and_reproduces_them(in_process):
     run = ROOT / "recordings/scene-study/near"
-    out = subprocess.run([sys.executable, "-m", "dart_reach.cli", "status", str(run),
-                          "--reproduce"], capture_output=True, text=True, timeout=300)
+    out = in_process("status", run, "--reproduce")  # its own process: tests/test_cli.py
     assert out.returncode == 0, out.stderr
     lines = out.stdout.splitlines()
     (entry,) = results.sessions(run / results.EVALUATION)
