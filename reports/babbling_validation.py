@@ -166,6 +166,14 @@ def validated(table: pl.DataFrame, measure: str, rule: Acceptance = RULE) -> dic
                              MEASURES[measure]), rule) for s in conditions(table)}
 
 
+def sensitivity_lower_limit(table: pl.DataFrame, measure: str, senses: str,
+                            rule: Acceptance = RULE) -> float:
+    """The one-sided ``rule.confidence`` lower limit of ``measure``'s sensitivity (a key of
+    ``MEASURES``) under ``senses``, on the sure babbling labels of ``table``."""
+    c = counts(table.filter(pl.col("senses") == senses), "babbling", MEASURES[measure])
+    return lower_limit(c["tp"], c["tp"] + c["fn"], rule.confidence)
+
+
 def label_counts(table: pl.DataFrame) -> pl.DataFrame:
     """Per condition: trials, and how many labels of each question are yes, no, unsure,
     and how many trials are labelled moving but not babbling."""

@@ -68,6 +68,27 @@ def test_a4_counts_robots_that_babble_in_half_their_no_ball_trials():
     assert not j["A4"]
 
 
+def test_a4_fails_only_when_the_measures_misses_cannot_explain_the_shortfall():
+    # no-ball rates 0.3, 0.3, 0.2, 0.0: A4 not met (no robot at 0.5); at a sensitivity of
+    # 0.544 a robot at 0.3 (>= 0.272) could babble in half: 2 of 4 could, so not failed
+    table = _table([0.5] * 4, [0.3, 0.3, 0.2, 0.0])
+    j = paper_units(table, (0.33, 0.02), babbling_sensitivity=0.544)
+    assert not j["A4"] and not j["A4_failed"]
+    # at 0.25 a robot could not (0.25 < 0.272): only 0 of 4 could, failed
+    j = paper_units(_table([0.5] * 4, [0.25, 0.25, 0.2, 0.0]), (0.33, 0.02),
+                    babbling_sensitivity=0.544)
+    assert not j["A4"] and j["A4_failed"]
+    # a perfect measure: failed is not met
+    j = paper_units(table, (0.33, 0.02))
+    assert j["A4_failed"] and not j["A4"]
+    # met stays met whatever the sensitivity
+    j = paper_units(_table([0.5] * 4, [0.5, 0.6, 0.0, 0.0]), (0.33, 0.02),
+                    babbling_sensitivity=0.544)
+    assert j["A4"] and not j["A4_failed"]
+    with pytest.raises(ValueError, match="sensitivity"):
+        paper_units(table, (0.33, 0.02), babbling_sensitivity=0.0)
+
+
 def test_a5_counts_still_replications_with_their_exact_interval():
     j = paper_units(_table([0.5] * 4, [1.0] * 4, babbling_normal=0.0), (0.33, 0.02))
     assert j["still"] == 2 and j["replications"] == 2

@@ -207,3 +207,16 @@ def test_the_third_samples_counts_are_the_labels_against_the_measures(third_tria
                                 & (pl.col("babbling") == page.NO)).height
     assert apart > 0  # this sample tells babbling from moving
     assert f"{apart} trials are labelled one and not the other" in page.words(third_trials)
+
+
+def test_the_campaigns_a4_reads_the_detectors_no_ball_sensitivity_on_this_sample(third_trials):
+    """The lower limit that reads the campaign's A4 (docs/results/campaign.md, "Addendum") is
+    Clopper-Pearson's on the detector's hits among the sure babbling labels without the ball,
+    counted here from the labels and the detector's verdicts."""
+    from reports.campaign import a4_sensitivity
+
+    part = third_trials.filter((pl.col("senses") == "no-ball")
+                               & (pl.col("babbling") == page.YES))
+    hits, n = int(part["detector babbling"].sum()), part.height
+    assert 0 < hits < n  # the detector misses some: the reading matters
+    assert a4_sensitivity() == pytest.approx(beta.ppf(0.05, hits, n - hits + 1), abs=1e-9)
