@@ -22,6 +22,7 @@ import dart_reach  # noqa: F401  first: it pins numpy's kernels before numpy loa
 import numpy as np
 import polars as pl
 
+from dart_reach.analysis.formatting import decimals
 from dart_reach.analysis.profile import PAPER_UNITS, paper_units, profiles, robot_profiles
 from dart_reach.evolution.backends import worker_trial
 from dart_reach.evolution.genome import as_groups, decode
@@ -229,10 +230,6 @@ def choose_scene(by_scene: pl.DataFrame) -> dict:
 
 
 # ------------------------------------------------------------------------------ the page
-def _f(x: float, d: int = 3) -> str:
-    return "n/a" if x is None or x != x else f"{x:.{d}f}"
-
-
 def criteria_section() -> str:
     ext = pl.read_parquet(EXTENSION) if EXTENSION.exists() else None
     lines = ["### (a) The committed populations at generation 50, in the paper's units", "",
@@ -257,9 +254,9 @@ def criteria_section() -> str:
         per_rep = profiles(table)
         lo, hi = j["still_interval"]
         lines.append(
-            f"| {name} | {j['replications']} | {_f(j['reach'], 2)} | "
-            f"{_f(j['elbow_sd'])} / {_f(j['shoulder_sd'])} / {_f(j['trunk_sd'])} | "
-            f"{_f(j['hand_shoulder_m'])} / {_f(j['hand_shoulder_cv'])} | "
+            f"| {name} | {j['replications']} | {decimals(j['reach'], 2)} | "
+            f"{decimals(j['elbow_sd'])} / {decimals(j['shoulder_sd'])} / {decimals(j['trunk_sd'])} | "
+            f"{decimals(j['hand_shoulder_m'])} / {decimals(j['hand_shoulder_cv'])} | "
             f"{j['babbling_robots']} of {j['robots']} | {j['still']} of {j['replications']} "
             f"[{lo:.2f}, {hi:.2f}] | {yes[j['A1']]} | {yes[j['A2']]} | {yes[j['A3']]} | "
             f"{yes[j['A4']]} | **{yes[j['paper']]}** | {int(per_rep['paper'].sum())} of "
