@@ -31,6 +31,7 @@ from ..evolution.rundir import RunDirectory
 from ..evolution.settings import Settings, standard_trial, trial_config
 from ..measures.metrics import trial_metrics
 from ..model.versions import CURRENT_MODEL_VERSION, numerics_of
+from ..model.versions import model_version as version_record
 from ..model.scripted import ScriptedReach
 from ..model.servo import Servo
 from ..model.task import Trial, network_for
@@ -138,9 +139,10 @@ def closed_loop(kind: str, config: WorldConfig | None = None, trials: int = 9,
     ``training_loop_*``). Figures (suffix ``_evolved`` for evolved robots): ``*_rtf``,
     ``*_over_limit`` (physics time over the whole loop's) and ``python_us_per_control_step``
     / ``training_python_us_per_control_step`` (what the loop adds to the physics per 0.1 s
-    step, µs). The trial computes with ``model_version``'s numerics; the replay commands the
-    motors as that trial does (``Trial.command``)."""
-    world = World(config or WorldConfig())
+    step, µs). The trial computes with ``model_version``'s numerics in its world (its scene
+    and self-collision; ``config`` replaces it); the replay commands the motors as that trial
+    does (``Trial.command``)."""
+    world = World(config or version_record(model_version).world())
     cfg = standard_trial("pre", numerics=numerics_of(model_version))
     runner = Trial(world, cfg)
     networks = [network_for(decode(g, {ParamGroup.DIRECT}), cfg) for g in panel_genomes(kind)]
@@ -287,11 +289,13 @@ def physics_speedup(config: WorldConfig | None = None, trials: int = 45) -> dict
 
 # --------------------------------------------------------------------------------- parallel
 def _generation(kind: str, jobs: int, trials: int, seed: int, model_version: int = 1) -> list:
-    """The jobs of one pre-reaching generation of ``jobs`` lifetimes of ``trials`` trials."""
+    """The jobs of one pre-reaching generation of ``jobs`` lifetimes of ``trials`` trials,
+    under ``model_version``'s whole model (numerics, scene, self-collision)."""
     phase = load_condition("standard").phases[0]
     trial = trial_config(phase, Settings(trials=trials, model_version=model_version))
     genomes = panel_genomes(kind, PANEL, seed)
-    return [Job(genomes[i % len(genomes)], as_groups(phase.free_groups), trial, WorldConfig(),
+    return [Job(genomes[i % len(genomes)], as_groups(phase.free_groups), trial,
+                version_record(model_version).world(),
                 (seed, 0, i)) for i in range(jobs)]
 
 

@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import pytest
 
+from dart_reach.model.versions import model_version
 from dart_reach.studies import bench, scaling
 
 
@@ -41,11 +42,16 @@ def test_tiny_real_figures():
 
 
 def test_the_model_versions_numerics_are_timed_on_the_same_trials():
-    """The closed loop of version 2 against its own replay, and a generation of version 1
-    against version 2's (two roundings of the same equations: lifetimes close, not equal)."""
-    for version in (1, 2):
+    """The closed loop of versions 1 and 3 (version 2's numerics in its own scene) against
+    its own replay, and a generation of version 1 against version 2's (two roundings of the
+    same equations: lifetimes close, not equal); a version's generation runs in its world."""
+    for version in (1, 3):
         c = bench.closed_loop("evolved", trials=1, records=False, model_version=version)
         assert 0 < c["training_loop_over_limit_evolved"] < 2
+    for version in (1, 3):
+        jobs = bench._generation("evolved", 2, 1, 0, version)
+        assert all(job.world == model_version(version).world() for job in jobs)
+    assert model_version(3).world() != model_version(1).world()
     n = bench.numerics_speedup(jobs=2, trials=1, pairs=1)
     assert n["numerics_speedup"] > 0 and n["generation_core_s_v2"] > 0
     assert n["numerics_fitness_rel_diff"] < 0.5
