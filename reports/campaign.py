@@ -230,6 +230,44 @@ def choose_scene(by_scene: pl.DataFrame) -> dict:
 
 
 # ------------------------------------------------------------------------------ the page
+YES = {True: "yes", False: "no"}
+#: The columns of a judgement's row after its first (the population or the generation).
+JUDGEMENT_COLUMNS = ("replications | reach (A1) | elbow / shoulder / trunk SD (A2) | best "
+                     "robot's hand-shoulder from 2 s, m / CV (A3) | robots babbling without "
+                     "the ball (A4) | still replications (A5) | A1 | A2 | A3 | A4 | paper's | "
+                     "replications meeting the levers study's conjunction")
+
+
+def judgement_row(first: str, j: dict, per_rep: pl.DataFrame, a4: str) -> str:
+    """One row of a judgement table: ``first``, then ``paper_units``'s measures and criteria
+    (``j``; A4 written as ``a4``) and how many replications of ``per_rep`` (``profiles``)
+    meet the levers study's conjunction."""
+    lo, hi = j["still_interval"]
+    return (f"| {first} | {j['replications']} | {decimals(j['reach'], 2)} | "
+            f"{decimals(j['elbow_sd'])} / {decimals(j['shoulder_sd'])} / "
+            f"{decimals(j['trunk_sd'])} | {decimals(j['hand_shoulder_m'])} / "
+            f"{decimals(j['hand_shoulder_cv'])} | {j['babbling_robots']} of {j['robots']} | "
+            f"{j['still']} of {j['replications']} [{lo:.2f}, {hi:.2f}] | {YES[j['A1']]} | "
+            f"{YES[j['A2']]} | {YES[j['A3']]} | {a4} | **{YES[j['paper']]}** | "
+            f"{int(per_rep['paper'].sum())} of {per_rep.height} |")
+
+
+def profile_table(per_rep: pl.DataFrame) -> list[str]:
+    """The per-replication profile (``profiles``) as table lines: its means and criteria."""
+    lines = ["| replication | reach | elbow / shoulder / trunk SD | hand-shoulder, m / CV | "
+             "babbling with / without the ball | reach | elbow | arm | babbling | all four |",
+             "|---:|---:|---|---|---|---|---|---|---|---|"]
+    for r in per_rep.iter_rows(named=True):
+        lines.append(
+            f"| {r['replication']} | {decimals(r['reach'], 2)} | {decimals(r['elbow_sd'])} / "
+            f"{decimals(r['shoulder_sd'])} / {decimals(r['trunk_sd'])} | "
+            f"{decimals(r['hand_shoulder_m'])} / {decimals(r['hand_shoulder_cv'])} | "
+            f"{decimals(r['babbling'], 2)} / {decimals(r['babbling_no_ball'], 2)} | "
+            f"{YES[r['is_reach']]} | {YES[r['is_elbow_locked']]} | "
+            f"{YES[r['is_arm_extended']]} | {YES[r['is_babbling']]} | {YES[r['paper']]} |")
+    return lines
+
+
 def criteria_section() -> str:
     ext = pl.read_parquet(EXTENSION) if EXTENSION.exists() else None
     lines = ["### (a) The committed populations at generation 50, in the paper's units", "",
@@ -238,12 +276,8 @@ def criteria_section() -> str:
              "`recordings/campaign/extension.parquet` (`python -m reports.campaign "
              "--extension`: the best robot of the best replication run again, A3). "
              + " ".join(f"{k}: {v}." for k, v in PAPER_UNITS.items()), "",
-             "| population | replications | reach (A1) | elbow / shoulder / trunk SD (A2) | "
-             "best robot's hand-shoulder from 2 s, m / CV (A3) | robots babbling without the "
-             "ball (A4) | still replications (A5) | A1 | A2 | A3 | A4 | paper's | replications "
-             "meeting the levers study's conjunction |",
+             f"| population | {JUDGEMENT_COLUMNS} |",
              "|---|---:|---:|---|---|---:|---|---|---|---|---|---|---:|"]
-    yes = {True: "yes", False: "no"}
     for name in POPULATIONS:
         table = population_table(name)
         extension = (float("nan"), float("nan"))
@@ -251,16 +285,7 @@ def criteria_section() -> str:
             row = ext.filter(pl.col("population") == name).row(0, named=True)
             extension = (row["hand_shoulder_m"], row["hand_shoulder_cv"])
         j = paper_units(table, extension)
-        per_rep = profiles(table)
-        lo, hi = j["still_interval"]
-        lines.append(
-            f"| {name} | {j['replications']} | {decimals(j['reach'], 2)} | "
-            f"{decimals(j['elbow_sd'])} / {decimals(j['shoulder_sd'])} / {decimals(j['trunk_sd'])} | "
-            f"{decimals(j['hand_shoulder_m'])} / {decimals(j['hand_shoulder_cv'])} | "
-            f"{j['babbling_robots']} of {j['robots']} | {j['still']} of {j['replications']} "
-            f"[{lo:.2f}, {hi:.2f}] | {yes[j['A1']]} | {yes[j['A2']]} | {yes[j['A3']]} | "
-            f"{yes[j['A4']]} | **{yes[j['paper']]}** | {int(per_rep['paper'].sum())} of "
-            f"{per_rep.height} |")
+        lines.append(judgement_row(name, j, profiles(table), YES[j["A4"]]))
     return "\n".join(lines) + "\n"
 
 
@@ -378,29 +403,31 @@ def campaign_section() -> str:
         lines += [f"No judged snapshot ({', '.join(map(str, CAMPAIGN_JUDGED))}) is "
                   f"post-evaluated yet.", ""]
         return "\n".join(lines)
-    yes = {True: "yes", False: "no"}
     sensitivity = a4_sensitivity()
-    lines += [f"A4 read as the Addendum says: met, failed (fewer than half the best robots "
-              f"babble in at least {0.5 * sensitivity:.3f} of their no-ball trials, the "
-              f"detector's no-ball sensitivity on this model's robots being at least "
-              f"{sensitivity:.3f}), or not decided by this measure.", "",
-              "| pre-reaching generation | reach (A1, calibrated) | A2 | A3 | robots babbling "
-              "without the ball (A4) | A4 | still | paper's |",
-              "|---:|---:|---|---|---:|---|---|---|"]
+    lines += [f"A1 is calibrated (section (b)), reported, not a test. A4 read as the Addendum "
+              f"says: met, failed (fewer than half the best robots babble in at least "
+              f"{0.5 * sensitivity:.3f} of their no-ball trials, the detector's no-ball "
+              f"sensitivity on this model's robots being at least {sensitivity:.3f}), or not "
+              f"decided by this measure. The per-replication profile of each judged "
+              f"generation follows the table.", "",
+              f"| pre-reaching generation | {JUDGEMENT_COLUMNS} |",
+              "|---:|---:|---:|---|---|---:|---|---|---|---|---|---|---:|"]
+    judgements, stop_line = [], []
     for g in judged:
         snap = table.filter((pl.col("phase") == "pre") & (pl.col("generation") == g)
                             & ~pl.col("baseline"))
         j = paper_units(snap, campaign_extension(g), babbling_sensitivity=sensitivity)
         a4 = "met" if j["A4"] else "failed" if j["A4_failed"] else "not decided"
-        lines.append(f"| {g} | {j['reach']:.2f} | {yes[j['A2']]} | {yes[j['A3']]} | "
-                     f"{j['babbling_robots']} of {j['robots']} | {a4} | {j['still']} of "
-                     f"{j['replications']} | {yes[j['paper']]} |")
+        per_rep = profiles(snap)
+        lines.append(judgement_row(str(g), j, per_rep, a4))
+        judgements += ["", f"Per replication at generation {g} (means over its best 5 "
+                       f"robots' trials; babbling per trial):", "", *profile_table(per_rep)]
         if g == STOP_AT:
             stop = not (j["A2"] or j["A3"]) and j["A4_failed"]
-            lines += ["", f"**Stop rule at {STOP_AT}:** A2, A3 and A4 "
-                      + ("all fail: the training stops here." if stop else
-                         "do not all fail: the training goes on."), ""]
-    return "\n".join(lines) + "\n"
+            stop_line = ["", f"**Stop rule at {STOP_AT}:** A2, A3 and A4 "
+                         + ("all fail: the training stops here." if stop else
+                            "do not all fail: the training goes on.")]
+    return "\n".join(lines + stop_line + judgements) + "\n"
 
 
 def page() -> str:
