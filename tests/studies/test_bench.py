@@ -83,6 +83,13 @@ def test_the_tuned_physics_simulates_what_the_reference_does():
     assert touched >= 3
 
 
+def test_the_loops_parts_are_timed_on_the_living_model():
+    parts = bench.loop_parts(calls=20, repeats=1)
+    assert set(parts) == {"control_step_us", "read_positions_us", "read_ball_us",
+                          "read_collisions_us", "substep_us"}
+    assert all(v > 0 for v in parts.values())
+
+
 def test_physics_speedup_is_a_ratio_of_pairs():
     r = bench.physics_speedup(trials=2)
     assert r["physics_speedup"] > 0 and len(r["physics_speedup_iqr"]) == 2
