@@ -22,6 +22,7 @@ from pathlib import Path
 import polars as pl
 
 from dart_reach.analysis import calibration as cal
+from dart_reach.analysis import calibration_core, coverage
 from dart_reach.analysis import paired_calibration as paired_cal
 from dart_reach.analysis import verdicts
 from dart_reach.analysis.calibration import NESTINGS, calibrate, robot_level
@@ -45,13 +46,14 @@ def held(table: pl.DataFrame) -> dict[str, float | int]:
     bound), ``highest_error`` and ``error_bound`` (the highest rate of a wrong decision under
     a null over the "at most" rows, and the bound of that row), ``lowest_coverage`` (the
     lowest coverage over the "at least" rows), ``reported_low``, ``reported_high`` (the
-    range of the coverages only reported: NaN without one), ``unbounded`` (the rules in use
+    range of theta's coverages only reported, ``coverage.RULE``'s: NaN without one; a paired
+    claim of no change's are ``coverage.paired_coverage``'s), ``unbounded`` (the rules in use
     whose error rate under some null is only reported, with that null) and
     ``unbounded_high`` (the highest of those rates: NaN without one). Rates in [0, 1]."""
     bounded = table.filter(pl.col("kind").is_in(["at most", "at least"]))
     errors = table.filter(pl.col("kind") == "at most").sort("value", descending=True)
     covers = table.filter(pl.col("kind") == "at least")
-    reported = table.filter((pl.col("kind") == "reported")
+    reported = table.filter((pl.col("kind") == "reported") & (pl.col("rule") == coverage.RULE)
                             & pl.col("measure").str.starts_with("coverage"))
     # a rule in use (one with bounded rows) whose error rate under some null is only reported
     unbounded = table.filter((pl.col("kind") == "reported")
@@ -195,13 +197,43 @@ def _interval_short(table: pl.DataFrame) -> str:
     return ", ".join(parts)
 
 
-def paired_interval() -> str:
+def paired_interval(table: pl.DataFrame) -> str:
     """The label of a paired claim of no change's interval (the centres its one-sided tests at
-    ``verdicts.PAIRED_EQUIVALENCE_LEVEL`` do not reject), saying what is and is not known of
-    its coverage."""
-    return (f"{100 * (1 - 2 * verdicts.PAIRED_EQUIVALENCE_LEVEL):g} % (exact where the changes "
-            "are symmetric about their centre; its coverage under skewed changes is not "
-            "measured)")
+    ``verdicts.PAIRED_EQUIVALENCE_LEVEL`` do not reject): its nominal level and the coverage
+    the calibration ``table`` measured per number of pairs and shape of the changes
+    (``coverage.paired_label``)."""
+    return coverage.paired_label(table)
+
+
+def _paired_coverage(table: pl.DataFrame) -> dict[str, str]:
+    """The page's sentences on a paired claim of no change's interval, from ``table``:
+    ``paired_coverage`` (its coverage per number of pairs and shape, the lowest and where),
+    ``paired_coverage_se`` (the Monte-Carlo standard error of a coverage at the nominal level
+    over ``DATASETS`` data sets, and 2.33 of it), ``straddling_clipped`` (the true mean of the
+    clipped relative changes straddling 0 at the widest ``STRADDLING``) and
+    ``paired_coverage_short`` (the lowest measured, for the closing lines)."""
+    measured = coverage.paired_coverage(table)
+    nominal = coverage.PAIRED_NOMINAL
+    se = math.sqrt(nominal * (1 - nominal) / calibration_core.DATASETS)
+    if not measured.height:
+        return {"paired_coverage": "not measured", "paired_coverage_se": "",
+                "paired_coverage_short": "not measured", "straddling_clipped": ""}
+    lowest = measured.sort("low").row(0, named=True)
+    scale = max(paired_cal.STRADDLING)
+    clipped = paired_cal.straddling_mean(scale, verdicts.PAIRED_MARGIN, paired_cal.RELATIVE_CLIP)
+    parts = "; ".join(
+        f"{span([r['low'], r['high']], 3)} at {r['pairs']} pairs "
+        f"{coverage.SHAPE_WORDS[r['shape']]} ({r['rows']} rows)"
+        for r in measured.iter_rows(named=True))
+    return {"paired_coverage": f"{parts}; the lowest, {lowest['low']:.3f}, under "
+                               f"\"{lowest['lowest_at']}\"",
+            "paired_coverage_se": (f"{se:.4f} at {calibration_core.DATASETS:,} data sets at "
+                                   f"{nominal:g} ({calibration_core.Z_MC:g} s.e. = "
+                                   f"{calibration_core.Z_MC * se:.3f})"),
+            "straddling_clipped": (f"{clipped:.3f} at {scale:g} margins against "
+                                   f"{verdicts.PAIRED_MARGIN:g}"),
+            "paired_coverage_short": (f"{lowest['low']:.3f} at the lowest "
+                                      f"(\"{lowest['lowest_at']}\", {lowest['pairs']} pairs)")}
 
 
 def robot_level_markdown(table: pl.DataFrame) -> str:
@@ -252,7 +284,7 @@ def values(recordings: Path | None = None) -> dict[str, str]:
             "not_better_power_10": span(cells(table, "not better", "no difference",
                                               "reproduced", 10)),
             "robot_level": robot_level_markdown(pl.read_parquet(ROBOT_LEVEL)),
-            **_paired_values(table)}
+            **_paired_values(table), **_paired_coverage(table)}
 
 
 def merged(table: pl.DataFrame, blocks: dict[str, pl.DataFrame]) -> pl.DataFrame:

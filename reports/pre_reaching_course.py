@@ -367,7 +367,7 @@ def values(recordings: Path) -> dict[str, str]:
     ends = sc.scale_ends(development, JUDGED)
     out["rate_margin"] = f"{verdicts.RATE_MARGIN:g}"
     out["equivalence_level"] = f"{verdicts.PAIRED_EQUIVALENCE_LEVEL:g}"
-    out["paired_interval"] = calibration.paired_interval()
+    out["paired_interval"] = calibration.paired_interval(calibration.committed())
     out["theta_margin"] = f"{verdicts.EQUIVALENCE_MARGIN:g}"
     out["scale_ends"] = ("none." if not ends.height else "\n\n" + markdown_table(ends.rename(
         {"senses": "condition", "reference": "value", "versus": "against",

@@ -251,7 +251,7 @@ def calibration_values(table: pl.DataFrame) -> dict[str, str]:
         text += (f"; where a rule's error rate is only reported ({held['unbounded']}), it "
                  f"decides wrongly up to {held['unbounded_high']:.2f} of the time")
     return {"calibration": text, "theta_coverage": coverage.label(table, 10, 10),
-            "paired_interval": calibration_table.paired_interval(),
+            "paired_interval": calibration_table.paired_interval(table),
             "smallest_p_4": formatting.significant(verdicts.smallest_directional_p(4, 4)),
             "smallest_p_10": formatting.significant(verdicts.smallest_directional_p(10, 10))}
 

@@ -10,11 +10,18 @@ theta = 0.75 and 10 replications a group. A page may call the interval 95 % only
 what was measured; everywhere else it says the coverage measured for the nearest size the
 calibration simulated, or that none was. The numbers come from the committed calibration table
 (``reports.calibration.TABLE``), never from here.
+
+A paired claim of no change's interval (``paired_label``) is labelled the same way: nominally
+99 %, exact for changes symmetric about their centre, with the coverage the calibration
+measured per number of pairs and shape of the changes (``paired_calibration.coverage_row``).
 """
 
 from __future__ import annotations
 
 import polars as pl
+
+from . import paired_calibration
+from .verdict_core import PAIRED_EQUIVALENCE_LEVEL
 
 #: The calibration table's rows of theta's interval: the directional rule's coverage rows,
 #: those held to the level and those only reported.
@@ -54,3 +61,72 @@ def label(table: pl.DataFrame, n_a: int, n_b: int) -> str:
         return "95 %"
     size = "" if same else f"; not simulated at {n_b} vs {n_a}, measured at {r} vs {r}"
     return f"nominally 95 %, covering {low:.2f}-{high:.2f} in simulation{size}"
+
+
+# ------------------------------------------------------------- a paired claim of no change
+#: The calibration table's rows of a paired claim of no change's interval (the mean change's,
+#: the centres the sign-flip test's one-sided tests at ``PAIRED_EQUIVALENCE_LEVEL`` do not
+#: reject; ``paired_calibration.coverage_row``): only reported, the interval being exact for
+#: changes symmetric about their centre alone.
+PAIRED_RULES = ("paired no change", "paired rate no change")
+PAIRED_MEASURE = paired_calibration.COVERAGE
+#: The level the paired interval is built for.
+PAIRED_NOMINAL = 1 - 2 * PAIRED_EQUIVALENCE_LEVEL
+
+
+def paired_shape(scenario: str) -> str:
+    """"symmetric" or "asymmetric": whether the changes of a paired calibration row's
+    ``scenario`` are symmetric about their mean (``paired_calibration.symmetric_changes``:
+    normal, two-mode, rates at no change) or not (skewed, zero-inflated, straddling 0, rates
+    in fifths or with replications still at a change)."""
+    return "symmetric" if paired_calibration.symmetric_changes(scenario) else "asymmetric"
+
+
+def paired_coverage(table: pl.DataFrame) -> pl.DataFrame:
+    """Per number of pairs (``pairs``) and shape of the changes (``shape``: "symmetric" or
+    "asymmetric", ``paired_shape``): the lowest and highest coverage of a paired claim of no
+    change's interval over the scenarios and nestings of the calibration (``low``, ``high``:
+    shares of the data sets with an interval whose interval held the true mean change), how
+    many rows (``rows``) and the scenario of the lowest (``lowest_at``). Empty when the table
+    has none (below 6 pairs the rule shows no interval)."""
+    rows = table.filter(pl.col("rule").is_in(PAIRED_RULES)
+                        & (pl.col("measure") == PAIRED_MEASURE))
+    rows = rows.with_columns(
+        pl.col("scenario").str.extract(r", (\d+) pairs$").cast(pl.Int64)
+        .fill_null(pl.col("replications")).alias("pairs"),
+        pl.col("scenario").map_elements(paired_shape, return_dtype=pl.String).alias("shape"))
+    return (rows.sort("value").group_by("pairs", "shape", maintain_order=True)
+            .agg(pl.col("value").min().alias("low"), pl.col("value").max().alias("high"),
+                 pl.len().alias("rows"), pl.col("scenario").first().alias("lowest_at"))
+            .sort("pairs", "shape", descending=[False, True]))
+
+
+#: How a label names each shape of the changes (``paired_shape``).
+SHAPE_WORDS = {"symmetric": "where the changes are symmetric about their centre",
+               "asymmetric": "where they are not (skewed, zero-inflated, straddling 0, or rates "
+                             "at a change with replications still)"}
+
+
+def paired_label(table: pl.DataFrame) -> str:
+    """What to call a paired claim of no change's interval on a page: its nominal level and
+    the coverage measured per number of pairs and shape of the changes ("nominally 99 %,
+    covering in simulation at N pairs LOW-HIGH where the changes are symmetric about their
+    centre and LOW-HIGH where they are not (...)"; the rule shows no interval below 6 pairs),
+    read from ``table``; "its coverage not measured" when the table has no row of it."""
+    nominal = f"{100 * PAIRED_NOMINAL:g} %"
+    measured = paired_coverage(table)
+    if not measured.height:
+        return (f"nominally {nominal} (exact where the changes are symmetric about their "
+                "centre); its coverage not measured")
+    parts = []
+    for (pairs,), block in measured.group_by("pairs", maintain_order=True):
+        parts.append(f"at {pairs} pairs " + " and ".join(
+            f"{_span(r['low'], r['high'])} {SHAPE_WORDS[r['shape']]}"
+            for r in block.iter_rows(named=True)))
+    return (f"nominally {nominal}, covering in simulation {'; '.join(parts)}; none below 6 "
+            "pairs")
+
+
+def _span(low: float, high: float) -> str:
+    a, b = f"{low:.3f}", f"{high:.3f}"
+    return a if a == b else f"{a}-{b}"

@@ -4,14 +4,17 @@ and "senses differ" across the four sensory conditions of Fig. 9) by simulation 
 like the runs' (``calibration_core``), under nulls shaped like their data: rates in fifths,
 still replications, two-mode, zero-inflated and skewed changes (``RATE_SHAPES``). Beside each
 rule, reported: the rule before it (paired t TOST) and the rule without its gate for lopsided
-changes (``verdicts.lopsided``), on the same data sets. ``calibration`` runs these blocks
-among the others (``calibration.RULES``)."""
+changes (``verdicts.lopsided``), on the same data sets; and, reported, the coverage of the
+rules' interval of the mean change (``coverage_row``: exact only for changes symmetric about
+their centre) under every shape they are drawn in. ``calibration`` runs these blocks among the
+others (``calibration.RULES``)."""
 
 from __future__ import annotations
 
 import math
 
 import numpy as np
+from scipy import stats as sps
 
 from . import verdicts as v
 from .calibration_core import OUTLIER, Nesting, rate, repeat, robots, row
@@ -50,7 +53,7 @@ def paired(nest, rng, n):
         c = r.normal(change_by * v.PAIRED_MARGIN, spread * v.PAIRED_MARGIN, k)
         if modes:
             c += r.choice((-modes, modes), k) * v.PAIRED_MARGIN
-        c = np.clip(c, -1.9, 1.9)
+        c = np.clip(c, -RELATIVE_CLIP, RELATIVE_CLIP)
         return ref, ref * (2 + c) / (2 - c)  # (new - ref) / mean(new, ref) = c
     judge = lambda ref, new: v.paired_equivalent(ref, new, relative=True)  # noqa: E731
     for k in pair_sizes(nest):
@@ -69,6 +72,9 @@ def paired(nest, rng, n):
                 rows.append(row(PAIRED_BEFORE, nest, scenario + shape + at, error, rate(
                     [t_tost(v.relative_changes(a, b), v.PAIRED_MARGIN) == error
                      for a, b in data]), math.nan, "reported"))
+                rows += coverage_row("paired no change", nest, scenario + shape + at, out,
+                                     relative_mean(change_by, PAIRED_SD if not modes else 0.1,
+                                                   modes))
                 if change_by == 0.0 and not modes:
                     rows += _beside_rows("paired no change", PAIRED_UNGATED, PAIRED_AT_ALPHA,
                                          nest, scenario + at, out,
@@ -83,19 +89,25 @@ def paired(nest, rng, n):
         c = r.normal(CONSISTENT[0] * v.PAIRED_MARGIN, CONSISTENT[1] * v.PAIRED_MARGIN, k)
         return ref, ref * (2 + c) / (2 - c)
     data = repeat(rng, n, consistent)
+    out = [judge(a, b) for a, b in data]
     rows += _beside_rows("paired no change", PAIRED_UNGATED, PAIRED_AT_ALPHA, nest, scenario,
-                         [judge(a, b) for a, b in data],
-                         [v.relative_changes(a, b) for a, b in data])
+                         out, [v.relative_changes(a, b) for a, b in data])
+    rows += coverage_row("paired no change", nest, scenario, out,
+                         relative_mean(CONSISTENT[0], CONSISTENT[1], clip=math.inf))
     if k >= 6:  # below, the rule never decides (its rows above)
         for scale in STRADDLING:
             def skewed(r, scale=scale):
                 ref = robots(r, nest).mean(axis=1) + 10.0
-                c = np.clip(straddling_changes(r, k, scale, v.PAIRED_MARGIN), -1.9, 1.9)
+                c = np.clip(straddling_changes(r, k, scale, v.PAIRED_MARGIN), -RELATIVE_CLIP,
+                            RELATIVE_CLIP)
                 return ref, ref * (2 + c) / (2 - c)
             data = repeat(rng, n, skewed)
+            out = [judge(a, b) for a, b in data]
             rows += _beside_rows("paired no change", PAIRED_UNGATED, PAIRED_AT_ALPHA, nest,
-                                 straddling_scenario(scale), [judge(a, b) for a, b in data],
+                                 straddling_scenario(scale), out,
                                  [v.relative_changes(a, b) for a, b in data], error=True)
+            rows += coverage_row("paired no change", nest, straddling_scenario(scale), out,
+                                 straddling_mean(scale, v.PAIRED_MARGIN, RELATIVE_CLIP))
     return rows
 
 
@@ -115,9 +127,112 @@ def _beside_rows(rule: str, ungated_rule: str, at_alpha_rule: str, nest, scenari
                 "reported")]
 
 
+#: The measure of the coverage rows of the paired rules' interval (``coverage_row``).
+COVERAGE = (f"coverage of the {100 * (1 - 2 * v.PAIRED_EQUIVALENCE_LEVEL):g} % interval "
+            "(reported)")
+
+
+def covered(out, mean: float) -> list[bool]:
+    """Whether each outcome's interval of the mean change holds ``mean``, over the outcomes
+    that show one (none below 6 pairs, where the rule is underpowered whatever the data, nor
+    where the changes have no spread: the verdict is then given without an interval)."""
+    return [o.low <= mean <= o.high for o in out if o.low == o.low and o.high == o.high]
+
+
+def coverage_row(rule: str, nest, scenario: str, out, mean: float) -> list[dict]:
+    """The share of the data sets of a paired rule of no change (``out``, its outcomes) whose
+    interval of the mean change (the centres its one-sided tests at
+    ``verdicts.PAIRED_EQUIVALENCE_LEVEL`` do not reject, nominally 1 - 2 x that level) holds
+    the true mean change of the generating distribution ``mean``, over those with an interval
+    (``covered``): a "reported" row, not bounded (the interval is exact only for changes
+    symmetric about their centre); none where no data set has an interval."""
+    hits = covered(out, mean)
+    return [row(rule, nest, scenario, COVERAGE, rate(hits), math.nan, "reported")] if hits \
+        else []
+
+
+def symmetric_changes(scenario: str) -> bool:
+    """Whether the changes a paired row's ``scenario`` draws are symmetric about their mean
+    (where the sign-flip test, and so its interval, is exact): normal and two-mode changes,
+    and rates in fifths or with replications still at no change (each replication's two rates
+    alike in law); not skewed (exponential) or zero-inflated changes, skewed changes
+    straddling 0, nor rates in fifths or with replications still at a change (a binomial
+    change, or a share at 0 beside changes about twice the mean)."""
+    if "straddling" in scenario:
+        return False
+    shape = next((s for s in RATE_SHAPES if scenario.startswith(s)), None)
+    if shape is None or shape == "two-mode changes":
+        return True
+    return RATE_SHAPES[shape] and ", no change" in scenario
+
+
+def clipped_normal_mean(mu: float, sd: float, low: float, high: float) -> float:
+    """E[clip(X, low, high)] for X ~ N(mu, sd), exactly."""
+    if sd == 0:
+        return float(np.clip(mu, low, high))
+    a, b = (low - mu) / sd, (high - mu) / sd
+    inside = sps.norm.cdf(b) - sps.norm.cdf(a)
+    return float((low * sps.norm.cdf(a) if math.isfinite(low) else 0.0)
+                 + (high * sps.norm.sf(b) if math.isfinite(high) else 0.0)
+                 + mu * inside + sd * (sps.norm.pdf(a) - sps.norm.pdf(b)))
+
+
+def relative_mean(change_by: float, spread: float, modes: float = 0.0,
+                  clip: float | None = None) -> float:
+    """The true mean of the relative changes ``paired`` draws: N(change_by, spread) margins,
+    or with ``modes`` an equal mixture at change_by +- modes, clipped at +-``clip`` (default
+    ``RELATIVE_CLIP``), exactly (``clipped_normal_mean``). Each replication's relative change
+    is its drawn change exactly (its reference is positive: 10 plus a replication mean of s.d.
+    at most 1.7, below 0 with a chance under 1e-8)."""
+    clip = RELATIVE_CLIP if clip is None else clip
+    m = v.PAIRED_MARGIN
+    centres = (change_by - modes, change_by + modes) if modes else (change_by,)
+    return float(np.mean([clipped_normal_mean(c * m, spread * m, -clip, clip)
+                          for c in centres]))
+
+
+def straddling_mean(scale: float, margin: float, clip: float = math.inf) -> float:
+    """The true mean of ``straddling_changes`` (the margin plus an exponential of ``scale``
+    margins less its mean), clipped at +-``clip``, exactly: with X = margin x (1 + scale x
+    (E - 1)), E[min(X, clip)] = margin x (1 - scale) + margin x scale x (1 - exp(-t)), t the
+    E at which X reaches ``clip`` (X never reaches -``clip`` here: checked)."""
+    floor = margin * (1 - scale)
+    if floor < -clip:
+        raise ValueError("the changes reach the lower clip; not computed")
+    t = (clip - floor) / (margin * scale)
+    return float(floor + margin * scale * -math.expm1(-t))
+
+
+def _clipped_uniform_mean(low: float, high: float, shift: float) -> float:
+    """E[clip(U + shift, 0, 1)] for U ~ Uniform(low, high), exactly."""
+    a, b = low + shift, high + shift
+    part = lambda lo, hi: max(0.0, min(hi, 1.0) - max(lo, 0.0)) * (  # noqa: E731
+        min(hi, 1.0) + max(lo, 0.0)) / 2
+    return float((part(a, b) + max(0.0, b - max(a, 1.0))) / (b - a))
+
+
+def rate_mean(shape: str, change: float) -> float:
+    """The true mean change of ``rate_pairs``' replications in ``shape`` at mean change
+    ``change``, exactly: the chances' means after clipping to [0, 1] (``_fifths``; a binomial
+    share's mean is its chance) for fifths and still replications; ``change`` itself for the
+    others (two modes about it, 30 % moved by change / 0.3, an exponential less its mean)."""
+    if shape == "rates in fifths":
+        return _clipped_uniform_mean(0.2, 0.8, change) - _clipped_uniform_mean(0.2, 0.8, 0.0)
+    if shape.endswith("of replications still"):
+        share = int(shape.split(" ")[0]) / 100
+        return (1 - share) * (_clipped_uniform_mean(0.2, 0.7, change / (1 - share))
+                              - _clipped_uniform_mean(0.2, 0.7, 0.0))
+    if shape in RATE_SHAPES:
+        return float(change)
+    raise ValueError(f"unknown shape {shape!r}; known: {tuple(RATE_SHAPES)}")
+
+
 #: s.d. of the relative changes of "paired no change" (in margins): wide enough that the
 #: rule, shown no equivalence, can be wrong the other way (a row that can fail).
 PAIRED_SD = 1.0
+#: The relative changes ``paired`` draws are clipped to +-this (a relative change is within
+#: +-2).
+RELATIVE_CLIP = 1.9
 #: Two-mode changes: each replication changes by the null's change +- this many margins.
 TWO_MODES = 1.5
 #: A small consistent relative change, in margins: its mean and s.d. (most replications move
@@ -258,6 +373,7 @@ def paired_rates(nest, rng, n):
                 rows.append(row(RATE_BEFORE, nest, scenario, error, rate(
                     [t_tost(b - a, v.RATE_MARGIN) == error for a, b in data]), math.nan,
                     "reported"))
+                rows += coverage_row(rule, nest, scenario, out, rate_mean(shape, change))
                 if change == 0.0 and RATE_SHAPES[shape]:
                     rows += _beside_rows(rule, RATE_UNGATED, RATE_AT_ALPHA, nest, scenario,
                                          out, [b - a for a, b in data])
@@ -265,10 +381,12 @@ def paired_rates(nest, rng, n):
     if k >= 6:  # below, the rule never decides (its rows above)
         for scale in STRADDLING:
             data = repeat(rng, n, lambda r, s=scale: straddling_rates(r, k, s))
+            out = [v.paired_rate_equivalent(a, b) for a, b in data]
             rows += _beside_rows(rule, RATE_UNGATED, RATE_AT_ALPHA, nest,
-                                 straddling_scenario(scale),
-                                 [v.paired_rate_equivalent(a, b) for a, b in data],
-                                 [b - a for a, b in data], error=True)
+                                 straddling_scenario(scale), out, [b - a for a, b in data],
+                                 error=True)
+            rows += coverage_row(rule, nest, straddling_scenario(scale), out,
+                                 straddling_mean(scale, v.RATE_MARGIN))
     return rows
 
 
