@@ -9,6 +9,7 @@ the living model's servo (``servo.Servo``); the world is read through its public
 from __future__ import annotations
 
 import numpy as np
+from numba import typeof
 
 from .compiled import (PAY_CODES, CompiledNetwork, act_step, control_step, record_row,
                        sense_step, step_state, targets_of_motor)
@@ -17,6 +18,19 @@ from .icub import PALM_POINT
 from .servo import Servo
 from .steps import home_motor
 from .world import BALL_PARKED, PALM_NORMAL, World
+
+
+def entry_point(function, *args):
+    """``function``, a compiled step function (``model.compiled``), as its compiled entry
+    point for the types of ``args`` (compiled or loaded from the cache if need be): the same
+    machine code, called without the dispatcher typing every argument on every call (about
+    3 µs of the control step's 10: ``studies.scaling.loop_parts``). The caller passes
+    arguments of those types only (DART's readings are fresh float64 arrays). ``function``
+    itself when it is not compiled (``NUMBA_DISABLE_JIT=1``, for debugging)."""
+    compile_for = getattr(function, "compile", None)
+    if compile_for is None:
+        return function
+    return compile_for(tuple(typeof(a) for a in args))
 
 
 class CompiledSteps:
@@ -86,8 +100,9 @@ class CompiledSteps:
     def fitness(self, network: Network, p: np.ndarray) -> float | None:
         """``Trial.fitness``'s loop after the reset, to the last bit: per control step
         ``sense``, ``act`` and ``command`` in one compiled call (``control_step``, the same
-        step functions), p_multimodal into ``p`` (one per step), then ``advance``'s substeps;
-        None for another controller, which the trial steps by its own loop."""
+        step functions, called through its ``entry_point``), p_multimodal
+        into ``p`` (one per step), then ``advance``'s substeps; None for another controller,
+        which the trial steps by its own loop."""
         if type(network) is not CompiledNetwork:
             return None
         w = self.world
@@ -96,8 +111,11 @@ class CompiledSteps:
         servo = self.servo
         set_commands, substeps, forces = robot.setCommands, servo.substeps, servo.forces
         state, network_state = self.state, network.state
+        n_dofs = self.layout.n_dofs
+        step = entry_point(control_step, 0, np.zeros(n_dofs), np.zeros(3), np.zeros(n_dofs),
+                           state, network_state, p)
         for t in range(self.config.steps):
-            if not control_step(t, positions(), centre(), gravity(), state, network_state, p):
+            if not step(t, positions(), centre(), gravity(), state, network_state, p):
                 return 0.0
             set_commands(forces)
             substeps()

@@ -10,7 +10,6 @@ tests. A real-time factor (RTF) is simulated seconds per wall-clock second on on
 from __future__ import annotations
 
 import importlib.util
-import math
 import os
 import platform
 import resource
@@ -467,46 +466,6 @@ def recording_overhead(robots: int = 2, seed: int = 0, model_version: int = 1) -
     minutes = steps * settings.world.control_dt / 60
     return {**ratio("recording_overhead", ratios),
             "rrd_mb_per_sim_min": size / 1e6 / minutes}
-
-
-def loop_parts(model_version: int = CURRENT_MODEL_VERSION, calls: int = 20_000,
-               repeats: int = 5) -> dict:
-    """What the genetic algorithm's trial does per control step besides the physics, part by
-    part (µs a call, CPU time, the fastest of ``repeats`` runs of ``calls`` calls), for the
-    first shipped evolved robot at its home posture in ``model_version``'s world: the compiled
-    control step (``compiled.control_step``), the joint positions and the ball's centre read
-    from DART, the collision result read after a substep (5 a control step), and a physics
-    substep without contact for scale. Only the compiled numerics (versions 2 and up) have
-    that step."""
-    from ..model.compiled import control_step
-
-    world = World(version_record(model_version).world())
-    cfg = standard_trial("pre", numerics=numerics_of(model_version))
-    runner = Trial(world, cfg)
-    network = network_for(decode(panel_genomes("evolved", 1)[0], {ParamGroup.DIRECT}), cfg)
-    steps = runner.steps
-    steps.reset(world.sector_point(0, 0.5, 0.5))
-    network.reset(motor=steps.home_motor)
-    robot, ball, physics = world.robot, world.ball_body, world.world
-    positions, centre, gravity = robot.getPositions(), ball.getCOM(), robot.getGravityForces()
-    p = np.zeros(cfg.steps)
-
-    def timed(fn) -> float:
-        best = math.inf
-        for _ in range(repeats):
-            t0 = time.process_time()
-            for _ in range(calls):
-                fn()
-            best = min(best, (time.process_time() - t0) / calls * 1e6)
-        return best
-
-    return {"control_step_us": timed(lambda: control_step(0, positions, centre, gravity,
-                                                          steps.state, network.state, p)),
-            "read_positions_us": timed(robot.getPositions),
-            "read_ball_us": timed(ball.getCOM),
-            "read_collisions_us": timed(lambda: physics.getLastCollisionResult()
-                                        .getNumContacts()),
-            "substep_us": timed(lambda: physics.step(False))}
 
 
 def recording_parts(trials: int = 6, rounds: int = 9, seed: int = 0,

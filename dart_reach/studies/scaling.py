@@ -1,11 +1,13 @@
 """What a campaign costs where it runs: a generation of a late, contact-heavy population timed
-as a run counts it, and a generation on a Ray cluster measured on local nodes and projected to
+as a run counts it, the genetic algorithm's control step besides the physics part by part
+(``loop_parts``), and a generation on a Ray cluster measured on local nodes and projected to
 a cluster's size (``dart-reach bench``; docs/guides/cluster.md, "Blocks"; the figures measured
 here: docs/results/benchmarks.md, "Scaling").
 """
 
 from __future__ import annotations
 
+import math
 import time
 from typing import Sequence
 
@@ -16,9 +18,15 @@ from .. import robots
 from ..evolution.backends import (Job, LocalRayCluster, MapCost, PoolBackend, RayBackend,
                                   ray_block)
 from ..evolution.conditions import load_condition
-from ..evolution.genome import as_groups
-from ..evolution.settings import Settings, trial_config
-from ..model.versions import CURRENT_MODEL_VERSION
+from ..evolution.genome import ParamGroup, as_groups, decode
+from ..evolution.settings import Settings, standard_trial, trial_config
+from ..model.compiled import control_step
+from ..model.compiled_trial import entry_point
+from ..model.task import Trial, network_for
+from ..model.versions import CURRENT_MODEL_VERSION, numerics_of
+from ..model.versions import model_version as model_version_record
+from ..model.world import World
+from . import bench
 from .bench import ratio
 
 
@@ -144,3 +152,44 @@ def scaling_projection(measured: pl.DataFrame, cpus: Sequence[int] = (16, 64, 25
             rows.append({"how": how, **project_generation(d, c, n, block, trials),
                          "driver_ms_per_task": d * 1e3, "trial_cpu_s": c})
     return pl.DataFrame(rows)
+
+
+def loop_parts(model_version: int = CURRENT_MODEL_VERSION, calls: int = 20_000,
+               repeats: int = 5) -> dict:
+    """What the genetic algorithm's trial does per control step besides the physics, part by
+    part (µs a call, CPU time, the fastest of ``repeats`` runs of ``calls`` calls), for the
+    first shipped evolved robot at its home posture in ``model_version``'s world: the compiled
+    control step (``compiled.control_step``) through its entry point, as the trial calls it
+    (``compiled_trial.entry_point``), and through Numba's dispatcher; the joint positions and
+    the ball's centre read from DART; the collision result read after a substep (5 a control
+    step); a physics substep without contact, for scale. Only the compiled numerics (versions
+    2 and up) have that step."""
+    world = World(model_version_record(model_version).world())
+    cfg = standard_trial("pre", numerics=numerics_of(model_version))
+    runner = Trial(world, cfg)
+    network = network_for(decode(bench.panel_genomes("evolved", 1)[0], {ParamGroup.DIRECT}), cfg)
+    steps = runner.steps
+    steps.reset(world.sector_point(0, 0.5, 0.5))
+    network.reset(motor=steps.home_motor)
+    robot, ball, physics = world.robot, world.ball_body, world.world
+    positions, centre, gravity = robot.getPositions(), ball.getCOM(), robot.getGravityForces()
+    p = np.zeros(cfg.steps)
+
+    def timed(fn) -> float:
+        best = math.inf
+        for _ in range(repeats):
+            t0 = time.process_time()
+            for _ in range(calls):
+                fn()
+            best = min(best, (time.process_time() - t0) / calls * 1e6)
+        return best
+
+    args = (0, positions, centre, gravity, steps.state, network.state, p)
+    step = entry_point(control_step, *args)
+    return {"control_step_us": timed(lambda: step(*args)),
+            "control_step_dispatched_us": timed(lambda: control_step(*args)),
+            "read_positions_us": timed(robot.getPositions),
+            "read_ball_us": timed(ball.getCOM),
+            "read_collisions_us": timed(lambda: physics.getLastCollisionResult()
+                                        .getNumContacts()),
+            "substep_us": timed(lambda: physics.step(False))}

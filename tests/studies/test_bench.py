@@ -84,9 +84,9 @@ def test_the_tuned_physics_simulates_what_the_reference_does():
 
 
 def test_the_loops_parts_are_timed_on_the_living_model():
-    parts = bench.loop_parts(calls=20, repeats=1)
-    assert set(parts) == {"control_step_us", "read_positions_us", "read_ball_us",
-                          "read_collisions_us", "substep_us"}
+    parts = scaling.loop_parts(calls=20, repeats=1)
+    assert set(parts) == {"control_step_us", "control_step_dispatched_us", "read_positions_us",
+                          "read_ball_us", "read_collisions_us", "substep_us"}
     assert all(v > 0 for v in parts.values())
 
 
