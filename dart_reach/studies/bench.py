@@ -31,7 +31,7 @@ from ..evolution.rundir import RunDirectory
 from ..evolution.settings import Settings, standard_trial, trial_config
 from ..measures.metrics import trial_metrics
 from ..model.versions import CURRENT_MODEL_VERSION, numerics_of
-from ..model.versions import model_version as version_record
+from ..model.versions import model_version as version_record  # a parameter is model_version
 from ..model.scripted import ScriptedReach
 from ..model.servo import Servo
 from ..model.task import Trial, network_for

@@ -24,7 +24,7 @@ from ..model.compiled import control_step
 from ..model.compiled_trial import entry_point
 from ..model.task import Trial, network_for
 from ..model.versions import CURRENT_MODEL_VERSION, numerics_of
-from ..model.versions import model_version as model_version_record
+from ..model.versions import model_version as version_record  # a parameter is model_version
 from ..model.world import World
 from . import bench
 from .bench import ratio
@@ -164,7 +164,7 @@ def loop_parts(model_version: int = CURRENT_MODEL_VERSION, calls: int = 20_000,
     the ball's centre read from DART; the collision result read after a substep (5 a control
     step); a physics substep without contact, for scale. Only the compiled numerics (versions
     2 and up) have that step."""
-    world = World(model_version_record(model_version).world())
+    world = World(version_record(model_version).world())
     cfg = standard_trial("pre", numerics=numerics_of(model_version))
     runner = Trial(world, cfg)
     network = network_for(decode(bench.panel_genomes("evolved", 1)[0], {ParamGroup.DIRECT}), cfg)
