@@ -395,14 +395,14 @@ def campaign_section() -> str:
               f"({q1 * total / 3600:,.0f}-{q3 * total / 3600:,.0f}), "
               f"{med * total / 3600 / 2:,.0f} h on 2 cores.", ""]
     table = load_development(CAMPAIGN, senses=None)
-    judged = []
-    if table is not None:
-        have = set(table.filter(pl.col("phase") == "pre")["generation"].unique().to_list())
-        judged = [g for g in CAMPAIGN_JUDGED if g in have]
+    have = set() if table is None else set(
+        table.filter(pl.col("phase") == "pre")["generation"].unique().to_list())
+    judged = [g for g in CAMPAIGN_JUDGED if g in have]
+    between = described_snapshots(table, sorted(have - set(judged)))
     if not judged:
         lines += [f"No judged snapshot ({', '.join(map(str, CAMPAIGN_JUDGED))}) is "
                   f"post-evaluated yet.", ""]
-        return "\n".join(lines)
+        return "\n".join(lines + between)
     sensitivity = a4_sensitivity()
     lines += [f"A1 is calibrated (section (b)), reported, not a test. A4 read as the Addendum "
               f"says: met, failed (fewer than half the best robots babble in at least "
@@ -427,7 +427,34 @@ def campaign_section() -> str:
             stop_line = ["", f"**Stop rule at {STOP_AT}:** A2, A3 and A4 "
                          + ("all fail: the training stops here." if stop else
                             "do not all fail: the training goes on.")]
-    return "\n".join(lines + stop_line + judgements) + "\n"
+    tail = [""] + between if between else []
+    return "\n".join(lines + stop_line + judgements + tail) + "\n"
+
+
+def described_snapshots(table: pl.DataFrame | None, generations: list[int]) -> list[str]:
+    """The snapshots post-evaluated between the judged generations, described in the
+    criteria's measures and not judged (the pre-registration judges ``CAMPAIGN_JUDGED``
+    only; A3's best robot is not run again for them): a table, or nothing when there is
+    none."""
+    if not generations:
+        return []
+    lines = ["Snapshots post-evaluated between the judged generations, **described, not "
+             "judged** (the pre-registration judges generations "
+             f"{', '.join(map(str, CAMPAIGN_JUDGED))} only; A3's best robot is not run again "
+             "for them):", "",
+             "| pre-reaching generation | replications | reach (A1) | elbow / shoulder / "
+             "trunk SD (A2) | robots babbling without the ball (A4) | still replications "
+             "(A5) |", "|---:|---:|---:|---|---|---|"]
+    for g in generations:
+        snap = table.filter((pl.col("phase") == "pre") & (pl.col("generation") == g)
+                            & ~pl.col("baseline"))
+        j = paper_units(snap, (float("nan"), float("nan")))
+        lo, hi = j["still_interval"]
+        lines.append(f"| {g} | {j['replications']} | {decimals(j['reach'], 2)} | "
+                     f"{decimals(j['elbow_sd'])} / {decimals(j['shoulder_sd'])} / "
+                     f"{decimals(j['trunk_sd'])} | {j['babbling_robots']} of {j['robots']} | "
+                     f"{j['still']} of {j['replications']} [{lo:.2f}, {hi:.2f}] |")
+    return lines + [""]
 
 
 def page() -> str:

@@ -8,6 +8,7 @@ import polars as pl
 import pytest
 
 from dart_reach.model.scenes import load_scene
+from dart_reach.postevaluation.snapshots import load_development
 from reports import campaign
 
 
@@ -73,3 +74,16 @@ def test_version_3_runs_on_the_scene_the_committed_screen_chose():
     chosen = [s for r, w, s in campaign.grid() if (r, w) == (pick["radius"], pick["widening"])]
     assert model_version(3).scene == "calibrated-reach"
     assert load_scene("calibrated-reach").sectors == chosen[0] == model_version(3).sectors()
+
+
+def test_a_snapshot_between_judgements_is_described_from_its_trials_not_judged():
+    table = load_development(campaign.CAMPAIGN, senses=None)
+    g50 = table.filter((pl.col("phase") == "pre") & (pl.col("generation") == 50))
+    lines = campaign.described_snapshots(g50.with_columns(pl.lit(60).alias("generation")),
+                                         [60])
+    assert "described, not judged" in lines[0]
+    row = [c.strip() for c in lines[-2].strip("|").split("|")]
+    normal = g50.filter((pl.col("senses") == "normal") & ~pl.col("baseline"))
+    assert row[0] == "60" and row[1] == str(normal["replication"].n_unique())
+    assert float(row[2]) == pytest.approx(normal["reached"].cast(pl.Float64).mean(), abs=0.005)
+    assert campaign.described_snapshots(table, []) == []
