@@ -300,8 +300,30 @@ def arms_section() -> str:
                      "**Decision: none of these levers gives the paper's pre-reacher at "
                      f"{JUDGED} generations**, so the model's default stays as it is (the "
                      "rule changes it only on a recommendation).")
-        lines += ["", _criteria_sentence(met, sum(v[2] for v in verdicts), ref)]
+        lines += ["", decision_basis(verdicts, k_ref, n_ref), "",
+                  _criteria_sentence(met, sum(v[2] for v in verdicts), ref)]
     return "\n".join(lines) + "\n"
+
+
+def decision_basis(verdicts: list[tuple[str, int, int, float]], k_ref: int, n_ref: int) -> str:
+    """What the decision rests on, in words: the pre-registered rule (``recommended``: a raw
+    one-sided Fisher exact test of each arm's count of replications that are the paper's
+    pre-reacher against the reference's, not one of the gated rules of
+    ``analysis.verdicts``), why it stands, and each arm's count and p (``verdicts``: as
+    ``recommended`` takes them) against the rule's thresholds."""
+    qualify = [v[0] for v in verdicts if v[1] >= RECOMMEND_AT_LEAST and v[3] < RECOMMEND_P]
+    arms = "; ".join(f"`{arm}` {k} of {n}, p = {p:.3f}" for arm, k, n, p in verdicts)
+    return (f"This decision is the pre-registered rule (\"Decision rule\" above), applied "
+            f"as written: at least {RECOMMEND_AT_LEAST} replications of an arm that are the "
+            f"paper's pre-reacher and a raw one-sided Fisher exact test of that count against "
+            f"the reference's ({k_ref} of {n_ref}) at p < {RECOMMEND_P:g}. It is not one of "
+            f"the project's gated rules (`analysis.verdicts`, which every other verdict of "
+            f"these pages comes from), and it stands because it was fixed, with its test and "
+            f"its level, before any arm was trained: changing it after the results would "
+            f"choose the rule by its outcome. Its test counts replications, one yes or no "
+            f"each, the unit the gated rules use too. The arms: {arms}; "
+            + (f"qualifying: {', '.join(f'`{a}`' for a in qualify)}." if qualify
+               else "none qualifies."))
 
 
 def _criteria_sentence(met: list[list[int]], reps: int, ref: pl.DataFrame) -> str:

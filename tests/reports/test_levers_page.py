@@ -152,3 +152,22 @@ def test_the_decision_rule_is_the_pre_registered_one():
     # 3 of 6 is not enough against a reference that has them too
     assert levers.recommended([verdict("far", 3, k_ref=8)]) is None
     assert levers.recommended([]) is None
+
+
+def test_the_page_says_the_decision_is_the_pre_registered_raw_fisher_rule():
+    """The sentence under the decision names the rule (raw Fisher, not a gated rule) and
+    carries each arm's count and p as ``recommended`` took them: a wrong p or count fails."""
+    text = levers.PAGE.read_text()
+    ref = levers.reference_profiles()
+    k_ref, n_ref = int(ref["paper"].sum()), ref.height
+    judged = []
+    for arm in levers.ARMS:
+        at = levers.arm_profiles(arm).filter(pl.col("generation") == levers.JUDGED)
+        k, n = int(at["paper"].sum()), at.height
+        judged.append((arm, k, n, more_than_reference(k, n, k_ref, n_ref)))
+    sentence = levers.decision_basis(judged, k_ref, n_ref)
+    assert sentence in text
+    assert "raw one-sided Fisher exact test" in sentence and "not one of" in sentence
+    for arm, k, n, p in judged:
+        assert f"`{arm}` {k} of {n}, p = {p:.3f}" in sentence
+    assert ("none qualifies." in sentence) == (levers.recommended(judged) is None)
