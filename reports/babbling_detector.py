@@ -12,6 +12,7 @@ from pathlib import Path
 import polars as pl
 
 from dart_reach.analysis import strategies as st
+from dart_reach.analysis.formatting import percent, rate
 from dart_reach.measures import babbling_synthetic as synthetic
 from dart_reach.measures import kinematics as k
 from dart_reach.postevaluation.snapshots import load_development
@@ -78,10 +79,6 @@ def agreement(table: pl.DataFrame, label: str, detected: str) -> dict[str, int]:
             "tn": int((~lab & ~det).sum()), "fp": int((~lab & det).sum())}
 
 
-def _rate(hit: int, total: int) -> str:
-    return f"{hit}/{total} ({hit / total:.0%})" if total else "–"
-
-
 def agreement_rows(real: pl.DataFrame) -> pl.DataFrame:
     """Sensitivity and specificity of the detector (babbling) and of the moving rule
     (moving) against the labels, per condition and together, with and without the trials
@@ -94,8 +91,8 @@ def agreement_rows(real: pl.DataFrame) -> pl.DataFrame:
                                             real.filter(~pl.col("unsure")))):
             c = agreement(part, label, detected)
             rows.append({"rule": measure, "trials": name, "n": part.height,
-                         "sensitivity": _rate(c["tp"], c["tp"] + c["fn"]),
-                         "specificity": _rate(c["tn"], c["tn"] + c["fp"])})
+                         "sensitivity": rate(c["tp"], c["tp"] + c["fn"]),
+                         "specificity": rate(c["tn"], c["tn"] + c["fp"])})
     return pl.DataFrame(rows)
 
 
@@ -170,19 +167,19 @@ def values(recordings: Path) -> dict[str, str]:
         "run": FULL, "generation": str(GENERATION), "seed": str(SEED),
         "per_family": str(PER_FAMILY), "labels": LABELS, "sample": SAMPLE,
         "synthetic_table": markdown_table(syn),
-        "synthetic_sensitivity": _rate(int(pos["called babbling"].sum()),
+        "synthetic_sensitivity": rate(int(pos["called babbling"].sum()),
                                        int(pos["paths"].sum())),
-        "synthetic_specificity": _rate(int((neg["paths"] - neg["called babbling"]).sum()),
+        "synthetic_specificity": rate(int((neg["paths"] - neg["called babbling"]).sum()),
                                        int(neg["paths"].sum())),
-        "interrupted": _rate(int(pos.filter(pl.col("family").str.contains("interrupted"))
+        "interrupted": rate(int(pos.filter(pl.col("family").str.contains("interrupted"))
                                  ["called babbling"].sum()),
                              int(pos.filter(pl.col("family").str.contains("interrupted"))
                                  ["paths"].sum())),
-        "uninterrupted": _rate(int(pos.filter(~pl.col("family").str.contains("interrupted"))
+        "uninterrupted": rate(int(pos.filter(~pl.col("family").str.contains("interrupted"))
                                    ["called babbling"].sum()),
                                int(pos.filter(~pl.col("family").str.contains("interrupted"))
                                    ["paths"].sum())),
-        "wander": _rate(int(neg.filter(pl.col("family") == "wander")["called babbling"].sum()),
+        "wander": rate(int(neg.filter(pl.col("family") == "wander")["called babbling"].sum()),
                         int(neg.filter(pl.col("family") == "wander")["paths"].sum())),
         "other_still": str(int(neg.filter(pl.col("family") != "wander")["called babbling"]
                                .sum())),
@@ -199,7 +196,7 @@ def values(recordings: Path) -> dict[str, str]:
         "last_table": markdown_table(last.drop("generation")),
         "last": str(max(JUDGED)),
         "rhythm_still": ", ".join(map(str, rhythm_still["replication"].to_list())) or "none",
-        "rhythm_still_moving": ", ".join(f"{r} ({m:.0%})" for r, m in zip(
+        "rhythm_still_moving": ", ".join(f"{r} ({percent(m)})" for r, m in zip(
             rhythm_still["replication"], rhythm_still["moving_share"])) or "none",
         "still_by_movement": "; ".join(
             f"at {g}: replication{'s' if len(r) > 1 else ''} {', '.join(map(str, r))}"

@@ -16,6 +16,7 @@ import numpy as np
 import polars as pl
 from scipy.stats import binomtest
 
+from dart_reach.analysis.formatting import percent, rate
 from dart_reach.measures import kinematics as k
 
 from . import babbling_second_sample as second
@@ -119,10 +120,6 @@ def counts(part: pl.DataFrame, label: str, verdict: str, unsure: str | None = No
             "tn": int((~lab & ~det).sum()), "fp": int((~lab & det).sum())}
 
 
-def _rate(hit: int, n: int) -> str:
-    return f"{hit}/{n} ({hit / n:.0%})" if n else "–"
-
-
 def passes(c: dict[str, int], rule: Acceptance = RULE) -> bool:
     """Whether confusion counts ``c`` meet ``rule`` (``Acceptance``)."""
     pos, neg = c["tp"] + c["fn"], c["tn"] + c["fp"]
@@ -150,9 +147,9 @@ def validation(table: pl.DataFrame, rule: Acceptance = RULE) -> pl.DataFrame:
                 rows.append({
                     "measure": name, "label": label, "senses": senses,
                     "unsure labels": {None: "left out", YES: "as yes", NO: "as no"}[unsure],
-                    "trials": pos + neg, "sensitivity": _rate(c["tp"], pos),
+                    "trials": pos + neg, "sensitivity": rate(c["tp"], pos),
                     "sensitivity lower limit": lower_limit(c["tp"], pos, rule.confidence),
-                    "specificity": _rate(c["tn"], neg),
+                    "specificity": rate(c["tn"], neg),
                     "specificity lower limit": lower_limit(c["tn"], neg, rule.confidence),
                     "meets the rule": ("yes" if passes(c, rule) else "no")
                     if unsure is None else ""})
@@ -293,8 +290,8 @@ def third_decision(table: pl.DataFrame, second_table: pl.DataFrame,
 
 def rule_words(rule: Acceptance = RULE) -> str:
     return (f"sensitivity and specificity each at least {rule.rate:g}, with a one-sided "
-            f"{rule.confidence:.0%} Clopper-Pearson lower limit of each at least {rule.lower:g},"
-            f" from at least {rule.trials} trials on each side of the label, in each condition")
+            f"{percent(rule.confidence)} Clopper-Pearson lower limit of each at least "
+            f"{rule.lower:g}, from at least {rule.trials} trials on each side of the label, in each condition")
 
 
 def values(root: Path) -> dict[str, str]:

@@ -39,6 +39,12 @@ def percent(value) -> str:
     return f"{value:.0%}".replace("%", " %")
 
 
+def rate(hits: int, total: int) -> str:
+    """A count of ``total`` and its share in whole per cent (``percent``): 1 of 2 is
+    "1/2 (50 %)"; ``MISSING`` when ``total`` is 0."""
+    return f"{hits}/{total} ({percent(hits / total)})" if total else MISSING
+
+
 def effect(value, low, high) -> str:
     """"effect [low, high]" (``number``), the interval left out where there is none."""
     if _missing(value):
