@@ -81,11 +81,12 @@ def variant_name(number: int, changes: dict[str, str]) -> str:
 
 
 #: The model versions this package can run. A run trained under a version always runs under
-#: it (its digests are pinned by tests/model/test_task.py and
+#: it (digests pin version 1's trials, tests/model/test_task.py; version 2's,
+#: tests/model/test_compiled.py; the training of versions 1 and 3,
 #: tests/evolution/test_training_digest.py).
 MODEL_VERSIONS = {v.number: v for v in (
     ModelVersion(1, Numerics.REFERENCE, "arm-length-shoulder",
-                 summary="the model of November 2026: the defaults of Levers(), the scene "
+                 summary="the first model: the defaults of Levers(), the scene "
                          "arm-length-shoulder (sphere radius 0.344 m), no self-collision, the "
                          "numerics of dart_reach 0.x"),
     ModelVersion(2, Numerics.COMPILED, "arm-length-shoulder",
