@@ -5,11 +5,11 @@ cover what they claim"; docs/results/calibration.md).
 theta = P(B > A) + P(B = A) / 2 of two groups of replications has the interval of the
 studentized permutation Brunner-Munzel test inverted (``brunner_munzel``, ``verdicts.directional``),
 nominally 95 %. It is exact at theta = 0.5; away from it, between groups of unequal shapes, the
-calibration (``calibration._shapes``, ``calibration._directional``) measured less: 0.92-0.93 at
-theta = 0.75 and 10 replications a group. A page may call the interval 95 % only where that is
-what was measured; everywhere else it says the coverage measured for the nearest size the
-calibration simulated, or that none was. The numbers come from the committed calibration table
-(``reports.calibration.TABLE``), never from here.
+calibration (``calibration._shapes``, ``calibration._directional``) measured less
+(docs/results/calibration.md gives how much, per size and shape). A page may call the
+interval 95 % only where that is what was measured; everywhere else it says the coverage
+measured for the nearest size the calibration simulated, or that none was. The numbers come
+from the committed calibration table (``reports.calibration.TABLE``), never from here.
 
 A paired claim of no change's interval (``paired_label``) is labelled the same way: nominally
 99 %, exact for changes symmetric about their centre, with the coverage the calibration

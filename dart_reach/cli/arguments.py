@@ -49,13 +49,14 @@ def cores() -> int:
 def workers(text: str) -> int:
     """An argparse type: local worker processes, 1 to the machine's cores. More are refused
     rather than capped: the work is CPU-bound, so they would not finish sooner (results are
-    identical for any number of workers), and each process holds ~115 MB."""
+    identical for any number of workers), and each process holds its own memory (a worker's
+    peak: docs/results/benchmarks.md, ``worker_peak_rss_mb``)."""
     n, available = positive(text), cores()
     if n > available:
         raise argparse.ArgumentTypeError(
             f"{n} is more than the {available} cores of this machine: extra processes would not "
-            f"finish sooner (the work is CPU-bound) and each takes ~115 MB; use {available} or "
-            f"fewer, or --ray for a cluster")
+            f"finish sooner (the work is CPU-bound) and each takes its own memory; use "
+            f"{available} or fewer, or --ray for a cluster")
     return n
 
 

@@ -121,7 +121,8 @@ class MapCost:
 def peak_rss_mb(_=None) -> float:
     """This process's peak resident memory (MB); sent to a pool's workers, each worker's. It
     lives here, beside the work it measures, so that a worker loads nothing more to run it
-    (from the bench's module it would import Rerun: 291 MB instead of the training's ~110)."""
+    (from the bench's module it would import Rerun, and hold several times the training's
+    memory: docs/results/benchmarks.md, "Memory")."""
     time.sleep(0.2)  # so that every worker takes one of these tasks
     return resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024
 

@@ -339,8 +339,8 @@ class World:
         return self.world.getTime()
 
     # ------------------------------------------------------------------ observations
-    # Read once per control step: ``Frame.getTransform()`` and ``getCOM()`` cost dartpy 2 and
-    # 1 µs, ``getWorldTransform()`` 7 (docs/results/benchmarks.md).
+    # Read once per control step: every ``Frame.getTransform()``, ``getCOM()`` and
+    # ``getWorldTransform()`` is a call into dartpy (their costs: docs/results/benchmarks.md).
     def joint_positions(self) -> np.ndarray:
         """All joint angles (rad), skeleton order."""
         return self.robot.getPositions()

@@ -190,10 +190,10 @@ def reproduce(run_dir, points: int = N_SECTORS) -> pl.DataFrame:
 
 #: The share of a run's checked robots that may differ where a table was written at another
 #: numpy dispatch level than this process's, or one not recorded (tables written before
-#: ``simd`` was). Measured on the committed tables, written on an AVX-512 machine and run again
-#: on an AVX2 one: 1 of 12 robots differed in one run, 1 of 30 in another, 0 in the scene
-#: study's runs; a trial that rounds one exp differently drifts apart, the others stay
-#: bit-identical. A changed model changes nearly every robot.
+#: ``simd`` was). Chosen from the committed tables, written on an AVX-512 machine and run
+#: again on an AVX2 one (docs/guides/runs.md, "Determinism", gives how many differed): a
+#: trial that rounds one exp differently drifts apart, the others stay bit-identical. A
+#: changed model changes nearly every robot.
 OTHER_SIMD_SHARE = 0.1
 
 

@@ -76,9 +76,10 @@ _KEY = ("phase_key", "senses", "baseline", "replication", "rank")
 
 
 class Record(enum.Enum):
-    """Which robots get their trials recorded (a trial's recording is ~0.3-0.45 MB): the best
-    robot of the best replication of each phase, as in Figs. 6 and 8 (default), the best robot
-    of each replication, every evaluated robot, or none."""
+    """Which robots get their trials recorded (the recordings' size per simulated minute:
+    docs/results/benchmarks.md, ``rrd_mb_per_sim_min``): the best robot of the best
+    replication of each phase, as in Figs. 6 and 8 (default), the best robot of each
+    replication, every evaluated robot, or none."""
 
     BEST = "best"
     REPLICATIONS = "replications"

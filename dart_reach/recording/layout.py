@@ -55,7 +55,7 @@ JOINT_GROUP_NAMES = tuple(metrics.JOINT_GROUPS)
 
 #: The time series of a trial: (entity, series names, the (T, n) array of a record). Each
 #: entity is what one panel of the default layout shows (a few lines; every entity's column
-#: carries its own copy of the timelines, ~6 kB and ~0.2 ms per trial). A series is read back
+#: carries its own copy of the timelines, a cost in size and time per trial). A series is read back
 #: as the column "<entity>/<name>".
 _HT, _AH = slice(0, 6), slice(6, 14)  # motors of head and torso; of arm and hand
 SIGNALS = (

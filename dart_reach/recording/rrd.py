@@ -3,9 +3,9 @@ only modules that import rerun).
 
 A trial is recorded after it has run, from its ``TrialData``, in the entity layout of
 ``layout``: its rows go as one Arrow record batch that rerun cuts into a chunk per entity, and
-the chunks are written by rerun's chunk writer, with no recording stream: a trial's 41
-chunks cost 5-7 ms of CPU so, against 8-9 sent entity by entity through rerun's archetypes
-to a stream (docs/results/benchmarks.md: ``recording_overhead``, ``recording_parts``).
+the chunks are written by rerun's chunk writer, with no recording stream, in less CPU time
+than sending them entity by entity through rerun's archetypes to a stream
+(docs/results/benchmarks.md: ``recording_overhead``, ``recording_parts``).
 Timelines: ``step`` (control step, 0.1 s) and ``sim_time`` (s).
 
 The run-level ``training.rrd`` holds best/mean/min fitness per phase and replication on the
@@ -53,8 +53,8 @@ class RecordingError(ValueError):
 def trial_rrd(data: TrialData, info: TrialInfo, model: RobotModel, dt: float = 0.1,
               blueprint: bool = True, measures: dict | None = None) -> bytes:
     """The .rrd bytes of one trial (only its ``steps_run`` steps). With ``blueprint`` the file
-    carries the default layout (``trial_blueprint``); that costs ~2.5 ms and a recording
-    stream, half the recording's time, so the post-evaluation writes the layout once beside
+    carries the default layout (``trial_blueprint``); that costs a recording stream and a
+    large part of the recording's time, so the post-evaluation writes the layout once beside
     its recordings instead (``write_blueprint``). ``measures``: the trial's
     ``metrics.trial_metrics`` if already computed; the recording's property ``trial`` holds
     those of ``MEASURES`` beside the trial's ``TrialInfo``."""
@@ -105,8 +105,8 @@ def streamed_rrd(recording_id: str, chunks: list[Chunk],
 def _trial_property(info: TrialInfo, measures: dict) -> rr.AnyValues:
     """The recording's property ``trial``: the layout's version, the ``TrialInfo`` and the
     trial's ``MEASURES``, each a one-value column of the type ``rr.AnyValues`` would infer
-    (bool, int64, float64, string; None left out), built directly: its inference costs ~20 µs a
-    value."""
+    (bool, int64, float64, string; None left out), built directly: its inference costs time
+    for every value (docs/results/benchmarks.md, the recording's parts)."""
     values = {"layout": LAYOUT, **asdict(info), **{m: measures[m] for m in MEASURES}}
     return rr.AnyValues(**{name: _one_value(v) for name, v in values.items() if v is not None})
 
@@ -129,8 +129,9 @@ def send_static(rec: rr.RecordingStream, info: TrialInfo, model: RobotModel) -> 
 @functools.lru_cache(maxsize=8)
 def _static_chunks(model: RobotModel, senses: str) -> tuple[Chunk, ...]:
     """``send_static``'s chunks, one per entity. Converting an archetype to Arrow costs
-    ~50 µs; these 19 are the same in every trial of a process, so they are converted once
-    and sent as they are (a chunk takes the identity of the recording it is sent to)."""
+    time (docs/results/benchmarks.md, the recording's parts); these 19 are the same in every
+    trial of a process, so they are converted once and sent as they are (a chunk takes the
+    identity of the recording it is sent to)."""
     parts = [(entity, rr.SeriesLines(names=list(names))) for entity, names, _ in SIGNALS]
     # the 3D scene (the iCub root frame: +x backward, +y right, +z up)
     parts.append(("world", rr.ViewCoordinates.RIGHT_HAND_Z_UP))

@@ -1,10 +1,11 @@
 """Benchmarks (``dart-reach bench``): speed figures whose ratios can be trusted.
 
-This machine's speed drifts by 10-40% within minutes, so every ratio is measured in many short
-back-to-back pairs, the two sides in alternating order (AB, BA, AB, ...), and reported as the
-median of the pairwise ratios with its interquartile range (``<name>_iqr``): a drift of the
-machine hits both sides of a pair alike and cancels. Targets are checked here, never in timed
-tests. A real-time factor (RTF) is simulated seconds per wall-clock second on one core.
+A machine's speed drifts within minutes (docs/results/benchmarks.md), so every ratio is
+measured in many short back-to-back pairs, the two sides in alternating order (AB, BA, AB,
+...), and reported as the median of the pairwise ratios with its interquartile range
+(``<name>_iqr``): a drift of the machine hits both sides of a pair alike and cancels. Targets
+are checked here, never in timed tests. A real-time factor (RTF) is simulated seconds per
+wall-clock second on one core.
 """
 
 from __future__ import annotations

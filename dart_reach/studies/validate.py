@@ -40,10 +40,11 @@ ORIENT_SECONDS = 3.0
 #: Control steps the palm is touched before the hand's target is read (0.5 s).
 GRASP_STEPS = 5
 #: Random networks of the reflex checks. About half have the ball in view to judge the head's
-#: turn, so 200 give ~110 judged: a rate's standard error ~0.04 (30 and 40 networks gave 59 %
-#: and 81 % on one scene, around the checks' thresholds); 3-4 s each way.
+#: turn (docs/model/levers.md, "What drives the reflex motors", gives the counts), so 200 give
+#: a rate's standard error of at most 0.05 (sqrt(0.25 / 100)); a few dozen networks left the
+#: rates too close to the checks' thresholds to decide.
 REFLEX_NETWORKS = 200
-#: Random networks of the chance check (1,350 trials, ~1.5 min). The unit is the network: one in
+#: Random networks of the chance check (1,350 trials). The unit is the network: one in
 #: six may reach in nearly every trial, so six networks could not decide "fewer than half".
 CHANCE_NETWORKS = 30
 

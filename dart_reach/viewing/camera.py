@@ -2,13 +2,13 @@
 them, seen through a fixed pinhole camera, without a GPU, a display or a graphics driver.
 
 Each frame reads the world pose of every visual shape of the robot and the ball from the DART
-world (``ShapeNode.getWorldTransform``: ~5 µs each) and casts one ray per pixel against it, in
-the shape's own frame: boxes (slabs), spheres, capsules and cylinders (DART's primitives;
-meshes and other shapes are listed in ``SceneCamera.skipped`` and not drawn). Only the pixels
-inside the screen rectangle that bounds a shape's projection are tested, and a depth buffer
-keeps the nearest hit, whose normal gives flat Lambert shading under one fixed light. The
-pendulum's string is drawn as a depth-tested line. Everything is float64 numpy with a fixed
-order of operations: the same state gives the same image to the last bit.
+world (``ShapeNode.getWorldTransform``: its cost in docs/results/benchmarks.md) and casts one
+ray per pixel against it, in the shape's own frame: boxes (slabs), spheres, capsules and
+cylinders (DART's primitives; meshes and other shapes are listed in ``SceneCamera.skipped`` and
+not drawn). Only the pixels inside the screen rectangle that bounds a shape's projection are
+tested, and a depth buffer keeps the nearest hit, whose normal gives flat Lambert shading under
+one fixed light. The pendulum's string is drawn as a depth-tested line. Everything is float64
+numpy with a fixed order of operations: the same state gives the same image to the last bit.
 """
 
 from __future__ import annotations
