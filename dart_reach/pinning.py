@@ -3,10 +3,11 @@ kernels, and the refusal of model version 1 where the pin did not take.
 
 numpy picks the code of its elementwise functions by the CPU (its dispatch), and OpenBLAS,
 numpy's BLAS, picks its kernels by the CPU: on an AVX-512 processor both take code of their own
-that can round differently from an AVX2 one's (measured on an AVX-512 CPU: float64 ``np.exp``
-one ulp apart for 4.6 % of inputs; the trial digests of tests/model/test_task.py differ between
-OpenBLAS's SkylakeX and Haswell kernels). Model version 1 (``versions.Numerics.REFERENCE``)
-computes its network and sensors with them, so its results depend on them.
+that can round differently from an AVX2 one's (float64 ``np.exp`` one ulp apart for some
+inputs: docs/guides/runs.md, "Determinism", gives the measurement and its command; the trial
+digests of tests/model/test_task.py differ between OpenBLAS's SkylakeX and Haswell kernels).
+Model version 1 (``versions.Numerics.REFERENCE``) computes its network and sensors with them,
+so its results depend on them.
 
 ``import dart_reach`` imports this module first, which, before numpy loads, keeps numpy's
 dispatch at AVX2 at most (``NPY_DISABLE_CPU_FEATURES`` = ``ABOVE_AVX2``) and pins OpenBLAS's
@@ -201,6 +202,16 @@ def numpy_features() -> dict[str, bool]:
     import numpy
 
     return dict(numpy._core._multiarray_umath.__cpu_features__)
+
+
+def numpy_dispatch() -> tuple[tuple[str, ...], tuple[str, ...]]:
+    """numpy's dispatch targets and its baseline features, each in numpy's order (its
+    ``__cpu_dispatch__`` and ``__cpu_baseline__``; this module is the one that reads numpy's
+    internals). Loads numpy."""
+    import numpy
+
+    umath = numpy._core._multiarray_umath
+    return tuple(umath.__cpu_dispatch__), tuple(umath.__cpu_baseline__)
 
 
 def this_process() -> KernelPin:

@@ -112,6 +112,43 @@ def test_no_private_name_is_imported_from_another_module():
     assert not wrong, "\n".join(wrong)
 
 
+#: The subpackages whose modules read no private attribute of another object: a module reads
+#: ``self._name``, never ``world._name``, ``self.world._name`` or ``module._name``.
+PRIVATE_CHECKED = ("model", "envs", "evolution", "studies")
+#: Underscore attributes outside the package that are public by their owner's documentation.
+PRIVATE_ALLOWED = {"os._exit": "Python's exit of a child process without clean-up "
+                               "(documented in the os module)"}
+
+
+def _private_reads(tree: ast.AST) -> list[str]:
+    """``line: expression`` of every read of an underscore attribute (dunders aside) of
+    anything but ``self`` or ``cls``."""
+    found = []
+    for node in ast.walk(tree):
+        if (isinstance(node, ast.Attribute) and node.attr.startswith("_")
+                and not (node.attr.startswith("__") and node.attr.endswith("__"))
+                and not (isinstance(node.value, ast.Name) and node.value.id in ("self", "cls"))
+                and ast.unparse(node) not in PRIVATE_ALLOWED):
+            found.append(f"{node.lineno}: {ast.unparse(node)}")
+    return found
+
+
+def test_no_module_reads_a_private_attribute_of_another_object():
+    checked, wrong = 0, []
+    for path, parts, tree in _modules():
+        if parts[0] in PRIVATE_CHECKED:
+            checked += 1
+            wrong += [f"{path.relative_to(PACKAGE)}:{r}" for r in _private_reads(tree)]
+    assert checked > 40 and not wrong, "\n".join(wrong)
+
+
+def test_the_private_attribute_rule_can_fail():
+    source = ("other._x\nself._y\nself.world._z\nnp._core.f\nx.__dict__\ncls._w\n"
+              "os._exit(1)\n")
+    assert _private_reads(ast.parse(source)) == ["1: other._x", "3: self.world._z",
+                                                  "4: np._core"]
+
+
 def test_no_module_is_too_long():
     long = [f"{p.relative_to(PACKAGE)}: {n} lines" for p, _, _ in _modules()
             if (n := len(p.read_text().splitlines())) > MAX_LINES]

@@ -11,9 +11,8 @@ import subprocess
 from importlib import metadata
 from pathlib import Path
 
-import numpy as np
-
 from .. import __version__
+from ..pinning import numpy_dispatch, numpy_features
 
 
 def _git(directory: Path, *args: str) -> bytes | None:
@@ -57,9 +56,10 @@ def simd() -> str:
     X86_V3 = AVX2, X86_V4 = AVX-512, ...) the CPU has and the environment did not disable, else
     its baseline; a float64 ``np.exp`` may round differently at different levels, so results
     are bit-identical only between processes at the same level."""
-    umath = np._core._multiarray_umath
-    found = [f for f in umath.__cpu_dispatch__ if umath.__cpu_features__.get(f)]
-    return (found or list(umath.__cpu_baseline__) or ["none"])[-1]
+    dispatch, baseline = numpy_dispatch()
+    features = numpy_features()
+    found = [f for f in dispatch if features.get(f)]
+    return (found or list(baseline) or ["none"])[-1]
 
 
 #: /proc/cpuinfo flags of the vector extensions, widest first, as ``cpu`` names them.
