@@ -66,9 +66,9 @@ class Servo:
         self._segment_of = dict(layout.segment_index)
         self.hold_contacts(4 * len(HAND_SEGMENTS))
         #: the physics substeps of one control period, the touches gathered into the world's
-        #: records (not cleared: ``advance`` clears them first); an attribute, so that a study
-        #: may wrap it (``studies.touch_geometry``)
-        self.substeps = self._substeps_of()
+        #: records (not cleared: ``advance`` clears them first): the model's own loop, or the
+        #: one a study chose with ``use_substeps``
+        self.substeps = self._model_substeps = self._substeps_of()
 
     # ---------------------------------------------------------------- commands
     def reset(self, ball_position) -> None:
@@ -115,6 +115,18 @@ class Servo:
         """One control step (0.1 s): ``command`` toward ``targets``, then ``advance``."""
         self.command(targets)
         self.advance()
+
+    def use_substeps(self, loop=None) -> None:
+        """Run each control period's physics substeps by ``loop`` from now on (``advance``
+        and the genetic algorithm's trial, ``compiled_trial.CompiledSteps.fitness``, call
+        ``substeps``): a callable of no argument that steps the world
+        ``WorldConfig.substeps`` times and gathers the touches into the world's records, as
+        the model's own loop does with ``mark_colliding_segments`` and ``gather`` (a study's
+        instrumented copy of it: ``studies.touch_geometry``). ``None``: the model's own loop
+        again."""
+        if loop is not None and not callable(loop):
+            raise TypeError(f"the substeps' loop must be callable, got {loop!r}")
+        self.substeps = self._model_substeps if loop is None else loop
 
     # ---------------------------------------------------------------- touch
     def hold_contacts(self, n: int) -> None:

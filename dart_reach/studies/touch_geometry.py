@@ -221,9 +221,9 @@ class Comparison:
         self.step_ns = []
 
     def instrument(self, steps) -> None:
-        """Replace ``steps.servo.substeps`` (a ``compiled_trial.CompiledSteps``' servo's
-        physics substeps of one control period; the instance's attribute only, the class is
-        not touched) by the same substeps with the decisions compared and timed (CPU time of
+        """Run the physics substeps of ``steps`` (a ``compiled_trial.CompiledSteps``: its
+        servo's substeps of one control period) by a copy of the model's loop with the
+        decisions compared and timed (``servo.Servo.use_substeps``; CPU time of
         this thread, so that the other processes' load does not count). The trial's touches
         stay the model's own (the servo's ``mark_colliding_segments`` and ``gather``), so the
         robots move as they do in training."""
@@ -312,7 +312,7 @@ class Comparison:
                     (model[touch_segments] != g[touch_segments]).any())
                 c[f"control_steps_count_differ_{v}"] += int(model.sum() != g.sum())
 
-        servo.substeps = run_substeps
+        servo.use_substeps(run_substeps)
 
     def figures(self) -> dict:
         """The counts, the agreement shares (of the substeps or control steps where either

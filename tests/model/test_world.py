@@ -230,6 +230,26 @@ def test_same_seed_same_trajectory_and_reset_is_complete(world, servo):
     assert not np.array_equal(a, d)
 
 
+def test_a_study_runs_the_substeps_by_its_own_loop_and_gives_them_back(world):
+    """``Servo.use_substeps``: ``advance`` runs the loop given (here the model's own, counted),
+    the trajectory unchanged; ``None`` gives the model's loop back; a loop must be callable."""
+    servo = Servo(world)
+    model, calls = servo.substeps, []
+
+    def counted():
+        calls.append(1)
+        model()
+    servo.use_substeps(counted)
+    a = _trajectory(servo, 11)
+    assert len(calls) == 30 and np.array_equal(a, _trajectory(Servo(world), 11))
+    servo.use_substeps()
+    assert servo.substeps is model
+    _trajectory(servo, 11)
+    assert len(calls) == 30
+    with pytest.raises(TypeError, match="callable"):
+        servo.use_substeps(3)
+
+
 # ------------------------------------------------------------------ bad input
 def test_bad_inputs_raise_clear_errors(world, servo, tmp_path):
     with pytest.raises(SkeletonError, match="not found"):
