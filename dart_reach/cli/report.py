@@ -16,7 +16,8 @@ def register_report(subparsers) -> None:
     p.epilog = ("The runs are only read: nothing is written into them. "
                 "Trials that Figs. 6 and 8 draw and that have no "
                 "recording (committed results hold none) are run again and recorded beside "
-                "the report, in NAME-recordings/ for NAME.html (about 0.4 MB a trial), and "
+                "the report, in NAME-recordings/ for NAME.html (their size per simulated minute: "
+                "docs/results/benchmarks.md), and "
                 "reused by the next build.")
     p.add_argument("run_dirs", type=Path, nargs="+", metavar="RUN_DIR",
                    help="post-evaluated run directories (dart-reach evaluate); an unfinished "
