@@ -1,10 +1,10 @@
 """The terms of a trial's fitness (paper section III-C, Eq. 5), taken apart.
 
 Eq. 5 scores each step t by p_multimodal(t) = min(p_sight(t), p_touch(t)) and a trial by the
-mean of p_multimodal over its T steps. Here (``model.compiled``) p_sight is the closeness of the
-ball's image to the centre of the visual field, in [0, 1], 0 out of view; p_touch is n / N, the
-fraction of the N = 16 inner faces of the hand's segments (the palm and 15 phalanges) touching
-the ball. A step scores only when the ball is both in sight and touched, so
+mean of p_multimodal over its T steps. Here (``model.kernels.sensing``) p_sight is the
+closeness of the ball's image to the centre of the visual field, in [0, 1], 0 out of view;
+p_touch is n / N, the fraction of the N = 16 inner faces of the hand's segments (the palm and
+15 phalanges) touching the ball. A step scores only when the ball is both in sight and touched, so
 
     fitness = (share of steps scoring) x (mean p_multimodal over the steps that score)
 
@@ -25,7 +25,7 @@ import math
 
 import numpy as np
 
-from ..model.compiled import PAY_CODES, touch_pay
+from ..model.kernels.sensing import PAY_CODES, touch_pay
 from ..model.levers import TouchPay
 from .contacts import first_touch, touch_onsets
 from .kinematics import DT

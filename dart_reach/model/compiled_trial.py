@@ -1,20 +1,21 @@
 """The steps of a trial under the living model's compiled numerics (model versions 2 and 3,
-``versions.Numerics.COMPILED``; the kernels: ``model.compiled``), behind the interface of
-``steps.TrialSteps``: ``Trial(world, config)``, ``run``, ``fitness`` and the environment's
-``control`` are the same code under every version. The motors and the physics substeps are
-the living model's servo (``servo.Servo``); the world is read through its public layout
-(``world.layout``, ``layout.WorldLayout``) and its touch records (``World.touched``,
-``touched_any``)."""
+``versions.Numerics.COMPILED``; the step functions: ``model.compiled``, over the kernels of
+``model.kernels``), behind the interface of ``steps.TrialSteps``: ``Trial(world, config)``,
+``run``, ``fitness`` and the environment's ``control`` are the same code under every
+version. The motors and the physics substeps are the living model's servo (``servo.Servo``);
+the world is read through its public layout (``world.layout``, ``layout.WorldLayout``) and
+its touch records (``World.touched``, ``touched_any``)."""
 
 from __future__ import annotations
 
 import numpy as np
 from numba import typeof
 
-from .compiled import (PAY_CODES, CompiledNetwork, act_step, control_step, record_row,
-                       sense_step, step_state, targets_of_motor)
+from .compiled import act_step, control_step, sense_step, step_state
 from .ctrnn import N_MOTORS, N_SENSORS, Network
 from .icub import PALM_POINT
+from .kernels.network import CompiledNetwork, targets_of_motor
+from .kernels.sensing import PAY_CODES, record_row
 from .servo import Servo
 from .steps import home_motor
 from .world import BALL_PARKED, PALM_NORMAL, World
@@ -38,12 +39,13 @@ class CompiledSteps:
     each a compiled step function of ``model.compiled`` over one ``StepState`` (``state``):
     ``sense`` (``sense_step``), ``act`` (``act_step``), the record's row (``record_row``);
     ``reset``, ``command`` and ``advance`` are the living model's servo's (``servo``: the
-    motor commands, ``motor_commands``, and the inner-face touches, ``inner_touches``). The
-    genetic algorithm's trial (``fitness``) takes sense, act and command in one compiled call
-    per control step (``control_step``, over the servo's commanded positions and forces).
+    motor commands, ``kernels.motors.motor_commands``, and the inner-face touches,
+    ``kernels.touch.inner_touches``). The genetic algorithm's trial (``fitness``) takes
+    sense, act and command in one compiled call per control step (``control_step``, over the
+    servo's commanded positions and forces).
     Per control step it asks DART for the joint positions and the ball's centre once each;
-    the bodies' poses it needs come from them (``body_poses`` over the layout's kinematic
-    tree)."""
+    the bodies' poses it needs come from them (``kernels.kinematics.body_poses`` over the
+    layout's kinematic tree)."""
 
     def __init__(self, world: World, config):
         self.world, self.config = world, config

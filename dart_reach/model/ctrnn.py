@@ -23,7 +23,7 @@ N_MOTORS = 14
 
 # The sensor vector's layers (the network's 25 inputs, section III-B), used by every module
 # that reads or writes it; the single sensors by index, for code that writes one value at a
-# time (the compiled sensing, ``compiled.sense_posed``).
+# time (the compiled sensing, ``kernels.sensing.sense_posed``).
 PROPRIO = slice(0, 14)  # 14 proprioceptors, in motor order (MOTOR_NAMES)
 TOUCH = slice(14, 20)  # 6 touch sensors: palm, then the thumb, index, middle, ring, little tips
 SIGHT = slice(20, 23)  # the ball's image coordinates c_x, c_y (Eqs. 1-2) and distance (Eq. 3)

@@ -42,8 +42,8 @@ def _freeze(obj) -> None:
 @dataclass(frozen=True, eq=False)
 class KinematicTree:
     """The skeleton's bodies as a tree of revolute and weld joints, in DART's body order (a
-    parent before its children), from which ``compiled.body_poses`` composes the bodies'
-    world poses: per body its ``parent`` (-1: the root), the degree of freedom of its joint
+    parent before its children), from which ``kernels.kinematics.body_poses`` composes the
+    bodies' world poses: per body its ``parent`` (-1: the root), the degree of freedom of its joint
     (``dof``, -1: a weld), the joint's unit ``axis`` (in the joint frame), its fixed
     transform from the parent body (``before``, 4x4) and the inverse of its fixed transform
     from the child body (``after``, 4x4). ``unsupported`` names the joints of another kind
@@ -61,7 +61,8 @@ class KinematicTree:
 
     @property
     def arrays(self) -> tuple[np.ndarray, ...]:
-        """(parent, dof, axis, before, after): the tree as ``compiled.body_poses`` takes it."""
+        """(parent, dof, axis, before, after): the tree as ``kernels.kinematics.body_poses``
+        takes it."""
         return self.parent, self.dof, self.axis, self.before, self.after
 
     def chain(self, *ends: int) -> np.ndarray:

@@ -1,6 +1,6 @@
 """What the controller's sensors read and what the fitness pays (paper sections III-B and
-III-C): the constants both numerics compute with (the living model's ``model.compiled``, model
-version 1's frozen ``model.reference.sensors``), and ``clip``.
+III-C): the constants both numerics compute with (the living model's ``model.kernels.
+sensing``, model version 1's frozen ``model.reference.sensors``), and ``clip``.
 
 Units: joint angles in radians, lengths in metres, visual angles in degrees. Camera points are
 in the head camera frame (OpenCV convention): +z along the optical axis, +x to the right of the

@@ -6,11 +6,11 @@ Every 0.1 s a controller (the network, the scripted reach, a study's targets) gi
 targets in [-1, 1]; ``Servo.command`` scales each into its motor's range and moves the motor's
 commanded position toward it by at most ``WorldConfig.max_joint_speed`` x ``control_dt``, then
 commands every joint the force that pulls its spring toward its motor's commanded position
-plus the gravity compensation (``compiled.motor_commands``: joint forces k q_cmd with the
+plus the gravity compensation (``kernels.motors.motor_commands``: joint forces k q_cmd with the
 springs' rest positions held at 0, which DART integrates as the spring toward q_cmd).
 ``Servo.advance`` runs the physics substeps and marks, per hand segment, whether it touched
 the ball on any face (``World.touched_any``) and on its inner face (``World.touched``,
-decided by ``compiled.inner_touches``) in any of them. ``Servo.step`` is both.
+decided by ``kernels.touch.inner_touches``) in any of them. ``Servo.step`` is both.
 
 It is what the trials of the living model (model versions 2 and 3: ``compiled_trial.
 CompiledSteps``, whose genetic algorithm's control step, ``compiled.control_step``, shares its
@@ -25,7 +25,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from .compiled import inner_touches, motor_commands, touch_state
+from .kernels.motors import motor_commands
+from .kernels.touch import inner_touches, touch_state
 from .ctrnn import N_MOTORS
 from .icub import HAND_SEGMENTS
 from .world import SkeletonError, World
@@ -40,8 +41,8 @@ class Servo:
 
     Per control step it asks DART for the gravity forces once; per physics substep in contact,
     for the colliding bodies and, when a segment may touch on its inner face, the contacts'
-    points and the joint positions (the segments' poses come from them: ``compiled.
-    body_poses`` over the layout's kinematic tree)."""
+    points and the joint positions (the segments' poses come from them:
+    ``kernels.kinematics.body_poses`` over the layout's kinematic tree)."""
 
     def __init__(self, world: World):
         self.world = world
@@ -86,7 +87,7 @@ class Servo:
     def command(self, targets) -> None:
         """The motors commanded toward 14 targets in [-1, 1] (values outside are clipped):
         the commanded positions moved at most at the speed cap, the joint forces that pull
-        the springs toward them plus gravity compensation (``compiled.motor_commands``); no
+        the springs toward them plus gravity compensation (``kernels.motors.motor_commands``); no
         physics yet. ``ValueError`` for another shape or a target that is not finite (the
         commanded positions are left as they were)."""
         if type(targets) is not np.ndarray or targets.shape != (N_MOTORS,) \
@@ -135,7 +136,7 @@ class Servo:
         ``inner_touches`` that holds them."""
         self.contact_segments, self.contact_points = np.zeros(n, np.int64), np.zeros((n, 3))
         layout = self.layout
-        #: what ``inner_touches`` reads and writes (``compiled.TouchState``)
+        #: what ``inner_touches`` reads and writes (``kernels.touch.TouchState``)
         self.touch_state = touch_state(
             segments=self.contact_segments, points=self.contact_points, need=self._need,
             order=self._order, **self._kinematics, segment_body=layout.segment_body,

@@ -306,10 +306,10 @@ def trial_positions(world: World, rng: np.random.Generator, trials: int = 18
 def network_for(params: NetworkParams, config: TrialConfig) -> Network:
     """The network of ``params`` in the maturational state of ``config`` (reflexes, frozen
     internal neurons, the reflex motors' inputs), computed by its numerics: the living
-    model's ``compiled.CompiledNetwork`` or version 1's frozen ``reference.network.
+    model's ``kernels.network.CompiledNetwork`` or version 1's frozen ``reference.network.
     ReferenceNetwork``."""
     if config.numerics is Numerics.COMPILED:
-        from .compiled import CompiledNetwork as kind  # loads Numba: only for the living model
+        from .kernels.network import CompiledNetwork as kind  # Numba: the living model only
     else:
         from .reference.network import ReferenceNetwork as kind  # only for version 1's runs
     return kind(params, reflexes=config.reflexes, hidden_frozen=config.hidden_frozen,

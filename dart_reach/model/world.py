@@ -410,6 +410,6 @@ def palm_point(hand_pose: np.ndarray) -> np.ndarray:
 
 #: The palm's inner face normal in the ``r_hand`` frame (``icub.INNER_FACES``): the records'
 #: palm normal (``TrialData.palm_normal``, the swipes of IV-A-2) is the hand's rotation times
-#: it, computed by each numerics' own code (``compiled.record_row``; version 1's
+#: it, computed by each numerics' own code (``kernels.sensing.record_row``; version 1's
 #: ``reference.steps.palm_normal``).
 PALM_NORMAL = np.asarray(icub.INNER_FACES["palm"][0])

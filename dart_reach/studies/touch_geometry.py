@@ -3,12 +3,12 @@
 The living model decides which hand segments touch the ball on their inner face (sections
 III-B, III-C) from DART's contacts: per physics substep in contact it reads the contact list
 through dartpy (each contact's objects and point) and turns the vector from the contact point
-to the ball's centre into the segment's frame (``compiled.inner_touches``, which the servo's
-substeps call: ``servo.Servo.gather``). This module decides the same from the kinematics
-alone: the segments' poses composed from the joint positions (``compiled.body_poses`` over the
-world's ``layout.KinematicTree``), their collision boxes, and the ball's centre and radius,
-with no contact read. It is a measurement for a later model version: it changes what the sensor
-computes, so no model version uses it.
+to the ball's centre into the segment's frame (``kernels.touch.inner_touches``, which the
+servo's substeps call: ``servo.Servo.gather``). This module decides the same from the
+kinematics alone: the segments' poses composed from the joint positions (``kernels.
+kinematics.body_poses`` over the world's ``layout.KinematicTree``), their collision boxes,
+and the ball's centre and radius, with no contact read. It is a measurement for a later model
+version: it changes what the sensor computes, so no model version uses it.
 
 ``KinematicTouch`` is the decision: for each of the 16 hand segments (``icub.HAND_SEGMENTS``)
 the ball's centre in the box's frame, the box's closest point to it, and
@@ -16,9 +16,9 @@ the ball's centre in the box's frame, the box's closest point to it, and
 - a touch on any face when the centre is within the ball's radius of the box (as DART's
   sphere-box test: penetration r - |centre - closest point| >= 0);
 - a touch on the inner face when, besides, the vector from the closest point to the centre
-  lies in the face's cone (``icub.INNER_FACES``), the rule of ``compiled.inner_touches`` with
-  the closest point for DART's contact point (a centre inside the box gives the zero vector,
-  which the rule counts as inner, as it does for DART's contact there).
+  lies in the face's cone (``icub.INNER_FACES``), the rule of ``kernels.touch.inner_touches``
+  with the closest point for DART's contact point (a centre inside the box gives the zero
+  vector, which the rule counts as inner, as it does for DART's contact there).
 
 ``measure`` runs trials of evolved robots under a model version's scene and numerics with
 both decisions at every physics substep, the model's own (DART's contacts) driving the trial,
@@ -44,7 +44,8 @@ from numba import njit
 from ..evolution.genome import decode
 from ..evolution.settings import seed_at
 from ..model import icub
-from ..model.compiled import body_poses, inner_touches
+from ..model.kernels.kinematics import body_poses
+from ..model.kernels.touch import inner_touches
 from ..model.task import Trial, network_for, trial_positions
 from ..model.world import World
 from .scaling import late_generation
@@ -57,7 +58,7 @@ def kinematic_touches(positions, ball, radius, order, parent, dof, axis, before,
     """Mark in ``touch`` (inner face) and ``touch_any`` (any face) the hand segments whose
     collision box the ball (centre ``ball``, m; ``radius``, m) overlaps, from the skeleton's
     joint positions (rad): the poses of the bodies of ``order`` (the segments' bodies and
-    their ancestors, parents first) by ``compiled.body_poses``; per segment its body
+    their ancestors, parents first) by ``kernels.kinematics.body_poses``; per segment its body
     (``segment_body``), its box's rotation and offset in the body's frame
     (``shape_rotation`` (16, 3, 3), ``shape_offset`` (16, 3), m), half extents (``half``
     (16, 3), m), inner face's direction in the box's frame (``inner`` (16, 3)) and the cosine
@@ -150,7 +151,7 @@ def contact_touches(world: World, result, touch: np.ndarray, touch_any: np.ndarr
     gathered with the control step's earlier substeps: the hand segments in contact with the
     ball on any face (``touch_any``) and on the inner face (``touch``: per contact, the
     vector from its point to the ball's centre in the segment's body frame within the face's
-    cone, the rule of ``compiled.inner_touches``, in the state after the step, as the model
+    cone, the rule of ``kernels.touch.inner_touches``, in the state after the step, as the model
     decides). With ``before`` = (the ball's centre (m), the bodies' world poses (n, 4, 4))
     of the state before the step, the one DART's collision detection saw
     (``KinematicTouch.poses`` of that state), the contact points are judged in that state

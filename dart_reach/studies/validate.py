@@ -27,7 +27,7 @@ from ..analysis.stats import bootstrap_mean_interval
 from ..evolution.genome import ParamGroup, decode, random_genome
 from ..evolution.settings import standard_trial
 from ..measures.metrics import grasped, trial_metrics
-from ..model.compiled import project
+from ..model.kernels.sensing import project
 from ..model.ctrnn import MOTOR_INDEX, SENSOR_INDEX, motor_targets
 from ..model.levers import ReflexInputs
 from ..model.scripted import ScriptedReach, grasp_posture

@@ -1,9 +1,11 @@
-"""Model version 2's compiled numerics (``model.compiled``): the same equations as version 1,
-its own rounding, the same bits on every processor."""
+"""Model version 2's compiled numerics (``model.compiled`` over the kernels of
+``model.kernels``): the same equations as version 1, its own rounding, the same bits on every
+processor."""
 
 from __future__ import annotations
 
 import hashlib
+import importlib
 import json
 import math
 import os
@@ -11,6 +13,7 @@ import platform
 import subprocess
 import sys
 from importlib.metadata import version
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -18,7 +21,9 @@ import pytest
 from dart_reach.evolution.genome import ParamGroup, decode
 from dart_reach.evolution.settings import Settings, standard_trial, trial_config
 from dart_reach.evolution.conditions import load_condition
-from dart_reach.model import compiled
+from dart_reach.model import compiled, kernels
+from dart_reach.model.kernels import floats, kinematics
+from dart_reach.model.kernels.network import CompiledNetwork, logistic
 from dart_reach.model.compiled_trial import CompiledSteps
 from dart_reach.model.ctrnn import N_SENSORS, random_params
 from dart_reach.model.reference.network import ReferenceNetwork
@@ -43,18 +48,18 @@ def test_the_exponential_is_within_two_ulp_of_the_c_librarys():
     rng = np.random.default_rng(0)
     xs = np.concatenate([-rng.exponential(3.0, 20000), rng.uniform(-745.0, 0.0, 5000),
                          [0.0, -0.0, -1e-300, -0.5 * math.log(2), -math.log(2), -700.0]])
-    worst = max(_ulps(compiled.exp_nonpositive(x), math.exp(x)) for x in xs)
+    worst = max(_ulps(floats.exp_nonpositive(x), math.exp(x)) for x in xs)
     assert worst <= 2
-    assert compiled.exp_nonpositive(-746.0) == 0.0 and compiled.exp_nonpositive(0.0) == 1.0
-    assert math.isnan(compiled.exp_nonpositive(float("nan")))
+    assert floats.exp_nonpositive(-746.0) == 0.0 and floats.exp_nonpositive(0.0) == 1.0
+    assert math.isnan(floats.exp_nonpositive(float("nan")))
 
 
 def test_the_logistic_is_the_update_equations_sigma_without_overflow():
     for z in (-800.0, -40.0, -3.0, -1e-9, 0.0, 1e-9, 2.5, 40.0, 800.0):
         expected = 1.0 / (1.0 + math.exp(-z)) if z > -700 else 0.0
-        assert compiled.logistic(z) == pytest.approx(expected, rel=1e-15, abs=1e-300)
-    assert compiled.logistic(0.0) == 0.5
-    assert compiled.logistic(3.0) + compiled.logistic(-3.0) == pytest.approx(1.0, abs=3e-16)
+        assert logistic(z) == pytest.approx(expected, rel=1e-15, abs=1e-300)
+    assert logistic(0.0) == 0.5
+    assert logistic(3.0) + logistic(-3.0) == pytest.approx(1.0, abs=3e-16)
 
 
 @pytest.mark.parametrize("reflexes, frozen", [(True, True), (False, False), (True, False)])
@@ -63,7 +68,7 @@ def test_the_compiled_network_follows_version_1s_equation(reflexes, frozen):
     for _ in range(5):
         params = random_params(rng)
         a = ReferenceNetwork(params, reflexes=reflexes, hidden_frozen=frozen)
-        b = compiled.CompiledNetwork(params, reflexes=reflexes, hidden_frozen=frozen)
+        b = CompiledNetwork(params, reflexes=reflexes, hidden_frozen=frozen)
         for _ in range(30):
             x = rng.uniform(-1, 1, N_SENSORS)
             assert np.allclose(b.step(x), a.step(x), rtol=0, atol=1e-13)
@@ -80,8 +85,8 @@ def test_the_compiled_forward_kinematics_gives_darts_pose_of_every_body(world):
         for _ in range(20):
             q = rng.uniform(world.lower, world.upper)
             robot.setPositions(q)
-            compiled.body_poses(q, np.arange(n), *world.layout.tree.arrays, np.zeros((3, 4, 4)),
-                                poses)
+            kinematics.body_poses(q, np.arange(n), *world.layout.tree.arrays,
+                                  np.zeros((3, 4, 4)), poses)
             for i in range(robot.getNumBodyNodes()):
                 assert np.allclose(poses[i], robot.getBodyNode(i).getTransform().matrix(),
                                    rtol=0, atol=1e-12)
@@ -98,7 +103,7 @@ def test_model_version_2_computes_with_the_compiled_numerics(world):
     assert isinstance(Trial(world, config).steps, CompiledSteps)
     assert isinstance(Trial(world, reference).steps, ReferenceSteps)
     assert type(network_for(random_params(np.random.default_rng(0)), config)
-                ) is compiled.CompiledNetwork
+                ) is CompiledNetwork
 
 
 def _both_versions(world, phase: str, k: int, u: float, v: float, **changes):
@@ -284,6 +289,20 @@ def test_version_2_trials_are_pinned_and_the_same_compiled_for_an_avx2_processor
 
 
 # ------------------------------------------------------------------ uncompiled, for debugging
+#: The modules of ``model.kernels`` that hold compiled functions: all but ``structures``.
+KERNELS = tuple(sorted(p.stem for p in Path(kernels.__file__).parent.glob("*.py")
+                       if p.stem not in ("__init__", "structures")))
+
+
+def test_every_kernel_module_is_compiled_here():
+    """In this process (compiled), every module of ``KERNELS`` holds Numba dispatchers, so
+    that the uncompiled process's check below can fail."""
+    assert set(KERNELS) >= {"floats", "kinematics", "motors", "network", "sensing", "touch"}
+    for name in KERNELS:
+        module = importlib.import_module(f"dart_reach.model.kernels.{name}")
+        assert any(hasattr(f, "py_func") for f in vars(module).values()), name
+
+
 def touching_trial() -> dict:
     """Computed in this process: one version 2 trial of the best shipped pre-reacher whose
     hand meets the ball (30 steps), as ``run`` records it (the digest of every record, whether
@@ -303,15 +322,19 @@ def touching_trial() -> dict:
 
 
 def test_the_compiled_steps_run_uncompiled_to_the_same_bits():
-    """``NUMBA_DISABLE_JIT=1`` (docs/model/trial.md, how to change the model): every function
-    of ``model.compiled`` runs as Python, its structures as plain objects, and a trial whose
-    hand touches the ball is the same to the last bit, recorded and as the genetic algorithm
-    scores it."""
-    script = ("import importlib.util, json, dart_reach; "
+    """``NUMBA_DISABLE_JIT=1`` (docs/model/trial.md, running the compiled model uncompiled):
+    every function of ``model.compiled`` and of the kernels' modules runs as Python, their
+    structures as plain objects, and a trial whose hand touches the ball is the same to the
+    last bit, recorded and as the genetic algorithm scores it."""
+    script = ("import importlib, importlib.util, json, dart_reach; "
               f"spec = importlib.util.spec_from_file_location('t', {__file__!r}); "
               "t = importlib.util.module_from_spec(spec); spec.loader.exec_module(t); "
               "from dart_reach.model import compiled; "
+              "kernels = [importlib.import_module('dart_reach.model.kernels.' + m) "
+              f"for m in {KERNELS!r}]; "
               "assert not hasattr(compiled.control_step, 'py_func'); "
+              "assert not [f for m in kernels for f in vars(m).values() "
+              "if hasattr(f, 'py_func')]; "
               "print(json.dumps(t.touching_trial()))")
     env = dict(os.environ, NUMBA_DISABLE_JIT="1")
     out = subprocess.run([sys.executable, "-c", script], env=env, capture_output=True,

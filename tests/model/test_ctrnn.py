@@ -11,7 +11,7 @@ import numpy as np
 import pytest
 
 from dart_reach.model import ctrnn
-from dart_reach.model.compiled import CompiledNetwork
+from dart_reach.model.kernels.network import CompiledNetwork
 from dart_reach.model.ctrnn import (MOTOR_INDEX, N_HIDDEN, N_MOTORS, N_SENSORS, SENSOR_INDEX,
                                     NetworkParams)
 from dart_reach.model.reference.network import ReferenceNetwork, sigmoid

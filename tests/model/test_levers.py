@@ -2,7 +2,7 @@
 and version 1's defaults are what the committed runs were trained with; in the living model
 (the compiled numerics) each has one implementation, whose effect the last tests check through
 the step functions that the genetic algorithm's trial, the recorded trial and the environment
-all call (``compiled_trial.CompiledSteps``, ``model.compiled``)."""
+all call (``compiled_trial.CompiledSteps``, ``model.compiled``, ``model.kernels``)."""
 
 from dataclasses import replace
 
@@ -13,7 +13,8 @@ from dart_reach.evolution.genome import ParamGroup, decode
 from dart_reach.evolution.settings import standard_trial
 from dart_reach.measures.fitness import fitness_under_touch_pays
 from dart_reach.model import compiled
-from dart_reach.model.compiled import CompiledNetwork
+from dart_reach.model.kernels import sensing
+from dart_reach.model.kernels.network import CompiledNetwork
 from dart_reach.model.sensors import TOUCHING
 from dart_reach.model.ctrnn import (MOTOR_INDEX, N_SENSORS, SENSOR_INDEX, TOUCH,
                                     random_params, reflex_weights)
@@ -56,10 +57,10 @@ def test_levers_refuse_unknown_values_and_name_the_choices():
 
 
 def test_touch_pays_follow_their_definitions():
-    pay = compiled.touch_pay
-    assert [pay(n, 16, compiled.PAY_CODES[TouchPay.FACES]) for n in (0, 4, 16)] == [0, .25, 1]
-    assert [pay(n, 16, compiled.PAY_CODES[TouchPay.BINARY]) for n in (0, 1, 16)] == [0, 1, 1]
-    assert [pay(n, 16, compiled.PAY_CODES[TouchPay.CAPPED])
+    pay = sensing.touch_pay
+    assert [pay(n, 16, sensing.PAY_CODES[TouchPay.FACES]) for n in (0, 4, 16)] == [0, .25, 1]
+    assert [pay(n, 16, sensing.PAY_CODES[TouchPay.BINARY]) for n in (0, 1, 16)] == [0, 1, 1]
+    assert [pay(n, 16, sensing.PAY_CODES[TouchPay.CAPPED])
             for n in (0, 1, 3, 4, 9)] == [0, .25, .75, 1, 1]
 
 
@@ -184,7 +185,7 @@ def test_the_reflex_inputs_lever_is_the_one_network_steps(world):
         steps = Trial(world, cfg).steps
         for name, p in (("params", params), ("moved", moved)):
             network = network_for(p, cfg)
-            assert type(network) is compiled.CompiledNetwork
+            assert type(network) is CompiledNetwork
             network.reset()
             steps.x[:] = x
             assert steps.act(network)

@@ -1,6 +1,6 @@
 """Sensor encodings and fitness terms (paper section III-B, Eqs. 1-4; III-C, Eq. 5): version
 1's frozen ones (``model.reference.sensors``), and the living model's image and touch pay
-(``compiled.project``, ``compiled.touch_pay``) against them.
+(``kernels.sensing.project``, ``kernels.sensing.touch_pay``) against them.
 
 Expected values are worked out by hand in the comments; tan(56 deg) = 1.482561, tan(47 deg) =
 1.072369.
@@ -205,15 +205,15 @@ def test_every_encoding_stays_in_unit_range_for_random_inputs():
 
 
 def test_the_living_models_image_and_touch_pay_are_version_1s_to_the_last_bit():
-    from dart_reach.model import compiled
+    from dart_reach.model.kernels import sensing
     from dart_reach.model.levers import TouchPay
 
     rng = np.random.default_rng(7)
     points = np.vstack([rng.normal(size=(500, 3)), [[0.0, 0.0, 0.0], [0.1, 0.0, -0.0],
                                                      [TAN56, -TAN47, 1.0]]])
     for p in points.tolist():
-        assert compiled.project(*p) == sensors.project(p)
+        assert sensing.project(*p) == sensors.project(p)
     for pay in TouchPay:
-        code, reference_pay = compiled.PAY_CODES[pay], sensors.p_touch_of(pay)
-        assert [compiled.touch_pay(n, 16, code) for n in range(17)] == \
+        code, reference_pay = sensing.PAY_CODES[pay], sensors.p_touch_of(pay)
+        assert [sensing.touch_pay(n, 16, code) for n in range(17)] == \
             [reference_pay(n, 16) for n in range(17)]

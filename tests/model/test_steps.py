@@ -4,13 +4,14 @@ frozen layout they read (``model.layout``)."""
 from __future__ import annotations
 
 import dataclasses
+import importlib
 import re
 from pathlib import Path
 
 import numpy as np
 import pytest
 
-from dart_reach.model import compiled_trial, icub, servo, steps, task
+from dart_reach.model import compiled, compiled_trial, icub, servo, steps, task
 from dart_reach.model.compiled_trial import CompiledSteps
 from dart_reach.model.ctrnn import MOTOR_NAMES, N_SENSORS
 from dart_reach.model.layout import TOUCH_SEGMENTS
@@ -21,6 +22,9 @@ from dart_reach.model.versions import Numerics
 from dart_reach.model.world import World
 
 MODEL = Path(task.__file__).parent
+#: The living model's kernels (``model.kernels``), one module per concept.
+KERNELS = [importlib.import_module(f"dart_reach.model.kernels.{name}")
+           for name in ("floats", "kinematics", "motors", "network", "sensing", "touch")]
 
 
 @pytest.fixture(scope="module")
@@ -81,7 +85,7 @@ def test_a_trial_takes_its_numerics_steps_by_composition(world, numerics, kind):
     assert trial.steps.x.shape == (N_SENSORS,)
 
 
-@pytest.mark.parametrize("module", [task, steps, compiled_trial, servo])
+@pytest.mark.parametrize("module", [task, steps, compiled_trial, servo, compiled, *KERNELS])
 def test_the_step_code_reads_no_private_attribute_of_another_object(module):
     """``self._name`` only: never ``world._name``, ``trial._name``, ``network._name``."""
     source = Path(module.__file__).read_text()
@@ -90,9 +94,9 @@ def test_the_step_code_reads_no_private_attribute_of_another_object(module):
 
 
 def test_the_sensor_and_motor_layout_is_named_once():
-    """``ctrnn``'s slices and indices name the vectors' entries; the compiled sensing writes
-    through them, never through a literal index."""
-    from dart_reach.model import compiled, ctrnn
+    """``ctrnn``'s slices and indices name the vectors' entries; the compiled step functions
+    and kernels write through them, never through a literal index."""
+    from dart_reach.model import ctrnn, kernels
 
     names = ctrnn.SENSOR_NAMES
     assert [names[i] for i in (ctrnn.SIGHT_X, ctrnn.SIGHT_Y, ctrnn.SIGHT_DISTANCE,
@@ -109,4 +113,7 @@ def test_the_sensor_and_motor_layout_is_named_once():
     assert all(n.startswith("r_") for n in motors[ctrnn.ARM])
     assert motors[ctrnn.HAND_MOTOR] == "r_hand_fingers"
     assert motors[ctrnn.JOINT_MOTORS] == motors[:ctrnn.HAND_MOTOR]
-    assert not re.findall(r"\bx\[\d", Path(compiled.__file__).read_text())
+    code = [Path(compiled.__file__), *Path(kernels.__file__).parent.glob("*.py")]
+    assert len(code) > 5
+    for path in code:
+        assert not re.findall(r"\bx\[\d", path.read_text()), path.name
