@@ -262,6 +262,7 @@ def replication_values(recordings: Path) -> dict[str, str]:
     as the unit, raw and Holm-surviving; ``own_counts`` the project's own; ``answer`` the
     summary's, ``summary_row``), ``sections`` (by
     section of the paper), ``claims`` (every claim side by side, ``budgets.side_by_side``),
+    ``movement_note`` (the legend of its intervals as the budget grows),
     and per run ``<run>.measures`` (means over robots beside the random baseline) and
     ``<run>.status`` (training, ``dart-reach status --markdown``)."""
     dirs = [recordings / name for name in REPLICATIONS]
@@ -269,16 +270,16 @@ def replication_values(recordings: Path) -> dict[str, str]:
     by_budget = budgets.findings_by_budget(judged)
     values = {"sections": markdown_table(report.section_counts(by_budget)),
               "claims": markdown_table(budgets.side_by_side(by_budget)),
+              "movement_note": budgets.MOVEMENT_NOTE,
               "by_replications": replications_text(by_budget),
               **plain_values(by_budget)}
     rows, infants, own, answer = [], [], [], []
-    for block in by_budget.partition_by("scene", "generations_per_phase", "replications",
-                                        maintain_order=True):
-        budget = budgets.Budget(*block.select("scene", "generations_per_phase",
-                                              "replications").row(0))
+    named = budgets.labels(budgets.budgets(by_budget))  # the model named only where several
+    for block in by_budget.partition_by(*budgets.BUDGET_COLUMNS, maintain_order=True):
+        budget = budgets.Budget(*block.select(budgets.BUDGET_COLUMNS).row(0))
         for target, who in ((rows, findings.ROBOTS), (infants, findings.INFANTS),
                             (own, findings.OWN)):
-            target.append({"budget": budget.label, "runs": block["runs"][0],
+            target.append({"budget": named[budget], "runs": block["runs"][0],
                            **findings.summary(block, who)})
         paper = rows[-1]
         answer.append(summary_row(paper, budget))

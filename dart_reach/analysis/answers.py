@@ -158,14 +158,12 @@ def why(lead: dict | None, rows: pl.DataFrame) -> str:
 def answers(by_budget: pl.DataFrame, phenomena: Sequence[Phenomenon] = PHENOMENA
             ) -> pl.DataFrame:
     """One row per phenomenon and budget (phenomena in order, then ``budgets.budgets``):
-    budget (its ``label``), phenomenon, section, claims (how many of its claims the frame
-    has), the count of each verdict, answer (``ANSWERS``) and why. ``by_budget``: the frame
-    of ``budgets.findings_by_budget``; only the paper's claims of its robots count."""
+    budget (its label, ``budgets.labels``), phenomenon, section, claims (how many of its
+    claims the frame has), the count of each verdict, answer (``ANSWERS``) and why.
+    ``by_budget``: the frame of ``budgets.findings_by_budget``; only the paper's claims of its robots count."""
     head = findings.reading(by_budget)
-    blocks = [(b, head.filter((pl.col("scene") == b.scene)
-                              & (pl.col("generations_per_phase") == b.generations_per_phase)
-                              & (pl.col("replications") == b.replications)))
-              for b in budgets.budgets(by_budget)]
+    named = budgets.labels(budgets.budgets(by_budget))
+    blocks = [(b, budgets.of_budget(head, b)) for b in named]
     out = []
     for p in phenomena:
         order = {c: i for i, c in enumerate(p.claims)}
@@ -178,7 +176,7 @@ def answers(by_budget: pl.DataFrame, phenomena: Sequence[Phenomenon] = PHENOMENA
             lead = (rows.row(0, named=True) if rows["claim"][0] == p.claims[0] else None)
             said = answer(lead["verdict"] if lead else verdicts.NOT_RUN,
                           rows["verdict"][0 if lead is None else 1:].to_list())
-            out.append({"budget": b.label, "phenomenon": p.name, "section": p.section,
+            out.append({"budget": named[b], "phenomenon": p.name, "section": p.section,
                         "claims": rows.height,
                         **{v: rows.filter(pl.col("verdict") == v).height
                            for v in verdicts.VERDICTS},
@@ -190,12 +188,13 @@ def answers(by_budget: pl.DataFrame, phenomena: Sequence[Phenomenon] = PHENOMENA
 
 def _largest(by_budget: pl.DataFrame) -> pl.DataFrame:
     """The paper's claims of its robots at the frame's largest budget (generations per phase,
-    then replications; one scene)."""
+    then replications; one scene, one model: a frame saved before models were told apart
+    has no ``model`` and is read as one)."""
     head = findings.reading(by_budget)
-    top = head.select("generations_per_phase", "replications", "scene").unique().sort(
-        "generations_per_phase", "replications", "scene").row(-1)
-    return head.filter((pl.col("generations_per_phase") == top[0])
-                       & (pl.col("replications") == top[1]) & (pl.col("scene") == top[2]))
+    keys = [c for c in ("generations_per_phase", "replications", "scene", "model")
+            if c in head.columns]
+    top = head.select(keys).unique().sort(keys).row(-1)
+    return head.filter(*[pl.col(c) == v for c, v in zip(keys, top)])
 
 
 def decided(by_budget: pl.DataFrame) -> tuple[int, int, int]:

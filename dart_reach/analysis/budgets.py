@@ -3,17 +3,20 @@ budgets").
 
 The paper trains 500 generations per phase (III-D); the replications here train fewer, and the
 same claim is judged at several budgets to see where it is heading. A run's *budget* is its
-scene and its generations per phase (:class:`Budget`, :func:`budget_of`). Runs of one budget
-are pooled, as the paper's replications are, and judged once (``findings.findings``); runs of
-different budgets are never pooled: ``findings_by_budget`` gives one block of findings rows
-per budget.
+scene, its generations per phase, its replications and its model (the model version and
+variant it was trained under, ``model.versions``) (:class:`Budget`, :func:`budget_of`). Runs of
+one budget are pooled, as the paper's replications are, and judged once
+(``findings.findings``); runs of different budgets, two models among them, are never pooled:
+``findings_by_budget`` gives one block of findings rows per budget.
 
 Each claim's effect is put on one scale per claim on which the paper's direction is up
-(:func:`toward_paper`, in the units of the claim's effect), and the claim *moves toward* the
-paper as the budget grows when its interval at the largest budget of a scene lies wholly above
-its interval at the smallest, *away* when wholly below, *no change* when they overlap
-(:func:`movement`). ``side_by_side`` is the table of the report: one row per claim, each
-budget's effect [CI] and verdict, and the movement.
+(:func:`toward_paper`, in the units of the claim's effect), and its intervals at the smallest
+and the largest budget of a series are set side by side (:func:`movement`): *apart, higher*
+when the largest budget's lies wholly above the smallest's, *apart, lower* when wholly below,
+*overlap* otherwise. That is a description, not a test: no rule of ``verdicts`` decides it, no
+level is held and nothing is corrected over the claims, so it names no direction as a result.
+``side_by_side`` is the table of the report: one row per claim, each budget's effect [CI] and
+verdict, and the intervals as the budget grows.
 
 Every function but :func:`budget_of`, :func:`budget_groups`, :func:`pooled` and
 :func:`findings_by_budget` (which read run directories) is pure: it takes the
@@ -34,48 +37,78 @@ from . import findings, formatting, unfinished, verdicts
 from ..evolution.rundir import RunDirectory
 from .claims import ABOUT_HALF, CLAIMS, Claim, Kind
 from ..model.scenes import scene_of
+from ..model.versions import variant_name
 from ..postevaluation import results
 from ..postevaluation.snapshots import load_development
 from ..postevaluation.systematic import load_evaluation
 from .tables import load_runs
 
-__all__ = ["Budget", "Pooled", "MOVEMENTS", "TOWARD", "AWAY", "NO_CHANGE", "NOT_RUN",
-           "budget_of", "budget_groups", "pooled", "label_findings", "findings_by_budget",
-           "budgets", "toward_paper", "movement", "side_by_side",
-           "REPLICATION_OUTCOMES", "replications_decide"]
+__all__ = ["Budget", "Pooled", "MOVEMENTS", "APART_HIGHER", "APART_LOWER", "OVERLAP",
+           "NOT_RUN", "MOVEMENT_COLUMN", "MOVEMENT_NOTE", "movement_column", "budget_of",
+           "model_of", "budget_groups", "pooled", "label_findings", "findings_by_budget",
+           "budgets", "of_budget", "labels", "toward_paper",
+           "movement", "side_by_side", "REPLICATION_OUTCOMES", "replications_decide"]
 
-#: The movement of a claim's effect from the smallest to the largest budget of a scene:
-#: decided only from the replication-level intervals at both ends; where either end has no
-#: interval (Friedman's W, an underpowered rule) the two points decide nothing (``NO_INTERVAL``).
-TOWARD, AWAY, NO_CHANGE, NO_INTERVAL, NOT_RUN = ("toward", "away", "no change", "no interval",
-                                                 "not run")
-MOVEMENTS = (TOWARD, AWAY, NO_CHANGE, NO_INTERVAL, NOT_RUN)
+#: How a claim's replication-level intervals at the smallest and the largest budget of a series
+#: lie, on the ``toward_paper`` scale: a description, not a test (no rule of ``verdicts``
+#: decides it). Where either end has no interval (Friedman's W, an underpowered rule) two
+#: points say nothing (``NO_INTERVAL``).
+APART_HIGHER, APART_LOWER, OVERLAP, NO_INTERVAL, NOT_RUN = (
+    "apart, higher", "apart, lower", "overlap", "no interval", "not run")
+MOVEMENTS = (APART_HIGHER, APART_LOWER, OVERLAP, NO_INTERVAL, NOT_RUN)
+#: The name of ``side_by_side``'s column of ``movement`` (``movement_column``): it says what
+#: it compares, and that it is no test.
+MOVEMENT_COLUMN = "intervals as the budget grows (not a test)"
+#: What ``MOVEMENT_COLUMN`` says, for a page's legend (the report's; docs/results/replication.md's).
+MOVEMENT_NOTE = (
+    "Intervals as the budget grows: a claim's replication-level intervals at the smallest and "
+    "the largest budget of a series (a scene, a number of replications and a model), on a "
+    "scale where the paper's direction is up: apart, higher when the largest budget's lies "
+    "wholly above the smallest's; apart, lower when wholly below; overlap otherwise; no "
+    "interval where an end has none; not run where neither end has an effect. A description, "
+    "not a test: no rule of the verdicts decides it, no level is held and nothing is "
+    "corrected over the claims, so it is no result that a claim moves toward or away from "
+    "the paper; each budget's verdict is the result.")
+#: The columns of a findings-by-budget frame that name its budget (``Budget``'s fields).
+BUDGET_COLUMNS = ("scene", "generations_per_phase", "replications", "model")
 #: Columns ``findings_by_budget`` puts before the findings' own.
-KEY_COLUMNS = ("scene", "generations_per_phase", "replications", "runs", "sign")
+KEY_COLUMNS = (*BUDGET_COLUMNS, "runs", "sign")
 
 
 @dataclass(frozen=True, order=True)
 class Budget:
     """What a run was trained at, as far as pooling goes: the scene (the ball's sectors, II-B),
-    the generations per standard phase (the paper: 500, III-D) and the replications (the
-    paper: 10; they set the transitions, the best 20 of the replications' populations, III-D).
-    Ordered by scene, generations, replications."""
+    the generations per standard phase (the paper: 500, III-D), the replications (the
+    paper: 10; they set the transitions, the best 20 of the replications' populations, III-D)
+    and the model (``model_of``: its version, or the variant of it, e.g. "v1",
+    "v3+touch_pay=binary"; two models' robots are two samples even on one scene). Ordered by
+    scene, generations, replications, model."""
 
     scene: str
     generations_per_phase: int
     replications: int
+    model: str
 
     @property
     def label(self) -> str:
+        """The budget in words, without its model (``labels`` adds it where runs of several
+        models are shown)."""
         n, r = self.generations_per_phase, self.replications
         return (f"{self.scene}, {n} generation{'' if n == 1 else 's'} per phase, {r} "
                 f"replication{'' if r == 1 else 's'}")
 
     @property
     def series(self) -> str:
-        """The budgets whose generations alone differ: a scene and a number of
-        replications."""
-        return f"{self.scene}, {self.replications} replications"
+        """The budgets whose generations alone differ: a scene, a number of replications and a
+        model."""
+        return f"{self.scene}, {self.replications} replications, model {self.model}"
+
+
+def labels(budgets_: Sequence[Budget]) -> dict[Budget, str]:
+    """Each budget's ``label``, its model added ("..., model v2") only where the budgets hold
+    more than one model: runs of one model read as before models were told apart."""
+    several = len({b.model for b in budgets_}) > 1
+    return {b: f"{b.label}, model {b.model}" if several else b.label for b in budgets_}
 
 
 def generations_per_phase(run: RunDirectory) -> tuple[int, ...]:
@@ -101,16 +134,24 @@ def _scene_name(run: RunDirectory) -> str:
             f"{'/'.join(f'{x:g}' for x in (*az, *el))})")
 
 
+def model_of(run: RunDirectory) -> str:
+    """The model a run was trained under: its version's name ("v1") or its variant's
+    ("v3+touch_pay=binary", ``versions.variant_name``), from its settings as the manifest holds
+    them (``Settings.from_json``: a manifest from before model versions is version 1's)."""
+    return variant_name(run.settings.model_version, run.settings.variant)
+
+
 def budget_of(run_dir) -> Budget:
-    """The budget of a run directory: its scene and its largest generations per phase (the
-    budget ``report.budget_text`` states)."""
+    """The budget of a run directory: its scene, its largest generations per phase (the
+    budget ``report.budget_text`` states), its replications and its model."""
     run = RunDirectory.open(run_dir)
-    return Budget(_scene_name(run), generations_per_phase(run)[-1], run.settings.replications)
+    return Budget(_scene_name(run), generations_per_phase(run)[-1], run.settings.replications,
+                  model_of(run))
 
 
 def budget_groups(run_dirs: Sequence) -> dict[Budget, list[Path]]:
-    """The runs of each budget, budgets in order (scene, then generations per phase), runs in
-    the order given; a run given twice counts once."""
+    """The runs of each budget, budgets in order (scene, generations per phase, replications,
+    model), runs in the order given; a run given twice counts once."""
     groups: dict[Budget, list[Path]] = {}
     for d in {Path(d).resolve(): Path(d) for d in run_dirs}.values():
         groups.setdefault(budget_of(d), []).append(d)
@@ -170,6 +211,7 @@ def label_findings(found: pl.DataFrame, budget: Budget, run_dirs: Sequence,
         pl.lit(budget.scene).alias("scene"),
         pl.lit(budget.generations_per_phase, dtype=pl.Int64).alias("generations_per_phase"),
         pl.lit(budget.replications, dtype=pl.Int64).alias("replications"),
+        pl.lit(budget.model).alias("model"),
         pl.lit(", ".join(Path(d).name for d in run_dirs)).alias("runs"),
         pl.col("claim").replace_strict(signs, default=0, return_dtype=pl.Int64).alias("sign"),
         pl.all())
@@ -178,25 +220,32 @@ def label_findings(found: pl.DataFrame, budget: Budget, run_dirs: Sequence,
 def findings_by_budget(run_dirs: Sequence) -> pl.DataFrame:
     """The findings of ``run_dirs``, one block of rows per budget (``budget_groups``): the runs
     of a budget pooled and judged together (``findings.findings``, Holm within the block), runs
-    of different budgets never. Columns: ``KEY_COLUMNS``, then the findings' columns."""
+    of different budgets (of two models among them) never. Columns: ``KEY_COLUMNS``, then
+    the findings' columns."""
     return pl.concat([label_findings(pooled(dirs).findings(), budget, dirs)
                       for budget, dirs in budget_groups(run_dirs).items()])
 
 
 def budgets(by_budget: pl.DataFrame) -> list[Budget]:
     """The budgets of a findings-by-budget frame, in order."""
-    return sorted(Budget(s, g, r) for s, g, r in by_budget.select(
-        "scene", "generations_per_phase", "replications").unique().iter_rows())
+    return sorted(Budget(*row) for row in by_budget.select(BUDGET_COLUMNS).unique().iter_rows())
+
+
+def of_budget(by_budget: pl.DataFrame, budget: Budget) -> pl.DataFrame:
+    """The rows of ``by_budget`` at ``budget``."""
+    return by_budget.filter(*[pl.col(c) == getattr(budget, c) for c in BUDGET_COLUMNS])
 
 
 def with_series(by_budget: pl.DataFrame) -> pl.DataFrame:
-    """``by_budget`` with ``series``: the budgets along which a claim moves with the
-    generations alone (``Budget.series``), named by the scene alone when every budget has the
-    same replications."""
-    one = by_budget["replications"].n_unique() <= 1
-    return by_budget.with_columns(
-        pl.col("scene").alias("series") if one
-        else pl.format("{}, {} replications", "scene", "replications").alias("series"))
+    """``by_budget`` with ``series``: the budgets along which a claim's intervals are set side
+    by side with the generations alone differing (``Budget.series``), named by the scene, with
+    the replications and the model only where the frame's budgets differ in them."""
+    parts = [pl.col("scene")]
+    if by_budget["replications"].n_unique() > 1:
+        parts.append(pl.format(", {} replications", "replications"))
+    if by_budget["model"].n_unique() > 1:
+        parts.append(pl.format(", model {}", "model"))
+    return by_budget.with_columns(pl.concat_str(parts).alias("series"))
 
 
 # ------------------------------------------------------------------------------ direction
@@ -286,21 +335,23 @@ def _move(small: tuple[float, float, float], large: tuple[float, float, float]
         return NOT_RUN
     if any(math.isnan(x) for x in (s_lo, s_hi, b_lo, b_hi)):
         return NO_INTERVAL
-    return TOWARD if b_lo > s_hi else AWAY if b_hi < s_lo else NO_CHANGE
+    return APART_HIGHER if b_lo > s_hi else APART_LOWER if b_hi < s_lo else OVERLAP
 
 
 def movement(by_budget: pl.DataFrame) -> pl.DataFrame:
-    """How each claim moves as the budget grows, per series (``with_series``: a scene and a
-    number of replications) with at least two budgets: from its smallest to its largest
-    generations per phase, on the ``toward_paper`` scale.
+    """How each claim's intervals lie as the budget grows, per series (``with_series``: a
+    scene, a number of replications and a model) with at least two budgets: at its smallest
+    and its largest generations per phase, on the ``toward_paper`` scale. A description, not a
+    test: two 95 % intervals apart are no test of the change at any stated level, no rule of
+    ``verdicts`` gates it and nothing is corrected over the claims; each budget's verdict is
+    the result.
 
     - ``not run``: no effect at either end (the claim not run, or decided underpowered before
       any effect was computed);
-    - with a replication-level interval at both ends: ``toward`` when the largest budget's
-      interval lies wholly above the smallest's, ``away`` when wholly below, ``no change`` when
-      they overlap (an unbounded interval overlaps everything);
-    - ``no interval`` where either end has none (Friedman's W, an underpowered rule): two
-      points are no evidence against noise, so they are not counted as a move.
+    - with a replication-level interval at both ends: ``apart, higher`` when the largest
+      budget's interval lies wholly above the smallest's, ``apart, lower`` when wholly below,
+      ``overlap`` otherwise (an unbounded interval overlaps everything);
+    - ``no interval`` where either end has none (Friedman's W, an underpowered rule).
 
     Columns: claim, series, from_generations, to_generations, movement (one of
     ``MOVEMENTS``); one row per claim and series, in the frame's order."""
@@ -352,12 +403,12 @@ def replications_decide(by_budget: pl.DataFrame) -> pl.DataFrame:
     (``many``) and the ``outcome`` (``REPLICATION_OUTCOMES``): *decided* (reproduced or
     contradicted where the fewer left it inconclusive or underpowered), *still open*, *the
     same*, *reversed* (reproduced <-> contradicted), *no longer decided*, *not run* (at either).
-    Columns: claim, scene, generations_per_phase, replications_few, replications_many, few,
-    many, outcome; in the frame's order."""
+    Replications of one model only are compared. Columns: claim, scene, generations_per_phase,
+    model, replications_few, replications_many, few, many, outcome; in the frame's order."""
     rows = []
     claims = by_budget["claim"].unique(maintain_order=True).to_list()
-    for (scene, gens), block in by_budget.group_by("scene", "generations_per_phase",
-                                                    maintain_order=True):
+    for (scene, gens, model), block in by_budget.group_by(
+            "scene", "generations_per_phase", "model", maintain_order=True):
         counts = sorted(block["replications"].unique().to_list())
         if len(counts) < 2:
             continue
@@ -365,22 +416,32 @@ def replications_decide(by_budget: pl.DataFrame) -> pl.DataFrame:
                      .iter_rows()) for r in (counts[0], counts[-1])]
         for claim in claims:
             few, many = ends[0].get(claim), ends[1].get(claim)
-            rows.append((claim, scene, gens, counts[0], counts[-1], few, many,
+            rows.append((claim, scene, gens, model, counts[0], counts[-1], few, many,
                          _replication_outcome(few, many)))
     return pl.DataFrame(rows, orient="row", schema={
         "claim": pl.Utf8, "scene": pl.Utf8, "generations_per_phase": pl.Int64,
-        "replications_few": pl.Int64, "replications_many": pl.Int64, "few": pl.Utf8,
-        "many": pl.Utf8, "outcome": pl.Utf8})
+        "model": pl.Utf8, "replications_few": pl.Int64, "replications_many": pl.Int64,
+        "few": pl.Utf8, "many": pl.Utf8, "outcome": pl.Utf8})
 
 
 # ------------------------------------------------------------------------------ the table
-def budget_column(budget: Budget, one_scene: bool, one_replications: bool = True) -> str:
+def budget_column(budget: Budget, one_scene: bool, one_replications: bool = True,
+                  one_model: bool = True) -> str:
     """The name of a budget's columns in ``side_by_side``: its generations per phase, with its
-    scene and its replications where the frame has several."""
+    scene, its replications and its model where the frame has several."""
     name = f"{budget.generations_per_phase} gen/phase"
     if not one_replications:
         name += f" x {budget.replications}"
+    if not one_model:
+        name += f", model {budget.model}"
     return name if one_scene else f"{budget.scene}, {name}"
+
+
+def movement_column(series: str | None = None) -> str:
+    """``MOVEMENT_COLUMN``, with the series it is of (``with_series``) where there are
+    several."""
+    return (MOVEMENT_COLUMN if series is None
+            else f"intervals as the budget grows ({series}; not a test)")
 
 
 def side_by_side(by_budget: pl.DataFrame) -> pl.DataFrame:
@@ -388,18 +449,17 @@ def side_by_side(by_budget: pl.DataFrame) -> pl.DataFrame:
     (``budgets``; named by ``budget_column``) its ``effect [CI]`` (the claim's own effect,
     ``formatting.effect``), ``verdict`` (the replication as the unit; "not run" where the budget's
     runs lack it) and ``robots as units`` (the paper's analysis, never a headline); and the
-    movement (``movement``) as "as the budget grows" (one column per series with two budgets or
-    more, named after the series when there are several)."""
+    intervals as the budget grows (``movement``, under ``MOVEMENT_COLUMN``: one column per
+    series with two budgets or more, its series in brackets when there are several)."""
     order = by_budget.select("claim", "section", "kind").unique("claim", maintain_order=True)
     all_budgets = budgets(by_budget)
     scenes = list(dict.fromkeys(b.scene for b in all_budgets))
     one_replications = len({b.replications for b in all_budgets}) == 1
+    one_model = len({b.model for b in all_budgets}) == 1
     out = order
     for b in all_budgets:
-        name = budget_column(b, len(scenes) == 1, one_replications)
-        block = by_budget.filter((pl.col("scene") == b.scene)
-                                 & (pl.col("generations_per_phase") == b.generations_per_phase)
-                                 & (pl.col("replications") == b.replications))
+        name = budget_column(b, len(scenes) == 1, one_replications, one_model)
+        block = of_budget(by_budget, b)
         cells = pl.DataFrame(
             {"claim": block["claim"],
              f"{name}: effect [CI]": [formatting.effect(*r) for r in block.select(
@@ -415,7 +475,7 @@ def side_by_side(by_budget: pl.DataFrame) -> pl.DataFrame:
     moved = moves["series"].unique(maintain_order=True).to_list()
     several = with_series(by_budget)["series"].n_unique() > 1
     for series in moved:
-        name = (f"as the budget grows ({series})" if several else "as the budget grows")
+        name = movement_column(series if several else None)
         m = moves.filter(pl.col("series") == series).select("claim",
                                                              pl.col("movement").alias(name))
         out = out.join(m, on="claim", how="left", maintain_order="left")

@@ -25,13 +25,18 @@ def section_part(column: str = "section") -> pl.Expr:
 
 def budget_label(by_budget: pl.DataFrame) -> pl.Expr:
     """A budget in a few characters: "50 gen/phase", with " x 10" (replications) when the
-    frame's budgets differ in replications and ", <scene>" when they differ in scene."""
+    frame's budgets differ in replications, ", <scene>" when they differ in scene and
+    ", model <model>" when in model."""
     parts = [pl.format("{} gen/phase", "generations_per_phase")]
     if by_budget["replications"].n_unique() > 1:
         parts.append(pl.format(" x {}", "replications"))
-    if by_budget["scene"].n_unique() > 1:
-        parts.append(pl.format(", {}", "scene"))
-    return pl.concat_str(parts)
+    return pl.concat_str(parts + _scene_and_model(by_budget))
+
+
+def _scene_and_model(by_budget: pl.DataFrame) -> list[pl.Expr]:
+    """A budget's scene and model, each where the frame's budgets differ in it."""
+    return [pl.format(f", {prefix}{{}}", column) for column, prefix in
+            (("scene", ""), ("model", "model ")) if by_budget[column].n_unique() > 1]
 
 
 def _counted(by_budget: pl.DataFrame, by: list[str], label: pl.Expr) -> pl.DataFrame:
@@ -47,16 +52,15 @@ def _counted(by_budget: pl.DataFrame, by: list[str], label: pl.Expr) -> pl.DataF
 
 
 def budget_counts(by_budget: pl.DataFrame) -> pl.DataFrame:
-    """One row per budget (scene, then generations per phase, then replications), named in
-    full ("50 gen/phase x 10 replications", the scene added when the budgets differ in it):
+    """One row per budget (scene, then generations per phase, replications, model), named in
+    full ("50 gen/phase x 10 replications", the scene and the model added when the budgets
+    differ in them):
     its runs, how many of the paper's claims it tested, how many got each verdict (they sum
     to ``claims``), and how many decided ones survive Holm's adjustment within the budget."""
-    ordered = by_budget.sort("scene", "generations_per_phase", "replications",
+    ordered = by_budget.sort("scene", "generations_per_phase", "replications", "model",
                              maintain_order=True)
-    label = pl.format("{} gen/phase x {} replications", "generations_per_phase",
-                      "replications")
-    if by_budget["scene"].n_unique() > 1:
-        label = pl.concat_str([label, pl.format(", {}", "scene")])
+    label = pl.concat_str([pl.format("{} gen/phase x {} replications", "generations_per_phase",
+                                     "replications"), *_scene_and_model(by_budget)])
     return _counted(ordered, ["budget", "runs"], label)
 
 

@@ -9,9 +9,11 @@ the random baseline, the figures (5-10, drawn by ``figures`` as the notebooks dr
 statistics behind them. Figures are matplotlib PNGs embedded as data URIs, tables plain HTML,
 the page a ``string.Template`` (``templates/report.html``): it opens offline in any browser.
 
-Runs trained at different budgets (scene, generations per phase: ``budgets``) are judged
-apart: the findings of each budget, and, when there are several, the claims side by side with
-how each moves as the budget grows and the figure of their effects against the budget.
+Runs trained at different budgets (scene, generations per phase, replications, model version
+and variant: ``budgets``) are judged apart: the findings of each budget, and, when there are
+several, the claims side by side with how their intervals lie as the budget grows (a
+description, not a test) and the figure of their effects against the budget. The provenance
+of each run names its model version and variant (``run_provenance``).
 
 Every number in it is computed from the run directories when the report is built; the runs
 are only read. The trials Figs. 6 and 8 draw that have no recording are run again and recorded
@@ -24,7 +26,6 @@ from __future__ import annotations
 import base64
 import html
 import io
-import json
 import time
 from collections.abc import Sequence
 from importlib import resources
@@ -35,6 +36,7 @@ import polars as pl
 
 from . import answers, budgets, counts, figures, findings, formatting, summaries, verdicts
 from . import unfinished
+from .run_provenance import provenance
 from ..errors import UsageError
 from ..postevaluation import results
 from ..postevaluation import snapshots as development
@@ -215,50 +217,6 @@ def replication_table(table: pl.DataFrame, phase: str) -> pl.DataFrame:
             .sort("replication").rename(dict(REPLICATION_MEASURES)))
 
 
-def _provenance(run_dir: Path) -> pl.DataFrame:
-    manifest = json.loads((run_dir / "manifest.json").read_text())
-    run = RunDirectory.open(run_dir)
-    s = manifest.get("settings", {})
-    phases = run_phases(run_dir)
-    wall = 0.0
-    stats_path = run_dir / "generations.parquet"
-    if stats_path.is_file():
-        # wall_s is the whole generation's (all replications), repeated on each row
-        wall = float(pl.read_parquet(stats_path).unique(["phase_key", "generation"],
-                                                        maintain_order=True)["wall_s"].sum())
-    machine = manifest.get("machine") or {}
-    rows = [
-        ("command", manifest.get("command") or "not recorded (made before commands were)"),
-        ("conditions", ", ".join(f"{c.name} ({c.notation})" for c in run.conditions)),
-        ("phases (generations)", ", ".join(
-            f"{r['notation']} ({r['generations']})"
-            for r in phases.unique("phase_key", maintain_order=True).iter_rows(named=True))),
-        ("replications / trials / steps", f"{s.get('replications')} / {s.get('trials')} / "
-                                          f"{s.get('steps')}"),
-        ("genetic algorithm", json.dumps(s.get("ga"))),
-        ("seeds", json.dumps(manifest.get("seeds"))),
-        ("physics step (s)", str(run.settings.world.physics_dt)),
-        ("git revision", str(manifest.get("git_revision"))),
-        ("uncommitted changes", _dirty(manifest)),
-        ("versions", ", ".join(f"{k} {v}" for k, v in (manifest.get("versions") or {}).items())),
-        ("machine", ", ".join(f"{k} {v}" for k, v in machine.items()) or "not recorded"),
-        ("created", str(manifest.get("created"))),
-        ("training wall time", f"{wall / 3600:.2f} h (sum of the generations' wall times)"),
-    ]
-    return pl.DataFrame(rows, schema=["item", "value"], orient="row")
-
-
-def _dirty(manifest: dict) -> str:
-    """Whether the run's code had uncommitted changes (manifest ``git_dirty``)."""
-    if "git_dirty" not in manifest:
-        return "not recorded (made before the manifest recorded it)"
-    if manifest["git_dirty"] is None:
-        return "unknown (not run from a git working tree)"
-    if not manifest["git_dirty"]:
-        return "none (clean working tree)"
-    return f"yes: diff SHA-256 {manifest.get('git_diff_sha256')}"
-
-
 def _section(title: str, body: str, anchor: str) -> str:
     return f'<section id="{anchor}"><h2>{html.escape(title)}</h2>{body}</section>'
 
@@ -285,13 +243,14 @@ BUDGET_FIGURE_NOTE = (
     "no difference, the depth inside the band, the weakest sector's rate above the floor, ...; "
     "docs/model/claims.md, \"Several budgets\"), with its interval; hollow: no interval or an "
     "unbounded one. The dashed line is 0: no effect, or the claim's boundary. Only the claims "
-    "with an effect at two budgets or more are drawn; the word in each panel is the movement "
-    "of the table above.")
+    "with an effect at two budgets or more are drawn; the words under each panel are the "
+    "intervals as the budget grows of the table above: a description, not a test.")
 
 
-def _baseline_html(budget, pooled_, heading: bool) -> str:
-    """The measures beside the random baseline of one budget's runs (budgets never pooled)."""
-    return ((f"<h3>{html.escape(budget.label)}</h3>" if heading else "")
+def _baseline_html(label: str, pooled_, heading: bool) -> str:
+    """The measures beside the random baseline of one budget's runs (budgets never pooled),
+    under ``label`` (``budgets.labels``)."""
+    return ((f"<h3>{html.escape(label)}</h3>" if heading else "")
             + table_html(baseline_table(pooled_.table, pooled_.baseline)))
 
 
@@ -339,22 +298,22 @@ def summary_html(by_budget: pl.DataFrame) -> str:
 
 
 def _verdict_class(column: str, value) -> str:
-    """The CSS class of a cell of ``budgets.side_by_side``: its verdict, or its movement."""
-    if column.endswith(": verdict"):
-        return value.split()[0]
-    if column.startswith("as the budget grows") and value:
-        return value.split()[0] if value.split()[0] in (budgets.TOWARD, budgets.AWAY) else ""
-    return ""
+    """The CSS class of a cell of ``budgets.side_by_side``: its verdict (the intervals as the
+    budget grows get none: they state no result)."""
+    return value.split()[0] if column.endswith(": verdict") else ""
 
 
 def _findings_body(blocks: list, by_budget: pl.DataFrame) -> str:
-    """The findings of each budget (``budgets``: runs of one scene and one number of
-    generations per phase are pooled, others never): for one budget, its table as ever; for
-    several, the claims side by side with their movement as the budget grows, the figure of
-    the effects against the budget, then each budget's table under its heading."""
+    """The findings of each budget (``budgets``: runs of one scene, generations per phase,
+    replications and model are pooled, others never): for one budget, its table as ever; for
+    several, the claims side by side with their intervals as the budget grows, the figure of
+    the effects against the budget, then each budget's table under its heading (its model
+    named where the runs are of several, ``budgets.labels``)."""
+    named = budgets.labels([budget for budget, *_ in blocks])
+
     def block_html(budget, dirs, pooled_, found, heading):
-        head = (f"<h3>{html.escape(budget.label)}: {html.escape(', '.join(d.name for d in dirs))}"
-                "</h3>" if heading else "")
+        head = (f"<h3>{html.escape(named[budget])}: "
+                f"{html.escape(', '.join(d.name for d in dirs))}</h3>" if heading else "")
         return (head + _counts(found) + "<p>What the budget can test: "
                 + html.escape(budget_text(dirs, pooled_.table)) + f". {VERDICTS_NOTE}</p>"
                 + _findings_html(found))
@@ -366,20 +325,23 @@ def _findings_body(blocks: list, by_budget: pl.DataFrame) -> str:
     if len(scenes) > 1:
         parts.append(f"<p class='missing'>These runs were trained on {len(scenes)} scenes "
                      f"({html.escape(', '.join(scenes))}): each scene's runs are compared as "
-                     "separate groups, never pooled, and the movement is within a scene.</p>")
+                     "separate groups, never pooled, and the intervals are compared within a "
+                     "scene.</p>")
+    models = list(dict.fromkeys(budget.model for budget, *_ in blocks))
+    if len(models) > 1:
+        parts.append(f"<p class='missing'>These runs were trained under {len(models)} models "
+                     f"({html.escape(', '.join(models))}; model versions and variants, "
+                     "docs/model/levers.md): each model's runs are separate groups, never "
+                     "pooled, and the intervals are compared within a model.</p>")
     parts.append(
         f"<p>{len(blocks)} budgets: "
-        + html.escape("; ".join(f"{b.label} ({', '.join(d.name for d in dirs)})"
+        + html.escape("; ".join(f"{named[b]} ({', '.join(d.name for d in dirs)})"
                                 for b, dirs, *_ in blocks))
-        + ". The runs of one budget (scene and generations per phase) are pooled and judged "
-          "together; runs of different budgets never are. <i>As the budget grows</i>: from the "
-          "smallest to the largest budget of a scene, <i>toward</i> the paper when the effect's "
-          "interval at the largest lies wholly above its interval at the smallest on a scale "
-          "where the paper's direction is up, <i>away</i> when wholly below, <i>no change</i> "
-          "when they overlap; <i>no interval</i>: an end without a replication-level interval, "
-          "not counted as a move; <i>not run</i>: no effect at either end "
-          "(docs/model/claims.md, \"Several budgets\"). Verdicts take the replication as the "
-          "unit; the paper's own analysis, robots as units, is the column beside them.</p>")
+        + ". The runs of one budget (scene, generations per phase, replications and model) are "
+          "pooled and judged together; runs of different budgets never are. "
+        + html.escape(budgets.MOVEMENT_NOTE) + " See docs/model/claims.md, \"Several budgets\". "
+          "Verdicts take the replication as the unit; the paper's own analysis, robots as "
+          "units, is the column beside them.</p>")
     parts.append(table_html(budgets.side_by_side(by_budget), "findings budgets",
                             group="section", cell_class=_verdict_class))
     parts.append(_try(figures.budget_figure, by_budget)
@@ -447,6 +409,7 @@ def build(run_dirs: Sequence, out=None, findings_out=None) -> Path:
     everything = budgets.pooled(evaluated)
     table = everything.table
     groups = budgets.budget_groups(run_dirs)
+    named = budgets.labels(list(groups))  # the model named only where several
     blocks = [(budget, dirs, everything if len(groups) == 1 else budgets.pooled(dirs))
               for budget, dirs in groups.items()]
     blocks = [(budget, dirs, pooled_, pooled_.findings()) for budget, dirs, pooled_ in blocks]
@@ -469,7 +432,7 @@ def build(run_dirs: Sequence, out=None, findings_out=None) -> Path:
 
     prov, train = [], []
     for d in run_dirs:
-        prov.append(f"<h3>{html.escape(d.name)}</h3>" + table_html(_provenance(d), "provenance"))
+        prov.append(f"<h3>{html.escape(d.name)}</h3>" + table_html(provenance(d), "provenance"))
         stats_path = d / "generations.parquet"
         if stats_path.is_file():
             stats = pl.read_parquet(stats_path)
@@ -490,7 +453,7 @@ def build(run_dirs: Sequence, out=None, findings_out=None) -> Path:
                                  "--sensors all --baseline 20</code></p>", "evaluation"))
     else:
         sections.append(_section("Measures beside the random baseline",
-                                 "".join(_baseline_html(b, p, len(blocks) > 1)
+                                 "".join(_baseline_html(named[b], p, len(blocks) > 1)
                                          for b, _, p, _ in blocks if p.table is not None)
                                  + "<p>Means over robots (a robot: its mean over its trials, "
                                    "normal senses); <i>random</i>: random genomes of the phase "

@@ -27,7 +27,8 @@ def _frame(verdict_of, gens: int = 3, reps: int = 2) -> pl.DataFrame:
         run = v in (verdicts.REPRODUCED, verdicts.CONTRADICTED, verdicts.INCONCLUSIVE)
         e = 0.8 if v == verdicts.REPRODUCED else 0.2 if v == verdicts.CONTRADICTED else 0.55
         rows.append({"scene": "s", "generations_per_phase": gens, "replications": reps,
-                     "runs": "r", "sign": c.sign, "claim": c.id, "section": c.section,
+                     "model": "v1", "runs": "r", "sign": c.sign, "claim": c.id,
+                     "section": c.section,
                      "kind": c.kind.value, "own": c.own, "infants": c.infants,
                      "measured": "not run: no units of pre-h" if v == verdicts.NOT_RUN
                      else "m", "n": f"{reps} replications vs {reps} replications",

@@ -1,7 +1,8 @@
-"""Runs at several budgets (``dart_reach.analysis.budgets``): the budget key of a run directory, the
-scale on which the paper's direction is up, and the movement of a claim as the budget grows,
-on hand-made findings rows where each movement must come out (toward, away, no change, not
-run; on intervals or on points)."""
+"""Runs at several budgets (``dart_reach.analysis.budgets``): the budget key of a run directory
+(its scene, generations per phase, replications and model), the scale on which the paper's
+direction is up, and how a claim's intervals lie as the budget grows, on hand-made findings
+rows where each word must come out (apart higher or lower, overlap, no interval, not run),
+words that state no result."""
 
 from __future__ import annotations
 
@@ -24,9 +25,9 @@ NAN = math.nan
 
 # ------------------------------------------------------------------------------ the key
 def _run(out, generations: int, sectors=None, conditions=("standard", "gross-hat"),
-         replications: int = 2):
+         replications: int = 2, model_version: int = 3):
     """A run directory with its manifest only (nothing trained)."""
-    settings = Settings(replications=replications)
+    settings = Settings(replications=replications, model_version=model_version)
     if sectors is not None:
         settings = replace(settings, world=replace(settings.world, sectors=sectors))
     Trainer(out, [scaled(load_condition(c), generations) for c in conditions], settings)
@@ -40,24 +41,37 @@ def test_the_budget_is_the_scene_the_generations_per_phase_and_the_replications(
     c = _run(tmp_path / "c", 10, shoulder)
     d = _run(tmp_path / "d", 50, load_scene("near").sectors)
     # gross^ trains 100 generations: 2 phases' worth of 50
-    assert bd.budget_of(a) == bd.Budget("arm-length-shoulder", 50, 2)
+    # version 3 on another scene than its own: a variant of it
+    shoulder_v3 = "v3+scene=arm-length-shoulder"
+    assert bd.budget_of(a) == bd.Budget("arm-length-shoulder", 50, 2, shoulder_v3)
     assert bd.budget_of(b) == bd.budget_of(a)
-    assert bd.budget_of(c) == bd.Budget("arm-length-shoulder", 10, 2)
-    assert bd.budget_of(d) == bd.Budget("near", 50, 2)
+    assert bd.budget_of(c) == bd.Budget("arm-length-shoulder", 10, 2, shoulder_v3)
+    assert bd.budget_of(d) == bd.Budget("near", 50, 2, "v3+scene=near")
     assert bd.budget_of(a).label == "arm-length-shoulder, 50 generations per phase, 2 replications"
     # more replications: another design (the transitions merge the best of each), never pooled
     ten = _run(tmp_path / "ten", 50, shoulder, replications=10)
-    assert bd.budget_of(ten) == bd.Budget("arm-length-shoulder", 50, 10)
+    assert bd.budget_of(ten) == bd.Budget("arm-length-shoulder", 50, 10, shoulder_v3)
+    # another model on the same scene and budget: another sample, never pooled
+    v1 = _run(tmp_path / "v1", 50, shoulder, model_version=1)
+    assert bd.budget_of(v1) == bd.Budget("arm-length-shoulder", 50, 2, "v1")
+    assert bd.labels([bd.budget_of(v1), bd.budget_of(a)]) == {
+        bd.budget_of(v1): "arm-length-shoulder, 50 generations per phase, 2 replications, "
+                          "model v1",
+        bd.budget_of(a): f"{bd.budget_of(a).label}, model {shoulder_v3}"}
+    assert bd.labels([bd.budget_of(a)]) == {bd.budget_of(a): bd.budget_of(a).label}
     # two user scenes are two scenes, each named by its numbers
     e = _run(tmp_path / "e", 50, replace(shoulder, radius=0.40))
     f = _run(tmp_path / "f", 50, replace(shoulder, radius=0.41))
     assert bd.budget_of(e).scene.startswith("custom") and "0.4 m" in bd.budget_of(e).scene
     assert bd.budget_of(e) != bd.budget_of(f)
-    groups = bd.budget_groups([c, ten, a, d, b, a])
-    assert list(groups) == [bd.Budget("arm-length-shoulder", 10, 2),
-                            bd.Budget("arm-length-shoulder", 50, 2),
-                            bd.Budget("arm-length-shoulder", 50, 10), bd.Budget("near", 50, 2)]
-    assert groups[bd.Budget("arm-length-shoulder", 50, 2)] == [a, b]  # given twice: once
+    groups = bd.budget_groups([c, ten, a, v1, d, b, a])
+    assert list(groups) == [bd.Budget("arm-length-shoulder", 10, 2, shoulder_v3),
+                            bd.Budget("arm-length-shoulder", 50, 2, "v1"),
+                            bd.Budget("arm-length-shoulder", 50, 2, shoulder_v3),
+                            bd.Budget("arm-length-shoulder", 50, 10, shoulder_v3),
+                            bd.Budget("near", 50, 2, "v3+scene=near")]
+    assert groups[bd.Budget("arm-length-shoulder", 50, 2, shoulder_v3)] == [a, b]  # twice: once
+    assert groups[bd.Budget("arm-length-shoulder", 50, 2, "v1")] == [v1]
 
 
 # ------------------------------------------------------------------------------ movement
@@ -65,13 +79,14 @@ def test_the_budget_is_the_scene_the_generations_per_phase_and_the_replications(
 THETA = (Kind.DIRECTIONAL, Kind.NEVER)
 
 
-def _rows(budget: int, specs: dict, scene: str = "near", replications: int = 4) -> list[dict]:
+def _rows(budget: int, specs: dict, scene: str = "near", replications: int = 4,
+          model: str = "v3") -> list[dict]:
     """Findings rows of one budget: {claim: (kind, sign, effect, low, high)} (directional
     and never: effect and interval as theta - 0.5)."""
     specs = {c: (k, s, *(x + 0.5 * (k in THETA) for x in (e, lo, hi)))
              for c, (k, s, e, lo, hi) in specs.items()}
     return [{"scene": scene, "generations_per_phase": budget, "replications": replications,
-             "runs": f"r{budget}",
+             "model": model, "runs": f"r{budget}",
              "sign": sign, "claim": claim, "section": "S", "kind": kind.value,
              "effect": e, "effect_low": lo, "effect_high": hi,
              "verdict": (vd.NOT_RUN if math.isnan(e) else vd.REPRODUCED if claim == "overlap"
@@ -84,35 +99,35 @@ K = Kind
 #: claim: (its row at 10 generations per phase, at 50, the movement)
 CASES = {
     "up, intervals apart": ((K.DIRECTIONAL, +1, 0.1, 0.0, 0.2),
-                            (K.DIRECTIONAL, +1, 0.5, 0.3, 0.7), bd.TOWARD),
+                            (K.DIRECTIONAL, +1, 0.5, 0.3, 0.7), bd.APART_HIGHER),
     "lower wanted, rises": ((K.DIRECTIONAL, -1, -0.5, -0.7, -0.3),
-                            (K.DIRECTIONAL, -1, 0.4, 0.3, 0.5), bd.AWAY),
+                            (K.DIRECTIONAL, -1, 0.4, 0.3, 0.5), bd.APART_LOWER),
     "overlap": ((K.DIRECTIONAL, +1, 0.1, -0.1, 0.3),
-                (K.DIRECTIONAL, +1, 0.2, 0.0, 0.4), bd.NO_CHANGE),
+                (K.DIRECTIONAL, +1, 0.2, 0.0, 0.4), bd.OVERLAP),
     "sign flips, overlap": ((K.DIRECTIONAL, +1, -0.05, -0.2, 0.1),
-                            (K.DIRECTIONAL, +1, 0.05, -0.1, 0.2), bd.NO_CHANGE),
+                            (K.DIRECTIONAL, +1, 0.05, -0.1, 0.2), bd.OVERLAP),
     "unbounded": ((K.DIRECTIONAL, +1, 0.1, -math.inf, math.inf),
-                  (K.DIRECTIONAL, +1, 5.0, 4.0, 6.0), bd.NO_CHANGE),
+                  (K.DIRECTIONAL, +1, 5.0, 4.0, 6.0), bd.OVERLAP),
     "not run at 50": ((K.DIRECTIONAL, +1, 0.1, 0.0, 0.2),
                       (K.DIRECTIONAL, +1, NAN, NAN, NAN), bd.NOT_RUN),
     "theta to 0.5": ((K.NO_DIFFERENCE, 0, 0.9, 0.8, 1.0),
-                     (K.NO_DIFFERENCE, 0, 0.52, 0.45, 0.6), bd.TOWARD),
+                     (K.NO_DIFFERENCE, 0, 0.52, 0.45, 0.6), bd.APART_HIGHER),
     "theta from 0.5": ((K.NO_DIFFERENCE, 0, 0.52, 0.45, 0.6),
-                       (K.NO_DIFFERENCE, 0, 0.1, 0.02, 0.2), bd.AWAY),
+                       (K.NO_DIFFERENCE, 0, 0.1, 0.02, 0.2), bd.APART_LOWER),
     "never: share falls": ((K.NEVER, -1, 0.1, 0.0, 0.2),
-                           (K.NEVER, -1, -0.3, -0.4, -0.2), bd.TOWARD),
+                           (K.NEVER, -1, -0.3, -0.4, -0.2), bd.APART_HIGHER),
     # a one-sided interval [0, upper]: its image always reaches the margin, so it can only
     # move away or not at all
     "not better: theta falls": ((K.NOT_BETTER, +1, 0.9, 0.0, 0.99),
-                                (K.NOT_BETTER, +1, 0.3, 0.0, 0.45), bd.NO_CHANGE),
+                                (K.NOT_BETTER, +1, 0.3, 0.0, 0.45), bd.OVERLAP),
     "band: into it": ((K.BAND, 0, 0.1, 0.05, 0.15),
-                      (K.BAND, 0, 0.5, 0.4, 0.6), bd.TOWARD),
+                      (K.BAND, 0, 0.5, 0.4, 0.6), bd.APART_HIGHER),
     "band: through it": ((K.BAND, 0, 0.1, 0.05, 0.15),
-                         (K.BAND, 0, 0.95, 0.9, 1.0), bd.NO_CHANGE),
+                         (K.BAND, 0, 0.95, 0.9, 1.0), bd.OVERLAP),
     "sectors: floor": ((K.EVERY_SECTOR, 0, 0.3, 0.2, 0.4),
-                       (K.EVERY_SECTOR, 0, 0.0, 0.0, 0.05), bd.AWAY),
+                       (K.EVERY_SECTOR, 0, 0.0, 0.0, 0.05), bd.APART_LOWER),
     "same: change shrinks": ((K.SAME_PAIRED, 0, -0.4, -0.5, -0.3),
-                             (K.SAME_PAIRED, 0, 0.01, -0.05, 0.07), bd.TOWARD),
+                             (K.SAME_PAIRED, 0, 0.01, -0.05, 0.07), bd.APART_HIGHER),
     "W falls": ((K.PAIRED, 0, 0.8, NAN, NAN), (K.PAIRED, 0, 0.3, NAN, NAN), bd.NO_INTERVAL),
     "paired change equal": ((K.CHANGE_PAIRED, -1, -0.1, NAN, NAN),
                             (K.CHANGE_PAIRED, -1, -0.1, NAN, NAN), bd.NO_INTERVAL),
@@ -163,14 +178,18 @@ def test_side_by_side_has_one_row_per_claim_and_the_movement():
     assert table.columns == ["claim", "section", "kind",
                              *[f"{g} gen/phase: {c}" for g in (10, 20, 50)
                                for c in ("effect [CI]", "verdict", "robots as units")],
-                             "as the budget grows"]
+                             bd.MOVEMENT_COLUMN]
     row = {r["claim"]: r for r in table.iter_rows(named=True)}
     assert row["up, intervals apart"]["50 gen/phase: effect [CI]"] == "1 [0.8, 1.2]"
     assert row["W falls"]["10 gen/phase: effect [CI]"] == "0.8"
-    assert row["W falls"]["as the budget grows"] == bd.NO_INTERVAL
+    assert row["W falls"][bd.MOVEMENT_COLUMN] == bd.NO_INTERVAL
     assert row["only at 50"]["10 gen/phase: verdict"] == vd.NOT_RUN
     assert row["only at 50"]["10 gen/phase: effect [CI]"] == "–"
-    assert row["overlap"]["as the budget grows"] == "no change"
+    # the words describe the intervals and state no result: no "toward", "away", "change"
+    assert row["overlap"][bd.MOVEMENT_COLUMN] == "overlap"
+    assert row["up, intervals apart"][bd.MOVEMENT_COLUMN] == "apart, higher"
+    assert bd.MOVEMENT_COLUMN == "intervals as the budget grows (not a test)"
+    assert not any(w in m for m in bd.MOVEMENTS for w in ("toward", "away", "change"))
     # the paper's analysis, robots as units, is its own column, never the verdict
     assert row["overlap"]["50 gen/phase: verdict"] == vd.REPRODUCED
     assert row["unbounded"]["50 gen/phase: verdict"] == vd.INCONCLUSIVE
@@ -187,10 +206,10 @@ def test_scenes_are_never_compared_with_each_other():
                          + _rows(10, up, "far") + _rows(50, one, "far")
                          + _rows(30, up, "lone"))
     moves = {r["series"]: r["movement"] for r in bd.movement(frame).iter_rows(named=True)}
-    assert moves == {"near": bd.TOWARD, "far": bd.AWAY}
+    assert moves == {"near": bd.APART_HIGHER, "far": bd.APART_LOWER}
     table = bd.side_by_side(frame)
-    assert "as the budget grows (near)" in table.columns
-    assert "as the budget grows (far)" in table.columns
+    assert "intervals as the budget grows (near; not a test)" in table.columns
+    assert "intervals as the budget grows (far; not a test)" in table.columns
     assert "far, 10 gen/phase: verdict" in table.columns
     assert not any("lone)" in c for c in table.columns)
 
@@ -202,10 +221,11 @@ def test_more_replications_are_a_series_of_their_own():
     high = {"c": (K.DIRECTIONAL, +1, 0.9, 0.8, 1.0)}
     frame = pl.DataFrame(_rows(10, low) + _rows(50, high) + _rows(50, low, replications=10))
     moves = bd.movement(frame)
-    assert moves.select("series", "movement").rows() == [("near, 4 replications", bd.TOWARD)]
+    assert moves.select("series", "movement").rows() == [("near, 4 replications", bd.APART_HIGHER)]
     table = bd.side_by_side(frame)
     assert {"10 gen/phase x 4: verdict", "50 gen/phase x 4: verdict",
-            "50 gen/phase x 10: verdict", "as the budget grows (near, 4 replications)"
+            "50 gen/phase x 10: verdict",
+            "intervals as the budget grows (near, 4 replications; not a test)"
             } <= set(table.columns)
     assert table["50 gen/phase x 10: effect [CI]"][0] == "0.6 [0.5, 0.7]"
 
@@ -243,7 +263,28 @@ def test_the_figure_draws_the_claims_with_an_effect_at_two_budgets():
     assert len(drawn) == twice == len(CASES)  # "not run at 50" has 10 and 20; "only at 50" one
     titles = [ax.get_title(loc="left").replace("\n", " ") for ax in drawn]
     assert titles[0] == "up, intervals apart"
-    assert drawn[0].get_xlabel() == bd.TOWARD
+    assert drawn[0].get_xlabel() == bd.APART_HIGHER
     assert [t.get_text() for t in drawn[0].get_xticklabels()] == ["10", "20", "50"]
     lone = figures.budget_figure(frame.filter(pl.col("claim") == "only at 50"))
     assert "no claim has an effect at two budgets" in [t.get_text() for t in lone.axes[0].texts]
+
+
+def test_models_are_never_pooled_nor_compared_and_named_only_when_several():
+    """Two models on one scene at the same budgets: each model its own columns and series,
+    named by its model; one model alone: the names as before models were told apart."""
+    low = {"c": (K.DIRECTIONAL, +1, 0.1, 0.0, 0.2)}
+    high = {"c": (K.DIRECTIONAL, +1, 0.9, 0.8, 1.0)}
+    one = _rows(10, low) + _rows(50, high)
+    assert bd.side_by_side(pl.DataFrame(one)).columns[3] == "10 gen/phase: effect [CI]"
+    frame = pl.DataFrame(one + _rows(10, high, model="v1") + _rows(50, low, model="v1"))
+    assert bd.budgets(frame) == [bd.Budget("near", 10, 4, "v1"), bd.Budget("near", 10, 4, "v3"),
+                                 bd.Budget("near", 50, 4, "v1"), bd.Budget("near", 50, 4, "v3")]
+    moves = dict(bd.movement(frame).select("series", "movement").rows())
+    assert moves == {"near, model v3": bd.APART_HIGHER, "near, model v1": bd.APART_LOWER}
+    table = bd.side_by_side(frame)
+    assert table["10 gen/phase, model v1: effect [CI]"][0] == "1.4 [1.3, 1.5]"
+    assert table["10 gen/phase, model v3: effect [CI]"][0] == "0.6 [0.5, 0.7]"
+    assert "intervals as the budget grows (near, model v1; not a test)" in table.columns
+    # more replications are compared within one model only
+    more = pl.DataFrame(one + _rows(50, high, replications=10, model="v1"))
+    assert bd.replications_decide(more).height == 0

@@ -80,7 +80,8 @@ def test_what_ten_replications_decided_is_counted_and_listed():
     """The paper's claims only; every outcome counted (zeros shown); changed verdicts listed."""
     def rows(replications, verdicts_, own=False):
         return [{"scene": "s", "generations_per_phase": 50, "replications": replications,
-                 "claim": c, "verdict": v, "own": own} for c, v in verdicts_.items()]
+                 "model": "v1", "claim": c, "verdict": v, "own": own}
+                for c, v in verdicts_.items()]
     few = {"A": "inconclusive", "B": "underpowered", "C": "reproduced"}
     many = {"A": "reproduced", "B": "inconclusive", "C": "reproduced"}
     frame = pl.DataFrame(rows(4, few) + rows(10, many) + rows(4, {"own": "inconclusive"}, True)
@@ -163,7 +164,7 @@ def test_the_readme_is_a_front_door_not_a_progress_board():
 
 
 def test_a_budgets_row_counts_each_verdict():
-    budget = Budget("s", 50, 10)
+    budget = Budget("s", 50, 10, "v1")
     paper = {"runs": "r", "reproduced": 23, "reproduced (Holm)": 11, "contradicted": 3,
              "contradicted (Holm)": 1, "inconclusive": 30, "underpowered": 0, "not run": 28,
              "cannot be tested": 2}

@@ -16,9 +16,10 @@ from matplotlib.ticker import MaxNLocator
 
 from .. import budgets
 
-#: Colours of a claim's movement as the budget grows (``budgets.movement``).
-MOVEMENT_COLOURS = {budgets.TOWARD: "#2ca02c", budgets.AWAY: "#d62728",
-                    budgets.NO_CHANGE: "0.35", budgets.NO_INTERVAL: "0.55",
+#: Colours of how a claim's intervals lie as the budget grows (``budgets.movement``): greys,
+#: darker where they are apart; no green or red, as the words state no result.
+MOVEMENT_COLOURS = {budgets.APART_HIGHER: "0.1", budgets.APART_LOWER: "0.1",
+                    budgets.OVERLAP: "0.35", budgets.NO_INTERVAL: "0.55",
                     budgets.NOT_RUN: "0.55"}
 
 
@@ -28,10 +29,11 @@ def budget_figure(by_budget: pl.DataFrame, claims: Sequence[str] | None = None,
     ``by_budget`` (``budgets.findings_by_budget``): one small panel per claim, the effect on
     the scale where up is the paper's direction (``budgets.toward_paper``; the claim's own
     units, the dashed line at 0: no effect, or the claim's boundary) with its interval (a
-    hollow point: none, or an unbounded one), a line per series (a scene and a number of replications), and the claim's movement as
-    the budget grows (``budgets.movement``) under the panel, in its colour. ``claims``: the
-    claim ids to draw (default: those with an effect at two budgets or more), in the frame's
-    order."""
+    hollow point: none, or an unbounded one), a line per series (a scene, a number of
+    replications and a model), and how the claim's intervals lie as the budget grows
+    (``budgets.movement``, a description, not a test) under the panel, in its grey.
+    ``claims``: the claim ids to draw (default: those with an effect at two budgets or more),
+    in the frame's order."""
     scored = budgets.with_series(budgets.toward_paper(by_budget))
     if claims is None:
         counts = (scored.filter(pl.col("toward").is_not_nan())

@@ -64,7 +64,7 @@ def forest_figure(by_budget: pl.DataFrame, own: bool = False) -> Figure:
     parts = scored["part"].unique(maintain_order=True).to_list()
     claims = {p: scored.filter(pl.col("part") == p)["claim"].unique(maintain_order=True)
               .to_list() for p in parts}
-    labels = sorted(scored.select("generations_per_phase", "replications", "scene")
+    labels = sorted(scored.select("generations_per_phase", "replications", "scene", "model")
                     .unique().rows())
     markers = dict(zip(labels, "osD^v<>"))
     offsets = dict(zip(labels, np.linspace(-0.22, 0.22, len(labels)) if len(labels) > 1
@@ -79,7 +79,7 @@ def forest_figure(by_budget: pl.DataFrame, own: bool = False) -> Figure:
         for r in scored.filter(pl.col("part") == part).iter_rows(named=True):
             if r["verdict"] == verdicts.NOT_RUN:
                 continue
-            key = (r["generations_per_phase"], r["replications"], r["scene"])
+            key = (r["generations_per_phase"], r["replications"], r["scene"], r["model"])
             y = names.index(r["claim"]) + offsets[key]
             colour = VERDICT_COLOURS.get(r["verdict"], "0.6")
             t, lo, hi = r["toward"], r["toward_low"], r["toward_high"]
@@ -106,10 +106,11 @@ def forest_figure(by_budget: pl.DataFrame, own: bool = False) -> Figure:
     axes[0, 0].tick_params(labeltop=True, labelsize=LABEL_PT)
     handles = [Line2D([], [], color=c, marker="o", linestyle="", label=v)
                for v, c in VERDICT_COLOURS.items() if v != verdicts.NOT_RUN]
-    several = {i: len({k[i] for k in labels}) > 1 for i in (1, 2)}
+    several = {i: len({k[i] for k in labels}) > 1 for i in (1, 2, 3)}
     handles += [Line2D([], [], color="0.3", marker=markers[k], linestyle="",
                        label=f"{k[0]} gen/phase" + (f" x {k[1]}" if several[1] else "")
-                       + (f", {k[2]}" if several[2] else ""))
+                       + (f", {k[2]}" if several[2] else "")
+                       + (f", model {k[3]}" if several[3] else ""))
                 for k in labels]
     fig.legend(handles=handles, fontsize=LABEL_PT, loc="outside upper center",
                ncol=min(len(handles), 4), frameon=False)
