@@ -24,6 +24,7 @@ import polars as pl
 from dart_reach.analysis import calibration as cal
 from dart_reach.analysis import calibration_core, coverage
 from dart_reach.analysis import paired_calibration as paired_cal
+from dart_reach.analysis import run_shaped_calibration as run_shaped
 from dart_reach.analysis import verdicts
 from dart_reach.analysis.calibration import NESTINGS, calibrate, robot_level
 
@@ -255,13 +256,124 @@ def _ungated_split(table: pl.DataFrame) -> str:
                         f"({rule})" for rule in cal.UNGATED)
 
 
+def failing(table: pl.DataFrame) -> pl.DataFrame:
+    """The bounded rows of ``table`` not met within Monte-Carlo error (``ok`` false)."""
+    return table.filter(pl.col("ok").is_not_null() & ~pl.col("ok"))
+
+
+def _over(table: pl.DataFrame, rule: str, scenarios) -> str:
+    """Where ``rule`` (a reported rule, unbounded) decides above ``ALPHA`` + ``Z_MC`` s.e. at
+    ``DATASETS`` data sets under ``scenarios``: "under S at R and R replications; ..." or
+    "under none of them"."""
+    bound = verdicts.ALPHA + calibration_core.Z_MC * math.sqrt(
+        verdicts.ALPHA * (1 - verdicts.ALPHA) / calibration_core.DATASETS)
+    rows = table.filter((pl.col("rule") == rule) & pl.col("scenario").is_in(list(scenarios))
+                        & (pl.col("value") > bound))
+    parts = [f"{scenario.removeprefix('null, ')} at " + " and ".join(
+        map(str, sorted(set(block["replications"])))) for (scenario,), block in
+        rows.group_by("scenario", maintain_order=True)]
+    return "under " + "; ".join(parts) if parts else "under none of them"
+
+
+def _holds(table: pl.DataFrame, rules, replications: int | None = None) -> str:
+    """Whether every bounded row of ``rules`` (at ``replications``, when given) is met: "holds
+    its level under every null" or "exceeds it under: ..." (the failing scenarios)."""
+    rows = table.filter(pl.col("rule").is_in(list(rules)) & pl.col("ok").is_not_null())
+    if replications is not None:
+        rows = rows.filter(pl.col("replications") == replications)
+    bad = failing(rows)
+    if not bad.height:
+        return f"hold their bounds (all {rows.height} rows)"
+    return ("miss their bounds in " + "; ".join(
+        f"{r} ({s}, {m})" for r, s, m in bad.select("rule", "scenario", "measure").unique(
+            maintain_order=True).rows()))
+
+
+def _gate(table: pl.DataFrame, rule: str) -> str:
+    """The sizes at which ``rule``'s bounded rows fail (from the scenario's "N replications" /
+    "N pairs", else the nesting's) and the smallest size above them all where every row
+    holds."""
+    rows = table.filter((pl.col("rule") == rule) & pl.col("ok").is_not_null()).with_columns(
+        pl.col("scenario").str.extract(r", (\d+) (?:replications|pairs|blocks)$")
+        .cast(pl.Int64).fill_null(pl.col("replications")).alias("n"))
+    bad = sorted(set(failing(rows)["n"]))
+    if not bad:
+        return f"{rule}: every bounded row met"
+    ok = sorted(n for n in set(rows["n"]) if n > max(bad))
+    return (f"{rule}: fails at {', '.join(map(str, bad))}"
+            + (f", holds from {ok[0]}" if ok else " (no larger size simulated)"))
+
+
+def _shaped_values(table: pl.DataFrame) -> dict[str, str]:
+    """The page's paragraph on the rules under run-shaped nulls (``run_shaped_calibration``):
+    the data sets a row is over and their Monte-Carlo error, each rule's bounded rows failed
+    (``shaped_failed``), where each rule holds (``shaped_gates``), the intervals' labels."""
+    n = run_shaped.DATASETS
+    se = math.sqrt(verdicts.ALPHA * (1 - verdicts.ALPHA) / n)
+    se_cover = math.sqrt(0.95 * 0.05 / n)
+    rules = (run_shaped.BAND, run_shaped.SECTORS, run_shaped.CHANGE, run_shaped.SENSES)
+    shaped = table.filter(pl.col("rule").is_in(rules))
+    bad = failing(shaped)
+    listed = "\n".join(
+        f"- {rule} ({block.height} rows): " + "; ".join(
+            f"{r['scenario']} ({r['measure']}): {r['value']:.3f} at within s.d. "
+            f"{r['within_sd']:g}" for r in block.iter_rows(named=True))
+        for (rule,), block in bad.sort("rule", "scenario").group_by("rule",
+                                                                     maintain_order=True))
+    return {"shaped_datasets": (f"{n:,} data sets a row (a rate near 0.05 has a Monte-Carlo "
+                                f"standard error of {se:.4f}: a row fails above "
+                                f"{verdicts.ALPHA + calibration_core.Z_MC * se:.3f}; a "
+                                f"coverage at 0.95, s.e. {se_cover:.4f}, fails below "
+                                f"{0.95 - calibration_core.Z_MC * se_cover:.3f}, over the data "
+                                "sets with an interval)"),
+            "shaped_failed": (f"{bad.height} of the {shaped['ok'].is_not_null().sum()} bounded "
+                              "rows are not met:\n\n" + listed + "\n") if bad.height else
+                             (f"all {shaped['ok'].is_not_null().sum()} bounded rows are met"),
+            "shaped_gates": "; ".join(_gate(table, r) for r in rules),
+            "min_units": f"{verdicts.MIN_UNITS}",
+            "band_interval": coverage.shaped_label(table, "band"),
+            "change_interval": coverage.shaped_label(table, "change")}
+
+
+def _prose(table: pl.DataFrame) -> dict[str, str]:
+    """The page's sentences that read the table rather than state it: where Mann-Whitney
+    decides above its level (``mann_whitney_over``) and its power at 4 replications
+    (``mann_whitney_2sd_4``), whether the directional rule and the
+    no-difference and not-better rules hold their bounds (``directional_holds``,
+    ``two_group_holds_10``), their powers beside Mann-Whitney's at 10 (``power_beside``),
+    theta's reported coverage away from 0.5 (``reported_span``) and the whole table's count
+    (``every_rule``)."""
+    old = "directional: Mann-Whitney (the rule before, reported)"
+    shape_nulls = [f"null, {s}" for s in cal.SHAPES]
+    mw = lambda d: span(cells(table, old, f"shift {d} s.d.", "reproduced", 10))  # noqa: E731
+    bm = lambda d: span(cells(table, "directional", f"shift {d} s.d.", "reproduced",  # noqa
+                              10))
+    kept = held(table)
+    bad = failing(table)
+    return {"mann_whitney_over": _over(table, old, shape_nulls),
+            "mann_whitney_2sd_4": span(cells(table, old, "shift 2 s.d.", "reproduced", 4)),
+            "directional_holds": _holds(table, ["directional"], 10),
+            "two_group_holds_10": _holds(table, ["no difference", "not better"], 10),
+            "power_beside": (f"a 1-s.d. shift {bm(1)} against Mann-Whitney's {mw(1)}, a "
+                             f"2-s.d. one {bm(2)} against {mw(2)}"),
+            "reported_span": (f"{kept['reported_low']:.2f}-{kept['reported_high']:.2f}"
+                              if kept["reported_low"] == kept["reported_low"] else
+                              "not measured"),
+            "every_rule": (f"{kept['met']} of the {kept['bounded']} bounded rows are met "
+                           "within Monte-Carlo error" + (
+                               f"; not met: {bad.height}, all of the rules "
+                               + ", ".join(sorted(set(bad["rule"])))
+                               + " (below)" if bad.height else ""))}
+
+
 def values(recordings: Path | None = None) -> dict[str, str]:
     """The values of docs/results/templates/calibration.md, from the committed table
     (``committed``): ``table`` (``markdown``), the prose's numbers of the directional rule
     (``shift_coverage``, ``interval_short``), of the paired rules (``_paired_values``) and of
     the spreads (``band_power``, ``senses_power_4``: at 4 replications, within s.d. 3 and
-    0.6), and the powers the closing lines read. ``recordings`` is unused (the table has its own path): the signature of
-    ``reports.results.DOCS``."""
+    0.6), the powers the closing lines read, the rows under run-shaped nulls
+    (``_shaped_values``) and the sentences that read the table (``_prose``). ``recordings`` is
+    unused (the table has its own path): the signature of ``reports.results.DOCS``."""
     table = committed()
     band = cells(table, "band", "mean 0.5", "reproduced", 4)
     senses = cells(table, "senses differ", "conditions 1 s.d. apart", "reproduced", 4)
@@ -284,7 +396,8 @@ def values(recordings: Path | None = None) -> dict[str, str]:
             "not_better_power_10": span(cells(table, "not better", "no difference",
                                               "reproduced", 10)),
             "robot_level": robot_level_markdown(pl.read_parquet(ROBOT_LEVEL)),
-            **_paired_values(table), **_paired_coverage(table)}
+            **_paired_values(table), **_paired_coverage(table), **_shaped_values(table),
+            **_prose(table)}
 
 
 def merged(table: pl.DataFrame, blocks: dict[str, pl.DataFrame]) -> pl.DataFrame:

@@ -37,6 +37,7 @@ from .calibration_core import (  # noqa: F401  (re-exported: the calibration's s
 from .paired_calibration import (  # noqa: F401  (re-exported: the paired rules' blocks)
     PAIRED_BEFORE, PAIRED_UNGATED, RATE_BEFORE, RATE_SHAPES, RATE_UNGATED, SENSES_UNGATED,
     paired, paired_rates, rate_pairs, senses, t_tost)
+from .run_shaped_calibration import band_shapes, paired_shapes
 
 
 def _pair(rng, nest, shift_b=0.0, outlier=False):
@@ -331,8 +332,9 @@ def _split_ungated(nest, rng, n):
             for rule, judge in judges.items()]
 
 
+#: Every block, in the order of their seeds (a block added goes last: the others keep theirs).
 RULES = (_directional, _against_random, _equivalence, _band, _sectors, _paired, _senses,
-         _shapes, _paired_rates, _split_ungated)
+         _shapes, _paired_rates, _split_ungated, band_shapes, paired_shapes)
 
 
 def calibrate(nestings=NESTINGS, datasets: int = DATASETS, seed: int = 2013,

@@ -69,13 +69,14 @@ def rate(flags) -> float:
 
 
 def row(rule: str, nest: Nesting, scenario: str, measure: str, value: float, bound: float,
-         kind: str) -> dict:
+        kind: str, datasets: int = DATASETS) -> dict:
     """``kind``: "at most" (an error rate against ``bound``), "at least" (a coverage),
-    "power" or "reported" (a rule not used, for comparison; neither has a bound)."""
+    "power" or "reported" (a rule not used, for comparison; neither has a bound); ``value``
+    over ``datasets`` data sets (the Monte-Carlo error of the check)."""
     if kind not in ("at most", "at least", "power", "reported"):
         raise ValueError(f"unknown kind {kind!r}")
     free = kind in ("power", "reported")
-    se = math.sqrt(max(bound * (1 - bound), 1e-12) / DATASETS) if not free else math.nan
+    se = math.sqrt(max(bound * (1 - bound), 1e-12) / datasets) if not free else math.nan
     ok = (value <= bound + Z_MC * se if kind == "at most" else
           value >= bound - Z_MC * se if kind == "at least" else None)
     return {"rule": rule, "replications": nest.replications, "robots": nest.robots,

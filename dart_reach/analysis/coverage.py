@@ -14,13 +14,16 @@ from the committed calibration table (``reports.calibration.TABLE``), never from
 A paired claim of no change's interval (``paired_label``) is labelled the same way: nominally
 99 %, exact for changes symmetric about their centre, with the coverage the calibration
 measured per number of pairs and shape of the changes (``paired_calibration.coverage_row``).
+The band's interval (Student's t) and the paired change's (the Hodges-Lehmann change's, exact
+for symmetric changes) are labelled with the coverage measured under rates shaped like the
+runs' (``shaped_label``; ``run_shaped_calibration``), per number of replications.
 """
 
 from __future__ import annotations
 
 import polars as pl
 
-from . import paired_calibration
+from . import paired_calibration, run_shaped_calibration
 from .verdict_core import PAIRED_EQUIVALENCE_LEVEL
 
 #: The calibration table's rows of theta's interval: the directional rule's coverage rows,
@@ -130,3 +133,45 @@ def paired_label(table: pl.DataFrame) -> str:
 def _span(low: float, high: float) -> str:
     a, b = f"{low:.3f}", f"{high:.3f}"
     return a if a == b else f"{a}-{b}"
+
+
+# ------------------------------------------------ the band's and the paired change's intervals
+#: The calibration table's rows of the band's interval (Student's t over replications,
+#: ``verdicts.in_band``) and the paired change's (the Hodges-Lehmann change's exact interval,
+#: ``verdicts.paired_directional``) under nulls shaped like the runs' rates
+#: (``run_shaped_calibration``), bounded at their nominal level.
+SHAPED_RULES = {"band": run_shaped_calibration.BAND, "change": run_shaped_calibration.CHANGE}
+
+
+def shaped_coverage(table: pl.DataFrame, rule: str) -> pl.DataFrame:
+    """Per number of replications (``n``, from a row's scenario: "..., N replications" or
+    "..., N pairs"): the lowest and highest coverage of ``rule``'s interval over the shapes,
+    means and nestings of the calibration (``low``, ``high``), how many rows (``rows``) and
+    the scenario of the lowest (``lowest_at``). Empty when the table has none."""
+    rows = table.filter((pl.col("rule") == rule)
+                        & pl.col("measure").str.starts_with("coverage"))
+    rows = rows.with_columns(pl.col("scenario").str.extract(r", (\d+) (?:replications|pairs)$")
+                             .cast(pl.Int64).alias("n"))
+    return (rows.sort("value").group_by("n", maintain_order=True)
+            .agg(pl.col("value").min().alias("low"), pl.col("value").max().alias("high"),
+                 pl.len().alias("rows"), pl.col("scenario").first().alias("lowest_at"))
+            .sort("n"))
+
+
+def shaped_label(table: pl.DataFrame, which: str) -> str:
+    """What to call the band's (``which`` "band") or the paired change's ("change") interval
+    on a page: "nominally 95 %, covering in simulation LOW-HIGH at N replications (pairs), ..."
+    over the run-shaped nulls, read from ``table``; the paired change's shows no finite
+    interval below 6 pairs; "its coverage not measured" when the table has no row of it."""
+    unit = "replications" if which == "band" else "pairs"
+    measured = shaped_coverage(table, SHAPED_RULES[which])
+    if not measured.height:
+        return "nominally 95 %; its coverage not measured"
+    parts = "; ".join(f"{_span(r['low'], r['high'])} at {r['n']} {unit}"
+                      for r in measured.iter_rows(named=True))
+    below = ("" if which == "band" or measured["n"].min() <= 4 else
+             f"; no finite interval below {measured['n'].min()} pairs")
+    shapes = ("on the trial grid, still, two-mode, skewed" if which == "band" else
+              "in fifths, still, two-mode, zero-inflated, skewed changes")
+    return f"nominally 95 %, covering in simulation {parts} (rates shaped like the runs': " \
+        f"{shapes}){below}"

@@ -289,32 +289,37 @@ RATE_SHAPES = {"rates in fifths": True, "30 % of replications still": True,
                "skewed changes (exponential)": False}
 
 
-def rate_pairs(r: np.random.Generator, shape: str, k: int, change: float
-               ) -> tuple[np.ndarray, np.ndarray]:
+def rate_pairs(r: np.random.Generator, shape: str, k: int, change: float,
+               conditions: int = 2) -> tuple[np.ndarray, ...]:
     """``k`` replications' rates under two conditions whose mean change is ``change``, in
     ``shape`` (``RATE_SHAPES``): rates in fifths (each replication's chance uniform in
     [0.2, 0.8], moved by ``change``); a share of replications still (0 under both, the others
     in fifths, moved by change / (1 - share)); two-mode changes (+-0.15 about ``change``);
     zero-inflated (70 % of replications unchanged, the others by change / 0.3); skewed (the
-    change plus an exponential of mean 0.1, less its mean, away from 0)."""
+    change plus an exponential of mean 0.1, less its mean, away from 0). With ``conditions``
+    above 2, every condition after the first is changed so from the first, each its own draw
+    (the four sensory conditions of "senses differ"; the first two are then the pair drawn
+    alone, from the same stream)."""
+    later = range(conditions - 1)
     if shape == "rates in fifths":
         p = r.uniform(0.2, 0.8, k)
-        return _fifths(r, p), _fifths(r, p + change)
+        return (_fifths(r, p), *(_fifths(r, p + change) for _ in later))
     if shape.endswith("of replications still"):
         share = int(shape.split(" ")[0]) / 100
         still = r.random(k) < share
         p = r.uniform(0.2, 0.7, k)
         return (np.where(still, 0.0, _fifths(r, p)),
-                np.where(still, 0.0, _fifths(r, p + change / (1 - share))))
+                *(np.where(still, 0.0, _fifths(r, p + change / (1 - share))) for _ in later))
     p = r.uniform(0.3, 0.6, k)
     if shape == "two-mode changes":
-        return p, p + change + r.choice((-0.15, 0.15), k) + r.normal(0.0, 0.01, k)
+        return (p, *(p + change + r.choice((-0.15, 0.15), k) + r.normal(0.0, 0.01, k)
+                     for _ in later))
     if shape.startswith("zero-inflated"):
-        moved = r.random(k) < 0.3
-        return p, p + moved * (change / 0.3 + r.normal(0.0, 0.02, k))
+        return (p, *(p + (r.random(k) < 0.3) * (change / 0.3 + r.normal(0.0, 0.02, k))
+                     for _ in later))
     if shape.startswith("skewed"):
-        tail = (r.exponential(0.1, k) - 0.1) * (1 if change >= 0 else -1)
-        return p, p + change + tail
+        sign = 1 if change >= 0 else -1
+        return (p, *(p + change + (r.exponential(0.1, k) - 0.1) * sign for _ in later))
     raise ValueError(f"unknown shape {shape!r}; known: {tuple(RATE_SHAPES)}")
 
 

@@ -270,9 +270,10 @@ def senses_differ(matrix, level: float = ALPHA, margin: float = PAIRED_MARGIN) -
     if n < 2 or smallest_friedman_p(n, k) >= ALPHA:
         return Outcome(UNDERPOWERED, note=f"{n} blocks: the smallest possible p is "
                                           f"{smallest_friedman_p(max(n, 1), k):.2g}")
-    if no_spread(x):
+    if no_spread(x) or all(no_spread(block) for block in x):  # no ranks to compare
         return Outcome(INCONCLUSIVE, 1.0, 0.0, paper_level_met=False,
-                       note="every value equal: no evidence")
+                       note="every value equal" + ("" if no_spread(x) else " within each "
+                                                   "block") + ": no evidence")
     chi2, p = friedman(x)
     w = chi2 / (n * (k - 1))
     decidable = smallest_signed_rank_p(n) / 2 < PAIRED_EQUIVALENCE_LEVEL
