@@ -140,6 +140,35 @@ def agreement_words(real: pl.DataFrame) -> str:
     return text
 
 
+#: The labeller's note on the labelled trials (by eye, from their sheets, once the detector
+#: had been run on them): a description of the committed sample's trials, not a measure, and
+#: the trials it was written on: those the detector misses, those the moving rule calls
+#: moving against the eye (``labeller_note`` refuses a sample whose trials differ).
+NOTE = ("the trials the detector misses ({missed}) are sweeps that stop or change at the "
+        "ball, or that turn irregular after a touch; those the moving rule calls moving "
+        "against the eye ({over}; path {path} m) move only in the first second's swing from "
+        "the home posture or jitter at the ball")
+NOTE_ON = (("T03", "T07", "T08", "T13", "T18", "T22", "T35"), ("T14", "T17", "T26", "T28"))
+
+
+def labeller_note(real: pl.DataFrame) -> str:
+    """``NOTE`` as the page says it, marked as the labeller's note on this sample, with the
+    trials it describes and their paths counted from ``real`` (``real_table``); an error when
+    they are no longer ``NOTE_ON``'s (the note would describe other trials)."""
+    missed = real.filter(pl.col("babbling") & ~pl.col("detector babbling"))["code"].sort()
+    over = real.filter(~pl.col("moving") & pl.col("detector moving")).sort("code")
+    now = (tuple(missed.to_list()), tuple(over["code"].to_list()))
+    if now != NOTE_ON:
+        raise ValueError(f"the labeller's note was written on the trials {NOTE_ON}, the "
+                         f"detector and the moving rule now disagree with the eye on {now}: "
+                         f"look at their sheets and rewrite reports.babbling_detector.NOTE")
+    paths = over["detector path"]
+    return ("The labeller's note, by eye from the sheets of this committed sample "
+            f"(`{LABELS}`), a description and not a measure: "
+            + NOTE.format(missed=", ".join(now[0]), over=", ".join(now[1]),
+                          path=f"{paths.min():.2f}-{paths.max():.2f}") + ".")
+
+
 def movement_table(recordings: Path) -> pl.DataFrame:
     """Per replication at each judged generation: babbling share and strategy by rhythm
     (``strategies.strategies``) beside moving share and strategy by movement
@@ -185,6 +214,7 @@ def values(recordings: Path) -> dict[str, str]:
                                .sum())),
         "agreement_table": markdown_table(agreement_rows(real)),
         "agreement_words": agreement_words(real),
+        "labeller_note": labeller_note(real),
         "unsure": str(int(real["unsure"].sum())),
         "real_table": markdown_table(real.select(
             "code", "senses", "replication", "babbling", "unsure", "detector babbling",

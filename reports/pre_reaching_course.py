@@ -265,6 +265,31 @@ def fit_at_50(recordings: Path) -> str:
     return said.two_groups(fit[STILL], fit[BABBLING], STILL, BABBLING, calibration.committed())
 
 
+def babbling_words(development: pl.DataFrame, recordings: Path) -> dict[str, str]:
+    """Two of the page's statements on babbling, counted: ``random_babbling``, how many of
+    ``TEN``'s random pre-reaching genomes babble in any normal trial and in what share of
+    their trials; ``no_ball_alike``, how many of the robots of ``FULL``'s judged snapshots
+    (``development``) babble without the ball in all their trials or in none, and only when
+    all do, that the populations' rates (each the mean of ``SNAPSHOT_ROBOTS`` robots) move
+    in steps of 1 / ``SNAPSHOT_ROBOTS`` there."""
+    baseline = results.read_table(recordings / TEN / results.BASELINE)
+    random = (baseline.filter((pl.col("phase") == "pre") & (pl.col("senses") == "normal"))
+              .group_by("replication", "rank").agg(pl.col("babbling").cast(pl.Float64).mean()))
+    robots = (trained_trials(development.filter(pl.col("generation").is_in(JUDGED)), "pre",
+                             "no-ball").group_by("generation", "replication", "rank")
+              .agg(pl.col("babbling").cast(pl.Float64).mean()))
+    alike = int(robots["babbling"].is_in([0.0, 1.0]).sum())
+    return {"random_babbling": (
+                f"{int((random['babbling'] > 0).sum())} of the {random.height} random "
+                f"pre-reaching genomes of `{TEN}` babble in some of their normal trials, in "
+                f"{formatting.percent(random['babbling'].mean())} of those trials together"),
+            "no_ball_alike": (
+                f"{alike} of the {robots.height} robots of these snapshots babble in all "
+                f"their trials or in none"
+                + (f", so there the rates move in steps of 1/{SNAPSHOT_ROBOTS}"
+                   if alike == robots.height else ""))}
+
+
 def values(recordings: Path) -> dict[str, str]:
     """The values of docs/results/templates/pre-reaching-course.md: the full-budget run's
     pre-reaching snapshots (``strategy_course``), where training stands, the strategies per
@@ -284,6 +309,7 @@ def values(recordings: Path) -> dict[str, str]:
     if development is None or not development.filter(pl.col("phase") == "pre").height:
         raise ValueError(f"{directory}: no pre-reaching snapshot post-evaluated (dart-reach "
                          f"evaluate COPY --finished-only --development 5)")
+    out.update(babbling_words(development, recordings))
     development = before_touch.attach(development, directory)  # A1's babbling, where measured
     course = sc.course(development)
     conditions = (development.filter(pl.col("phase") == "pre").group_by("generation")

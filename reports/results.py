@@ -61,12 +61,14 @@ def scene_study_values(recordings: Path) -> dict[str, str]:
     """The values of docs/results/templates/scene-study.md: ``summary`` and ``levers`` (the
     study's tables, ``reports.scene_study``), ``<scene>.<group>.<measure>`` (the summary's
     cells, ``scene_study.cell``),
-    ``<scene>.wall_h`` (training wall time) and the runs' ``trained`` / ``evaluated``
-    provenance."""
+    ``<scene>.wall_h`` (training wall time), the runs' ``trained`` / ``evaluated``
+    provenance and the gated rules' words on the levers (``scene_study.lever_words``)."""
     runs = study_runs(recordings / "scene-study")
     summary = study_summary(runs)
     lever_table = scene_study.lever_table(runs)
     values = {"summary": scene_study.markdown(summary).rstrip("\n"),
+              **scene_study.lever_words(scene_study.robots(runs),
+                                        calibration_table.committed()),
               "levers": scene_study.levers_grid(lever_table).rstrip("\n"),
               "levers_full": scene_study.levers_markdown(lever_table).rstrip("\n"),
               **provenance(runs)}
@@ -144,11 +146,14 @@ def plain_values(by_budget: pl.DataFrame, run: str = TEN) -> dict[str, str]:
     underpowered), of those not run (no data: a condition the run did not train, or a
     table not committed) and, apart, of those their measure cannot test (``Claim.untestable``,
     with why); ``plain_names``: one sentence naming the decided ones, for the
-    summary."""
+    summary; ``plain_against``: the contradicted ones with what was measured, and
+    ``plain.<key>`` the verdict of each of ``NAMED``'s claims, for the replication page's
+    prose."""
     rows = findings.reading(by_budget.filter(pl.col("runs") == run))
     if rows.filter(pl.col("verdict") != verdicts.NOT_RUN).height == 0:
         text = f"Not yet: `{run}` has not been post-evaluated."
-        return {"plain": text, "plain_names": text}
+        return {"plain": text, "plain_names": text, "plain_against": text,
+                **{f"plain.{key}": verdicts.NOT_RUN for key in NAMED}}
     count = findings.summary(rows)
     holm = {verdicts.REPRODUCED: "p_holm", verdicts.CONTRADICTED: "p_holm_against"}
 
@@ -186,7 +191,19 @@ def plain_values(by_budget: pl.DataFrame, run: str = TEN) -> dict[str, str]:
                 f"this budget, {no_data.height} were not run (no data for them)"
                 + (f" and {cannot.height} cannot be tested with their measure "
                    f"({'; '.join(cannot['claim'])})" if cannot.height else "") + ".")
-    return {"plain": "\n".join(lines), "plain_names": sentence}
+    verdict_of = dict(zip(rows["claim"], rows["verdict"]))
+    against = of(verdicts.CONTRADICTED)
+    return {"plain": "\n".join(lines), "plain_names": sentence,
+            "plain_against": f"{against.height}" + "".join(
+                f"{'; ' if i else ': '}{r['claim']} ({r['measured']})"
+                for i, r in enumerate(against.iter_rows(named=True))),
+            **{f"plain.{key}": verdict_of.get(claim, verdicts.NOT_RUN)
+               for key, claim in NAMED.items()}}
+
+
+#: The claims whose verdicts the replication page's prose names (``plain_values``): key ->
+#: the claim.
+NAMED = {"babbling": "F1 babbling", "swipes_again": "F2 swipes again"}
 
 
 #: Where the summary's table of verdicts links (from docs/results/): every claim at every

@@ -22,7 +22,8 @@ import numpy as np
 import polars as pl
 from matplotlib.figure import Figure
 
-from dart_reach.analysis import formatting, summaries
+from dart_reach.analysis import formatting, said, summaries, verdicts
+from dart_reach.analysis.claims import ABOUT_HALF
 from dart_reach.studies.scene_study import (MEASURES, levers, robots, sector_rates, study_runs,
                                             summary)
 
@@ -125,6 +126,43 @@ def figure(table: pl.DataFrame, sectors: pl.DataFrame):
 def lever_table(runs: Sequence[Path]) -> pl.DataFrame:
     """The study's ``LEVERS`` over its runs' evolved robots (``studies.scene_study.levers``)."""
     return levers(robots(runs), LEVERS)
+
+
+#: The measures whose move with each lever the page words by the gated rule (``lever_words``).
+WORDED = ("reached", "grasped", "hand_shoulder_mean")
+#: The scene whose reach rate the page sets against the paper's "about half" (IV-A-1).
+DEFAULT_SCENE = "arm-length-shoulder"
+
+
+def replication_means(robot_table: pl.DataFrame, scene: str, measure: str) -> np.ndarray:
+    """The replications' means of ``measure`` over their robots in ``scene`` (``robots``'s
+    table): the study's independent units."""
+    return (robot_table.filter(pl.col("scene") == scene).group_by("replication")
+            .agg(pl.col(measure).fill_nan(None).mean()).sort("replication")[measure]
+            .drop_nulls().to_numpy())
+
+
+def lever_words(robot_table: pl.DataFrame, calibration: pl.DataFrame) -> dict[str, str]:
+    """The page's words on the levers, from the gated rules alone, the replication as the
+    unit: ``rule.<before>.<after>.<measure>``, what ``said.two_groups`` may say of each
+    lever's scene after against before (``LEVERS``, ``WORDED``; ``calibration``: the
+    committed calibration table, for its intervals' labels), and ``rule.about_half``,
+    ``verdicts.in_band`` of ``DEFAULT_SCENE``'s reach rates in ``claims.ABOUT_HALF``."""
+    out = {}
+    for _, before, after in LEVERS:
+        for m in WORDED:
+            out[f"rule.{before}.{after}.{m}"] = said.two_groups(
+                replication_means(robot_table, before, m),
+                replication_means(robot_table, after, m), before, after, calibration)
+    reach = replication_means(robot_table, DEFAULT_SCENE, "reached")
+    band = verdicts.in_band(reach, ABOUT_HALF)
+    interval = ("" if band.verdict == verdicts.UNDERPOWERED else
+                f"; mean {formatting.percent(band.effect)}, 95 % interval "
+                f"{formatting.percent(band.low)}-{formatting.percent(band.high)}")
+    out["rule.about_half"] = (f"{band.verdict} (band {formatting.percent(ABOUT_HALF[0])}-"
+                              f"{formatting.percent(ABOUT_HALF[1])}, n = {len(reach)} replications"
+                              + (f": {band.note}" if band.note else "") + interval + ")")
+    return out
 
 
 def tables_text(runs: Sequence[Path]) -> str:

@@ -1,5 +1,5 @@
 """The two pre-reaching strategies, still and babbling, told apart by one rule, and Eq. 5's
-fitness taken apart per strategy (why stillness pays).
+fitness taken apart per strategy (what each strategy earns).
 
 Trained for some generations, some pre-reaching populations babble and some hold the hand
 still; ``strategies`` tells them apart from a post-evaluation table by a rule fixed before
@@ -19,7 +19,7 @@ from __future__ import annotations
 
 import polars as pl
 
-from . import verdicts
+from . import formatting, verdicts
 from ..measures.kinematics import BABBLING_AMPLITUDE, MOVING_PATH
 
 #: A replication babbling in fewer than this share of its trials is still.
@@ -169,25 +169,22 @@ def compare(per_replication: pl.DataFrame, columns=("fitness", "touch_share", "t
     return pl.DataFrame(rows)
 
 
-#: What the results page says in words of the two strategies (docs/results/stillness.md, "In
-#: plain words"): a still robot is in touch on more steps, for longer touches and more of the
-#: time after its first touch; a babbling robot touches with more faces, in more trials; on
-#: most scoring steps of both, touch sets the score.
-STATED = (
-    ("a still robot is in touch on more steps", "touch_share", STILL),
-    ("its touches last longer", "contact_bout_s", STILL),
-    ("it is in touch more of the time after its first touch", "contact_after_first", STILL),
-    ("a babbling robot touches with more faces", "touch_level", BABBLING),
-    ("a babbling robot touches the ball in more trials", "touched", BABBLING),
-)
+#: ``compare``'s verdict of "still higher" in the page's words: the only words that say which
+#: strategy is higher (docs/results/stillness.md, "In plain words"; the means never do).
+WORDS = {verdicts.REPRODUCED: "still higher", verdicts.CONTRADICTED: "babbling higher",
+         verdicts.INCONCLUSIVE: "no difference detected",
+         verdicts.UNDERPOWERED: "underpowered (neither a difference nor the same can be shown)"}
 
 
-def contradicted(still: dict, babbling: dict) -> list[str]:
-    """Which of the page's statements (``STATED``, and that p_touch is the smaller term on
-    most scoring steps of both) the strategies' means (``by_strategy``'s rows) contradict."""
-    rows = {STILL: still, BABBLING: babbling}
-    wrong = [text for text, column, larger in STATED
-             if not rows[larger][column] > rows[BABBLING if larger == STILL else STILL][column]]
-    wrong += [f"touch sets the score on most of the {s} robots' scoring steps"
-              for s, row in rows.items() if not row["touch_limits"] > 0.5]
-    return wrong
+def decided(compared: pl.DataFrame) -> str:
+    """What the gated rule says of each factor of ``compare``'s table, in ``WORDS``: the
+    factors grouped by verdict, each decided one with its p, in the table's order; the
+    smallest p the two strategies' numbers of replications allow at the end."""
+    said: dict[str, list[str]] = {}
+    for row in compared.iter_rows(named=True):
+        gated = row["still higher?"] == verdicts.UNDERPOWERED
+        p = "" if gated else f" (p = {formatting.significant(row['p'])})"
+        said.setdefault(WORDS[row["still higher?"]], []).append(f"{row['factor']}{p}")
+    smallest = formatting.significant(compared["smallest p"][0])
+    return ("; ".join(f"{word}: {', '.join(factors)}" for word, factors in said.items())
+            + f" (the smallest p these numbers of replications allow: {smallest})")

@@ -98,14 +98,17 @@ def test_strategies_compared_with_the_replication_as_the_unit():
     assert (touch["still higher?"], touch["p"]) == ("contradicted", pytest.approx(4 / 924))
 
 
-def test_the_page_s_statements_are_checked_against_the_means():
-    still = {"touch_share": 0.2, "contact_bout_s": 4.0, "contact_after_first": 0.5,
-             "touch_level": 0.1, "touched": 0.4, "touch_limits": 0.99}
-    babbling = {"touch_share": 0.1, "contact_bout_s": 1.0, "contact_after_first": 0.2,
-                "touch_level": 0.2, "touched": 0.7, "touch_limits": 0.9}
-    assert strategies.contradicted(still, babbling) == []
-    assert strategies.contradicted(still | {"touch_share": 0.1}, babbling) == [
-        "a still robot is in touch on more steps"]
-    assert strategies.contradicted(still, babbling | {"touch_level": 0.05, "touch_limits": 0.4}) \
-        == ["a babbling robot touches with more faces",
-            "touch sets the score on most of the babbling robots' scoring steps"]
+def test_only_the_gated_rule_says_which_strategy_is_higher():
+    """``decided`` words ``compare``'s verdicts, never the means: 6 against 6 separated
+    replications are "still higher" (fitness) and "babbling higher" (touch), each with its p;
+    5 against 5 equally separated are underpowered, with no p, whatever the means say."""
+    six = pl.DataFrame({"strategy": [strategies.BABBLING] * 6 + [strategies.STILL] * 6,
+                        "fitness": [0.1 * i for i in range(12)],
+                        "touch_share": [10.0 + i for i in range(6)] + [float(i) for i in range(6)]})
+    assert strategies.decided(strategies.compare(six, ("fitness", "touch_share"))) == (
+        "still higher: fitness (p = 0.00433); babbling higher: steps in touch (p = 0.00433) "
+        "(the smallest p these numbers of replications allow: 0.00433)")
+    five = six.slice(1, 10)
+    assert strategies.decided(strategies.compare(five, ("fitness", "touch_share"))) == (
+        "underpowered (neither a difference nor the same can be shown): fitness, steps in "
+        "touch (the smallest p these numbers of replications allow: 0.0159)")

@@ -9,6 +9,7 @@ from pathlib import Path
 
 import numpy as np
 import polars as pl
+import pytest
 
 from dart_reach.postevaluation.snapshots import load_development
 from reports import babbling_detector as page
@@ -73,3 +74,19 @@ def test_the_pages_words_are_the_counts_of_the_labels_and_the_committed_babbling
                                 .then(~pl.col("detector babbling"))
                                 .otherwise(pl.col("detector babbling")).alias("detector babbling"))
     assert page.agreement_words(flipped) != words
+
+
+def test_the_labellers_note_is_marked_and_tied_to_the_trials_it_describes():
+    """The note names the committed misses (the labels against the committed babbling, plain
+    polars) and is marked as the labeller's; a sample whose misses differ is refused."""
+    rows = _committed().with_columns(pl.col("babbling_label").cast(pl.Boolean))
+    missed = sorted(rows.filter(pl.col("babbling_label") & ~pl.col("babbling"))["code"])
+    real = page.real_table(ROOT)
+    note = page.labeller_note(real)
+    assert note.startswith("The labeller's note") and "not a measure" in note
+    assert f"({', '.join(missed)})" in note
+    first = real.filter(pl.col("babbling") & pl.col("detector babbling"))["code"][0]
+    flipped = real.with_columns(pl.when(pl.col("code") == first).then(False)
+                                .otherwise(pl.col("detector babbling")).alias("detector babbling"))
+    with pytest.raises(ValueError, match="rewrite reports.babbling_detector.NOTE"):
+        page.labeller_note(flipped)

@@ -14,9 +14,10 @@ import pytest
 from dart_reach.analysis import strategy_course as sc
 from dart_reach.evolution.rundir import RunDirectory
 from dart_reach.evolution.settings import snapshot_due
+from dart_reach.postevaluation import results
 from dart_reach.postevaluation.snapshots import load_development
 from reports import pre_reaching_course as course_page
-from reports.runs import FULL, JUDGED
+from reports.runs import FULL, JUDGED, TEN
 
 ROOT = Path(__file__).resolve().parents[2]
 
@@ -151,3 +152,32 @@ def test_the_course_page_says_the_strategies_fitness_only_through_the_gated_rule
     cells = [c.strip(" |") for r in values["fitness_table"].splitlines()[2:]
              for c in r.split(" | ")[7:11]]
     assert cells and set(cells) == {"underpowered"}
+
+
+def test_the_pages_words_on_babbling_are_counted_from_the_committed_trials():
+    """"Some random networks babble" and "alike without the ball" are counts: recomputed here
+    from the committed baseline and development tables with plain polars (a robot's share
+    over its trials), and a robot made to babble in one no-ball trial only changes them."""
+    baseline = results.read_table(ROOT / "recordings" / TEN / results.BASELINE)
+    genomes = (baseline.filter((pl.col("phase") == "pre") & (pl.col("senses") == "normal"))
+               .group_by("replication", "rank").agg(pl.col("babbling").any()))
+    dev = load_development(ROOT / "recordings" / FULL, senses=None)
+    robots = (dev.filter(pl.col("generation").is_in(JUDGED) & (pl.col("phase") == "pre")
+                         & (pl.col("senses") == "no-ball"))
+              .group_by("generation", "replication", "rank")
+              .agg(pl.col("babbling").all().alias("all"), pl.col("babbling").any().alias("any")))
+    alike = robots.filter(pl.col("all") | ~pl.col("any")).height
+    words = course_page.babbling_words(dev, ROOT / "recordings")
+    assert words["random_babbling"].startswith(
+        f"{int(genomes['babbling'].sum())} of the {genomes.height} random pre-reaching genomes")
+    assert words["no_ball_alike"].startswith(f"{alike} of the {robots.height} robots")
+    page = (ROOT / "docs" / "results" / "pre-reaching-course.md").read_text()
+    assert words["random_babbling"] in page and words["no_ball_alike"] in page
+    one = robots.filter(~pl.col("any")).row(0, named=True)
+    first = (pl.col("generation") == one["generation"]) & (pl.col("replication") == one[
+        "replication"]) & (pl.col("rank") == one["rank"]) & (pl.col("senses") == "no-ball") & (
+        pl.col("phase") == "pre") & (pl.col("trial") == 0)
+    changed = dev.with_columns(pl.when(first).then(True).otherwise(pl.col("babbling"))
+                               .alias("babbling"))
+    assert course_page.babbling_words(changed, ROOT / "recordings")["no_ball_alike"].startswith(
+        f"{alike - 1} of the {robots.height} robots")

@@ -4,6 +4,7 @@ rendering fails here, and so does a doc whose data change."""
 
 from __future__ import annotations
 
+import re
 import shutil
 import tomllib
 from pathlib import Path
@@ -17,6 +18,7 @@ from dart_reach.postevaluation import results
 from reports import pre_reaching_course
 from reports import results as results_docs
 from reports import scene_study
+from reports.runs import TEN
 
 ROOT = Path(__file__).resolve().parents[2]
 
@@ -161,6 +163,40 @@ def test_the_readme_is_a_front_door_not_a_progress_board():
         "optional-dependencies"]
     assert "gym" in extras
     assert all(f'".[{extra}]"' in text for extra in extras), "every extra in the install"
+
+
+def test_the_replication_pages_named_verdicts_are_the_committed_findings():
+    """The replication page's prose names F1 babbling's and F2 swipes again's verdicts and the
+    contradicted claims at ten replications: recomputed from the committed findings (a claim
+    renamed fails here, not silently "not run")."""
+    frame = pl.read_parquet(ROOT / "recordings" / TEN / "findings.parquet")
+    values = results_docs.plain_values(frame)
+    rows = findings.reading(frame)
+    verdict = dict(zip(rows["claim"], rows["verdict"]))
+    for key, claim in results_docs.NAMED.items():
+        assert values[f"plain.{key}"] == verdict[claim]
+    against = rows.filter(pl.col("verdict") == "contradicted")
+    assert values["plain_against"] == f"{against.height}: " + "; ".join(
+        f"{c} ({m})" for c, m in zip(against["claim"], against["measured"]))
+    page = " ".join((ROOT / results_docs.OUT / "replication.md").read_text().split())
+    assert f"F1 babbling is {verdict['F1 babbling']}." in page
+    assert f"is {verdict['F2 swipes again']} at ten replications" in page
+    assert values["plain_against"] in page
+
+
+def test_the_readmes_counts_are_the_committed_findings():
+    """The README's sentence on what ten replications reproduced and contradicted carries the
+    counts of the committed findings of `replication-50x10` (the paper's claims of its
+    robots, raw and after Holm): a count out of date fails."""
+    text = " ".join((ROOT / "README.md").read_text(encoding="utf-8").split())
+    found = re.search(r"(\d+) of the paper's (\d+) claims about its robots are reproduced and "
+                      r"(\d+) contradicted \((\d+) and (\d+) after Holm's adjustment\)", text)
+    assert found, "the README's counts sentence"
+    frame = pl.read_parquet(ROOT / "recordings" / TEN / "findings.parquet")
+    count = findings.summary(frame)
+    assert tuple(map(int, found.groups())) == (
+        count["reproduced"], findings.reading(frame).height, count["contradicted"],
+        count["reproduced (Holm)"], count["contradicted (Holm)"])
 
 
 def test_a_budgets_row_counts_each_verdict():

@@ -11,6 +11,7 @@ import polars as pl
 import pytest
 
 from dart_reach import robots
+from dart_reach.analysis import strategies
 from dart_reach.evolution.provenance import simd
 from dart_reach.evolution.rundir import RunDirectory
 from dart_reach.measures.fitness import TERMS
@@ -75,6 +76,21 @@ def test_the_still_replications_are_those_in_which_no_robot_babbles():
     values = stillness.values(ROOT / "recordings", lambda table: table.write_csv())
     assert values["still.replications"] == ", ".join(map(str, never))
     assert int(values["still.count"]) + int(values["babbling.count"]) == 10
+
+
+def test_the_plain_words_say_which_strategy_is_higher_only_by_the_gated_rule():
+    """"In plain words" carries the gated rule's words recomputed from the committed table
+    (the replications' means, ``compare``, ``decided``) and ratios of the pooled trials' means
+    recomputed the same way, and none of the comparison words the means once decided."""
+    t = stillness.tables(ROOT / "recordings")
+    page = (ROOT / "docs/results/stillness.md").read_text()
+    plain = page[page.index("## In plain words"):page.index("## Per strategy")]
+    assert strategies.decided(strategies.compare(t["by_replication"])) in plain
+    per = {r["strategy"]: r for r in t["by_strategy"].iter_rows(named=True)}
+    bout = per[strategies.STILL]["contact_bout_s"] / per[strategies.BABBLING]["contact_bout_s"]
+    assert f"still / babbling, a ratio of the means, {bout:.1f})" in plain
+    for word in ("more of its hand", "for longer", "out-earns", "not what separates"):
+        assert word not in plain
 
 
 def test_the_50_generation_comparison_takes_contact_after_first_from_the_table(tmp_path):
@@ -145,7 +161,8 @@ def test_a_snapshot_of_one_strategy_is_said_not_compared(tmp_path):
         return table.write_csv()
 
     committed_values = stillness.budget_values(ROOT / "recordings", md)
-    assert "at 100 every one holds" in committed_values["budget.body"]
+    assert "at 100, 3 still against 7 babbling replications, the gated rule: " in \
+        committed_values["budget.body"]
     run = tmp_path / FULL
     run.mkdir()
     development = load_development(FULL_DIR).filter(pl.col("generation") == 100)
