@@ -24,8 +24,8 @@ from .world import BALL_PARKED, PALM_NORMAL, World
 def entry_point(function, *args):
     """``function``, a compiled step function (``model.compiled``), as its compiled entry
     point for the types of ``args`` (compiled or loaded from the cache if need be): the same
-    machine code, called without the dispatcher typing every argument on every call (about
-    3 µs of the control step's 10: ``studies.scaling.loop_parts``). The caller passes
+    machine code, called without the dispatcher typing every argument on every call (what
+    that saves: ``studies.scaling.loop_parts``, docs/results/benchmarks.md). The caller passes
     arguments of those types only (DART's readings are fresh float64 arrays). ``function``
     itself when it is not compiled (``NUMBA_DISABLE_JIT=1``, for debugging)."""
     compile_for = getattr(function, "compile", None)

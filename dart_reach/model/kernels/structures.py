@@ -1,7 +1,8 @@
 """The Numba structures the trial's compiled step functions read and write their arrays
 through (a trial's ``compiled.StepState``, a network's ``network.NetworkState``, the touch
-decisions' ``touch.TouchState``): a compiled call costs ~40 ns for each array it is passed,
-and the sensing, the network and the motor commands read ~50. Each structure is registered
+decisions' ``touch.TouchState``): a compiled call pays for each array it is passed, and the
+sensing, the network and the motor commands read about fifty (docs/results/benchmarks.md
+has what that cost). Each structure is registered
 (``numba.experimental.structref``) in the module of the kernels that read it, when that
 module is imported, before any structure of it is built or passed."""
 
