@@ -294,8 +294,7 @@ def _gate(table: pl.DataFrame, rule: str) -> str:
     "N pairs", else the nesting's) and the smallest size above them all where every row
     holds."""
     rows = table.filter((pl.col("rule") == rule) & pl.col("ok").is_not_null()).with_columns(
-        pl.col("scenario").str.extract(r", (\d+) (?:replications|pairs|blocks)$")
-        .cast(pl.Int64).fill_null(pl.col("replications")).alias("n"))
+        run_shaped.scenario_size().fill_null(pl.col("replications")).alias("n"))
     bad = sorted(set(failing(rows)["n"]))
     if not bad:
         return f"{rule}: every bounded row met"

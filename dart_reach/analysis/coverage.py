@@ -150,8 +150,7 @@ def shaped_coverage(table: pl.DataFrame, rule: str) -> pl.DataFrame:
     the scenario of the lowest (``lowest_at``). Empty when the table has none."""
     rows = table.filter((pl.col("rule") == rule)
                         & pl.col("measure").str.starts_with("coverage"))
-    rows = rows.with_columns(pl.col("scenario").str.extract(r", (\d+) (?:replications|pairs)$")
-                             .cast(pl.Int64).alias("n"))
+    rows = rows.with_columns(run_shaped_calibration.scenario_size().alias("n"))
     return (rows.sort("value").group_by("n", maintain_order=True)
             .agg(pl.col("value").min().alias("low"), pl.col("value").max().alias("high"),
                  pl.len().alias("rows"), pl.col("scenario").first().alias("lowest_at"))

@@ -16,6 +16,7 @@ from __future__ import annotations
 import math
 
 import numpy as np
+import polars as pl
 
 from . import verdicts as v
 from .calibration_core import Nesting, rate, repeat, row
@@ -43,6 +44,14 @@ BAND_SHAPES = ("rates on the trial grid", f"{100 * STILL:g} % of replications st
 #: Sectors of the sector claims (``findings``: 9 reach and 9 grasp cells), and the others'
 #: mean chance.
 CELLS, OTHER_CELLS = 18, 0.6
+
+
+def scenario_size() -> pl.Expr:
+    """The number of replications, pairs or blocks a row of these blocks was drawn at, read
+    from the end of its scenario (", N replications" / ", N pairs" / ", N blocks"); null for a
+    scenario that does not end so."""
+    return (pl.col("scenario").str.extract(r", (\d+) (?:replications|pairs|blocks)$")
+            .cast(pl.Int64))
 
 
 def sizes(nest: Nesting) -> tuple[int, int]:
