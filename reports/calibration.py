@@ -8,6 +8,7 @@ docs/results/templates/calibration.md with them).
     python -m reports.calibration     # writes the table and prints it as the page shows it
     python -m reports.calibration --blocks paired_rates    # recomputes one block of it
     python -m reports.calibration --robot-level            # the robot-level table alone
+    python -m reports.calibration --pilot                  # the run-shaped rules' pilot
 
 About an hour on 2 cores beside a training run; tests/analysis/test_calibration.py checks the
 committed table and recomputes parts of it.
@@ -32,6 +33,9 @@ TABLE = Path(__file__).resolve().parents[1] / "recordings" / "calibration" / "ca
 #: What the headline avoids, beside the table (``calibration.robot_level``): one row per
 #: nesting.
 ROBOT_LEVEL = TABLE.with_name("robot-level.parquet")
+#: The pilot that chose the gates and levels of the rules on rates
+#: (``run_shaped_calibration.pilot``): one row per rule, size and level.
+PILOT = TABLE.with_name("run-shaped-pilot.parquet")
 
 
 def committed() -> pl.DataFrame:
@@ -326,12 +330,52 @@ def _shaped_values(table: pl.DataFrame) -> dict[str, str]:
                                 f"{0.95 - calibration_core.Z_MC * se_cover:.3f}, over the data "
                                 "sets with an interval)"),
             "shaped_failed": (f"{bad.height} of the {shaped['ok'].is_not_null().sum()} bounded "
-                              "rows are not met:\n\n" + listed + "\n") if bad.height else
+                              "rows are not met" + (
+                                  ", every one a coverage of an interval (every error rate "
+                                  "holds its bound; the pages label the intervals with the "
+                                  "coverage measured, below)"
+                                  if bad["measure"].str.starts_with("coverage").all() else "")
+                              + ":\n\n" + listed + "\n") if bad.height else
                              (f"all {shaped['ok'].is_not_null().sum()} bounded rows are met"),
             "shaped_gates": "; ".join(_gate(table, r) for r in rules),
-            "min_units": f"{verdicts.MIN_UNITS}",
             "band_interval": coverage.shaped_label(table, "band"),
+            "sector_interval": coverage.shaped_label(table, "sector"),
             "change_interval": coverage.shaped_label(table, "change")}
+
+
+def pilot_values(pilot: pl.DataFrame) -> dict[str, str]:
+    """The page's account of the pilot (``PILOT``): what it chose (``pilot_choice``, from
+    ``run_shaped_calibration.choose``) and, per rule and size, its largest error over the
+    family at the level before (the largest it tried) and at the one chosen (``pilot_table``)."""
+    chosen = run_shaped.choose(pilot)
+    what = {run_shaped.BAND: ("the band", "each edge", lambda lv: 1 - 2 * lv),
+            run_shaped.SECTORS: ("every sector", "each cell's lower bound",
+                                 lambda lv: 1 - 2 * lv),
+            run_shaped.CHANGE: ("the paired change", "its Wilcoxon test", lambda lv: 1 - lv),
+            run_shaped.SENSES: ('"senses differ"', "its Friedman test", None)}
+    parts = []
+    for rule, (gate, level) in chosen.items():
+        name, bound, interval = what[rule]
+        fewest = min(run_shaped.PILOT_SIZES[rule])
+        parts.append(f"{name}: " + (f"from {gate} replications, " if gate > fewest else "")
+                     + f"{bound} at {level:g}"
+                     + (f" (its interval {100 * interval(level):g} %)" if interval else ""))
+    lines = ["| rule | units | level before | its largest error | level chosen | its largest "
+             "error | where (at the level chosen) |", "|---|---:|---:|---:|---:|---:|---|"]
+    for rule, (gate, level) in chosen.items():
+        before = max(run_shaped.PILOT_LEVELS[rule])
+        for size in run_shaped.PILOT_SIZES[rule]:
+            at = pilot.filter((pl.col("rule") == rule) & (pl.col("size") == size))
+            old = at.filter(pl.col("level") == before).row(0, named=True)
+            new = at.filter(pl.col("level") == level).row(0, named=True)
+            gated = (" (below the gate: not decided)" if size < gate else
+                     " (the test cannot decide: its smallest p is "
+                     f"{verdicts.smallest_signed_rank_p(size):.3f})" if rule == run_shaped.CHANGE
+                     and verdicts.smallest_signed_rank_p(size) >= level else "")
+            lines.append(f"| {rule.removesuffix(', run-shaped rates')} | {size} | {before:g} | "
+                         f"{old['error']:.3f} | {level:g} | {new['error']:.3f} | "
+                         f"{new['worst']}{gated} |")
+    return {"pilot_choice": "; ".join(parts), "pilot_table": "\n".join(lines)}
 
 
 def _prose(table: pl.DataFrame) -> dict[str, str]:
@@ -369,19 +413,20 @@ def values(recordings: Path | None = None) -> dict[str, str]:
     """The values of docs/results/templates/calibration.md, from the committed table
     (``committed``): ``table`` (``markdown``), the prose's numbers of the directional rule
     (``shift_coverage``, ``interval_short``), of the paired rules (``_paired_values``) and of
-    the spreads (``band_power``, ``senses_power_4``: at 4 replications, within s.d. 3 and
-    0.6), the powers the closing lines read, the rows under run-shaped nulls
-    (``_shaped_values``) and the sentences that read the table (``_prose``). ``recordings`` is
+    the spreads (``band_power_10``, ``senses_power_4``: at 10 and 4 replications, within s.d.
+    3 and 0.6), the powers the closing lines read, the rows under run-shaped nulls
+    (``_shaped_values``), the pilot (``pilot_values``) and the sentences that read the table
+    (``_prose``). ``recordings`` is
     unused (the table has its own path): the signature of ``reports.results.DOCS``."""
     table = committed()
-    band = cells(table, "band", "mean 0.5", "reproduced", 4)
+    band = cells(table, "band", "mean 0.5", "reproduced", 10)
     senses = cells(table, "senses differ", "conditions 1 s.d. apart", "reproduced", 4)
     pct = lambda x: f"{100 * x:.0f} %"  # noqa: E731
     return {"table": markdown(table).rstrip("\n"),
             "shift_coverage": span(cells(table, "directional", "shift 1 s.d.",
                                          "coverage of the 95 % interval", 10), 3),
             "interval_short": _interval_short(table),
-            "band_power_4": f"{pct(band[1])} of the time at 4 replications against "
+            "band_power_10": f"{pct(band[1])} of the time at 10 replications against "
                             f"{pct(band[0])} at 0.6",
             "senses_power_4": f"{pct(senses[1])} against {pct(senses[0])}",
             "ungated_split": _ungated_split(table),
@@ -396,7 +441,7 @@ def values(recordings: Path | None = None) -> dict[str, str]:
                                               "reproduced", 10)),
             "robot_level": robot_level_markdown(pl.read_parquet(ROBOT_LEVEL)),
             **_paired_values(table), **_paired_coverage(table), **_shaped_values(table),
-            **_prose(table)}
+            **_prose(table), **pilot_values(pl.read_parquet(PILOT))}
 
 
 def merged(table: pl.DataFrame, blocks: dict[str, pl.DataFrame]) -> pl.DataFrame:
@@ -429,7 +474,14 @@ def main(argv=None) -> int:
                              "senses paired_rates) and merge them into the committed table")
     parser.add_argument("--robot-level", action="store_true",
                         help="recompute only the robot-level table (ROBOT_LEVEL)")
+    parser.add_argument("--pilot", action="store_true",
+                        help="recompute only the pilot that chose the gates and levels of the "
+                             "rules on rates (PILOT; about 7 min on one core)")
     args = parser.parse_args(argv)
+    if args.pilot:
+        run_shaped.pilot().write_parquet(PILOT)
+        print(pilot_values(pl.read_parquet(PILOT))["pilot_table"])
+        return 0
     if args.robot_level or not args.blocks:
         ROBOT_LEVEL.parent.mkdir(parents=True, exist_ok=True)
         robot_level().write_parquet(ROBOT_LEVEL)

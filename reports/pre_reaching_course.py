@@ -396,6 +396,7 @@ def values(recordings: Path) -> dict[str, str]:
     out["paired_interval"] = calibration.paired_interval(calibration.committed())
     out["band_interval"] = coverage.shaped_label(calibration.committed(), "band")
     out["change_interval"] = coverage.shaped_label(calibration.committed(), "change")
+    out["sector_interval"] = coverage.shaped_label(calibration.committed(), "sector")
     out["theta_margin"] = f"{verdicts.EQUIVALENCE_MARGIN:g}"
     out["scale_ends"] = ("none." if not ends.height else "\n\n" + markdown_table(ends.rename(
         {"senses": "condition", "reference": "value", "versus": "against",

@@ -247,8 +247,9 @@ def calibration_values(table: pl.DataFrame) -> dict[str, str]:
     highest rate of a wrong decision under a null, the lowest coverage and theta's reported
     coverage), ``theta_coverage`` (the label of theta's interval at 10 vs 10),
     ``paired_interval`` (the level of a paired claim of no change's interval),
-    ``band_interval`` and ``change_interval`` (the coverage measured of a band's interval and
-    of a paired change's, ``coverage.shaped_label``), and
+    ``band_interval``, ``sector_interval`` and ``change_interval`` (the coverage measured of a
+    band's interval, every sector's weakest cell's and a paired change's,
+    ``coverage.shaped_label``), and
     ``smallest_p_4`` / ``smallest_p_10`` (the smallest p of the directional rule's test at 4
     and 10 replications a group, ``verdicts.smallest_directional_p``)."""
     held = calibration_table.held(table)
@@ -272,6 +273,7 @@ def calibration_values(table: pl.DataFrame) -> dict[str, str]:
     return {"calibration": text, "theta_coverage": coverage.label(table, 10, 10),
             "paired_interval": calibration_table.paired_interval(table),
             "band_interval": coverage.shaped_label(table, "band"),
+            "sector_interval": coverage.shaped_label(table, "sector"),
             "change_interval": coverage.shaped_label(table, "change"),
             "smallest_p_4": formatting.significant(verdicts.smallest_directional_p(4, 4)),
             "smallest_p_10": formatting.significant(verdicts.smallest_directional_p(10, 10))}

@@ -157,7 +157,7 @@ def lever_words(robot_table: pl.DataFrame, calibration: pl.DataFrame) -> dict[st
     reach = replication_means(robot_table, DEFAULT_SCENE, "reached")
     band = verdicts.in_band(reach, ABOUT_HALF)
     interval = ("" if band.verdict == verdicts.UNDERPOWERED else
-                f"; mean {formatting.percent(band.effect)}, 95 % interval "
+                f"; mean {formatting.percent(band.effect)}, {100 * band.confidence:g} % interval "
                 f"{formatting.percent(band.low)}-{formatting.percent(band.high)}")
     out["rule.about_half"] = (f"{band.verdict} (band {formatting.percent(ABOUT_HALF[0])}-"
                               f"{formatting.percent(ABOUT_HALF[1])}, n = {len(reach)} replications"

@@ -24,7 +24,8 @@ from __future__ import annotations
 import polars as pl
 
 from . import paired_calibration, run_shaped_calibration
-from .verdict_core import PAIRED_EQUIVALENCE_LEVEL
+from .verdict_core import (BAND_LEVEL, PAIRED_CHANGE_LEVEL, PAIRED_EQUIVALENCE_LEVEL,
+                           SECTOR_LEVEL, smallest_signed_rank_p)
 
 #: The calibration table's rows of theta's interval: the directional rule's coverage rows,
 #: those held to the level and those only reported.
@@ -140,7 +141,8 @@ def _span(low: float, high: float) -> str:
 #: ``verdicts.in_band``) and the paired change's (the Hodges-Lehmann change's exact interval,
 #: ``verdicts.paired_directional``) under nulls shaped like the runs' rates
 #: (``run_shaped_calibration``), bounded at their nominal level.
-SHAPED_RULES = {"band": run_shaped_calibration.BAND, "change": run_shaped_calibration.CHANGE}
+SHAPED_RULES = {"band": run_shaped_calibration.BAND, "sector": run_shaped_calibration.SECTORS,
+                "change": run_shaped_calibration.CHANGE}
 
 
 def shaped_coverage(table: pl.DataFrame, rule: str) -> pl.DataFrame:
@@ -157,20 +159,31 @@ def shaped_coverage(table: pl.DataFrame, rule: str) -> pl.DataFrame:
             .sort("n"))
 
 
+def shaped_nominal(which: str) -> str:
+    """The nominal level of the band's (``which`` "band"), every sector's weakest cell's
+    ("sector") or the paired change's ("change") interval as the rules show it: "95 %" at a
+    one-sided level of 0.025 per edge."""
+    level = {"band": 1 - 2 * BAND_LEVEL, "sector": 1 - 2 * SECTOR_LEVEL,
+             "change": 1 - PAIRED_CHANGE_LEVEL}[which]
+    return f"{100 * level:g} %"
+
+
 def shaped_label(table: pl.DataFrame, which: str) -> str:
-    """What to call the band's (``which`` "band") or the paired change's ("change") interval
-    on a page: "nominally 95 %, covering in simulation LOW-HIGH at N replications (pairs), ..."
+    """What to call the band's (``which`` "band"), every sector's weakest cell's ("sector") or
+    the paired change's ("change") interval on a page: "nominally 95 %, covering in simulation LOW-HIGH at N replications (pairs), ..."
     over the run-shaped nulls, read from ``table``; the paired change's shows no finite
-    interval below 6 pairs; "its coverage not measured" when the table has no row of it."""
-    unit = "replications" if which == "band" else "pairs"
+    interval below the pairs at which its test can decide; "its coverage not measured" when
+    the table has no row of it."""
+    unit = "pairs" if which == "change" else "replications"
+    nominal = shaped_nominal(which)
     measured = shaped_coverage(table, SHAPED_RULES[which])
     if not measured.height:
-        return "nominally 95 %; its coverage not measured"
+        return f"nominally {nominal}; its coverage not measured"
     parts = "; ".join(f"{_span(r['low'], r['high'])} at {r['n']} {unit}"
                       for r in measured.iter_rows(named=True))
-    below = ("" if which == "band" or measured["n"].min() <= 4 else
-             f"; no finite interval below {measured['n'].min()} pairs")
-    shapes = ("on the trial grid, still, two-mode, skewed" if which == "band" else
-              "in fifths, still, two-mode, zero-inflated, skewed changes")
-    return f"nominally 95 %, covering in simulation {parts} (rates shaped like the runs': " \
-        f"{shapes}){below}"
+    fewest = next(n for n in range(1, 64) if smallest_signed_rank_p(n) < PAIRED_CHANGE_LEVEL)
+    below = f"; no finite interval below {fewest} pairs" if which == "change" else ""
+    shapes = ("in fifths, still, two-mode, zero-inflated, skewed changes" if which == "change"
+              else "on the trial grid, still, two-mode, skewed")
+    return f"nominally {nominal}, covering in simulation {parts} (rates shaped like the " \
+        f"runs': {shapes}){below}"

@@ -62,15 +62,20 @@ TESTS = {
                               f"0.5 +- {verdicts.EQUIVALENCE_MARGIN:g}; contradicted by a "
                               "two-sided studentized permutation Brunner-Munzel difference; "
                               "underpowered below 6 a group",
-    Kind.BAND.value: "Student's t 95 % interval of the mean over replications inside the band",
-    Kind.EVERY_SECTOR.value: "every sector's reach and grasp rate: one-sided 95 % lower bound "
-                             f"over replications above {verdicts.SECTOR_FLOOR:g}; contradicted "
+    Kind.BAND.value: f"Student's t {100 * (1 - 2 * verdicts.BAND_LEVEL):g} % interval of the "
+                     "mean over replications inside the band; underpowered below "
+                     f"{verdicts.BAND_MIN_UNITS} replications",
+    Kind.EVERY_SECTOR.value: "every sector's reach and grasp rate: one-sided "
+                             f"{100 * (1 - verdicts.SECTOR_LEVEL):g} % lower bound over "
+                             f"replications above {verdicts.SECTOR_FLOOR:g}; contradicted "
                              "when a Bonferroni upper bound is below",
-    Kind.AT_LEAST.value: "one-sided 95 % lower bound of the mean over replications above the "
-                         "claim's floor; contradicted when the upper bound is below it",
+    Kind.AT_LEAST.value: f"one-sided {100 * (1 - verdicts.SECTOR_LEVEL):g} % lower bound of the "
+                         "mean over replications above the claim's floor; contradicted when the "
+                         "upper bound is below it",
     Kind.NEVER.value: "\"never\" read as less than pre-reachers: the directional test on "
                       "replications",
-    Kind.PAIRED.value: "Friedman's test, replication as block; contradicted when every pair of "
+    Kind.PAIRED.value: f"Friedman's test at {verdicts.FRIEDMAN_LEVEL:g}, replication as block; "
+                       "contradicted when every pair of "
                        "conditions is equivalent (the exact sign-flip TOST within "
                        f"+-{verdicts.PAIRED_MARGIN:.0%}, each one-sided test at "
                        f"{verdicts.PAIRED_EQUIVALENCE_LEVEL:g}; never through lopsided changes)",
@@ -81,9 +86,11 @@ TESTS = {
                             "relative to each replication's level within "
                             f"+-{verdicts.PAIRED_MARGIN:.0%}; never where the changes are "
                             "lopsided; contradicted by a sign-flip difference (two-tailed)",
-    Kind.CHANGE_PAIRED.value: "Wilcoxon signed-rank on replications (exact); effect: "
-                              "Hodges-Lehmann change [exact 95 % CI]",
-    Kind.WITHIN.value: "Wilcoxon signed-rank on replications of one measure against another",
+    Kind.CHANGE_PAIRED.value: f"Wilcoxon signed-rank on replications (exact) at "
+                              f"{verdicts.PAIRED_CHANGE_LEVEL:g}; effect: Hodges-Lehmann change "
+                              f"[exact {100 * (1 - verdicts.PAIRED_CHANGE_LEVEL):g} % CI]",
+    Kind.WITHIN.value: "Wilcoxon signed-rank on replications of one measure against another, "
+                       f"at {verdicts.PAIRED_CHANGE_LEVEL:g}",
 }
 
 

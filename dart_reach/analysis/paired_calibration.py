@@ -39,8 +39,10 @@ def paired(nest, rng, n):
                          "at most"))
     shift = nest.mean_sd
     out = repeat(rng, n, lambda r: v.paired_directional(*pairs(r, shift), +1))
-    rows.append(row("paired change", nest, "change 1 s.d.", "coverage of the 95 % interval",
-                     rate([o.low <= shift <= o.high for o in out]), 0.95, "at least"))
+    level = 1 - v.PAIRED_CHANGE_LEVEL
+    rows.append(row("paired change", nest, "change 1 s.d.",
+                    f"coverage of the {100 * level:g} % interval",
+                    rate([o.low <= shift <= o.high for o in out]), level, "at least"))
     rows.append(row("paired change", nest, "change 1 s.d.", "reproduced",
                      rate([o.verdict == v.REPRODUCED for o in out]), math.nan, "power"))
 

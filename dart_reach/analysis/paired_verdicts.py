@@ -10,11 +10,12 @@ import math
 import numpy as np
 from scipy.stats import rankdata
 
-from .verdict_core import (ALPHA, CONTRADICTED, INCONCLUSIVE, PAIRED_EQUIVALENCE_LEVEL,
-                           PAIRED_MARGIN, RATE_MARGIN, REPRODUCED, UNDERPOWERED, Outcome,
-                           finite, friedman, no_spread, normal_sf, signed_rank_distribution,
-                           smallest_friedman_p, smallest_signed_rank_p, t_cdf, t_quantile, t_sf,
-                           tie_sum, walsh_median)
+from .verdict_core import (ALPHA, CONTRADICTED, FRIEDMAN_LEVEL, INCONCLUSIVE,
+                           PAIRED_CHANGE_LEVEL, PAIRED_EQUIVALENCE_LEVEL, PAIRED_MARGIN,
+                           RATE_MARGIN, REPRODUCED, UNDERPOWERED, Outcome, finite, friedman,
+                           no_spread, normal_sf, signed_rank_distribution, smallest_friedman_p,
+                           smallest_signed_rank_p, t_cdf, t_quantile, t_sf, tie_sum,
+                           walsh_median)
 
 
 # ------------------------------------------------------------------------------ paired units
@@ -47,30 +48,33 @@ def wilcoxon(d, alternative: str = "two-sided") -> tuple[float, int]:
     return float(p), direction
 
 
-def paired_directional(reference, changed, sign: int, level: float = ALPHA) -> Outcome:
+def paired_directional(reference, changed, sign: int, level: float = ALPHA,
+                       test_level: float = PAIRED_CHANGE_LEVEL) -> Outcome:
     """Claim: ``changed`` is higher (``sign`` +1) or lower (-1) than ``reference`` in the same
     units (a replication under two conditions or in two generation windows). Two-tailed
-    Wilcoxon signed-rank test of the changes; direction from the signed ranks; effect: the
-    Hodges-Lehmann change with its exact 95 % interval. Underpowered when changes all of one
-    sign cannot reach ``ALPHA``."""
+    Wilcoxon signed-rank test of the changes at ``test_level``; direction from the signed
+    ranks; effect: the Hodges-Lehmann change with its exact interval at 1 - ``test_level``.
+    Underpowered when changes all of one sign cannot reach ``test_level``; ``level`` is the
+    paper's (``paper_level_met``)."""
     ref, new = np.asarray(reference, float), np.asarray(changed, float)
     keep = np.isfinite(ref) & np.isfinite(new)
     d = new[keep] - ref[keep]
     nonzero = int(np.count_nonzero(d))
     if len(d) == 0:
         return Outcome(UNDERPOWERED, note="no pairs")
-    effect, low, high = walsh_median(d)
-    if smallest_signed_rank_p(len(d)) >= ALPHA:
-        return Outcome(UNDERPOWERED, effect=effect, low=low, high=high, confidence=0.95,
+    confidence = 1 - test_level
+    effect, low, high = walsh_median(d, confidence)
+    if smallest_signed_rank_p(len(d)) >= test_level:
+        return Outcome(UNDERPOWERED, effect=effect, low=low, high=high, confidence=confidence,
                        note=f"{len(d)} pairs: the smallest possible p is "
                             f"{smallest_signed_rank_p(len(d)):.2g}")
     if nonzero == 0:
-        return Outcome(INCONCLUSIVE, 1.0, effect, low, high, 0.95, 1.0, False,
+        return Outcome(INCONCLUSIVE, 1.0, effect, low, high, confidence, 1.0, False,
                        "no unit changed: no evidence")
     p, observed = wilcoxon(d)
-    verdict = (REPRODUCED if p < ALPHA and observed == sign else
-               CONTRADICTED if p < ALPHA and observed == -sign else INCONCLUSIVE)
-    return Outcome(verdict, p if observed == sign else 1.0, effect, low, high, 0.95,
+    verdict = (REPRODUCED if p < test_level and observed == sign else
+               CONTRADICTED if p < test_level and observed == -sign else INCONCLUSIVE)
+    return Outcome(verdict, p if observed == sign else 1.0, effect, low, high, confidence,
                    p if observed == -sign else 1.0, bool(p < level and observed == sign),
                    f"{len(d)} pairs")
 
@@ -256,9 +260,11 @@ def paired_rate_equivalent(reference, changed, margin: float = RATE_MARGIN) -> O
 
 
 # ------------------------------------------------------------------------------ paired blocks
-def senses_differ(matrix, level: float = ALPHA, margin: float = PAIRED_MARGIN) -> Outcome:
+def senses_differ(matrix, level: float = ALPHA, margin: float = PAIRED_MARGIN,
+                  test_level: float = FRIEDMAN_LEVEL) -> Outcome:
     """Claim: the treatments (columns, e.g. the four sensory conditions) differ, each row a
-    block (a replication under every condition). Friedman's test; effect: Kendall's W (0: no
+    block (a replication under every condition). Friedman's test at ``test_level`` (``level``:
+    the paper's, ``paper_level_met``); effect: Kendall's W (0: no
     agreement, 1: every block ranks the treatments alike). Contradicted when every pair of
     treatments is equivalent (the exact sign-flip test of each pair's changes within
     ``margin`` x |median of the pair's first|, ``sign_flip_tost``; the largest p of the pairs
@@ -267,7 +273,7 @@ def senses_differ(matrix, level: float = ALPHA, margin: float = PAIRED_MARGIN) -
     x = np.asarray(matrix, float)
     x = x[np.isfinite(x).all(axis=1)]
     n, k = x.shape
-    if n < 2 or smallest_friedman_p(n, k) >= ALPHA:
+    if n < 2 or smallest_friedman_p(n, k) >= test_level:
         return Outcome(UNDERPOWERED, note=f"{n} blocks: the smallest possible p is "
                                           f"{smallest_friedman_p(max(n, 1), k):.2g}")
     if no_spread(x) or all(no_spread(block) for block in x):  # no ranks to compare
@@ -281,7 +287,7 @@ def senses_differ(matrix, level: float = ALPHA, margin: float = PAIRED_MARGIN) -
     uneven = sum(bool(lopsided(d)) for d in pairs.values()) if decidable else 0
     p_same = max(sign_flip_tost(d, margin * abs(float(np.median(x[:, i]))))[0]
                  for (i, _), d in pairs.items()) if decidable and not uneven else 1.0
-    verdict = (REPRODUCED if p < ALPHA else CONTRADICTED if p_same < PAIRED_EQUIVALENCE_LEVEL
+    verdict = (REPRODUCED if p < test_level else CONTRADICTED if p_same < PAIRED_EQUIVALENCE_LEVEL
                else INCONCLUSIVE)
     return Outcome(verdict, float(p), w, p_against=p_same, paper_level_met=bool(p < level),
                    note=f"{n} blocks x {k} conditions; all pairs equivalent p = {p_same:.2g} "

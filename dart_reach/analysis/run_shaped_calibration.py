@@ -19,7 +19,7 @@ import numpy as np
 import polars as pl
 
 from . import verdicts as v
-from .calibration_core import Nesting, rate, repeat, row
+from .calibration_core import RUN_RATIOS, Nesting, rate, repeat, row
 from .claims import ABOUT_HALF
 from .paired_calibration import RATE_SHAPES, rate_mean, rate_pairs
 
@@ -126,10 +126,10 @@ CHANGE, SENSES = "paired change, run-shaped rates", "senses differ, run-shaped r
 
 def band_shapes(nest, rng, n):
     """``in_band`` with the true mean at either edge of ``claims.ABOUT_HALF`` (a decided
-    verdict is the error), and its 95 % interval's coverage of that mean; ``at_least`` over
+    verdict is the error), and its interval's coverage of that mean; ``at_least`` over
     ``CELLS`` sectors with the weakest exactly at ``verdicts.SECTOR_FLOOR`` (a reproduction
     is the error), the others at ``OTHER_CELLS`` on the trial grid, and the coverage of the
-    interval it shows (the weakest cell's, 90 %); at ``sizes``, per ``BAND_SHAPES``."""
+    interval it shows (the weakest cell's); at ``sizes``, per ``BAND_SHAPES``."""
     n = min(n, DATASETS)
     rows = []
     for k in sizes(nest):
@@ -138,7 +138,8 @@ def band_shapes(nest, rng, n):
                 out = repeat(rng, n, lambda r: v.in_band(
                     replication_rates(r, nest, shape, k, edge, away), ABOUT_HALF))
                 rows += _level_and_coverage(BAND, nest, f"{shape}, mean at {edge:.3f}, {k} "
-                                            "replications", out, v.DECIDED, edge, 0.95, n)
+                                            "replications", out, v.DECIDED, edge,
+                                            1 - 2 * v.BAND_LEVEL, n)
 
             def table(r):
                 return {c: replication_rates(r, nest, shape if c == 0 else BAND_SHAPES[0], k,
@@ -150,7 +151,7 @@ def band_shapes(nest, rng, n):
                      for t in data]
             rows += _level_and_coverage(SECTORS, nest, f"{shape}, weakest of {CELLS} at the "
                                         f"floor, {k} replications", out, (v.REPRODUCED,),
-                                        truth, 1 - 2 * v.ALPHA, n)
+                                        truth, 1 - 2 * v.SECTOR_LEVEL, n)
     return rows
 
 
@@ -168,7 +169,8 @@ def paired_shapes(nest, rng, n):
                     *rate_pairs(r, shape, k, change), +1))
                 scenario = f"{shape}, change {change:g}, {k} pairs"
                 level = _level_and_coverage(CHANGE, nest, scenario, out, v.DECIDED,
-                                            rate_mean(shape, change), 0.95, n)
+                                            rate_mean(shape, change),
+                                            1 - v.PAIRED_CHANGE_LEVEL, n)
                 rows += level if change == 0 else level[1:]
             out = repeat(rng, n, lambda r: v.senses_differ(
                 np.column_stack(rate_pairs(r, shape, k, 0.0, conditions=4))))
@@ -176,3 +178,103 @@ def paired_shapes(nest, rng, n):
                             rate([o.verdict == v.REPRODUCED for o in out]), v.ALPHA, "at most",
                             n))
     return rows
+
+
+# ------------------------------------------------------------------------------------ pilot
+#: The pilot that chose the gates and levels of ``verdicts.in_band``, ``at_least``,
+#: ``paired_directional`` and ``senses_differ`` (docs/model/claims.md, "Rates shaped like the
+#: runs'"): its seed, the sizes it draws at per rule, and the levels it tries (largest first).
+PILOT_SEED = 2114
+PILOT_SIZES = {BAND: (3, 4, 6, 8, 10), SECTORS: (3, 4, 6, 8, 10), CHANGE: (6, 8, 10),
+               SENSES: (6, 8, 10)}
+PILOT_LEVELS = {BAND: (0.025, 0.020, 0.015, 0.010, 0.005, 0.0025),
+                SECTORS: (0.050, 0.040, 0.030, 0.025, 0.020, 0.015, 0.010, 0.005, 0.0025),
+                CHANGE: tuple(round(0.05 - 0.005 * i, 3) for i in range(10)),
+                SENSES: tuple(round(0.05 - 0.005 * i, 3) for i in range(10))}
+
+
+def _pilot_draws() -> list[tuple[str, int, str, object]]:
+    """(rule, size, scenario, draw) of the declared family: ``draw(r)`` gives one data set
+    and ``_wrong`` judges it."""
+    nests = [Nesting(10, ROBOTS, 1.0, w) for w in RUN_RATIOS]
+    draws = []
+    for nest in nests:
+        for k in PILOT_SIZES[BAND]:
+            for shape in BAND_SHAPES:
+                for edge, away in zip(ABOUT_HALF, (-1, +1)):
+                    draws.append((BAND, k, f"{shape}, mean at {edge:.3f}, within s.d. "
+                                  f"{nest.within_sd:g}", lambda r, n=nest, s=shape, k=k, e=edge,
+                                  a=away: replication_rates(r, n, s, k, e, a)))
+                draws.append((SECTORS, k, f"{shape}, weakest at the floor, within s.d. "
+                              f"{nest.within_sd:g}", lambda r, n=nest, s=shape, k=k: {
+                                  c: replication_rates(r, n, s if c == 0 else BAND_SHAPES[0], k,
+                                                       v.SECTOR_FLOOR if c == 0 else OTHER_CELLS,
+                                                       -1) for c in range(CELLS)}))
+    for k in PILOT_SIZES[CHANGE]:
+        for shape in RATE_SHAPES:
+            draws.append((CHANGE, k, f"{shape}, change 0",
+                          lambda r, s=shape, k=k: rate_pairs(r, s, k, 0.0)))
+            draws.append((SENSES, k, f"{shape}, no difference", lambda r, s=shape, k=k:
+                          np.column_stack(rate_pairs(r, s, k, 0.0, conditions=4))))
+    return draws
+
+
+def _wrong(rule: str, data, levels) -> list[bool]:
+    """Whether ``rule`` at each of ``levels`` (largest first) errs on ``data`` (the band: a
+    decision either way; every sector and "senses differ": a reproduction; the paired change:
+    a decision), with its gate at the fewest units so that every size is judged."""
+    if rule in (BAND, SECTORS):
+        out = []
+        for level in levels:  # a smaller level never decides where a larger one did not
+            o = (v.in_band(data, ABOUT_HALF, level, v.MIN_UNITS) if rule == BAND else
+                 v.at_least(data, v.SECTOR_FLOOR, level, v.MIN_UNITS))
+            out.append(o.verdict in (v.DECIDED if rule == BAND else (v.REPRODUCED,)))
+            if not out[-1]:
+                return out + [False] * (len(levels) - len(out))
+        return out
+    if rule == CHANGE:
+        o = v.paired_directional(*data, +1, test_level=max(levels))
+        p, smallest = min(o.p, o.p_against), v.smallest_signed_rank_p(len(data[0]))
+    else:
+        o = v.senses_differ(data, test_level=max(levels))
+        p, smallest = o.p, v.smallest_friedman_p(*data.shape)
+    return [bool(smallest < level and p < level) for level in levels]
+
+
+def pilot(datasets: int = DATASETS, seed: int = PILOT_SEED) -> pl.DataFrame:
+    """The error of each rule at each of its ``PILOT_LEVELS`` over the declared family of
+    nulls shaped like the runs' rates, per size: one row per (rule, size, level) with the
+    largest error over the family's scenarios and that scenario. Each scenario draws
+    ``datasets`` data sets from its own child of ``seed``."""
+    draws = _pilot_draws()
+    rows = []
+    for child, (rule, k, scenario, draw) in zip(np.random.SeedSequence(seed).spawn(len(draws)),
+                                                 draws):
+        r = np.random.default_rng(child)
+        levels = PILOT_LEVELS[rule]
+        wrong = np.array([_wrong(rule, draw(r), levels) for _ in range(datasets)])
+        rows += [{"rule": rule, "size": k, "level": level, "scenario": scenario,
+                  "error": float(e)} for level, e in zip(levels, wrong.mean(axis=0))]
+    return (pl.DataFrame(rows).sort("error", descending=True)
+            .group_by("rule", "size", "level", maintain_order=True)
+            .agg(pl.col("error").first(), pl.col("scenario").first().alias("worst"))
+            .sort("rule", "size", "level", descending=[False, False, True]))
+
+
+def choose(table: pl.DataFrame) -> dict[str, tuple[int, float]]:
+    """The (gate, level) of each rule from ``pilot``'s table: the gate the smallest size from
+    which some level holds (its largest error at most ``ALPHA``) at every larger size, the
+    level the largest that holds at every size from the gate. Where no level holds at the
+    largest size, the gate is one above it (the rule decides at none of the pilot's sizes) and
+    the level the largest tried (every level holds at no size)."""
+    chosen = {}
+    for rule, sizes_ in PILOT_SIZES.items():
+        t = table.filter(pl.col("rule") == rule)
+        holds = {k: set(t.filter((pl.col("size") == k) & (pl.col("error") <= v.ALPHA))["level"])
+                 for k in sizes_}
+        chosen[rule] = (max(sizes_) + 1, max(PILOT_LEVELS[rule]))
+        for gate in sizes_:
+            if common := set.intersection(*(holds[k] for k in sizes_ if k >= gate)):
+                chosen[rule] = (gate, max(common))
+                break
+    return chosen

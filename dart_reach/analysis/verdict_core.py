@@ -49,6 +49,18 @@ PAIRED_EQUIVALENCE_LEVEL = 0.005
 SECTOR_FLOOR = 0.10
 #: The fewest units of an interval rule: Student's t with at least 2 degrees of freedom.
 MIN_UNITS = 3
+#: The band's and every sector's gate (the fewest replications they decide at) and the
+#: one-sided level of each bound they decide by (the band: each edge; every sector: each
+#: cell's lower bound), and the level of the paired change's Wilcoxon test (which decides from
+#: 7 pairs at it: 2 / 2^7) and of "senses differ"'s Friedman test: chosen over the declared
+#: family of nulls shaped like the runs' rates on a pilot apart from the calibration
+#: (docs/model/claims.md, "Rates shaped like the runs'"; ``run_shaped_calibration.pilot`` and
+#: ``choose``, its table committed and shown in docs/results/calibration.md). Before it: the
+#: band from 3 at 0.025 (a 95 % interval), every sector at 0.05, both tests at ``ALPHA``.
+BAND_MIN_UNITS, BAND_LEVEL = 10, 0.005
+SECTOR_MIN_UNITS, SECTOR_LEVEL = MIN_UNITS, 0.02
+PAIRED_CHANGE_LEVEL = 0.02
+FRIEDMAN_LEVEL = 0.025
 
 
 @dataclass(frozen=True)

@@ -24,22 +24,26 @@ data like the runs' (``calibration``; the table in docs/results/calibration.md).
 - ``equivalent``: "a and b do not differ" (two-sided): two one-sided tests on theta within
   0.5 +- ``EQUIVALENCE_MARGIN`` (Lakens 2017); contradicted by a two-sided Brunner-Munzel
   permutation difference; underpowered below 6 units a group (``one_mode``).
-- ``in_band``: "about half": Student's t 95 % interval of the mean over units inside the band.
-- ``at_least``: "in every sector": every cell's one-sided 95 % lower bound above a floor (an
-  intersection-union test); contradicted when some cell's upper bound, Bonferroni-adjusted
-  over the cells, is below it.
+- ``in_band``: "about half": Student's t interval of the mean over units inside the band, each
+  edge a one-sided test at ``BAND_LEVEL``; underpowered below ``BAND_MIN_UNITS``.
+- ``at_least``: "in every sector": every cell's one-sided lower bound at ``SECTOR_LEVEL`` above
+  a floor (an intersection-union test); contradicted when some cell's upper bound,
+  Bonferroni-adjusted over the cells, is below it. The gates and levels of these two, of the
+  paired change and of "senses differ" are the least favourable over nulls shaped like the
+  runs' rates (``verdict_core``; docs/model/claims.md, "Rates shaped like the runs'").
 - ``paired_directional`` / ``paired_equivalent`` / ``paired_rate_equivalent``: the same units
-  under two conditions or at two moments: Wilcoxon signed-rank (exact without ties) / the
+  under two conditions or at two moments: Wilcoxon signed-rank (exact without ties) at
+  ``PAIRED_CHANGE_LEVEL`` / the
   exact sign-flip test as two one-sided tests (``sign_flip_tost``), of the change relative to
   each unit's level for a measure / of the absolute change against ``RATE_MARGIN`` for a rate
-  (a rate at 0 is a level like any other; ``paired_verdicts``); each underpowered below 6
-  pairs, where no sign-flip or signed-rank test can reach ``ALPHA``; no change is shown by
+  (a rate at 0 is a level like any other; ``paired_verdicts``); each underpowered where no
+  sign-flip or signed-rank test can reach its level (below 7 pairs / 6 pairs); no change is shown by
   one-sided tests at ``PAIRED_EQUIVALENCE_LEVEL`` (the least favourable level over the
   declared shapes of the changes, skewed ones across 0 included: from 8 pairs), and never
   where the changes are lopsided (``lopsided``: the sign-flip test of a mean is exact only
   for changes symmetric about their centre).
-- ``senses_differ``: "performance varies across the sensory conditions": Friedman's test with
-  the replication as block; contradicted when every pair of conditions is equivalent (the
+- ``senses_differ``: "performance varies across the sensory conditions": Friedman's test at
+  ``FRIEDMAN_LEVEL`` with the replication as block; contradicted when every pair of conditions is equivalent (the
   sign-flip TOST within ``PAIRED_MARGIN`` at ``PAIRED_EQUIVALENCE_LEVEL``, an
   intersection-union test; from 8 blocks; never where a pair's changes are lopsided).
 
@@ -64,10 +68,11 @@ from .paired_verdicts import (  # noqa: F401  (re-exported: the paired rules)
     LOPSIDED_MINORITY, lopsided, paired_directional, paired_equivalent, paired_rate_equivalent,
     paired_tost, relative_changes, senses_differ, sign_flip_tost, wilcoxon)
 from .verdict_core import (  # noqa: F401  (re-exported: the rules' shared names)
-    ALPHA, CONTRADICTED, DECIDED, EQUIVALENCE_MARGIN, INCONCLUSIVE, MIN_UNITS, NOT_RUN, Outcome,
-    PAIRED_EQUIVALENCE_LEVEL, PAIRED_MARGIN, RATE_MARGIN, REPRODUCED, SECTOR_FLOOR, UNDERPOWERED,
-    VERDICTS, finite, friedman, hodges_lehmann, no_spread, normal_sf, one_mode, order_index,
-    signed_rank_distribution, smallest_directional_p, smallest_friedman_p,
+    ALPHA, BAND_LEVEL, BAND_MIN_UNITS, CONTRADICTED, DECIDED, EQUIVALENCE_MARGIN, FRIEDMAN_LEVEL,
+    INCONCLUSIVE, MIN_UNITS, NOT_RUN, Outcome, PAIRED_CHANGE_LEVEL, PAIRED_EQUIVALENCE_LEVEL,
+    PAIRED_MARGIN, RATE_MARGIN, REPRODUCED, SECTOR_FLOOR, SECTOR_LEVEL, SECTOR_MIN_UNITS,
+    UNDERPOWERED, VERDICTS, finite, friedman, hodges_lehmann, no_spread, normal_sf, one_mode,
+    order_index, signed_rank_distribution, smallest_directional_p, smallest_friedman_p,
     smallest_mann_whitney_p, smallest_signed_rank_p, t_cdf, t_quantile, t_sf, tie_sum,
     two_mode_gate, u_distribution, walsh_median)
 
@@ -189,42 +194,46 @@ def mean_interval(units, confidence: float = 0.95) -> tuple[float, float, float]
     return mean, mean - half, mean + half
 
 
-def _too_few(units) -> Outcome | None:
+def _too_few(units, gate: int = MIN_UNITS) -> Outcome | None:
     x = finite(units)
-    if len(x) < MIN_UNITS:
+    if len(x) < gate:
         return Outcome(UNDERPOWERED, effect=float(x.mean()) if len(x) else math.nan,
-                       note=f"{len(x)} units; an interval needs at least {MIN_UNITS}")
+                       note=f"{len(x)} units; this rule decides from {gate}")
     if no_spread(x):
         return Outcome(INCONCLUSIVE, effect=float(x[0]), note="every unit equal: no evidence")
     return None
 
 
-def in_band(units, band: tuple[float, float]) -> Outcome:
+def in_band(units, band: tuple[float, float], level: float = BAND_LEVEL,
+            gate: int = BAND_MIN_UNITS) -> Outcome:
     """Claim: the mean of ``units`` (one value per replication, a rate) lies in ``band``.
-    Reproduced when the 95 % t interval lies inside; contradicted when it lies wholly
-    outside; otherwise inconclusive."""
-    if (few := _too_few(units)) is not None:
+    Reproduced when the t interval at 1 - 2 ``level`` lies inside (each edge a one-sided test
+    at ``level``); contradicted when it lies wholly outside; otherwise inconclusive;
+    underpowered below ``gate`` units."""
+    if (few := _too_few(units, gate)) is not None:
         return few
-    mean, low, high = mean_interval(units)
+    confidence = 1 - 2 * level
+    mean, low, high = mean_interval(units, confidence)
     verdict = (REPRODUCED if band[0] <= low and high <= band[1] else
                CONTRADICTED if high < band[0] or low > band[1] else INCONCLUSIVE)
-    return Outcome(verdict, effect=mean, low=low, high=high, confidence=0.95)
+    return Outcome(verdict, effect=mean, low=low, high=high, confidence=confidence)
 
 
-def at_least(units_by_cell: dict, floor: float) -> Outcome:
+def at_least(units_by_cell: dict, floor: float, level: float = SECTOR_LEVEL,
+             gate: int = SECTOR_MIN_UNITS) -> Outcome:
     """Claim: in every cell (a sector's reach or grasp), the mean over units is at least
-    ``floor``. Reproduced when every cell's one-sided 95 % lower bound is above it (an
-    intersection-union test: its error is at most ``ALPHA`` whatever the number of cells);
-    contradicted when some cell's upper bound at 1 - ``ALPHA`` / cells is below it; otherwise
-    inconclusive. ``effect``: the weakest cell's mean, with its interval."""
+    ``floor``. Reproduced when every cell's one-sided lower bound at 1 - ``level`` is above it
+    (an intersection-union test: its error is at most ``level`` whatever the number of
+    cells); contradicted when some cell's upper bound at 1 - ``ALPHA`` / cells is below it;
+    otherwise inconclusive; underpowered below ``gate`` units a cell. ``effect``: the weakest
+    cell's mean, with its interval."""
     cells = {k: finite(v) for k, v in units_by_cell.items()}
     for v in cells.values():
-        if len(v) < MIN_UNITS:
-            return Outcome(UNDERPOWERED, note=f"{len(v)} units; an interval needs at least "
-                                              f"{MIN_UNITS}")
+        if len(v) < gate:
+            return Outcome(UNDERPOWERED, note=f"{len(v)} units; this rule decides from {gate}")
     flat = [k for k, v in cells.items() if no_spread(v)]
     k = len(cells)
-    lower = {c: mean_interval(v, 1 - 2 * ALPHA) for c, v in cells.items() if c not in flat}
+    lower = {c: mean_interval(v, 1 - 2 * level) for c, v in cells.items() if c not in flat}
     upper = {c: mean_interval(v, 1 - 2 * ALPHA / k) for c, v in cells.items() if c not in flat}
     worst = min(cells, key=lambda c: cells[c].mean())
     below = [c for c, (_, _, high) in upper.items() if high < floor]
@@ -238,5 +247,5 @@ def at_least(units_by_cell: dict, floor: float) -> Outcome:
     note = "; ".join(filter(None, [
         f"weakest: {worst}", f"below the floor: {', '.join(map(str, below))}" if below else "",
         f"no spread (no evidence): {', '.join(map(str, flat))}" if flat else ""]))
-    return Outcome(verdict, effect=mean, low=low, high=high, confidence=1 - 2 * ALPHA,
+    return Outcome(verdict, effect=mean, low=low, high=high, confidence=1 - 2 * level,
                    note=note)

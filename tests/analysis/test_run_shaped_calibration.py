@@ -62,7 +62,7 @@ def test_a_too_liberal_band_rule_fails_both_rows():
     for judge, fails in ((_liberal_band, True), (v.in_band, False)):
         out = [judge(x, ABOUT_HALF) for x in data]
         rows = rs._level_and_coverage("band", nest, "edge", out, v.DECIDED, ABOUT_HALF[0],
-                                      0.95, n)
+                                      1 - 2 * v.BAND_LEVEL, n)
         assert [r["ok"] for r in rows] == [not fails] * 2, rows
 
 
@@ -134,3 +134,43 @@ def test_the_labels_read_the_table(table, which):
     assert "not measured" in coverage.shaped_label(
         table.filter(pl.col("rule") != coverage.SHAPED_RULES[which]), which)
     assert " ".join(label.split()) in " ".join(DOC.read_text().split())
+
+
+def _pilot_table(errors: dict[str, dict[int, dict[float, float]]]) -> pl.DataFrame:
+    """A pilot table with every rule's sizes and levels at error 0, except ``errors``
+    (rule -> size -> level -> error)."""
+    return pl.DataFrame([
+        {"rule": rule, "size": k, "level": level, "error": errors.get(rule, {}).get(k, {}).get(
+            level, 0.0), "worst": "x"}
+        for rule, sizes in rs.PILOT_SIZES.items() for k in sizes
+        for level in rs.PILOT_LEVELS[rule]])
+
+
+def test_the_choice_takes_the_smallest_gate_then_the_largest_level():
+    """``choose``: the gate is the smallest size from which some level holds at every larger
+    size, the level the largest that holds there; a rule that holds nowhere at its largest
+    size decides at none of the pilot's sizes."""
+    levels = rs.PILOT_LEVELS[rs.BAND]
+    fails = {k: {lv: 0.2 for lv in levels} for k in (3, 4, 6, 8)}  # every level fails
+    fails[10] = {lv: 0.06 if lv > 0.01 else 0.04 for lv in levels}  # holds from 0.01 down
+    sectors = {4: {lv: 0.06 for lv in rs.PILOT_LEVELS[rs.SECTORS][:3]}}  # 0.03 holds
+    nowhere = {10: {lv: 0.1 for lv in rs.PILOT_LEVELS[rs.CHANGE]}}
+    chosen = rs.choose(_pilot_table({rs.BAND: fails, rs.SECTORS: sectors, rs.CHANGE: nowhere}))
+    assert chosen[rs.BAND] == (10, 0.01)
+    assert chosen[rs.SECTORS] == (3, rs.PILOT_LEVELS[rs.SECTORS][3])
+    assert chosen[rs.CHANGE] == (11, 0.05)
+    assert chosen[rs.SENSES] == (6, 0.05)
+
+
+def test_the_rules_run_at_the_committed_pilots_choice():
+    """The gates and levels of ``verdict_core`` are the committed pilot's choice (a changed
+    constant, or a pilot recomputed to another choice, fails), and the page shows the pilot."""
+    chosen = rs.choose(pl.read_parquet(calibration_page.PILOT))
+    assert chosen == {rs.BAND: (v.BAND_MIN_UNITS, v.BAND_LEVEL),
+                      rs.SECTORS: (v.SECTOR_MIN_UNITS, v.SECTOR_LEVEL),
+                      rs.CHANGE: (6, v.PAIRED_CHANGE_LEVEL),  # its test decides from 7 pairs
+                      rs.SENSES: (6, v.FRIEDMAN_LEVEL)}
+    page = " ".join(DOC.read_text().split())
+    shown = calibration_page.pilot_values(pl.read_parquet(calibration_page.PILOT))
+    assert " ".join(shown["pilot_choice"].split()) in page
+    assert all(line in DOC.read_text() for line in shown["pilot_table"].splitlines())

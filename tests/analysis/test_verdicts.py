@@ -112,14 +112,41 @@ def test_interval_rules_give_every_verdict_and_never_count_zero_spread():
     band = (1 / 3, 2 / 3)
     assert v.in_band(rng.normal(0.5, 0.02, 10), band).verdict == v.REPRODUCED
     assert v.in_band(rng.normal(0.9, 0.02, 10), band).verdict == v.CONTRADICTED
-    assert v.in_band(rng.normal(0.6, 0.3, 4), band).verdict == v.INCONCLUSIVE
+    assert v.in_band(rng.normal(0.6, 0.3, 10), band).verdict == v.INCONCLUSIVE
     assert v.in_band([0.5, 0.5], band).verdict == v.UNDERPOWERED
-    assert v.in_band([0.5] * 4, band).verdict == v.INCONCLUSIVE  # zero spread: no evidence
+    assert v.in_band([0.5] * 10, band).verdict == v.INCONCLUSIVE  # zero spread: no evidence
     cells = {k: rng.normal(0.6, 0.05, 10) for k in range(18)}
     assert v.at_least(cells, 0.1).verdict == v.REPRODUCED
     assert v.at_least({**cells, 3: rng.normal(0.02, 0.01, 10)}, 0.1).verdict \
         == v.CONTRADICTED
     assert v.at_least({**cells, 3: np.full(10, 0.9)}, 0.1).verdict == v.INCONCLUSIVE
+
+
+def test_the_rules_on_rates_decide_from_their_gates_at_their_levels():
+    """The band decides from ``BAND_MIN_UNITS`` replications, by an interval at
+    1 - 2 ``BAND_LEVEL``; the paired change from the pairs whose smallest p is below
+    ``PAIRED_CHANGE_LEVEL`` (7), "senses differ" from the blocks whose is below
+    ``FRIEDMAN_LEVEL`` (4 of 4 conditions); every sector's bound at 1 - ``SECTOR_LEVEL``."""
+    band, inside = (1 / 3, 2 / 3), np.linspace(0.45, 0.55, v.BAND_MIN_UNITS)
+    assert v.in_band(inside[:-1], band).verdict == v.UNDERPOWERED
+    out = v.in_band(inside, band)
+    assert out.verdict == v.REPRODUCED and out.confidence == pytest.approx(1 - 2 * v.BAND_LEVEL)
+    half = v.t_quantile(1 - v.BAND_LEVEL, len(inside) - 1) * inside.std(ddof=1) / np.sqrt(
+        len(inside))
+    assert (out.low, out.high) == pytest.approx((0.5 - half, 0.5 + half))
+    up = np.arange(1.0, 8.0)
+    assert v.paired_directional(np.zeros(6), up[:6], +1).verdict == v.UNDERPOWERED
+    assert v.paired_directional(np.zeros(7), up, +1).verdict == v.REPRODUCED
+    assert v.paired_directional(np.zeros(7), up, +1).confidence == pytest.approx(
+        1 - v.PAIRED_CHANGE_LEVEL)
+    ordered = np.tile(np.arange(4.0), (4, 1))
+    assert v.senses_differ(ordered[:3]).verdict == v.UNDERPOWERED
+    assert v.senses_differ(ordered).verdict == v.REPRODUCED
+    cell = np.array([0.14, 0.16, 0.18, 0.20, 0.22])  # lower bound between the two levels' floors
+    lower = {lv: v.mean_interval(cell, 1 - 2 * lv)[1] for lv in (v.SECTOR_LEVEL, v.ALPHA)}
+    floor = (lower[v.SECTOR_LEVEL] + lower[v.ALPHA]) / 2
+    assert v.at_least({0: cell}, floor).verdict == v.INCONCLUSIVE
+    assert v.at_least({0: cell}, floor, level=v.ALPHA).verdict == v.REPRODUCED
 
 
 def test_paired_rules_give_every_verdict():
