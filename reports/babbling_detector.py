@@ -180,6 +180,24 @@ def movement_table(recordings: Path) -> pl.DataFrame:
                         "moving_share", "movement").sort(*by)
 
 
+#: The reasons a babbling path is missed, as ``synthetic_table`` counts them, in words.
+MISSED = {"missed: amplitude < 0.05 m": "an RMS amplitude below 0.05 m",
+          "missed: share < 0.4": "a rhythm share below 0.4",
+          "missed: below 0.25 Hz": "a rhythm below 0.25 Hz"}
+
+
+def misses(families: pl.DataFrame) -> str:
+    """Why the detector missed the babbling paths of ``families`` (rows of
+    ``synthetic_table``): "N missed: A with ..., B with ..." (a path may fail several tests),
+    or "none missed"."""
+    missed = int((families["paths"] - families["called babbling"]).sum())
+    if not missed:
+        return "none missed"
+    why = [f"{int(families[col].sum())} with {words}" for col, words in MISSED.items()
+           if families[col].sum()]
+    return f"{missed} missed: " + ", ".join(why)
+
+
 def values(recordings: Path) -> dict[str, str]:
     root = recordings.parent
     syn = synthetic_table()
@@ -208,6 +226,9 @@ def values(recordings: Path) -> dict[str, str]:
                                    ["called babbling"].sum()),
                                int(pos.filter(~pl.col("family").str.contains("interrupted"))
                                    ["paths"].sum())),
+        "uninterrupted_misses": misses(pos.filter(~pl.col("family").str.contains(
+            "interrupted"))),
+        "interrupted_misses": misses(pos.filter(pl.col("family").str.contains("interrupted"))),
         "wander": rate(int(neg.filter(pl.col("family") == "wander")["called babbling"].sum()),
                         int(neg.filter(pl.col("family") == "wander")["paths"].sum())),
         "other_still": str(int(neg.filter(pl.col("family") != "wander")["called babbling"]

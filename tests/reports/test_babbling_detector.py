@@ -90,3 +90,22 @@ def test_the_labellers_note_is_marked_and_tied_to_the_trials_it_describes():
                                 .otherwise(pl.col("detector babbling")).alias("detector babbling"))
     with pytest.raises(ValueError, match="rewrite reports.babbling_detector.NOTE"):
         page.labeller_note(flipped)
+
+
+def test_the_synthetic_misses_are_counted_from_the_detector_not_stated():
+    """Why the synthetic babbling paths are missed is the table's count of each failed test
+    (a path may fail several), and the page says what the table says."""
+    families = pl.DataFrame({"paths": [10, 10], "called babbling": [7, 10],
+                             "missed: amplitude < 0.05 m": [2, 0], "missed: share < 0.4": [2, 0],
+                             "missed: below 0.25 Hz": [0, 0]})
+    assert page.misses(families) == ("3 missed: 2 with an RMS amplitude below 0.05 m, 2 with a "
+                                      "rhythm share below 0.4")
+    assert page.misses(families[1:]) == "none missed"
+    syn = page.synthetic_table(per_family=20)
+    babbling = syn.filter(pl.col("babbling by construction"))
+    missed = int((babbling["paths"] - babbling["called babbling"]).sum())
+    assert page.misses(babbling).startswith(f"{missed} missed" if missed else "none")
+    text = " ".join((ROOT / "docs" / "results" / "babbling-detector.md").read_text().split())
+    full = page.synthetic_table().filter(pl.col("babbling by construction"))
+    interrupted = full.filter(pl.col("family").str.contains("interrupted"))
+    assert page.misses(interrupted) in text
