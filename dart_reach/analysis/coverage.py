@@ -170,8 +170,9 @@ def shaped_nominal(which: str) -> str:
 
 def shaped_label(table: pl.DataFrame, which: str) -> str:
     """What to call the band's (``which`` "band"), every sector's weakest cell's ("sector") or
-    the paired change's ("change") interval on a page: "nominally 95 %, covering in simulation LOW-HIGH at N replications (pairs), ..."
-    over the run-shaped nulls, read from ``table``; the paired change's shows no finite
+    the paired change's ("change") interval on a page: "nominally 99 %, covering in
+    simulation LOW-HIGH at N replications (pairs), ..." over the run-shaped nulls, read from
+    ``table``; the paired change's shows no finite
     interval below the pairs at which its test can decide; "its coverage not measured" when
     the table has no row of it."""
     unit = "pairs" if which == "change" else "replications"
