@@ -84,9 +84,17 @@ def _digest(path: Path) -> str:
 
 # ------------------------------------------------------------------------------ the ledger
 def _render(files: dict[str, list[str]]) -> bytes:
-    body = {"format": FORMAT, "files": dict(sorted(files.items()))}
-    own = hashlib.sha256(json.dumps(body, sort_keys=True, indent=1).encode()).hexdigest()
-    return (json.dumps(dict(body, sha256=own), sort_keys=True, indent=1) + "\n").encode()
+    body = json.dumps({"format": FORMAT, "files": dict(sorted(files.items()))},
+                      sort_keys=True, indent=1)
+    own = hashlib.sha256(body.encode()).hexdigest()
+    # the body with its digest, the last key in sorted order, before its closing "\n}": the
+    # bytes json.dumps(dict(body, sha256=own), sort_keys=True, indent=1) gives, encoded once
+    return (body[:-2] + f',\n "sha256": "{own}"\n}}\n').encode()
+
+
+#: The ledgers found whole, by the SHA-256 of their bytes: a ledger read again unchanged (a
+#: run's every file checked, each against it) is parsed and rendered once, not once a file.
+_ledgers: dict[bytes, dict[str, list[str]]] = {}
 
 
 def has_ledger(out: Path) -> bool:
@@ -103,18 +111,32 @@ def ledger(out: Path) -> dict[str, list[str]]:
             f"{out}: no {LEDGER_FILE} (a run written before its files were recorded, or not "
             f"a run); check its files once and record them with: dart-reach migrate {out}")
     data = path.read_bytes()
-    try:
-        files = json.loads(data)["files"]
-        if _render(files) != data:
-            raise ValueError("its content is not the content it recorded")
-    except (ValueError, KeyError, TypeError, AttributeError) as exc:
-        raise DamagedFile(f"{path}: damaged ({type(exc).__name__}: {exc}); restore it from a "
-                          f"copy of the run (a committed run: git checkout -- {path})") from None
-    return files
+    files = _ledgers.get(hashlib.sha256(data).digest())
+    if files is None:
+        try:
+            files = json.loads(data)["files"]
+            if _render(files) != data:
+                raise ValueError("its content is not the content it recorded")
+        except (ValueError, KeyError, TypeError, AttributeError) as exc:
+            raise DamagedFile(f"{path}: damaged ({type(exc).__name__}: {exc}); restore it from "
+                              f"a copy of the run (a committed run: git checkout -- {path})"
+                              ) from None
+        _remember(data, files)
+    return {name: list(digests) for name, digests in files.items()}  # the caller's own copy
 
 
 def _save(out: Path, files: dict[str, list[str]]) -> None:
-    atomic_write(Path(out) / LEDGER_FILE, lambda p: p.write_bytes(_render(files)))
+    data = _render(files)
+    atomic_write(Path(out) / LEDGER_FILE, lambda p: p.write_bytes(data))
+    _remember(data, files)
+
+
+def _remember(data: bytes, files: dict[str, list[str]]) -> None:
+    """Put the ledger ``data`` (whole: ``files`` rendered) among ``_ledgers``, in the order
+    its file holds (by name)."""
+    if len(_ledgers) > 64:
+        _ledgers.clear()
+    _ledgers[hashlib.sha256(data).digest()] = {name: list(d) for name, d in sorted(files.items())}
 
 
 def _name(out: Path, path: Path) -> str:
