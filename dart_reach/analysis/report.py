@@ -462,7 +462,9 @@ def build(run_dirs: Sequence, out=None, findings_out=None) -> Path:
         sections.append(_section("Figures 5-9 (standard condition)",
                                  "".join(_run_figures(d, caches[d]) for d in evaluated),
                                  "figures"))
-        sections.append(_section("Figure 10 (conditions)", _fig10(table), "fig10"))
+        sections.append(_section("Figure 10 (conditions)", "".join(  # per budget, never pooled
+            (f"<h3>{html.escape(named[b])}</h3>" if len(blocks) > 1 else "") + _fig10(p.table)
+            for b, _, p, _ in blocks if p.table is not None), "fig10"))
         sections.append(_section("Statistics", "".join(_run_statistics(d) for d in evaluated),
                                  "statistics"))
     page = Template(resources.files(__package__).joinpath("templates/report.html")

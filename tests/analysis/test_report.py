@@ -298,6 +298,11 @@ def test_a_report_of_two_budgets_sets_them_side_by_side(tiny_run, other_budget, 
     assert f"<h3>{NEW_SCENE}, 1 generation per phase, 2 replications: tiny</h3>" in found
     assert f"<h3>{NEW_SCENE}, 2 generations per phase, 2 replications: tiny-2</h3>" in found
     assert "scenes" not in found.split("<table")[0]  # one scene: no notice
+    # Fig. 10 per budget, never pooled: each budget's own heading and its own figure or reason
+    fig10 = text.split('<section id="fig10">')[1].split("</section>")[0]
+    assert fig10.count("<h3>") == 2
+    for gens in ("1 generation", "2 generations"):
+        assert f"<h3>{NEW_SCENE}, {gens} per phase, 2 replications</h3>" in fig10
 
 
 def test_the_summary_opens_on_the_counts_per_budget_then_a_forest_by_section():
