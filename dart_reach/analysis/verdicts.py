@@ -43,9 +43,10 @@ data like the runs' (``calibration``; the table in docs/results/calibration.md).
   where the changes are lopsided (``lopsided``: the sign-flip test of a mean is exact only
   for changes symmetric about their centre).
 - ``senses_differ``: "performance varies across the sensory conditions": Friedman's test at
-  ``FRIEDMAN_LEVEL`` with the replication as block; contradicted when every pair of conditions is equivalent (the
-  sign-flip TOST within ``PAIRED_MARGIN`` at ``PAIRED_EQUIVALENCE_LEVEL``, an
-  intersection-union test; from 8 blocks; never where a pair's changes are lopsided).
+  ``FRIEDMAN_LEVEL`` with the replication as block; contradicted when every pair of
+  conditions is equivalent (the sign-flip TOST within ``PAIRED_MARGIN`` at
+  ``PAIRED_EQUIVALENCE_LEVEL``, an intersection-union test; from 8 blocks; never where a
+  pair's changes are lopsided).
 
 Verdicts (``VERDICTS``): *reproduced* (the data show what the paper says), *contradicted* (they
 show the opposite, or a difference where the paper says none), *inconclusive* (the data cannot
