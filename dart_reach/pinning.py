@@ -157,13 +157,13 @@ class KernelPin:
                 f"Python starts")
 
 
-def kernel_pin(record: ImportRecord, numpy_features: Mapping[str, bool],
+def kernel_pin(record: ImportRecord, numpy_targets: Mapping[str, bool],
                blas_core: str | None, flags: Collection[str]) -> KernelPin:
     """The ``KernelPin`` of a process from what ``import dart_reach`` found (``record``),
-    numpy's runtime CPU features (name -> enabled: numpy's ``__cpu_features__``, where a
-    target the environment disabled is False), OpenBLAS's kernels as the library names them
+    numpy's dispatch targets (name -> enabled: ``numpy_targets``, where a target the
+    environment disabled is False), OpenBLAS's kernels as the library names them
     (None: not known) and the CPU's ``flags`` (/proc/cpuinfo's). A pure function."""
-    above = tuple(name for name in ABOVE_AVX2.split() if numpy_features.get(name))
+    above = tuple(name for name in ABOVE_AVX2.split() if numpy_targets.get(name))
     if blas_core is None:  # not read: the environment numpy loaded with decides
         if record.blas_preset is not None:
             blas_core = record.blas_preset
@@ -204,6 +204,16 @@ def numpy_features() -> dict[str, bool]:
     return dict(numpy._core._multiarray_umath.__cpu_features__)
 
 
+def numpy_targets() -> dict[str, bool]:
+    """numpy's dispatch targets in this process, name -> enabled (False: disabled by
+    ``NPY_DISABLE_CPU_FEATURES``). A CPU feature numpy does not dispatch on is not one, even
+    where the processor has it: numpy 2.4 dispatches on the groups ``X86_V4``, ``AVX512_ICL``
+    and ``AVX512_SPR``, and still reports ``AVX512F`` or ``AVX512_CLX`` among its features.
+    Loads numpy."""
+    features = numpy_features()
+    return {name: features.get(name, False) for name in numpy_dispatch()[0]}
+
+
 def numpy_dispatch() -> tuple[tuple[str, ...], tuple[str, ...]]:
     """numpy's dispatch targets and its baseline features, each in numpy's order (its
     ``__cpu_dispatch__`` and ``__cpu_baseline__``; this module is the one that reads numpy's
@@ -216,7 +226,7 @@ def numpy_dispatch() -> tuple[tuple[str, ...], tuple[str, ...]]:
 
 def this_process() -> KernelPin:
     """The ``KernelPin`` of this process (loads numpy)."""
-    return kernel_pin(AT_IMPORT, numpy_features(), openblas_core(), CPU_FLAGS)
+    return kernel_pin(AT_IMPORT, numpy_targets(), openblas_core(), CPU_FLAGS)
 
 
 @functools.cache
