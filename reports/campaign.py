@@ -14,6 +14,7 @@ the page is generated from those and the committed post-evaluation tables only.
 from __future__ import annotations
 
 import argparse
+import json
 import sys
 from dataclasses import replace
 from pathlib import Path
@@ -394,6 +395,8 @@ def campaign_section() -> str:
               f"the whole design projects to {med * total / 3600:,.0f} core-hours "
               f"({q1 * total / 3600:,.0f}-{q3 * total / 3600:,.0f}), "
               f"{med * total / 3600 / 2:,.0f} h on 2 cores.", ""]
+    sessions = json.loads((CAMPAIGN / "manifest.json").read_text(encoding="utf-8"))["sessions"]
+    lines += [processors_line(per, sessions, total - per.height * reps), ""]
     table = load_development(CAMPAIGN, senses=None)
     have = set() if table is None else set(
         table.filter(pl.col("phase") == "pre")["generation"].unique().to_list())
@@ -429,6 +432,32 @@ def campaign_section() -> str:
                             "do not all fail: the training goes on.")]
     tail = [""] + between if between else []
     return "\n".join(lines + stop_line + judgements + tail) + "\n"
+
+
+def processors_line(per: pl.DataFrame, sessions: list[dict], left: int) -> str:
+    """The cost by the processor that trained each generation (``per``: ``core_seconds``'s
+    rows; ``sessions``: the manifest's, whose ``cpu`` names it), and the ``left``
+    replication-generations projected at the median of the processor of the latest session:
+    a run resumed on another machine changes its pace, which the median of all mixes."""
+    def name(k: int) -> str:
+        cpu = (sessions[k].get("cpu") or {}) if k >= 0 else {}
+        return f"{cpu.get('model', 'a processor not recorded')} ({cpu.get('vector', '?')})"
+
+    rows = (per.with_columns(pl.Series("processor", [name(k) for k in per["session"]]))
+            .filter(pl.col("core_s").is_not_nan())
+            .group_by("processor", maintain_order=True)
+            .agg(pl.len().alias("generations"), pl.col("core_s").median().alias("median"),
+                 pl.col("session").max().alias("last")))
+    if rows.is_empty():
+        return "No generation's cost is known by processor."
+    parts = [f"{r['processor']}: {r['generations']} generation"
+             f"{'' if r['generations'] == 1 else 's'}, median {r['median']:.1f}"
+             for r in rows.iter_rows(named=True)]
+    last = rows.sort("last").row(-1, named=True)
+    return (f"By the processor that trained them (the sessions' `cpu`), core-seconds per "
+            f"replication-generation: {'; '.join(parts)}. The {left:,} replication-generations "
+            f"left at the latest one's median: {last['median'] * left / 3600:,.0f} core-hours, "
+            f"{last['median'] * left / 3600 / 2:,.0f} h on 2 cores.")
 
 
 def described_snapshots(table: pl.DataFrame | None, generations: list[int]) -> list[str]:

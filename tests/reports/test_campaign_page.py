@@ -87,3 +87,20 @@ def test_a_snapshot_between_judgements_is_described_from_its_trials_not_judged()
     assert row[0] == "60" and row[1] == str(normal["replication"].n_unique())
     assert float(row[2]) == pytest.approx(normal["reached"].cast(pl.Float64).mean(), abs=0.005)
     assert campaign.described_snapshots(table, []) == []
+
+
+def test_the_cost_is_split_by_processor_and_the_rest_projected_at_the_latest_ones_pace():
+    cpu = {"model": "EPYC", "vector": "AVX2"}, {"model": "EPYC", "vector": "AVX-512"}
+    sessions = [{"cpu": cpu[0]}, {"cpu": cpu[0]}, {"cpu": cpu[1]}, {}]
+    per = pl.DataFrame({"generation": [1, 2, 3, 4, 5, 6], "session": [0, 1, 1, 2, 2, 3],
+                        "core_s": [100.0, 120.0, 140.0, 40.0, 50.0, float("nan")]})
+    line = campaign.processors_line(per, sessions, 3600)
+    assert "EPYC (AVX2): 3 generations, median 120.0" in line
+    assert "EPYC (AVX-512): 2 generations, median 45.0" in line
+    assert "not recorded" not in line  # its only generation's cost is unknown
+    assert line.endswith("3,600 replication-generations left at the latest one's median: "
+                         "45 core-hours, 22 h on 2 cores.")
+    later = per.with_columns(pl.Series("core_s", [100.0, 120.0, 140.0, 40.0, 50.0, 60.0]))
+    assert "a processor not recorded (?): 1 generation, median 60.0" in \
+        campaign.processors_line(later, sessions, 3600)
+    assert "60 core-hours" in campaign.processors_line(later, sessions, 3600)
