@@ -196,22 +196,16 @@ def openblas_core() -> str | None:
     return None
 
 
-def numpy_features() -> dict[str, bool]:
-    """numpy's runtime CPU features in this process, name -> enabled (a dispatch target
-    disabled by ``NPY_DISABLE_CPU_FEATURES`` is False). Loads numpy."""
+def numpy_targets() -> dict[str, bool]:
+    """numpy's dispatch targets in this process, in numpy's order, name -> enabled (False:
+    disabled by ``NPY_DISABLE_CPU_FEATURES``). A CPU feature numpy does not dispatch on is not
+    one, even where the processor has it: numpy 2.4 dispatches on the groups ``X86_V4``,
+    ``AVX512_ICL`` and ``AVX512_SPR``, and still reports ``AVX512F`` or ``AVX512_CLX`` among
+    its features. Loads numpy."""
     import numpy
 
-    return dict(numpy._core._multiarray_umath.__cpu_features__)
-
-
-def numpy_targets() -> dict[str, bool]:
-    """numpy's dispatch targets in this process, name -> enabled (False: disabled by
-    ``NPY_DISABLE_CPU_FEATURES``). A CPU feature numpy does not dispatch on is not one, even
-    where the processor has it: numpy 2.4 dispatches on the groups ``X86_V4``, ``AVX512_ICL``
-    and ``AVX512_SPR``, and still reports ``AVX512F`` or ``AVX512_CLX`` among its features.
-    Loads numpy."""
-    features = numpy_features()
-    return {name: features.get(name, False) for name in numpy_dispatch()[0]}
+    features = numpy._core._multiarray_umath.__cpu_features__
+    return {name: bool(features.get(name)) for name in numpy_dispatch()[0]}
 
 
 def numpy_dispatch() -> tuple[tuple[str, ...], tuple[str, ...]]:

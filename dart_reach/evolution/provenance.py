@@ -12,7 +12,7 @@ from importlib import metadata
 from pathlib import Path
 
 from .. import __version__
-from ..pinning import numpy_dispatch, numpy_features
+from ..pinning import numpy_dispatch, numpy_targets
 
 
 def _git(directory: Path, *args: str) -> bytes | None:
@@ -56,10 +56,8 @@ def simd() -> str:
     X86_V3 = AVX2, X86_V4 = AVX-512, ...) the CPU has and the environment did not disable, else
     its baseline; a float64 ``np.exp`` may round differently at different levels, so results
     are bit-identical only between processes at the same level."""
-    dispatch, baseline = numpy_dispatch()
-    features = numpy_features()
-    found = [f for f in dispatch if features.get(f)]
-    return (found or list(baseline) or ["none"])[-1]
+    found = [name for name, enabled in numpy_targets().items() if enabled]
+    return (found or list(numpy_dispatch()[1]) or ["none"])[-1]
 
 
 #: /proc/cpuinfo flags of the vector extensions, widest first, as ``cpu`` names them.
