@@ -8,7 +8,7 @@ BIN := $(VENV)/bin
 .PHONY: demo test bench skeleton clean notebooks screenshots scene-study pythons replication-50 replication-50x10 \
 	replication-10 replication-report results full-budget full-budget-snapshots \
 	levers-screen levers-train levers-evaluate levers-state levers-terms \
-	campaign campaign-state campaign-snapshots
+	campaign campaign-state campaign-snapshots campaign-phases
 
 $(BIN)/python:
 	$(PY) -m venv $(VENV)
@@ -285,10 +285,20 @@ campaign-state: $(VENV)/.installed
 # on a copy of the compact state (the training holds its directory's lock); the tables come
 # back here with the copy's ledger. SNAPSHOTS=G,G,... evaluates those alone (default: all kept).
 CAMPAIGN_COPY := $(or $(TMPDIR),/tmp)/dart-reach-campaign-copy
+campaign_copy = rm -rf $(CAMPAIGN_COPY) && mkdir -p $(CAMPAIGN_COPY) && cp -r $(CAMPAIGN)/. $(CAMPAIGN_COPY)/
+# The copy's tables named by find's tests $(1) brought back here, with its ledger.
+campaign_back = cd $(CAMPAIGN_COPY) && find . \( $(1) -o -path ./ledger.json \) | while read f; do \
+	mkdir -p $(CURDIR)/$(CAMPAIGN)/$$(dirname $$f); cp $$f $(CURDIR)/$(CAMPAIGN)/$$f; done
 campaign-snapshots: $(VENV)/.installed
-	rm -rf $(CAMPAIGN_COPY) && mkdir -p $(CAMPAIGN_COPY) && cp -r $(CAMPAIGN)/. $(CAMPAIGN_COPY)/
+	$(campaign_copy)
 	$(BIN)/dart-reach evaluate $(CAMPAIGN_COPY) --finished-only --development 5 \
 		--development-sensors normal,no-ball $(if $(SNAPSHOTS),--snapshots $(SNAPSHOTS))
-	cd $(CAMPAIGN_COPY) && find . -path ./development.parquet -o -path './development/part-*' \
-		-o -path ./ledger.json | while read f; do mkdir -p $(CURDIR)/$(CAMPAIGN)/$$(dirname $$f); \
-		cp $$f $(CURDIR)/$(CAMPAIGN)/$$f; done
+	$(call campaign_back,-path ./development.parquet -o -path './development/part-*')
+# Its phases post-evaluated once each has finished, for the paper's phase claims (best 5, 45
+# positions, the four senses and ball absent, 10 random genomes per phase; only what is
+# missing is evaluated), as the snapshots are; then `python -m reports.campaign`.
+campaign-phases: $(VENV)/.installed
+	$(campaign_copy)
+	$(BIN)/dart-reach evaluate $(CAMPAIGN_COPY) --finished-only --sensors all --robots 5 \
+		--baseline 10 --record none
+	$(call campaign_back,-path ./evaluation.parquet -o -path ./baseline.parquet)

@@ -1,6 +1,7 @@
 """The campaign's page (docs/results/campaign.md, pre-registered): the paper's pre-reacher judged
-in the paper's units on the committed populations, the scene calibrated on Fig. 5's reach, and
-where the campaign on version 3 stands.
+in the paper's units on the committed populations, the scene calibrated on Fig. 5's reach,
+where the campaign on version 3 stands and, once a phase has finished and been post-evaluated
+(``make campaign-phases``), the paper's claims its finished phases can judge.
 
     python -m reports.campaign              # rewrites the page's generated part (below "## Results")
     python -m reports.campaign --check      # exit 1 when the page differs from the tables
@@ -23,7 +24,8 @@ import dart_reach  # noqa: F401  first: it pins numpy's kernels before numpy loa
 import numpy as np
 import polars as pl
 
-from dart_reach.analysis.formatting import decimals
+from dart_reach.analysis import budgets, findings, verdicts
+from dart_reach.analysis.formatting import decimals, effect
 from dart_reach.analysis.profile import PAPER_UNITS, paper_units, profiles, robot_profiles
 from dart_reach.evolution.backends import worker_trial
 from dart_reach.evolution.genome import as_groups, decode
@@ -34,11 +36,12 @@ from dart_reach.measures.metrics import arm_extension
 from dart_reach.model.scenes import load_scene
 from dart_reach.model.task import Senses, network_for
 from dart_reach.model.world import POINTS_PER_SECTOR, SectorConfig
+from dart_reach.postevaluation import results
 from dart_reach.postevaluation.snapshots import load_development
 from dart_reach.postevaluation.systematic import load_evaluation
 from dart_reach.studies.lever_screen import Arm, screen
 
-from .text import write_page
+from .text import markdown_table, write_page
 
 ROOT = Path(__file__).resolve().parents[1]
 PAGE = ROOT / "docs" / "results" / "campaign.md"
@@ -486,11 +489,59 @@ def described_snapshots(table: pl.DataFrame | None, generations: list[int]) -> l
     return lines + [""]
 
 
+def phase_claims(run_dir: Path = CAMPAIGN) -> pl.DataFrame | None:
+    """Every claim judged as the report judges it (``budgets``: ``findings`` of the run, its
+    budget's labels in front) on the phases ``run_dir`` has trained to the end: their
+    post-evaluation (``evaluate --finished-only`` writes only finished phases'), the random
+    genomes, and the snapshots of those phases alone (a phase still training has no
+    start-to-end course yet, and the report of an unfinished run would judge its course so
+    far). None before a finished phase is post-evaluated."""
+    run = RunDirectory.open(run_dir)
+    finished = {p.key for _, p in run.unique_phases() if run.final_path(p).exists()}
+    if not finished or not results.exists(Path(run_dir) / results.EVALUATION):
+        return None
+    tables = budgets.pooled([run_dir])
+    development = (None if tables.development is None else
+                   tables.development.filter(pl.col("phase_key").is_in(sorted(finished))))
+    found = replace(tables, development=development).findings()
+    return budgets.label_findings(found, budgets.budget_of(Path(run_dir)), [run_dir])
+
+
+def phase_claims_section(found: pl.DataFrame | None) -> str:
+    """The paper's claims at the end of each phase (``phase_claims``): those the finished
+    phases can judge, one row each, and the verdicts counted; or that none has finished."""
+    lines = ["### (d) The paper's phase claims at the end of each phase", ""]
+    if found is None:
+        return "\n".join(lines + ["No phase has finished and been post-evaluated yet "
+                                  "(`make campaign-phases` once one has).", ""])
+    paper = findings.reading(found)
+    judged = paper.filter(pl.col("verdict") != verdicts.NOT_RUN)
+    counts = findings.summary(found)
+    shown = judged.select(
+        "claim", "section", "kind",
+        pl.struct("effect", "effect_low", "effect_high").map_elements(
+            lambda r: effect(r["effect"], r["effect_low"], r["effect_high"]),
+            return_dtype=pl.Utf8).alias("effect [CI]"),
+        "verdict", pl.col("verdict_robots").alias("robots as units (not counted)"), "n")
+    lines += [f"The paper's {paper.height} claims of its robots as the report judges them "
+              f"(docs/model/claims.md) on the finished phases: their post-evaluation "
+              f"(`make campaign-phases`: best 5 robots of every replication, 45 positions, "
+              f"the four senses and the ball absent, 10 random genomes per phase) and, for "
+              f"the development claims, their snapshots alone. "
+              + ", ".join(f"{v}: {counts[v]}" for v in findings.COUNTED)
+              + f" (not run: a phase they need has not finished); surviving Holm's "
+              f"adjustment over the judged: reproduced {counts['reproduced (Holm)']}, "
+              f"contradicted {counts['contradicted (Holm)']}. The {judged.height} judged:",
+              "", markdown_table(shown), ""]
+    return "\n".join(lines)
+
+
 def page() -> str:
     head = PAGE.read_text().split(MARK)[0]
     return (head + MARK + "\nThe results are generated below this line by "
             "`python -m reports.campaign`.\n\n" + criteria_section() + "\n"
-            + calibration_section() + "\n" + campaign_section())
+            + calibration_section() + "\n" + campaign_section().rstrip("\n") + "\n\n"
+            + phase_claims_section(phase_claims()))
 
 
 def main(argv=None) -> int:

@@ -7,6 +7,11 @@ from __future__ import annotations
 import polars as pl
 import pytest
 
+from dart_reach.analysis import budgets
+from dart_reach.analysis.claims import CLAIMS
+from dart_reach.evolution.conditions import load_condition, scaled
+from dart_reach.evolution.settings import Settings
+from dart_reach.evolution.trainer import train
 from dart_reach.model.scenes import load_scene
 from dart_reach.postevaluation.snapshots import load_development
 from reports import campaign
@@ -104,3 +109,55 @@ def test_the_cost_is_split_by_processor_and_the_rest_projected_at_the_latest_one
     assert "a processor not recorded (?): 1 generation, median 60.0" in \
         campaign.processors_line(later, sessions, 3600)
     assert "60 core-hours" in campaign.processors_line(later, sessions, 3600)
+
+
+@pytest.fixture(scope="module")
+def pre_finished(tmp_path_factory, in_process):
+    """A tiny standard run on version 3 (3 generations a phase, a snapshot after each) stopped
+    once gross-reaching's first generation is done: pre-reaching finished and post-evaluated
+    as ``make campaign-phases`` does (finished phases, every sense, random genomes), and
+    every snapshot saved, gross's first among them."""
+    out = tmp_path_factory.mktemp("campaign-phases") / "run"
+
+    def stop_in_gross(progress):
+        if progress.phase == "gross":
+            raise KeyboardInterrupt
+
+    with pytest.raises(KeyboardInterrupt):
+        train([scaled(load_condition("standard"), 3)],
+              Settings(replications=2, trials=1, steps=4, seed=5, model_version=3), out,
+              workers=1, progress=stop_in_gross, snapshot_every=1)
+    assert campaign.phase_claims(out) is None  # no phase post-evaluated yet
+    for args in (("--sensors", "all", "--robots", "1", "--baseline", "1", "--record", "none"),
+                 ("--development", "1")):
+        done = in_process("evaluate", out, "--finished-only", "--workers", "1", *args)
+        assert done.returncode == 0, done.stderr
+    return out
+
+
+def test_the_phase_claims_are_judged_on_the_finished_phases_alone(pre_finished):
+    """At the end of pre-reaching the page judges the claims of pre-reaching and the random
+    genomes alone, as the report judges them; gross-reaching's first snapshot, which the
+    report of an unfinished run would read as its whole course, is left out."""
+    found = campaign.phase_claims(pre_finished)
+    claims = {c.id: c for c in CLAIMS}
+    judged = found.filter(pl.col("verdict") != "not run")["claim"].to_list()
+    assert "F1 reach about half" in judged and "V3 babbling appears in pre" in judged
+    for claim in judged:
+        groups = {g.split("@")[0].removeprefix("random ") for g in
+                  (claims[claim].a, claims[claim].b)}
+        assert groups <= {"pre", ""}, claim
+    as_the_report = budgets.findings_by_budget([pre_finished])
+    assert as_the_report.filter(pl.col("claim") == "V4 babbling fades in gross")[
+        "verdict"][0] != "not run"  # the report reads gross's one snapshot as its course
+    assert "V4 babbling fades in gross" not in judged
+    same = ~pl.col("claim").str.starts_with("V")
+    columns = ["claim", "verdict", "effect", "verdict_robots"]
+    assert found.filter(same).select(columns).equals(as_the_report.filter(same).select(columns))
+    section = campaign.phase_claims_section(found)
+    paper = found.filter(~pl.col("own") & ~pl.col("infants"))
+    shown = [line for line in section.splitlines() if line.startswith("| ")][1:]
+    assert [line.split(" | ")[0].removeprefix("| ") for line in shown] == \
+        paper.filter(pl.col("verdict") != "not run")["claim"].to_list()
+    assert f"The paper's {paper.height} claims" in section
+    assert "No phase has finished" in campaign.phase_claims_section(None)
