@@ -296,9 +296,11 @@ campaign-snapshots: $(VENV)/.installed
 	$(call campaign_back,-path ./development.parquet -o -path './development/part-*')
 # Its phases post-evaluated once each has finished, for the paper's phase claims (best 5, 45
 # positions, the four senses and ball absent, 10 random genomes per phase; only what is
-# missing is evaluated), as the snapshots are; then `python -m reports.campaign`.
+# missing is evaluated), as the snapshots are; then babbling before the touch of the final
+# pre-reachers (claim A1, once) and `python -m reports.campaign`.
 campaign-phases: $(VENV)/.installed
 	$(campaign_copy)
 	$(BIN)/dart-reach evaluate $(CAMPAIGN_COPY) --finished-only --sensors all --robots 5 \
 		--baseline 10 --record none
 	$(call campaign_back,-path ./evaluation.parquet -o -path ./baseline.parquet)
+	$(BIN)/python -m reports.babbling_before_touch . --runs $(CAMPAIGN:recordings/%=%) --workers 2
