@@ -286,14 +286,17 @@ campaign-state: $(VENV)/.installed
 # back here with the copy's ledger. SNAPSHOTS=G,G,... evaluates those alone (default: all kept).
 CAMPAIGN_COPY := $(or $(TMPDIR),/tmp)/dart-reach-campaign-copy
 campaign_copy = rm -rf $(CAMPAIGN_COPY) && mkdir -p $(CAMPAIGN_COPY) && cp -r $(CAMPAIGN)/. $(CAMPAIGN_COPY)/
-# The copy's tables named by find's tests $(1) brought back here, with its ledger.
-campaign_back = cd $(CAMPAIGN_COPY) && find . \( $(1) -o -path ./ledger.json \) | while read f; do \
-	mkdir -p $(CURDIR)/$(CAMPAIGN)/$$(dirname $$f); cp $$f $(CURDIR)/$(CAMPAIGN)/$$f; done
+# The copy's tables $(1) (names without .parquet; one file, or parts in a folder once large)
+# brought back here in place of these, with its ledger.
+campaign_back = for t in $(1); do rm -rf $(CAMPAIGN)/$$t $(CAMPAIGN)/$$t.parquet; \
+	for f in $(CAMPAIGN_COPY)/$$t $(CAMPAIGN_COPY)/$$t.parquet; do \
+		if [ -e $$f ]; then cp -r $$f $(CAMPAIGN)/; fi; done; done; \
+	cp $(CAMPAIGN_COPY)/ledger.json $(CAMPAIGN)/
 campaign-snapshots: $(VENV)/.installed
 	$(campaign_copy)
 	$(BIN)/dart-reach evaluate $(CAMPAIGN_COPY) --finished-only --development 5 \
 		--development-sensors normal,no-ball $(if $(SNAPSHOTS),--snapshots $(SNAPSHOTS))
-	$(call campaign_back,-path ./development.parquet -o -path './development/part-*')
+	$(call campaign_back,development)
 # Its phases post-evaluated once each has finished, for the paper's phase claims (best 5, 45
 # positions, the four senses and ball absent, 10 random genomes per phase; only what is
 # missing is evaluated), as the snapshots are; then babbling before the touch of the final
@@ -302,5 +305,5 @@ campaign-phases: $(VENV)/.installed
 	$(campaign_copy)
 	$(BIN)/dart-reach evaluate $(CAMPAIGN_COPY) --finished-only --sensors all --robots 5 \
 		--baseline 10 --record none
-	$(call campaign_back,-path ./evaluation.parquet -o -path ./baseline.parquet)
+	$(call campaign_back,evaluation baseline)
 	$(BIN)/python -m reports.babbling_before_touch . --runs $(CAMPAIGN:recordings/%=%) --workers 2
