@@ -517,12 +517,12 @@ def phase_claims_section(found: pl.DataFrame | None) -> str:
     paper = findings.reading(found)
     judged = paper.filter(pl.col("verdict") != verdicts.NOT_RUN)
     counts = findings.summary(found)
-    shown = judged.select(
-        "claim", "section", "kind",
-        pl.struct("effect", "effect_low", "effect_high").map_elements(
-            lambda r: effect(r["effect"], r["effect_low"], r["effect_high"]),
-            return_dtype=pl.Utf8).alias("effect [CI]"),
-        "verdict", pl.col("verdict_robots").alias("robots as units (not counted)"), "n")
+    effects = [effect(*r) for r in judged.select(
+        pl.col(c).fill_null(float("nan")) for c in ("effect", "effect_low", "effect_high")
+    ).iter_rows()]
+    shown = judged.select("claim", "section", "kind").with_columns(
+        pl.Series("effect [CI]", effects, pl.Utf8), judged["verdict"],
+        judged["verdict_robots"].alias("robots as units (not counted)"), judged["n"])
     lines += [f"The paper's {paper.height} claims of its robots as the report judges them "
               f"(docs/model/claims.md) on the finished phases: their post-evaluation "
               f"(`make campaign-phases`: best 5 robots of every replication, 45 positions, "
