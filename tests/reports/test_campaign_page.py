@@ -4,6 +4,8 @@ rule that picks version 3's scene."""
 
 from __future__ import annotations
 
+import subprocess
+
 import polars as pl
 import pytest
 
@@ -167,3 +169,24 @@ def test_the_phase_claims_are_judged_on_the_finished_phases_alone(pre_finished):
         paper.filter(pl.col("verdict") != "not run")["claim"].to_list()
     assert f"The paper's {paper.height} claims" in section
     assert "No phase has finished" in campaign.phase_claims_section(None)
+
+
+def test_a_table_comes_back_from_the_copy_in_the_form_the_copy_holds_it(tmp_path):
+    """The Makefile's copy-back (``campaign_back``) run for real: a table that went into parts
+    in the copy (over 4 MB) replaces the single file here, which ``read_table`` would
+    otherwise read first; the copy's ledger comes with it."""
+    here, copy = tmp_path / "here", tmp_path / "copy"
+    (here / "development.parquet").parent.mkdir(parents=True)
+    (here / "development.parquet").write_text("old")
+    (here / "ledger.json").write_text("old")
+    (copy / "development").mkdir(parents=True)
+    for name in ("development/part-000.parquet", "development/part-001.parquet", "ledger.json"):
+        (copy / name).write_text(name)
+    done = subprocess.run(["make", "-s", "-C", str(campaign.ROOT), "--eval",
+                           "back: ; $(call campaign_back,development)", "back",
+                           f"CAMPAIGN={here}", f"CAMPAIGN_COPY={copy}"],
+                          capture_output=True, text=True)
+    assert done.returncode == 0, done.stderr
+    assert sorted(str(p.relative_to(here)) for p in here.rglob("*") if p.is_file()) == [
+        "development/part-000.parquet", "development/part-001.parquet", "ledger.json"]
+    assert (here / "ledger.json").read_text() == "ledger.json"
