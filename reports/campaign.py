@@ -51,6 +51,7 @@ EXTENSION = STUDY / "extension.parquet"
 CAMPAIGN = STUDY / "standard-v3"
 #: The campaign's pre-reaching generations judged (pre-registered) and the stop rule's.
 CAMPAIGN_JUDGED = (50, 100, 250, 500)
+PHASE_NAMES = {"pre": "pre-reaching", "gross": "gross-reaching", "fine": "fine-reaching"}
 STOP_AT = 100
 SCREEN = STUDY / "scene-screen.parquet"
 #: The committed populations at generation 50 of pre-reaching (name -> run, and the
@@ -401,10 +402,13 @@ def campaign_section() -> str:
     sessions = json.loads((CAMPAIGN / "manifest.json").read_text(encoding="utf-8"))["sessions"]
     lines += [processors_line(per, sessions, total - per.height * reps), ""]
     table = load_development(CAMPAIGN, senses=None)
-    have = set() if table is None else set(
-        table.filter(pl.col("phase") == "pre")["generation"].unique().to_list())
-    judged = [g for g in CAMPAIGN_JUDGED if g in have]
-    between = described_snapshots(table, sorted(have - set(judged)))
+    have = {p: set() if table is None else set(
+        table.filter(pl.col("phase") == p)["generation"].unique().to_list())
+        for p in PHASE_NAMES}
+    judged = [g for g in CAMPAIGN_JUDGED if g in have["pre"]]
+    between = described_snapshots(table, sorted(have["pre"] - set(judged)))
+    for phase in ("gross", "fine"):  # no criterion is of them: every snapshot described
+        between += described_snapshots(table, sorted(have[phase]), phase)
     if not judged:
         lines += [f"No judged snapshot ({', '.join(map(str, CAMPAIGN_JUDGED))}) is "
                   f"post-evaluated yet.", ""]
@@ -463,24 +467,27 @@ def processors_line(per: pl.DataFrame, sessions: list[dict], left: int) -> str:
             f"{last['median'] * left / 3600 / 2:,.0f} h on 2 cores.")
 
 
-def described_snapshots(table: pl.DataFrame | None, generations: list[int]) -> list[str]:
-    """The snapshots post-evaluated between the judged generations, described in the
-    criteria's measures and not judged (the pre-registration judges ``CAMPAIGN_JUDGED``
-    only; A3's best robot is not run again for them): a table, or nothing when there is
-    none."""
+def described_snapshots(table: pl.DataFrame | None, generations: list[int],
+                        phase: str = "pre") -> list[str]:
+    """``phase``'s snapshots at ``generations``, described in the criteria's measures and not
+    judged: pre-reaching's between the judged generations (the pre-registration judges
+    ``CAMPAIGN_JUDGED`` only; A3's best robot is not run again for them), gross- and
+    fine-reaching's all (no criterion is of them); a table, or nothing when there is none."""
     if not generations:
         return []
     lines = ["Snapshots post-evaluated between the judged generations, **described, not "
              "judged** (the pre-registration judges generations "
              f"{', '.join(map(str, CAMPAIGN_JUDGED))} only; A3's best robot is not run again "
-             "for them):", "",
-             "| pre-reaching generation | replications | reach (A1) | elbow / shoulder / "
-             "trunk SD (A2) | robots babbling without the ball (A4) | still replications "
-             "(A5) |", "|---:|---:|---:|---|---|---|"]
+             "for them):" if phase == "pre" else
+             f"Snapshots of {PHASE_NAMES[phase]} post-evaluated, **described** in the same "
+             "measures (no criterion of the pre-registration is of this phase):", "",
+             f"| {PHASE_NAMES[phase]} generation | replications | reach (A1) | elbow / "
+             "shoulder / trunk SD (A2) | robots babbling without the ball (A4) | still "
+             "replications (A5) |", "|---:|---:|---:|---|---|---|"]
     for g in generations:
-        snap = table.filter((pl.col("phase") == "pre") & (pl.col("generation") == g)
+        snap = table.filter((pl.col("phase") == phase) & (pl.col("generation") == g)
                             & ~pl.col("baseline"))
-        j = paper_units(snap, (float("nan"), float("nan")))
+        j = paper_units(snap, (float("nan"), float("nan")), phase=phase)
         lo, hi = j["still_interval"]
         lines.append(f"| {g} | {j['replications']} | {decimals(j['reach'], 2)} | "
                      f"{decimals(j['elbow_sd'])} / {decimals(j['shoulder_sd'])} / "

@@ -109,14 +109,16 @@ def robot_profiles(table: pl.DataFrame, criteria: Criteria = Criteria()) -> pl.D
 
 
 def paper_units(table: pl.DataFrame, extension: tuple[float, float],
-                criteria: Criteria = Criteria(), babbling_sensitivity: float = 1.0) -> dict:
+                criteria: Criteria = Criteria(), babbling_sensitivity: float = 1.0,
+                phase: str = "pre") -> dict:
     """The paper's pre-reacher judged in its own units (``PAPER_UNITS``) for one population:
     ``table`` holds its best robots' trials (every replication's, normal and no-ball), and
     ``extension`` is the best robot's (mean palm-shoulder distance in m, mean CV) from 2 s on
     (``measures.metrics.arm_extension``). Returns the measures, each criterion as a bool
     (``A1``-``A4``), ``paper`` (all four), and A5: ``still`` replications of ``replications``
     (``analysis.strategies``: babbling in fewer than 1 in 20 normal trials) with the share's
-    exact 95 % interval.
+    exact 95 % interval. ``phase``: the phase of ``table``'s trials (the criteria are
+    pre-reaching's; a later phase's snapshots are described in the same measures).
 
     ``A4_failed``: A4 is not met even if the babbling measure found only
     ``babbling_sensitivity`` of the babbling trials (the lowest its validation allows): fewer
@@ -136,7 +138,7 @@ def paper_units(table: pl.DataFrame, extension: tuple[float, float],
     babblers = int(robots["is_babbling_no_ball"].sum())
     possible = int((robots["babbling_no_ball"]
                     >= criteria.babbling_share * babbling_sensitivity).sum())
-    strat = strategies(table, by=("replication",))
+    strat = strategies(table, phase, by=("replication",))
     still = int((strat["strategy"] == STILL).sum())
     low, high = criteria.reach_band
     hs, cv = extension

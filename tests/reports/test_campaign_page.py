@@ -120,7 +120,7 @@ def pre_finished(tmp_path_factory, in_process):
     """A tiny standard run on version 3 (3 generations a phase, a snapshot after each) stopped
     once gross-reaching's first generation is done: pre-reaching finished and post-evaluated
     as ``make campaign-phases`` does (finished phases, every sense, random genomes), and
-    every snapshot saved, gross's first among them."""
+    every snapshot saved, gross's first among them, as ``make campaign-snapshots`` does."""
     out = tmp_path_factory.mktemp("campaign-phases") / "run"
 
     def stop_in_gross(progress):
@@ -133,7 +133,7 @@ def pre_finished(tmp_path_factory, in_process):
               workers=1, progress=stop_in_gross, snapshot_every=1)
     assert campaign.phase_claims(out) is None  # no phase post-evaluated yet
     for args in (("--sensors", "all", "--robots", "1", "--baseline", "1", "--record", "none"),
-                 ("--development", "1")):
+                 ("--development", "1", "--development-sensors", "normal,no-ball")):
         done = in_process("evaluate", out, "--finished-only", "--workers", "1", *args)
         assert done.returncode == 0, done.stderr
     before = babbling_before_touch.compute(out)  # claim A1, as make campaign-phases measures it
@@ -169,6 +169,19 @@ def test_the_phase_claims_are_judged_on_the_finished_phases_alone(pre_finished):
         paper.filter(pl.col("verdict") != "not run")["claim"].to_list()
     assert f"The paper's {paper.height} claims" in section
     assert "No phase has finished" in campaign.phase_claims_section(None)
+
+
+def test_a_later_phases_snapshots_are_described_too(pre_finished):
+    """Gross-reaching's snapshots (its generation 1 here) are described in the same measures,
+    under their phase's name, from their own trials."""
+    table = load_development(pre_finished, senses=None)
+    lines = campaign.described_snapshots(table, [1], "gross")
+    assert lines[0].startswith("Snapshots of gross-reaching") and "judged" not in lines[0]
+    assert lines[2].startswith("| gross-reaching generation |")
+    row = [c.strip() for c in lines[-2].strip("|").split("|")]
+    gross = table.filter((pl.col("phase") == "gross") & (pl.col("senses") == "normal"))
+    assert row[0] == "1" and row[1] == str(gross["replication"].n_unique())
+    assert float(row[2]) == pytest.approx(gross["reached"].cast(pl.Float64).mean(), abs=0.005)
 
 
 def test_a_table_comes_back_from_the_copy_in_the_form_the_copy_holds_it(tmp_path):
