@@ -137,10 +137,17 @@ def main(argv: list[str] | None = None) -> int:
     paths = run_again(root / "recordings" / FULL, sample)
     table = paths.join(sample.select("code", "senses", "replication", "rank", "trial"),
                        on="code")
-    integrity.write(root / SAMPLE, lambda p: write_parquet(table, p))  # in the run's ledger
-    for path in sheets(paths, root / PLOTS):
-        print(path, file=sys.stderr)
+    save(root / SAMPLE, table, sheets(paths, root / PLOTS))
     return 0
+
+
+def save(path: Path, table: pl.DataFrame, written: list[Path]) -> None:
+    """Write a labelling sample's ``table`` to ``path``, in its run's ledger, and name the
+    ``written`` sheets on stderr."""
+    path.parent.mkdir(parents=True, exist_ok=True)
+    integrity.write(path, lambda p: write_parquet(table, p))
+    for sheet in written:
+        print(sheet, file=sys.stderr)
 
 
 if __name__ == "__main__":

@@ -15,15 +15,12 @@ detector."""
 
 from __future__ import annotations
 
-import sys
 from pathlib import Path
 
 import numpy as np
 import polars as pl
 
-from dart_reach import integrity
 from dart_reach.evolution.rundir import RunDirectory
-from dart_reach.files import write_parquet
 from dart_reach.postevaluation.snapshots import load_development
 from dart_reach.postevaluation.systematic import stored_robot_job
 
@@ -137,9 +134,7 @@ def main(argv: list[str] | None = None) -> int:
     paths = run_again(run_dir, sample)
     table = paths.join(sample.select("code", "senses", "generation", "replication", "rank",
                                      "trial"), on="code")
-    integrity.write(root / SAMPLE, lambda p: write_parquet(table, p))  # in the run's ledger
-    for path in sheets(paths, root / PLOTS):
-        print(path, file=sys.stderr)
+    first.save(root / SAMPLE, table, sheets(paths, root / PLOTS))
     return 0
 
 

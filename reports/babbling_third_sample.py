@@ -14,15 +14,12 @@ on these trials (``reports.babbling_validation``). Nothing here computes one."""
 
 from __future__ import annotations
 
-import sys
 from pathlib import Path
 
 import numpy as np
 import polars as pl
 
-from dart_reach import integrity
 from dart_reach.evolution.rundir import RunDirectory
-from dart_reach.files import write_parquet
 
 from . import babbling_sample as first
 from . import babbling_second_sample as second
@@ -82,10 +79,7 @@ def main(argv: list[str] | None = None) -> int:
     sample = draw(run_dir)
     paths = second.run_again(run_dir, sample)
     table = paths.join(sample.drop("phase_key"), on="code")
-    (root / SAMPLE).parent.mkdir(parents=True, exist_ok=True)
-    integrity.write(root / SAMPLE, lambda p: write_parquet(table, p))
-    for path in second.sheets(paths, root / PLOTS):
-        print(path, file=sys.stderr)
+    first.save(root / SAMPLE, table, second.sheets(paths, root / PLOTS))
     return 0
 
 

@@ -30,21 +30,6 @@ TABLES = {"evaluation": results.EVALUATION, "baseline": results.BASELINE,
           "findings": "findings.parquet"}
 
 
-def stored_table(path: str | os.PathLike) -> pl.DataFrame:
-    """The table at ``path`` (one parquet file or its parts, read as one) with its values as
-    stored (float32 kept float32); ``RunError`` naming a file that cannot be read."""
-    files = results.stored_files(path)
-    if not files:
-        raise RunError(f"{path}: no such table")
-    frames = []
-    for file in files:
-        try:
-            frames.append(pl.read_parquet(file))
-        except Exception as exc:  # polars raises several kinds for a damaged file
-            raise RunError(f"{file}: unreadable parquet table ({exc})") from None
-    return pl.concat(frames, how="diagonal_relaxed") if len(frames) > 1 else frames[0]
-
-
 def _csv(table: pl.DataFrame, path: Path) -> None:
     lists = [c for c, t in table.schema.items() if isinstance(t, pl.List)]
     table = table.with_columns(pl.col(c).list.eval(pl.element().cast(pl.Utf8)).list.join(" ")
@@ -57,7 +42,7 @@ def export_table(path: str | os.PathLike, out: str | os.PathLike,
     """Write the parquet table at ``path`` (a file or a table in parts) to ``out``, a new CSV
     file, its columns named with their units. Returns ``out``."""
     out = check_new_file(out, ".csv", "a CSV table", option)
-    table = stored_table(path)
+    table = results.stored_table(path)
     return atomic_write(out, lambda p: _csv(table, p))
 
 

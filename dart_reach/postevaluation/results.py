@@ -125,14 +125,29 @@ def read_table(path: str | os.PathLike) -> pl.DataFrame | None:
 
 def _read(files: list[Path]) -> pl.DataFrame:
     """The table in ``files``, whatever its format, float32 columns as float64."""
+    return _concat(files).with_columns(pl.col(pl.Float32).cast(pl.Float64))
+
+
+def _concat(files: list[Path]) -> pl.DataFrame:
+    """The parquet ``files`` read as one table, values as stored; ``RunError`` naming a file
+    that cannot be read."""
     frames = []
     for file in files:
         try:
             frames.append(pl.read_parquet(file))
         except Exception as exc:  # polars raises several kinds for a damaged file
             raise RunError(f"{file}: unreadable ({exc})") from None
-    table = pl.concat(frames, how="diagonal_relaxed") if len(frames) > 1 else frames[0]
-    return table.with_columns(pl.col(pl.Float32).cast(pl.Float64))
+    return pl.concat(frames, how="diagonal_relaxed") if len(frames) > 1 else frames[0]
+
+
+def stored_table(path: str | os.PathLike) -> pl.DataFrame:
+    """The table at ``path`` (one parquet file or its parts, read as one) with its values as
+    stored (float32 kept float32), whatever its format; ``RunError`` when there is none or a
+    file cannot be read."""
+    files = stored_files(path)
+    if not files:
+        raise RunError(f"{path}: no such table")
+    return _concat(files)
 
 
 def sessions(path: str | os.PathLike) -> list[dict]:

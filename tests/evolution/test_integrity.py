@@ -15,7 +15,7 @@ from pathlib import Path
 
 import pytest
 
-from dart_reach.analysis.export import stored_table
+from dart_reach.postevaluation.results import stored_table
 from dart_reach import integrity
 from dart_reach.integrity import DamagedFile
 from dart_reach.evolution.rundir import RunDirectory
