@@ -264,7 +264,8 @@ levers-state:
 
 # The campaign (docs/results/campaign.md, pre-registered): the standard condition at the
 # paper's design on model version 3, trained in the background from a pinned checkout and
-# resumed after every interruption (run it again: it resumes); about 150 core-hours.
+# resumed after every interruption (run it again: it resumes); its cost so far and projected,
+# from its own records: the page's section (c).
 CAMPAIGN := recordings/campaign/standard-v3
 campaign: $(VENV)/.installed
 	$(BIN)/dart-reach train standard --model-version 3 --generations 500 --replications 10 \
