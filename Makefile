@@ -24,7 +24,8 @@ $(VENV)/.installed-dev: pyproject.toml | $(BIN)/python
 
 # The whole pipeline at a first-contact budget: the standard condition (pre -> gross -> fine),
 # the post-evaluation of each replication's best robot under the four sensory conditions
-# (section IV) beside 2 random genomes per phase, and the report: about 5 minutes on 2 cores.
+# (section IV) and with the ball absent, beside 2 random genomes per phase, and the report:
+# about 5 minutes on 2 cores.
 DEMO_OUT := recordings/demo-standard
 DEMO_REPORT := recordings/demo-standard-report.html
 demo: $(VENV)/.installed
@@ -110,10 +111,11 @@ replication-10: $(VENV)/.installed
 		$$(test -f $(FIG10)/manifest.json && echo --resume)
 
 # Ten replications, as the paper: the standard condition at 50 generations per phase and gross^
-# at 100, on the default scene, so that the replication can be the unit of every verdict and
-# each transition merges the best 2 of each of the 10 replications (III-D). About 30 core-hours;
-# resumes like the others, its compact state tracked under recordings/replication-50x10/. It was
-# started at a revision that pins neither numpy's BLAS kernels nor its dispatch: the variables do.
+# at 100, on model version 1 and its scene, so that the replication can be the unit of every
+# verdict and each transition merges the best 2 of each of the 10 replications (III-D). It took
+# 28 h on 2 cores (docs/results/benchmarks.md); resumes like the others, its compact state
+# tracked under recordings/replication-50x10/. It was started at a revision that pins neither
+# numpy's BLAS kernels nor its dispatch: the variables do.
 REPLICATION10 := recordings/replication-50x10
 replication-50x10: $(VENV)/.installed
 	OPENBLAS_CORETYPE=Haswell NPY_DISABLE_CPU_FEATURES="X86_V4 AVX512_ICL AVX512_SPR AVX512F AVX512_SKX" \
@@ -124,7 +126,8 @@ replication-50x10: $(VENV)/.installed
 # The paper's full budget: the standard condition at 500 generations per phase, 10
 # replications, snapshots every 10 generations (and after 1, 2 and 5), recordings every 25.
 # About 15,000 replication-generations, 100+ hours of 2 cores: it resumes from
-# recordings/standard-500x10/ (its compact state is tracked) after every interruption.
+# recordings/standard-500x10/ (its compact state is tracked) after every interruption. Paused
+# at generation 258 while version 3's campaign (below) trains.
 FULL := recordings/standard-500x10
 full-budget: $(VENV)/.installed
 	$(BIN)/dart-reach train --model-version 1 standard --generations 500 --replications 10 --seed 2016 \
@@ -218,7 +221,7 @@ clean:
 # The levers study (docs/results/levers.md, pre-registered): the screen without training (the
 # best 2 robots of each replication of standard-500x10 at generation 250 under each lever: about
 # 10 minutes per arm on 2 cores), then pre-reaching alone, 50 generations x 6 replications per
-# arm, seed 2027 for every arm (resumable: run it again after an interruption; about 9 h per
+# arm, seed 2027 for every arm (resumable: run it again after an interruption; 1.6-2.7 h per
 # arm on 2 cores), then the snapshots' post-evaluation.
 LEVERS := recordings/levers
 SCREEN_ARMS := today: far:--scene=beyond-arm-length self-collision:--self-collision=on \
@@ -301,7 +304,7 @@ campaign-snapshots: $(VENV)/.installed
 # Its phases post-evaluated once each has finished, for the paper's phase claims (best 5, 45
 # positions, the four senses and ball absent, 10 random genomes per phase; only what is
 # missing is evaluated), as the snapshots are; then babbling before the touch of the final
-# pre-reachers (claim A1, once) and `python -m reports.campaign`.
+# pre-reachers (claim A1, once); then render the page (`python -m reports.campaign`).
 campaign-phases: $(VENV)/.installed
 	$(campaign_copy)
 	$(BIN)/dart-reach evaluate $(CAMPAIGN_COPY) --finished-only --sensors all --robots 5 \

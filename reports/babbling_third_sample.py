@@ -1,8 +1,8 @@
 """The third sample of real trials on which the babbling measures are checked by eye
-(docs/model/measures.md, "The third validation sample"): trials that no measure has ever been
-computed on, the campaign's committed pre-reaching snapshots (``RUN``, never post-evaluated),
-under normal senses, with the ball absent and without sight, drawn by
-``numpy.random.default_rng(SEED)``, run again from the snapshots' genomes for their hand
+(docs/model/measures.md, "The third validation sample"): trials that no measure had been
+computed on when it was drawn, the campaign's committed pre-reaching snapshots (``RUN``, not
+yet post-evaluated then), under normal senses, with the ball absent and without sight, drawn
+by ``numpy.random.default_rng(SEED)``, run again from the snapshots' genomes for their hand
 paths, stored as ``SAMPLE`` (no measure) and plotted under codes that name neither the
 generation, the replication, the robot, the condition nor any measure, without the first
 touch's line.

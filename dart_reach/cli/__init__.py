@@ -5,7 +5,7 @@ run where numpy's kernels are not pinned (``pinning.KernelsNotPinned``), becomes
 stderr and exit code 2, without a traceback.
 
 One module per group of commands, each registering its commands beside their handlers:
-``watch`` (watch, video), ``world`` (reach, scenes), ``shipped`` (robots, conditions),
+``watch`` (watch, video), ``world`` (reach, scenes, versions), ``shipped`` (robots, conditions),
 ``train`` (train, status), ``migrate``, ``evaluate``, ``report``, ``read`` (read, export),
 ``studies`` (validate, bench, screen);
 ``arguments`` holds the argparse types and shared options, ``stopping`` Ctrl-C and SIGTERM.

@@ -1,5 +1,6 @@
-"""The simulated world without evolution: ``reach`` (a scripted reach-and-grasp) and ``scenes``
-(where the shipped scenes hang the ball, relative to the arm)."""
+"""The simulated world without evolution: ``reach`` (a scripted reach-and-grasp), ``scenes``
+(where the shipped scenes hang the ball, relative to the arm) and ``versions`` (the model's
+registered versions)."""
 
 from __future__ import annotations
 
