@@ -326,8 +326,7 @@ def calibration_section() -> str:
             f"{', '.join(p for p in wanted if p in done)}); still to screen: "
             f"{', '.join(missing)} (`python -m reports.campaign --screen` resumes). The "
             f"decision waits for every robot, as pre-registered.", ""])
-    tied = tied_scenes(by_scene)
-    pick = tied.row(0, named=True)
+    tied, pick = tied_scenes(by_scene), choose_scene(by_scene)
     lines += ["Mean reach of those robots under each scene of the grid (`recordings/campaign/"
               "scene-screen.parquet`; 45 positions, normal senses; rows: widening w of the "
               f"patch, columns: radius; `r = 0.42, w = 1` is `{BASE_SCENE}`):", "",

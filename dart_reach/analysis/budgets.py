@@ -97,12 +97,6 @@ class Budget:
         return (f"{self.scene}, {n} generation{'' if n == 1 else 's'} per phase, {r} "
                 f"replication{'' if r == 1 else 's'}")
 
-    @property
-    def series(self) -> str:
-        """The budgets whose generations alone differ: a scene, a number of replications and a
-        model."""
-        return f"{self.scene}, {self.replications} replications, model {self.model}"
-
 
 def labels(budgets_: Sequence[Budget]) -> dict[Budget, str]:
     """Each budget's ``label``, its model added ("..., model v2") only where the budgets hold
@@ -238,7 +232,7 @@ def of_budget(by_budget: pl.DataFrame, budget: Budget) -> pl.DataFrame:
 
 def with_series(by_budget: pl.DataFrame) -> pl.DataFrame:
     """``by_budget`` with ``series``: the budgets along which a claim's intervals are set side
-    by side with the generations alone differing (``Budget.series``), named by the scene, with
+    by side with the generations alone differing, named by the scene, with
     the replications and the model only where the frame's budgets differ in them."""
     parts = [pl.col("scene")]
     if by_budget["replications"].n_unique() > 1:

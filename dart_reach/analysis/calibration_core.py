@@ -51,14 +51,10 @@ RUN_RATIOS = (0.6, 3.0)
 NESTINGS = tuple(Nesting(r, 5, 1.0, w) for r in (4, 10) for w in RUN_RATIOS)
 
 
-def robots(rng: np.random.Generator, nest: Nesting, shift: float = 0.0,
-           outlier: bool = False) -> np.ndarray:
+def robots(rng: np.random.Generator, nest: Nesting, shift: float = 0.0) -> np.ndarray:
     """One group's robot values, shape (replications, robots): replication effects
-    N(shift, between_sd), robots N(replication, within_sd); with ``outlier`` one replication
-    moved by ``OUTLIER`` between-replication s.d."""
+    N(shift, between_sd), robots N(replication, within_sd)."""
     rep = rng.normal(shift, nest.between_sd, nest.replications)
-    if outlier:
-        rep[rng.integers(nest.replications)] += OUTLIER * nest.between_sd
     return rep[:, None] + rng.normal(0.0, nest.within_sd, (nest.replications, nest.robots))
 
 

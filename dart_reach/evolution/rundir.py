@@ -281,16 +281,6 @@ class RunDirectory:
                 raise RunError(f"{path}: unreadable snapshot ({exc})") from None
         return out
 
-    def state_files(self) -> list[Path]:
-        """Every file the run's state is built from that is on disk: each phase's checkpoint,
-        final and snapshots, in training order."""
-        files = []
-        for _, phase in self.unique_phases():
-            files += [p for p in (self.checkpoint_path(phase), self.final_path(phase))
-                      if p.exists()]
-            files += sorted((self.phase_dir(phase) / "snapshots").glob("gen*.npz"))
-        return files
-
     def verify(self) -> None:
         """Check every file of the run before anything is done with it: its SHA-256 against
         the run's ledger (``integrity.verify_run``). Raises ``integrity.DamagedFile`` naming

@@ -247,12 +247,11 @@ class Trainer(RunDirectory):
                    if self.final_path(p).exists())
         t_start, done_at_start = time.monotonic(), done
         for condition in self.conditions:
-            previous: Phase | None = None
-            for phase in condition.phases:
+            for index, phase in enumerate(condition.phases):
                 if not self.final_path(phase).exists():
                     loaded = self.load_checkpoint(phase)
                     if loaded is None:
-                        states = self._initial_states(phase, previous)
+                        states = self._initial_states(condition, index)
                     else:
                         states = loaded[0]
                         # Trained by an earlier process: neither done here nor left to do.
@@ -285,7 +284,6 @@ class Trainer(RunDirectory):
                                 total - done_at_start, time.monotonic() - t_start,
                                 cost.tasks, cost.driver_cpu_s))
                     self._save_final(condition, phase, states)
-                previous = phase
 
     def record_best(self, condition: Condition, phase: Phase, states: list[GAState],
                     trial: TrialConfig) -> list[Path]:
@@ -323,16 +321,18 @@ class Trainer(RunDirectory):
             "generation": np.array(states[0].generation), "phase_key": np.array(phase.key)}))
         return path
 
-    def _initial_states(self, phase: Phase, previous: Phase | None) -> list[GAState]:
+    def _initial_states(self, condition: Condition, index: int) -> list[GAState]:
+        """Phase ``index``'s first populations: random for the first phase, else the merged
+        best of the phase before, the genes it frees released (III-D)."""
         s = self.settings
         pop = s.ga.population
-        if previous is None:
+        if index == 0:
+            phase = condition.phases[0]
             return [init_state(random_genome(np.random.default_rng(
                 seed_sequence(s, phase, r, SEED_INIT)), pop)) for r in range(s.replications)]
-        finals, _ = self.load_final(previous)
+        finals, _ = self.load_final(condition.phases[index - 1])
         merged = transition_population(list(finals), n=pop // s.replications, population=pop)
-        newly_free = as_groups(phase.free_groups) - as_groups(previous.free_groups)
-        merged = np.stack([release(g, newly_free) for g in merged])
+        merged = np.stack([release(g, condition.newly_free(index)) for g in merged])
         return [init_state(merged) for _ in range(s.replications)]
 
     def _generation(self, backend, condition, phase, states, trial, mask, groups):

@@ -114,9 +114,9 @@ def test_model_version_2_trains_the_same_whatever_the_workers(tmp_path):
 def test_transition_takes_the_best_of_each_replication(tmp_path):
     cond = scaled(load_condition("standard"), 1)
     run = train([cond], TINY, tmp_path / "r", workers=1)
-    pre, gross = cond.phases[:2]
+    pre = cond.phases[0]
     finals, _ = run.load_final(pre)
-    init = run._initial_states(gross, pre)
+    init = run._initial_states(cond, 1)
     expected = np.concatenate([f[:10] for f in finals])  # population 20 / 2 replications
     for state in init:
         # only genes of the newly freed groups may differ (released near their fixed value)
