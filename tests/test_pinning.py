@@ -120,31 +120,40 @@ def test_this_avx2_machine_runs_version_1_whatever_was_imported_first():
     assert _fresh("import numpy, dart_reach; " + REPORT) == [True, True, None]
 
 
+#: numpy loaded with OpenBLAS's Sandybridge kernels and numpy's baseline dispatch, by variables
+#: gone when ``dart_reach`` is imported
+OTHER_KERNELS_FIRST = (
+    "import os; os.environ['OPENBLAS_CORETYPE'] = 'Sandybridge'; "
+    "os.environ['NPY_DISABLE_CPU_FEATURES'] = 'X86_V3 X86_V4 AVX512_ICL AVX512_SPR'; "
+    "import numpy; del os.environ['OPENBLAS_CORETYPE'], os.environ['NPY_DISABLE_CPU_FEATURES']; ")
+
+
 @pytest.mark.skipif(not pinning.CPU_FLAGS >= {"avx2", "fma"}, reason="x86_64 with AVX2")
 def test_numpy_loaded_with_other_kernels_before_dart_reach_is_refused_here():
     """A real refusal on this machine: numpy loaded with OpenBLAS's Sandybridge kernels (and
     numpy's baseline dispatch) by variables gone when ``dart_reach`` is imported, as where a
     notebook's environment differs; OpenBLAS names the kernels it runs."""
-    code = ("import os; os.environ['OPENBLAS_CORETYPE'] = 'Sandybridge'; "
-            "os.environ['NPY_DISABLE_CPU_FEATURES'] = 'X86_V3 X86_V4 AVX512_ICL AVX512_SPR'; "
-            "import numpy; del os.environ['OPENBLAS_CORETYPE'], "
-            "os.environ['NPY_DISABLE_CPU_FEATURES']; import dart_reach; " + REPORT)
-    first, also, line = _fresh(code)
+    first, also, line = _fresh(OTHER_KERNELS_FIRST + "import dart_reach; " + REPORT)
     if pinning.openblas_core() is None:
         pytest.skip("numpy's OpenBLAS does not name its kernels here")
     assert first and also and "OpenBLAS's Sandybridge kernels" in line and "\n" not in line
 
 
-def test_the_command_line_says_the_refusal_in_one_line_with_exit_code_2(in_process, monkeypatch):
-    from dart_reach.cli import world
-
-    line = kernel_pin(ImportRecord(True, None, None, True), AVX512_FEATURES, "SkylakeX",
-                      AVX512).refusal()
-
-    def refuse(args):
-        raise KernelsNotPinned(line)
-
-    monkeypatch.setattr(world, "cmd_versions", refuse)
-    out = in_process("versions")
-    assert out.returncode == 2 and out.stdout == ""
-    assert out.stderr == f"dart-reach: error: {line}\n"
+@pytest.mark.skipif(not pinning.CPU_FLAGS >= {"avx2", "fma"}, reason="x86_64 with AVX2")
+def test_the_command_line_says_the_refusal_in_one_line_with_exit_code_2(tmp_path):
+    """A real refusal through the command: numpy loaded with other kernels first, then a
+    training of version 1 asked for; nothing is written, so the same command can run again
+    once the kernels are pinned."""
+    if pinning.openblas_core() is None:
+        pytest.skip("numpy's OpenBLAS does not name its kernels here")
+    run = tmp_path / "refused"
+    code = (OTHER_KERNELS_FIRST + "import sys; from dart_reach.cli import main; "
+            "sys.exit(main(['train', 'standard', '--model-version', '1', '--generations', '1', "
+            f"'--replications', '1', '--workers', '1', '--yes', '--out', {str(run)!r}]))")
+    env = {k: v for k, v in os.environ.items() if k not in (NUMPY_VARIABLE, BLAS_VARIABLE)}
+    out = subprocess.run([sys.executable, "-c", code], env=env, capture_output=True, text=True,
+                         timeout=300)
+    assert out.returncode == 2 and out.stdout == "", out.stderr
+    assert out.stderr.startswith("dart-reach: error: ") and out.stderr.count("\n") == 1
+    assert "OpenBLAS's Sandybridge kernels" in out.stderr
+    assert not list(tmp_path.iterdir())

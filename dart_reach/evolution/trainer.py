@@ -50,6 +50,8 @@ from .settings import (SEED_INIT, SEED_LIFETIME, SEED_MUTATE, SEED_RECORD, SNAPS
 from ..files import LOCK_NAME, DirectoryLock, remove_temporaries, write_parquet
 from ..model.scenes import scene_of
 from ..model.task import TrialConfig, network_for, trial_positions
+from ..model.versions import Numerics, numerics_of
+from ..pinning import require_pinned_kernels
 from ..progress import training_bar
 from ..recording.rrd import RobotModel, TrialInfo, training_rrd, trial_rrd, write_rrd
 
@@ -381,6 +383,8 @@ def train(conditions: list[Condition], settings: Settings, out: Path, workers: i
         raise RunError(f"two conditions are named {', '.join(twice)}: a run's conditions need "
                        f"distinct names")
     out = Path(out)
+    if numerics_of(settings.model_version) is Numerics.REFERENCE:
+        require_pinned_kernels()  # refused before anything is written: the run can start again
     if resume and not (out / "manifest.json").is_file():
         raise RunError(f"nothing to resume: {out} holds no run")
     if resume:  # a damaged file refused before anything is written, the lock file included

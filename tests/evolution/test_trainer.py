@@ -118,6 +118,7 @@ def test_transition_takes_the_best_of_each_replication(tmp_path):
     finals, _ = run.load_final(pre)
     init = run._initial_states(cond, 1)
     expected = np.concatenate([f[:10] for f in finals])  # population 20 / 2 replications
+    assert len(init) == TINY.replications
     for state in init:
         # only genes of the newly freed groups may differ (released near their fixed value)
         from dart_reach.evolution.genome import free_mask

