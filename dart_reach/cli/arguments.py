@@ -8,6 +8,7 @@ from __future__ import annotations
 import argparse
 import math
 import os
+from pathlib import Path
 
 
 def int_at_least(minimum: int):
@@ -24,6 +25,13 @@ def int_at_least(minimum: int):
 
 
 positive, non_negative = int_at_least(1), int_at_least(0)
+
+
+def path_arg(text: str) -> Path:
+    """An argparse type: a path, never empty (``Path("")`` would be the working directory)."""
+    if not text.strip():
+        raise argparse.ArgumentTypeError("expected a path, got an empty one")
+    return Path(text)
 
 
 def generations(text: str) -> tuple[int, ...]:

@@ -8,14 +8,15 @@ import sys
 from pathlib import Path
 
 from ..progress import evaluation_bar
-from .arguments import add_workers, command, generations, non_negative, positive
+from .arguments import (add_workers, command, generations, non_negative, path_arg,
+                        positive)
 from .stopping import checked, interrupted
 
 
 def register_evaluate(subparsers) -> None:
     p = command(subparsers, "evaluate", "post-evaluate a trained run on the 45 systematic "
                                         "positions (section IV)")
-    p.add_argument("run_dir", type=Path, metavar="RUN_DIR", help="a run directory of 'train'")
+    p.add_argument("run_dir", type=path_arg, metavar="RUN_DIR", help="a run directory of 'train'")
     p.add_argument("--sensors", default="normal",
                    help="sensory condition(s) of Fig. 9 (normal, no-touch, no-sight, "
                         "nothing) or no-ball, the ball-absent test of section IV-A-1; several "

@@ -3,9 +3,8 @@ file of a run) its ledger, once its files are checked (``integrity.migrate``).""
 
 from __future__ import annotations
 
-from pathlib import Path
 
-from .arguments import command
+from .arguments import command, path_arg
 
 
 def register_migrate(subparsers) -> None:
@@ -20,7 +19,7 @@ def register_migrate(subparsers) -> None:
                 "chunks). A file that fails is named and nothing is written. Nothing but "
                 "ledger.json is written; a run that has one is checked against it and left "
                 "as it is.")
-    p.add_argument("run_dir", type=Path, metavar="RUN_DIR", help="a run directory of 'train'")
+    p.add_argument("run_dir", type=path_arg, metavar="RUN_DIR", help="a run directory of 'train'")
     p.set_defaults(func=cmd_migrate)
 
 

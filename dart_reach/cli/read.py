@@ -6,21 +6,21 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from .arguments import command
+from .arguments import command, path_arg
 
 
 def register_read(subparsers) -> None:
     p = command(subparsers, "read", "show a .rrd recording's properties and series; --csv "
                                     "and --parquet save its series as a table")
-    p.add_argument("rrd", type=Path, metavar="FILE.rrd",
+    p.add_argument("rrd", type=path_arg, metavar="FILE.rrd",
                    help="a trial or training recording (or a results table, FILE.parquet, "
                         "with --csv: exported as CSV, as 'export' does)")
-    p.add_argument("--csv", type=Path, default=None, metavar="OUT.csv",
+    p.add_argument("--csv", type=path_arg, default=None, metavar="OUT.csv",
                    help="also save its series as CSV, a new file: a header of named columns "
                         "with their units (a trial's properties and ball position, step, "
                         "sim_time [s], <entity>/<series> [unit]), then one row per time step "
                         "(default: none)")
-    p.add_argument("--parquet", type=Path, default=None, metavar="OUT.parquet",
+    p.add_argument("--parquet", type=path_arg, default=None, metavar="OUT.parquet",
                    help="also save its series as a parquet table, a new file (default: none)")
     p.set_defaults(func=cmd_read)
 
@@ -62,8 +62,8 @@ def register_export(subparsers) -> None:
     p = command(subparsers, "export", "write a run's results tables (evaluation, baseline, "
                                       "development, generations, findings: those it has) as "
                                       "CSV, columns named with their units")
-    p.add_argument("run_dir", type=Path, metavar="RUN_DIR", help="a run directory of 'train'")
-    p.add_argument("--csv", type=Path, required=True, metavar="DIR",
+    p.add_argument("run_dir", type=path_arg, metavar="RUN_DIR", help="a run directory of 'train'")
+    p.add_argument("--csv", type=path_arg, required=True, metavar="DIR",
                    help="the directory to write <table>.csv into (created if missing; no "
                         "file is overwritten; required, no default)")
     p.set_defaults(func=cmd_export)

@@ -6,7 +6,7 @@ from __future__ import annotations
 import shlex
 from pathlib import Path
 
-from .arguments import command
+from .arguments import command, path_arg
 
 
 def register_report(subparsers) -> None:
@@ -19,15 +19,15 @@ def register_report(subparsers) -> None:
                 "the report, in NAME-recordings/ for NAME.html (their size per simulated minute: "
                 "docs/results/benchmarks.md), and "
                 "reused by the next build.")
-    p.add_argument("run_dirs", type=Path, nargs="+", metavar="RUN_DIR",
+    p.add_argument("run_dirs", type=path_arg, nargs="+", metavar="RUN_DIR",
                    help="post-evaluated run directories (dart-reach evaluate); an unfinished "
                         "run is judged on its post-evaluated snapshots (evaluate "
                         "--development N --finished-only), where it stands said at the top")
-    p.add_argument("--out", type=Path, default=None, metavar="FILE.html",
+    p.add_argument("--out", type=path_arg, default=None, metavar="FILE.html",
                    help="where to write it, in an existing directory outside the runs "
                         "(default: <first RUN_DIR's name>-report.html in the current "
                         "directory)")
-    p.add_argument("--findings", type=Path, default=None, metavar="FILE.parquet",
+    p.add_argument("--findings", type=path_arg, default=None, metavar="FILE.parquet",
                    help="also write the findings, every claim at every budget, to this new "
                         "parquet file (default: none)")
     p.set_defaults(func=cmd_report)

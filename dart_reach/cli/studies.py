@@ -9,8 +9,8 @@ import math
 from pathlib import Path
 
 from ..progress import ProgressBar
-from .arguments import (add_levers, add_scene, command, int_at_least, levers, positive, workers,
-                        world_config)
+from .arguments import (add_levers, add_scene, command, int_at_least, levers, path_arg,
+                        positive, workers, world_config)
 from .stopping import checked
 
 
@@ -24,7 +24,7 @@ def write_json(path: Path, results: dict) -> None:
 def register_validate(subparsers) -> None:
     p = command(subparsers, "validate", "check the model: scene, scripted grasps, reflexes, "
                                         "chance level (exit 0 when every check passes)")
-    p.add_argument("--json", type=Path, default=None,
+    p.add_argument("--json", type=path_arg, default=None,
                    help="also write the figures to FILE, a new file (default: none)")
     p.add_argument("--grid", type=int_at_least(2), default=7,
                    help="start positions per sector side checked (default 7: 49 per sector)")
@@ -59,7 +59,7 @@ def cmd_validate(args) -> int:
 
 def register_bench(subparsers) -> None:
     p = command(subparsers, "bench", "measure simulation speed (docs/results/benchmarks.md)")
-    p.add_argument("--json", type=Path, default=None,
+    p.add_argument("--json", type=path_arg, default=None,
                    help="also write the figures to FILE, a new file (default: none)")
     p.add_argument("--seconds", type=float, default=2.0,
                    help="simulated s per block of the physics pairs (default 2)")
@@ -82,7 +82,7 @@ def register_bench(subparsers) -> None:
                    metavar="DT", help="candidate physics steps in s (default 0.02 0.01)")
     p.add_argument("--networks", type=positive, default=20,
                    help="random networks in the study's panel (default 20)")
-    p.add_argument("--run", type=Path, nargs="*", default=[], metavar="RUN_DIR",
+    p.add_argument("--run", type=path_arg, nargs="*", default=[], metavar="RUN_DIR",
                    help="finished runs whose best robots join the panel (default: none)")
     p.add_argument("--workers", type=workers, default=None,
                    help="local processes for the study (default: every core)")
@@ -130,7 +130,7 @@ def register_screen(subparsers) -> None:
     p = command(subparsers, "screen", "run a run's snapshot robots again under other levers "
                                       "(scene, self-collision, network start, reflex inputs), "
                                       "without training: docs/model/levers.md")
-    p.add_argument("run_dir", type=Path, metavar="RUN_DIR", help="a run with snapshots")
+    p.add_argument("run_dir", type=path_arg, metavar="RUN_DIR", help="a run with snapshots")
     p.add_argument("--generation", type=positive, required=True,
                    help="the snapshot's generation (required: no default)")
     p.add_argument("--phase", default="pre", help="the phase (default: pre)")
@@ -139,7 +139,7 @@ def register_screen(subparsers) -> None:
     p.add_argument("--arm", required=True, metavar="NAME",
                    help="the name of this lever setting in the table (letters, digits, '-'; required: no "
                         "default)")
-    p.add_argument("--out", type=Path, required=True,
+    p.add_argument("--out", type=path_arg, required=True,
                    help="the screen table (parquet): this arm's rows are added or replaced "
                         "(required: no default)")
     p.add_argument("--workers", type=workers, default=None,

@@ -10,7 +10,7 @@ from pathlib import Path
 
 from ..progress import training_bar
 from .arguments import (add_levers, add_scene, add_workers, command, cores, levers,
-                        non_negative, physics_dt, positive, world_config)
+                        non_negative, path_arg, physics_dt, positive, world_config)
 from .stopping import checked, interrupted
 
 
@@ -18,7 +18,7 @@ def register_train(subparsers) -> None:
     p = command(subparsers, "train", "train conditions (shipped names or condition files)")
     p.add_argument("conditions", nargs="+", metavar="CONDITION",
                    help="a shipped condition name (see 'conditions') or a condition file")
-    p.add_argument("--out", type=Path, default=None,
+    p.add_argument("--out", type=path_arg, default=None,
                    help="run directory (default recordings/<conditions>-s<seed>)")
     p.add_argument("--generations", type=positive, default=None,
                    help="generations per standard phase (default: the condition's, 500)")
@@ -177,7 +177,7 @@ def announce_cost(conditions, settings, workers: int | None) -> float:
 def register_status(subparsers) -> None:
     p = command(subparsers, "status", "where a run's training stands: generations, fitness and "
                                       "wall time per phase and replication")
-    p.add_argument("run_dir", type=Path, metavar="RUN_DIR", help="a run directory of 'train'")
+    p.add_argument("run_dir", type=path_arg, metavar="RUN_DIR", help="a run directory of 'train'")
     p.add_argument("--markdown", action="store_true",
                    help="print the table as markdown, e.g. for docs/results/replication.md "
                         "(default: a plain table)")

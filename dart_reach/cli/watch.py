@@ -5,9 +5,8 @@ or by the numpy camera where the viewer cannot render)."""
 from __future__ import annotations
 
 import shlex
-from pathlib import Path
 
-from .arguments import command, non_negative, positive
+from .arguments import command, non_negative, path_arg, positive
 
 
 def register_watch(subparsers) -> None:
@@ -19,7 +18,7 @@ def register_watch(subparsers) -> None:
                    help="pre, gross or fine (default: the most developed phase available)")
     p.add_argument("--condition", default="standard",
                    help="the condition the robot was trained in")
-    p.add_argument("--run", type=Path, default=None, metavar="RUN_DIR",
+    p.add_argument("--run", type=path_arg, default=None, metavar="RUN_DIR",
                    help="watch this trained run's robot (default: a shipped robot)")
     p.add_argument("--shipped", default=None, metavar="NAME",
                    help="a shipped robot of the shipped run NAME (see 'robots'; default: "
@@ -33,10 +32,11 @@ def register_watch(subparsers) -> None:
     p.add_argument("--senses", default="normal",
                    choices=("normal", "no-touch", "no-sight", "nothing"),
                    help="sensory condition (Fig. 9)")
-    p.add_argument("--out", type=Path, default=None, metavar="FILE.rrd",
-                   help="the recording (default: recordings/watch/<condition>-<phase>-"
-                        "sector<K>.rrd); its layout is written beside it (.rbl), and where "
-                        "no viewer opens the numpy camera's pictures (.png strip, .gif)")
+    p.add_argument("--out", type=path_arg, default=None, metavar="FILE.rrd",
+                   help="the recording, a new file (default: recordings/watch/<condition>-"
+                        "<phase>-sector<K>.rrd, or -2.rrd, ... where taken); its layout is "
+                        "written beside it (.rbl), and where no viewer opens the numpy "
+                        "camera's pictures (.png strip, .gif)")
     p.add_argument("--no-viewer", action="store_true",
                    help="only write the files and pictures, even where there is a display")
     p.set_defaults(func=cmd_watch)
@@ -68,10 +68,10 @@ def register_video(subparsers) -> None:
     p = command(subparsers, "video", "render a trial recording frame by frame into a video "
                                      "(MP4): the Rerun viewer, headless, or where it cannot "
                                      "render the numpy camera")
-    p.add_argument("rrd", type=Path, metavar="TRIAL.rrd",
+    p.add_argument("rrd", type=path_arg, metavar="TRIAL.rrd",
                    help="a trial recording (watch, evaluate or train --record-every)")
-    p.add_argument("out", type=Path, metavar="OUT.mp4", help="the video, a new file")
-    p.add_argument("--layout", type=Path, default=None, metavar="FILE.rbl",
+    p.add_argument("out", type=path_arg, metavar="OUT.mp4", help="the video, a new file")
+    p.add_argument("--layout", type=path_arg, default=None, metavar="FILE.rbl",
                    help="the viewer's layout (default: the trial layout of 'dart-reach "
                         "watch' and the post-evaluation; the camera draws the 3D scene alone)")
     p.add_argument("--fps", type=positive, default=10,

@@ -4,16 +4,15 @@ registered versions)."""
 
 from __future__ import annotations
 
-from pathlib import Path
 
-from .arguments import add_scene, command, world_config
+from .arguments import add_scene, command, path_arg, world_config
 
 
 def register_reach(subparsers) -> None:
     p = command(subparsers, "reach", "run a scripted reach-and-grasp and print what happened")
     p.add_argument("--sector", type=int, default=4, help="ball sector 0..8 (default 4)")
     p.add_argument("--seconds", type=float, default=5.0, help="simulated seconds (default 5)")
-    p.add_argument("--skeleton", type=Path, default=None,
+    p.add_argument("--skeleton", type=path_arg, default=None,
                    help="robot model (URDF; default: the shipped skeleton)")
     add_scene(p)
     p.set_defaults(func=cmd_reach)

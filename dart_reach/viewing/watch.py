@@ -206,6 +206,33 @@ def _trained(run_dir, phase, condition, replication, rank) -> _Choice:
     return _Choice(genomes[r, rank], cond.name, ph, run.settings, r, text)
 
 
+def _files(rrd: Path) -> tuple[Path, ...]:
+    """The files a watched trial may write: the recording, its layout and its pictures."""
+    return tuple(rrd.with_suffix(suffix) for suffix in (".rrd", ".rbl", ".png", ".gif"))
+
+
+def _output(out, default: Path) -> Path:
+    """The recording to write, checked before the trial runs: ``out``, refused where it does
+    not end in .rrd or where it or a file beside it (``_files``) exists; without ``out``,
+    ``default``, or where that is taken the first free ``<name>-2.rrd``, ``<name>-3.rrd``, ...
+    Nothing is ever overwritten."""
+    if out is None:
+        candidate, n = default, 1
+        while any(p.exists() for p in _files(candidate)):
+            n += 1
+            candidate = default.with_name(f"{default.stem}-{n}.rrd")
+        return candidate
+    out = Path(out)
+    if out.suffix != ".rrd":
+        raise UsageError(f"out must end in .rrd, got {out}",
+                         cli=f"--out must end in .rrd, got {out}")
+    taken = [p for p in _files(out) if p.exists()]
+    if taken:
+        raise FileExistsError(f"{taken[0]} exists; choose another recording (nothing is "
+                              f"overwritten)")
+    return out
+
+
 def watch(phase: str | None = None, condition: str | None = "standard",
           replication: int | None = None, rank: int = 0, sector: int = 4,
           senses: str = "normal", run=None, out=None, viewer: bool | None = None,
@@ -218,11 +245,14 @@ def watch(phase: str | None = None, condition: str | None = "standard",
     trained phase; the run's first condition when it lacks ``condition``); without, the
     best shipped robot of ``phase`` of ``condition`` (``robots.robots``; default: the most
     developed phase that ships) from the shipped run named ``shipped`` (``robots.index()``'s
-    ``run``; default: the run that trained that phase longest). ``senses``: normal, no-touch, no-sight or nothing (Fig. 9).
+    ``run``; default: the run that trained that phase longest). ``senses``: normal, no-touch,
+    no-sight or nothing (Fig. 9).
 
     Writes ``out`` (default ``recordings/watch/<condition>-<phase>-sector<K>.rrd``, made
-    with its folder) and its layout beside it (``.rbl``). ``viewer``: True starts the Rerun
-    viewer on them, False does not, None (default) starts it where a display is available.
+    with its folder, or ``...-2.rrd`` and on where taken) and its layout beside it (``.rbl``);
+    an ``out`` that exists, or whose layout or pictures do, is refused before the trial runs.
+    ``viewer``: True starts the Rerun viewer on them, False does not, None (default) starts
+    it where a display is available.
     Where no viewer starts, the numpy camera draws the trial beside them: a strip of a few
     instants (``.png``) and the whole trial at real time (``.gif``).
     """
@@ -244,6 +274,8 @@ def watch(phase: str | None = None, condition: str | None = "standard",
     robot = (_trained(run, phase, condition, replication, rank) if run is not None
              else _shipped(phase, condition, replication, rank, shipped))
     ph, settings = robot.phase, robot.settings
+    out = _output(out, Path("recordings") / "watch"
+                  / f"{robot.condition}-{ph.name}-sector{sector}.rrd")
     trial = replace(trial_config(ph, settings), senses=how)
     runner = worker_trial(settings.world, trial)
     world = runner.world
@@ -251,11 +283,6 @@ def watch(phase: str | None = None, condition: str | None = "standard",
     network = network_for(decode(robot.genome, as_groups(ph.free_groups)), trial)
     data = runner.run(network, sector, world.systematic_points()[k])
     measures = metrics.trial_metrics(data, settings.world.control_dt)
-    out = Path(out) if out is not None else (
-        Path("recordings") / "watch" / f"{robot.condition}-{ph.name}-sector{sector}.rrd")
-    if out.suffix != ".rrd":
-        raise UsageError(f"out must end in .rrd, got {out}", cli=f"--out must end in .rrd, "
-                                                                  f"got {out}")
     out.parent.mkdir(parents=True, exist_ok=True)
     info = TrialInfo(robot.condition, ph.name, robot.replication, rank, sector, k,
                      "systematic", how.value)

@@ -22,7 +22,7 @@ from dart_reach.evolution.settings import Settings
 from dart_reach.evolution.trainer import train
 from dart_reach.recording.rrd import read_properties, read_rrd
 from dart_reach.model.scenes import DEFAULT_SCENE, load_scene
-from dart_reach.viewing.watch import display_available, watch
+from dart_reach.viewing.watch import _output, display_available, watch
 from dart_reach.model.world import SectorConfig
 
 
@@ -88,6 +88,26 @@ def test_watch_records_the_best_shipped_robot(tmp_path):
                   senses="nothing", sector=0, rank=5, viewer=False)
     assert read_properties(other.recording)["senses"] == "nothing"
     assert "rank 5" in other.robot
+    # nothing is overwritten: neither the recording nor a file beside it
+    saved = w.recording.read_bytes()
+    (tmp_path / "only.rbl").write_text("a layout")
+    for taken, existing in (("w.rrd", w.recording), ("only.rrd", tmp_path / "only.rbl")):
+        with pytest.raises(FileExistsError, match=f"{existing.name} exists"):
+            watch("pre", shipped="arm-length-shoulder", out=tmp_path / taken, viewer=False)
+    assert w.recording.read_bytes() == saved
+    assert (tmp_path / "only.rbl").read_text() == "a layout"
+    assert not (tmp_path / "only.rrd").exists()
+
+
+def test_the_default_recording_takes_the_first_free_name(tmp_path):
+    default = tmp_path / "standard-pre-sector4.rrd"
+    assert _output(None, default) == default
+    default.with_suffix(".gif").write_text("a picture")
+    assert _output(None, default) == tmp_path / "standard-pre-sector4-2.rrd"
+    (tmp_path / "standard-pre-sector4-2.rrd").write_text("a recording")
+    assert _output(None, default) == tmp_path / "standard-pre-sector4-3.rrd"
+    with pytest.raises(ValueError, match="must end in .rrd"):
+        _output(tmp_path / "x.mp4", default)
 
 
 def test_watch_a_trained_run_and_export_its_robots(tmp_path):
