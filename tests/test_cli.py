@@ -238,3 +238,7 @@ def test_status_says_where_training_stands(tmp_path, in_process):
     assert markdown[0].startswith("| condition |") and markdown[1].startswith("|---|")
     missing = in_process("status", str(tmp_path / "none"))
     assert missing.returncode == 2 and "no such run directory" in missing.stderr
+    # nothing post-evaluated: nothing to run again, said in one line
+    unevaluated = in_process("status", str(out), "--reproduce")
+    assert unevaluated.returncode == 2 and unevaluated.stderr.count("\n") == 1
+    assert "no post-evaluated robot to run again" in unevaluated.stderr

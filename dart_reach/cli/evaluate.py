@@ -55,7 +55,9 @@ def register_evaluate(subparsers) -> None:
 def cmd_evaluate(args) -> int:
     import polars as pl
 
+    from ..evolution.rundir import RunDirectory
     from ..postevaluation.results import BASELINE, migrate, rows
+    from ..postevaluation.snapshots import check_snapshots
     from ..postevaluation.systematic import (BLUEPRINT, RECORDINGS, TABLE, evaluate_run,
                                              finished_phases, parse_senses)
 
@@ -75,6 +77,8 @@ def cmd_evaluate(args) -> int:
     if args.snapshots and not args.development:
         raise ValueError("--snapshots chooses the snapshots of --development: give "
                          "--development N too")
+    if args.snapshots:  # before the post-evaluation, which may take hours
+        check_snapshots(RunDirectory.open(args.run_dir), args.snapshots)
     try:
         with evaluation_bar() as bar:
             table = (pl.DataFrame() if args.development and args.finished_only

@@ -266,6 +266,12 @@ class RunDirectory:
         except Exception as exc:
             raise RunError(f"{path}: unreadable phase result ({exc})") from None
 
+    def snapshot_generations(self) -> set[int]:
+        """The generations some phase of the run kept a snapshot of (read from the names of
+        its files, ``snapshot_path``)."""
+        return {int(path.stem[3:]) for _, phase in self.unique_phases()
+                for path in (self.phase_dir(phase) / "snapshots").glob("gen*.npz")}
+
     def snapshots(self, phase: Phase) -> list[tuple[int, np.ndarray, np.ndarray]]:
         """(generation, genomes (R, k, L), lifetime fitness (R, k)) of every snapshot a phase
         kept, in generation order; [] for a run made without snapshots."""

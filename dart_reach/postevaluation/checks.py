@@ -26,7 +26,7 @@ import polars as pl
 from . import results
 from .systematic import load_evaluation, run_robot, stored_robot_job
 from ..evolution.provenance import simd
-from ..evolution.rundir import RunDirectory
+from ..evolution.rundir import RunDirectory, RunError
 from ..model.world import N_SECTORS, POINTS_PER_SECTOR
 
 POSITIONS = N_SECTORS * POINTS_PER_SECTOR
@@ -148,7 +148,8 @@ def reproduce(run_dir, points: int = N_SECTORS) -> pl.DataFrame:
     the 45 positions (spread over the sectors; the robot, position and sensory condition
     rotate with the phase) and compare the rows. One row per robot checked: table, phase,
     senses, replication, rank, generation (development; else null), trials, equal (every
-    column to the last bit), differ (the columns that do not) and max_abs_diff."""
+    column to the last bit), differ (the columns that do not) and max_abs_diff. A run with
+    no post-evaluated robot is refused (``RunError``)."""
     run = RunDirectory.open(run_dir)
     step = POSITIONS // points
     checks = []
@@ -184,6 +185,9 @@ def reproduce(run_dir, points: int = N_SECTORS) -> pl.DataFrame:
                            "replication": replication, "rank": 0, "generation": generation,
                            "trials": len(rows), "equal": not differ, "differ": differ,
                            "max_abs_diff": worst})
+    if not checks:
+        raise RunError(f"{run.out}: no post-evaluated robot to run again (post-evaluate the run "
+                       f"first: dart-reach evaluate {run.out})")
     return pl.DataFrame(checks, schema_overrides={"generation": pl.Int64,
                                                   "differ": pl.List(pl.Utf8)})
 

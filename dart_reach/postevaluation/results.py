@@ -46,7 +46,7 @@ import polars as pl
 from .. import __version__
 from ..evolution.provenance import git_state, simd
 from .. import integrity
-from ..evolution.rundir import RunError
+from ..evolution.rundir import RunError, described_run
 from ..files import write_parquet
 
 #: Version of the storage format (1: float32 measures, the baseline in its own table, sessions).
@@ -270,7 +270,7 @@ def migrate(run_dir, entry: dict | None = None) -> list[Path]:
     (the baseline's rows of an old evaluation.parquet into baseline.parquet), giving their rows
     without a session the provenance ``entry`` (default: one saying it is unknown). Returns the
     tables rewritten; tables already current are left as they are."""
-    run_dir = Path(run_dir)
+    run_dir, _, _ = described_run(run_dir)  # a run, or refused
     entry = entry or {"revision": None, "dirty": None, "version": None, "command": None,
                       "started": None, "machine": None, "pid": None,
                       "note": "written before provenance was recorded"}

@@ -87,6 +87,16 @@ def load_development(run_dir, senses: str | None = "normal") -> pl.DataFrame | N
     return table.filter(pl.col("senses") == senses)
 
 
+def check_snapshots(run: RunDirectory, generations: Sequence[int]) -> None:
+    """``ValueError`` naming the generations of ``generations`` of which ``run`` kept no
+    snapshot, before anything is evaluated."""
+    saved = run.snapshot_generations()
+    if missing := set(generations) - saved:
+        raise ValueError(f"{run.out} has no snapshot of generation "
+                         f"{', '.join(map(str, sorted(missing)))} (its snapshots: "
+                         f"{', '.join(map(str, sorted(saved))) or 'none'})")
+
+
 def measure_snapshots(run_dir, robots: int = 1, workers: int | None = None,
                       ray_address: str | None = None,
                       progress: Callable[[EvaluationProgress], None] | None = None,
@@ -111,17 +121,18 @@ def measure_snapshots(run_dir, robots: int = 1, workers: int | None = None,
         raise ValueError(f"robots must be at least 1, got {robots}")
     senses = tuple(Senses(s) for s in senses)
     wanted = None if generations is None else set(generations)
+    if wanted is not None:
+        check_snapshots(run, wanted)
     with DirectoryLock(run.out):
         remove_temporaries(run.out)
         path = run.out / TABLE
         table = load_development(run.out, senses=None)
         done = set() if table is None else set(table.select(_KEY).iter_rows())
         offsets = _offsets(run)
-        jobs, extra, saved = [], [], set()
+        jobs, extra = [], []
         for condition, phase in run.unique_phases():
             base = trial_config(phase, run.settings)
             for generation, genomes, fitness in run.snapshots(phase):
-                saved.add(generation)
                 if wanted is not None and generation not in wanted:
                     continue
                 for s in senses:
@@ -136,10 +147,6 @@ def measure_snapshots(run_dir, robots: int = 1, workers: int | None = None,
                                                  run.settings.world, False))
                             extra.append({"generation": generation,
                                           "offset": offsets[phase.key][1]})
-        if wanted is not None and (missing := wanted - saved):
-            raise ValueError(f"{run.out} has no snapshot of generation "
-                             f"{', '.join(map(str, sorted(missing)))} (its snapshots: "
-                             f"{', '.join(map(str, sorted(saved))) or 'none'})")
         if not jobs:
             return table if table is not None else pl.DataFrame()
         entry = results.session()

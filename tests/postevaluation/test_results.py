@@ -82,6 +82,8 @@ def test_a_table_of_an_older_format_is_refused_in_one_line_and_migrated_once(tra
     assert back.drop("measures_version").equals(every.drop("measures_version"))
     assert (back["measures_version"] == 1).all()  # measured before version 2
     assert results.migrate(migrated, entry) == []  # current: left alone
+    with pytest.raises(RunError, match="not a run directory"):  # not said to be current
+        results.migrate(tmp_path)
 
     committed = [folder / name for folder in (Path(__file__).parents[2] / "recordings").iterdir()
                  for name in (results.EVALUATION, results.BASELINE, results.DEVELOPMENT)

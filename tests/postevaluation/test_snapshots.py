@@ -152,6 +152,13 @@ def test_chosen_snapshots_under_chosen_senses(runs, tmp_path):
     with pytest.raises(ValueError, match=r"no snapshot of generation 99 \(its snapshots: 1, 2"):
         dev.measure_snapshots(out, robots=1, workers=1, generations=(2, 99))
     assert (out / dev.TABLE).read_bytes() == saved  # refused: nothing evaluated or written
+    # the command refuses it before its post-evaluation of the final robots (hours on a run)
+    assert not (out / "evaluation.parquet").exists()
+    cli = _cli("evaluate", out, "--development", "1", "--snapshots", "2,99", "--record", "none",
+               "--workers", "1")
+    assert cli.returncode == 2 and cli.stderr.count("\n") == 1, cli.stderr
+    assert "no snapshot of generation 99" in cli.stderr
+    assert not (out / "evaluation.parquet").exists()
     absent = table.filter(pl.col("senses") == "no-ball")
     assert not absent["reached"].any()  # no ball, nothing reached
     normal = dev.load_development(out)
