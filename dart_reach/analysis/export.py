@@ -40,8 +40,12 @@ def _csv(table: pl.DataFrame, path: Path) -> None:
 def export_table(path: str | os.PathLike, out: str | os.PathLike,
                  option: str = "out") -> Path:
     """Write the parquet table at ``path`` (a file or a table in parts) to ``out``, a new CSV
-    file, its columns named with their units. Returns ``out``."""
+    file outside the table's run (a file there would make the run refuse to open), its columns
+    named with their units. Returns ``out``."""
     out = check_new_file(out, ".csv", "a CSV table", option)
+    run = Path(path).parent
+    if (run / "manifest.json").is_file() and run.resolve() in out.resolve().parents:
+        raise ValueError(f"{out}: inside the run {run}; export it elsewhere")
     table = results.stored_table(path)
     return atomic_write(out, lambda p: _csv(table, p))
 

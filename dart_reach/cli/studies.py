@@ -153,13 +153,14 @@ def cmd_screen(args) -> int:
     import re
 
     from ..evolution.rundir import RunDirectory
-    from ..studies.lever_screen import Arm, save_screen, screen
+    from ..studies.lever_screen import Arm, check_screen_table, save_screen, screen
 
     if not re.fullmatch(r"[A-Za-z0-9][A-Za-z0-9_-]*", args.arm):
         raise ValueError(f"--arm must be letters, digits, '_' or '-', got {args.arm!r}")
     if args.model_version is not None:
         raise ValueError("--model-version: a screen runs the robots under their run's version")
     run = RunDirectory.open(args.run_dir)
+    check_screen_table(args.out, run.out)  # before the screen, which takes a while
     arm = Arm(args.arm, world_config(args, run.settings.world), levers(args, run.settings.levers))
     table = screen(run.out, args.generation, [arm], args.phase, args.robots,
                    workers=args.workers)

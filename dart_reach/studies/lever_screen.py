@@ -24,6 +24,7 @@ import polars as pl
 from ..evolution.backends import make_backend, worker_trial
 from ..evolution.genome import as_groups, decode
 from ..evolution.rundir import RunDirectory
+from ..errors import UsageError
 from ..evolution.settings import trial_config
 from ..files import atomic_write
 from ..measures.fitness import fitness_under_touch_pays
@@ -125,14 +126,37 @@ def screen(run_dir, generation: int, arms: list[Arm], phase: str = "pre", robots
             .sort(list(KEY)))
 
 
-def save_screen(table: pl.DataFrame, path: Path) -> pl.DataFrame:
-    """Add ``table``'s arms to the screen table at ``path`` (zstd parquet), replacing the rows
-    of arms screened again; the combined table, written atomically."""
+def check_screen_table(path, run_dir=None) -> Path:
+    """``path`` where a screen table may be written or added to, checked before anything is
+    screened: a name ending in .parquet in a directory that exists, outside the run
+    ``run_dir`` (its files are the run's), and where it exists a screen table (``KEY``'s
+    columns). Anything else is refused (``UsageError``): nothing is overwritten."""
     path = Path(path)
+    if path.suffix.lower() != ".parquet" or path.is_dir():
+        raise UsageError(f"out {path}: a screen table is a .parquet file",
+                         cli=f"--out {path}: a screen table is a .parquet file")
+    if not path.parent.is_dir():
+        raise FileNotFoundError(f"{path}: no such directory {path.parent}; create it first")
+    if run_dir is not None and Path(run_dir).resolve() in path.resolve().parents:
+        raise UsageError(f"{path}: inside the run {run_dir}; write the screen table elsewhere")
+    if path.exists():
+        try:
+            columns = pl.read_parquet_schema(path)
+        except Exception:  # polars says why in many lines: one is enough here
+            columns = {}
+        if not set(KEY) <= set(columns):
+            raise UsageError(f"{path}: not a screen table (no columns {', '.join(KEY)}); "
+                             f"choose another (nothing is overwritten)")
+    return path
+
+
+def save_screen(table: pl.DataFrame, path: Path) -> pl.DataFrame:
+    """Add ``table``'s arms to the screen table at ``path`` (zstd parquet; ``check_screen_table``),
+    replacing the rows of arms screened again; the combined table, written atomically."""
+    path = check_screen_table(path)
     if path.exists():
         old = pl.read_parquet(path)
         table = pl.concat([old.filter(~pl.col("arm").is_in(table["arm"].unique().implode())),
                            table], how="diagonal_relaxed").sort(list(KEY))
-    path.parent.mkdir(parents=True, exist_ok=True)
     atomic_write(path, lambda p: table.write_parquet(p, compression="zstd"))
     return table

@@ -75,6 +75,9 @@ def test_export_writes_every_table_with_units_and_stored_values(run, tmp_path, i
     _one_line_exit_2(_cli("export", run, "--csv", tmp_path / "csv"), "the file exists")
     assert _hashes(tmp_path / "csv") == saved
     _one_line_exit_2(in_process("export", run, "--csv", run / "csv"), "inside the run")
+    _one_line_exit_2(in_process("read", run / "evaluation.parquet", "--csv",
+                                run / "evaluation.csv"), "inside the run")
+    assert _hashes(run) == before
     _one_line_exit_2(in_process("export", tmp_path / "none", "--csv", tmp_path / "x"),
                      "no such run directory")
     _one_line_exit_2(in_process("export", run, "--csv", tmp_path / "no" / "where"),

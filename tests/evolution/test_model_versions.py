@@ -180,9 +180,21 @@ def test_the_screen_runs_a_runs_robots_under_other_levers(run):
         screen(out, 9, arms)
 
 
-def test_the_screen_command_refuses_a_bad_arm_name(run, tmp_path, in_process):
+def test_the_screen_command_refuses_bad_input_before_screening(run, tmp_path, in_process):
     _, out = run
     result = in_process("screen", out, "--generation", "2", "--arm", "a b", "--out",
                         tmp_path / "s.parquet")
     assert result.returncode == 2 and "--arm" in result.stderr, result.stderr
     assert not (tmp_path / "s.parquet").exists()
+    other = tmp_path / "other.parquet"
+    pl.DataFrame({"x": [1]}).write_parquet(other)
+    saved = other.read_bytes()
+    for table, says in ((tmp_path / "s.txt", "a screen table is a .parquet file"),
+                        (tmp_path, "a screen table is a .parquet file"),
+                        (tmp_path / "no" / "s.parquet", "no such directory"),
+                        (out / "s.parquet", "inside the run"),
+                        (other, "not a screen table")):
+        result = in_process("screen", out, "--generation", "2", "--arm", "a", "--out", table)
+        assert result.returncode == 2 and result.stderr.count("\n") == 1, result.stderr
+        assert says in result.stderr, result.stderr
+    assert other.read_bytes() == saved and not (out / "s.parquet").exists()
