@@ -10,7 +10,7 @@ from pathlib import Path
 
 from ..progress import ProgressBar
 from .arguments import (add_levers, add_scene, command, int_at_least, levers, path_arg,
-                        positive, workers, world_config)
+                        physics_dt, positive, workers, world_config)
 from .stopping import checked
 
 
@@ -78,7 +78,7 @@ def register_bench(subparsers) -> None:
                         "each (default 2 4), the driver's and the workers' measured costs, "
                         "and a generation projected at 16, 64 and 256 CPUs "
                         "(docs/guides/cluster.md, 'Blocks')")
-    p.add_argument("--physics-steps", type=float, nargs="+", default=[0.02, 0.01],
+    p.add_argument("--physics-steps", type=physics_dt, nargs="+", default=[0.02, 0.01],
                    metavar="DT", help="candidate physics steps in s (default 0.02 0.01)")
     p.add_argument("--networks", type=positive, default=20,
                    help="random networks in the study's panel (default 20)")

@@ -124,6 +124,9 @@ def render_video(recording, out, layout=None, fps: int = 10, size: str = "1280x7
                          cli=f"--size must be WIDTHxHEIGHT in pixels (each >= 64), got {size!r}")
     if layout is not None and not Path(layout).is_file():
         raise FileNotFoundError(f"{layout}: no such layout file")
+    if layout is not None and Path(layout).read_bytes()[:3] != b"RRF":  # Rerun's files begin so
+        raise ValueError(f"{layout}: not a Rerun layout file (.rbl; 'dart-reach watch' writes "
+                         f"one beside its recording)")
     table = read_rrd(recording)  # also a clear error for a missing or damaged file
     if "sim_time" not in table.columns or table.height == 0:
         raise ValueError(f"{recording}: not a trial recording (no sim_time timeline)")

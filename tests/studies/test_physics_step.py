@@ -112,7 +112,9 @@ def test_cli_bad_input(tmp_path, in_process):
     existing.write_text("{}")
     for i, (args, fragment) in enumerate(((["--physics", "--json", existing], "exists"),
                                           (["--physics", "--physics-steps", "0.03"],
-                                           "whole multiple"),
+                                           "--physics-steps: 0.03 s does not divide"),
+                                          (["--physics", "--physics-steps", "-0.02"],
+                                           "--physics-steps: expected a positive number"),
                                           (["--physics", "--networks", "0"], "--networks"))):
         if i:  # the others in this process: the same code, without a process's imports
             result = in_process("bench", *args)

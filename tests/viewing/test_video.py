@@ -75,6 +75,9 @@ def test_without_a_vulkan_driver_arguments_are_checked_first(recording, tmp_path
     tried in this process (the same code, without a process's imports), the missing driver in
     a process of its own."""
     out = tmp_path / "v.mp4"
+    notes = tmp_path / "layouts" / "notes.rbl"
+    notes.parent.mkdir()
+    notes.write_text("not a layout")
     monkeypatch.setattr(headless, "LAVAPIPE", tmp_path / "no-driver.json")
     monkeypatch.delenv("VK_ICD_FILENAMES", raising=False)
     for args, fragment in (
@@ -83,11 +86,12 @@ def test_without_a_vulkan_driver_arguments_are_checked_first(recording, tmp_path
             ((recording, out, "--size", "big"), "--size must be WIDTHxHEIGHT"),
             ((tmp_path / "none.rrd", out), "no such recording"),
             ((recording, out, "--layout", tmp_path / "none.rbl"), "no such layout file"),
+            ((recording, out, "--layout", notes), "not a Rerun layout file"),
             ((recording, out, "--renderer", "gpu"), "--renderer must be one of viewer, camera")):
         _one_line_exit_2(in_process("video", *args), fragment)
     _one_line_exit_2(_video(recording, out, "--renderer", "viewer", driver=False,
                             tmp_path=tmp_path), "cannot render a video here: no Vulkan driver")
-    assert sorted(p.name for p in tmp_path.iterdir()) == []  # no video, no partial file
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["layouts"]  # no video, no partial
     # the library in the same order: the arguments, then CannotRender (a RuntimeError)
     with pytest.raises(FileNotFoundError, match="no such directory"):
         render_video(recording, tmp_path / "missing" / "v.mp4")
