@@ -8,6 +8,7 @@ import json
 import math
 from pathlib import Path
 
+from ..files import check_new_file
 from ..progress import ProgressBar
 from .arguments import (add_levers, add_scene, command, int_at_least, levers, path_arg,
                         physics_dt, positive, workers, world_config)
@@ -46,8 +47,8 @@ def cmd_validate(args) -> int:
     from ..studies import validate
     from ..model.world import World
 
-    if args.json is not None and args.json.exists():
-        raise FileExistsError(f"--json {args.json} exists; choose another file")
+    if args.json is not None:  # before the study: a new .json file in a directory that exists
+        check_new_file(args.json, ".json", "a JSON file", "--json")
     results = validate.run(World(world_config(args)), grid=args.grid, networks=args.networks,
                            chance_networks=args.chance_networks, scene_only=args.scene_only,
                            reflex_inputs=args.reflex_inputs)
@@ -92,8 +93,8 @@ def register_bench(subparsers) -> None:
 def cmd_bench(args) -> int:
     from ..studies import bench, scaling
 
-    if args.json is not None and args.json.exists():
-        raise FileExistsError(f"--json {args.json} exists; choose another file")
+    if args.json is not None:  # before the study: a new .json file in a directory that exists
+        check_new_file(args.json, ".json", "a JSON file", "--json")
     from ..model.versions import CURRENT_MODEL_VERSION, check_model_version
 
     version = (CURRENT_MODEL_VERSION if args.model_version is None

@@ -561,7 +561,11 @@ def test_small_bad_inputs_name_the_option(tmp_path, in_process):
                                           (["reach", "--seconds", "inf"], "--seconds"),
                                           (["bench", "--seconds", "-1"], "--seconds"),
                                           (["bench", "--repeats", "0"], "--repeats"),
-                                          (["read", tmp_path], "directory"))):
+                                          (["read", tmp_path], "directory"),
+                                          (["read", ""], "FILE.rrd: expected a path, got an "
+                                                         "empty one"),
+                                          (["train", "standard", "--out", " "],
+                                           "--out: expected a path"))):
         result = (_cli if i == 0 else in_process)(*args)  # the others: the same code, here
         assert result.returncode == 2 and fragment in result.stderr, (args, result.stderr)
         assert result.stderr.count("\n") == 1, result.stderr

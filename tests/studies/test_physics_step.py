@@ -115,6 +115,8 @@ def test_cli_bad_input(tmp_path, in_process):
                                            "--physics-steps: 0.03 s does not divide"),
                                           (["--physics", "--physics-steps", "-0.02"],
                                            "--physics-steps: expected a positive number"),
+                                          (["--physics", "--json", tmp_path / "no" / "x.json"],
+                                           "no such directory"),
                                           (["--physics", "--networks", "0"], "--networks"))):
         if i:  # the others in this process: the same code, without a process's imports
             result = in_process("bench", *args)
