@@ -3,7 +3,6 @@ file of a run) its ledger, once its files are checked (``integrity.migrate``).""
 
 from __future__ import annotations
 
-
 from .arguments import command, path_arg
 
 

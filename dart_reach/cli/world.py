@@ -4,7 +4,6 @@ registered versions)."""
 
 from __future__ import annotations
 
-
 from .arguments import add_scene, command, path_arg, world_config
 
 

@@ -24,8 +24,8 @@ import polars as pl
 from ..evolution.backends import make_backend, worker_trial
 from ..evolution.genome import as_groups, decode
 from ..evolution.rundir import RunDirectory
-from ..errors import UsageError
 from ..evolution.settings import trial_config
+from ..errors import UsageError
 from ..files import atomic_write
 from ..measures.fitness import fitness_under_touch_pays
 from ..measures.metrics import trial_metrics
