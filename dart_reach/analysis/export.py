@@ -37,6 +37,13 @@ def _csv(table: pl.DataFrame, path: Path) -> None:
     table.rename({c: with_unit(c) for c in table.columns}).write_csv(path)
 
 
+def _outside(run: Path, path: Path) -> None:
+    """Refuse ``path`` at or inside the run ``run``: a file there the run does not know would
+    make it refuse to open."""
+    if run.resolve() == path.resolve() or run.resolve() in path.resolve().parents:
+        raise ValueError(f"{path}: inside the run {run}; export it elsewhere")
+
+
 def export_table(path: str | os.PathLike, out: str | os.PathLike,
                  option: str = "out") -> Path:
     """Write the parquet table at ``path`` (a file or a table in parts) to ``out``, a new CSV
@@ -44,8 +51,8 @@ def export_table(path: str | os.PathLike, out: str | os.PathLike,
     named with their units. Returns ``out``."""
     out = check_new_file(out, ".csv", "a CSV table", option)
     run = Path(path).parent
-    if (run / "manifest.json").is_file() and run.resolve() in out.resolve().parents:
-        raise ValueError(f"{out}: inside the run {run}; export it elsewhere")
+    if (run / "manifest.json").is_file():
+        _outside(run, out)
     table = results.stored_table(path)
     return atomic_write(out, lambda p: _csv(table, p))
 
@@ -65,8 +72,7 @@ def export_run(run_dir, out_dir) -> list[Path]:
     if not out_dir.is_dir() and not out_dir.parent.is_dir():
         raise FileNotFoundError(f"out_dir {out_dir}: no such directory {out_dir.parent}; "
                                 f"create it first")
-    if out_dir.resolve() == out.resolve() or out.resolve() in out_dir.resolve().parents:
-        raise ValueError(f"{out_dir}: inside the run {out}; export it elsewhere")
+    _outside(out, out_dir)
     for name in found:
         if (out_dir / f"{name}.csv").exists():
             raise FileExistsError(f"{out_dir / f'{name}.csv'}: the file exists; choose another "
