@@ -184,12 +184,13 @@ def zero_params() -> NetworkParams:
 #
 # What else the three reflex motor neurons receive (docs/model/controller.md): while the reflexes are
 # on, none of the evolved sensory connections (the reflex arcs are the full arrows of Fig. 3:
-# all of their direct input is hand-set; with evolved direct inputs as well, the 24 other
-# sensors of a random network drive them with a net input of 9-31 against the reflexes' 2-5, and
-# the reflexes do not act). From gross-reaching the internal neurons project to them like to
-# every motor neuron: "the intervention of cortical centers in the mediation of sensory-motor
-# reflexive behavior" (III-D 2). Their thresholds are hand-set; their time constants stay
-# evolved (tau only sets how fast the reflex acts).
+# all of their direct input is hand-set; with evolved direct inputs at full range as well, each of
+# the 24 other sensors of a random network would reach them with a weight of up to 5 against the
+# reflex arcs' 2.3-5, and could drown the reflexes: the ``evolved`` lever scales them down).
+# From gross-reaching the internal neurons project to them like to every motor neuron: "the
+# intervention of cortical centers in the mediation of sensory-motor reflexive behavior"
+# (III-D 2). Their thresholds are hand-set; their time constants stay evolved (tau only sets
+# how fast the reflex acts).
 
 #: Sign of the neck yaw target change that turns the camera toward a ball at +c_x (right).
 ORIENT_YAW_SIGN = -1.0

@@ -225,15 +225,11 @@ class World:
         r.setSelfCollisionCheck(True)
         r.setAdjacentBodyCheck(False)
         bodies = [r.getBodyNode(i) for i in range(r.getNumBodyNodes())]
-        in_arm = {b.getName(): False for b in bodies}
-        for b in bodies:  # parents come before their children in a skeleton's body list
-            parent = b.getParentBodyNode()
-            in_arm[b.getName()] = (b.getName() == icub.SHOULDER
-                                   or (parent is not None and in_arm[parent.getName()]))
+        arm = arm_body_names(r)
         ignore = self.world.getConstraintSolver().getCollisionOption().collisionFilter
         for i, a in enumerate(bodies):
             for b in bodies[i + 1:]:
-                if in_arm[a.getName()] == in_arm[b.getName()]:
+                if (a.getName() in arm) == (b.getName() in arm):
                     ignore.addBodyNodePairToBlackList(a, b)
 
     def _resolve_contacts(self) -> None:
@@ -400,6 +396,18 @@ class World:
         return bool(np.isfinite(self.robot.getPositions()).all()
                     and np.isfinite(self.robot.getVelocities()).all()
                     and np.isfinite(self.ball_skeleton.getPositions()).all())
+
+
+def arm_body_names(robot) -> set[str]:
+    """The names of the right arm's bodies: the shoulder's first link (``icub.SHOULDER``) and
+    every body below it, to the fingertips."""
+    arm: set[str] = set()
+    for i in range(robot.getNumBodyNodes()):  # parents come before their children
+        body = robot.getBodyNode(i)
+        parent = body.getParentBodyNode()
+        if body.getName() == icub.SHOULDER or (parent is not None and parent.getName() in arm):
+            arm.add(body.getName())
+    return arm
 
 
 def palm_point(hand_pose: np.ndarray) -> np.ndarray:

@@ -6,6 +6,8 @@ and returns plain numbers; ``run`` gathers them with their pass/fail verdicts.
   in the 112 x 94 deg field of view, its distance from the eyes within the 50 cm of the
   distance sensor (Eq. 3), its clearance from every robot body and from the palm, and a
   posture of the arm within the joint limits that puts the palm on it.
+- ``self_collision_pairs``: with self-collision on, which arm-body pairs meet in random
+  postures (a measurement for ``WorldConfig.self_collision``, not one of ``run``'s checks).
 - ``scripted_grasps``: a scripted reach-and-grasp meets the paper's grasp definition (palm and
   a finger on the ball at once, on their inner faces) at the 45 post-evaluation points.
 - ``reflex_rates``: in a random pre-reaching population, how often the orienting reflex brings
@@ -136,6 +138,41 @@ def scene(world: World, grid: int = 7) -> dict:
         "palm_gap_min_m": min(palm_gap),
         "reach_error_max_m": max(reach_error),
     }
+
+
+def self_collision_pairs(world: World, postures: int = 2000, seed: int = 0) -> dict:
+    """Which arm-body pairs meet in ``postures`` random postures, every joint uniform within its
+    limits, in a world with self-collision on (``WorldConfig.self_collision``: the arm against
+    the body, ``World._collide_arm_with_body``'s filter). Returns the share of postures where
+    any pair meets and, per pair of body names, the number of postures where it meets; the
+    robot is left at home. Raises ValueError if the world's self-collision is off."""
+    if not world.config.self_collision:
+        raise ValueError("self_collision_pairs needs a world with self-collision on")
+    robot = world.robot
+    solver = world.world.getConstraintSolver()
+    option = dart.collision.CollisionOption()
+    option.maxNumContacts = 1000
+    option.collisionFilter = solver.getCollisionOption().collisionFilter
+    group = solver.getCollisionDetector().createCollisionGroup()
+    group.addShapeFramesOf(robot)
+    low, high = robot.getPositionLowerLimits(), robot.getPositionUpperLimits()
+    rng = np.random.default_rng(seed)
+    pairs: dict[tuple[str, str], int] = {}
+    met = 0
+    for _ in range(postures):
+        robot.setPositions(rng.uniform(low, high))
+        result = dart.collision.CollisionResult()
+        group.collide(option, result)
+        names = set()
+        for i in range(result.getNumContacts()):
+            contact = result.getContact(i)
+            names.add(tuple(sorted(o.getShapeFrame().getBodyNodePtr().getName()
+                                   for o in (contact.collisionObject1, contact.collisionObject2))))
+        met += bool(names)
+        for pair in names:
+            pairs[pair] = pairs.get(pair, 0) + 1
+    robot.setPositions(world.home)
+    return {"postures": postures, "met_share": met / postures, "pairs": pairs}
 
 
 # ----------------------------------------------------------------------------- scripted grasp

@@ -13,7 +13,7 @@ from dart_reach.model import icub
 from dart_reach.studies import validate
 from dart_reach.model.sectors import N_SECTORS, SYSTEMATIC_FRACTIONS
 from dart_reach.model.servo import Servo
-from dart_reach.model.world import PALM_NORMAL, World
+from dart_reach.model.world import PALM_NORMAL, World, WorldConfig, arm_body_names
 
 
 @pytest.fixture(scope="module")
@@ -117,6 +117,24 @@ def test_scene_every_start_in_view_clear_and_reachable(world):
     assert r["eye_distance_max_m"] < 0.5
     assert r["clearance_min_m"] > 0.0 and r["palm_gap_min_m"] >= 0.10
     assert r["reach_error_max_m"] < 0.01
+
+
+def test_self_collision_meets_only_arm_against_body_and_leaves_the_robot_home():
+    collided = World(WorldConfig(self_collision=True))
+    r = validate.self_collision_pairs(collided, postures=300)
+    arm = arm_body_names(collided.robot)
+    assert r["pairs"], "no arm-body pair met in 300 random postures"
+    for a, b in r["pairs"]:
+        assert (a in arm) != (b in arm), (a, b)  # never two bodies of the arm, or of the body
+    assert 0 < r["met_share"] <= 1
+    assert max(r["pairs"].values()) <= round(r["met_share"] * 300)
+    assert np.array_equal(collided.robot.getPositions(), collided.home)
+    assert "r_hand" in arm and "r_shoulder_1" in arm and "chest" not in arm
+
+
+def test_self_collision_pairs_refuses_a_world_without_it(world):
+    with pytest.raises(ValueError, match="self-collision on"):
+        validate.self_collision_pairs(world, postures=1)
 
 
 def test_scripted_reach_and_grasp_grasps_at_a_point_of_every_sector(world):
