@@ -291,7 +291,8 @@ def third_decision(table: pl.DataFrame, second_table: pl.DataFrame,
 def rule_words(rule: Acceptance = RULE) -> str:
     return (f"sensitivity and specificity each at least {rule.rate:g}, with a one-sided "
             f"{percent(rule.confidence)} Clopper-Pearson lower limit of each at least "
-            f"{rule.lower:g}, from at least {rule.trials} trials on each side of the label, in each condition")
+            f"{rule.lower:g}, from at least {rule.trials} trials on each side of the label, "
+            "in each condition")
 
 
 def values(root: Path) -> dict[str, str]:

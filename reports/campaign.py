@@ -3,7 +3,8 @@ in the paper's units on the committed populations, the scene calibrated on Fig. 
 where the campaign on version 3 stands and, once a phase has finished and been post-evaluated
 (``make campaign-phases``), the paper's claims its finished phases can judge.
 
-    python -m reports.campaign              # rewrites the page's generated part (below "## Results")
+    python -m reports.campaign              # rewrites the page's generated part
+                                            # (below "## Results")
     python -m reports.campaign --check      # exit 1 when the page differs from the tables
     python -m reports.campaign --extension  # the best robots run again for A3 (a minute)
     python -m reports.campaign --screen     # the calibration's screen (minutes on 2 cores)

@@ -134,12 +134,13 @@ def screen_section(screen: pl.DataFrame) -> str:
         "|---|" + "---:|" * 15,
     ]
     for r in prof.iter_rows(named=True):
-        lines.append(
-            f"| {r['arm']} | {decimals(r['reach'], 2)} | {decimals(r['elbow_sd'])} | {decimals(r['shoulder_sd'])} "
-            f"| {decimals(r['trunk_sd'])} | {decimals(r['hand_shoulder_m'])} | {decimals(r['hand_shoulder_cv'])} "
-            f"| {decimals(r['hand_path_m'], 2)} | {decimals(r['babbling'], 2)} | "
-            f"{decimals(r['babbling_no_ball'], 2)} | {decimals(r['fitness'], 4)} | "
-            + " | ".join(decimals(r[f'is_{c}'], 1) for c in CRITERIA) + f" | {decimals(r['paper'], 1)} |")
+        cells = [r["arm"], decimals(r["reach"], 2), decimals(r["elbow_sd"]),
+                 decimals(r["shoulder_sd"]), decimals(r["trunk_sd"]),
+                 decimals(r["hand_shoulder_m"]), decimals(r["hand_shoulder_cv"]),
+                 decimals(r["hand_path_m"], 2), decimals(r["babbling"], 2),
+                 decimals(r["babbling_no_ball"], 2), decimals(r["fitness"], 4),
+                 *(decimals(r[f"is_{c}"], 1) for c in CRITERIA), decimals(r["paper"], 1)]
+        lines.append("| " + " | ".join(cells) + " |")
     lines += ["", "Fitness of the screened robots under each touch pay (today's trials scored "
               "again; mean over the robots' normal trials):", "",
               "| pay | fitness |", "|---|---:|"]
@@ -163,19 +164,22 @@ def screen_section(screen: pl.DataFrame) -> str:
     for arm, r in at.items():
         if arm == "today":
             continue
-        lines.append(f"- `{arm}`: reach {decimals(base['reach'], 2)} -> {decimals(r['reach'], 2)}, fitness "
+        lines.append(f"- `{arm}`: reach {decimals(base['reach'], 2)} -> "
+                     f"{decimals(r['reach'], 2)}, fitness "
                      f"{decimals(base['fitness'], 4)} -> {decimals(r['fitness'], 4)} "
                      f"({r['fitness'] / base['fitness'] - 1:+.0%}), hand-shoulder "
-                     f"{decimals(base['hand_shoulder_m'])} -> {decimals(r['hand_shoulder_m'])} m, babbling "
+                     f"{decimals(base['hand_shoulder_m'])} -> "
+                     f"{decimals(r['hand_shoulder_m'])} m, babbling "
                      f"without the ball {decimals(base['babbling_no_ball'], 2)} -> "
                      f"{decimals(r['babbling_no_ball'], 2)}.")
     for r in choice.iter_rows(named=True):
         if r["candidate"] in ("binary", "capped"):
             paid = today[f"fitness_{r['candidate']}"].mean()
             lines.append(f"- `{r['candidate']}` touch pay: fitness "
-                         f"{decimals(today['fitness_faces'].mean(), 4)} -> {decimals(paid, 4)}; among the "
-                         f"robots it pays the extended arm {'more' if r['rise_arm'] > 0 else 'less'}"
-                         f" than today's pay (rho {decimals(r['rho_arm'])} against {decimals(ref_arm)}).")
+                         f"{decimals(today['fitness_faces'].mean(), 4)} -> "
+                         f"{decimals(paid, 4)}; among the robots it pays the extended arm "
+                         f"{'more' if r['rise_arm'] > 0 else 'less'} than today's pay (rho "
+                         f"{decimals(r['rho_arm'])} against {decimals(ref_arm)}).")
     return "\n".join(lines) + "\n"
 
 
@@ -246,7 +250,8 @@ def course_lines(ref: pl.DataFrame) -> list[str]:
                                            "hand_shoulder_m", "hand_shoulder_cv", "babbling",
                                            "babbling_no_ball", "fitness")}
             rows.append(f"| {arm} | {g} | {at.height} | {decimals(m['reach'], 2)} | "
-                        f"{decimals(m['elbow_sd'])} | {decimals(m['shoulder_sd'])} | {decimals(m['trunk_sd'])} | "
+                        f"{decimals(m['elbow_sd'])} | {decimals(m['shoulder_sd'])} | "
+                        f"{decimals(m['trunk_sd'])} | "
                         f"{decimals(m['hand_shoulder_m'])} | {decimals(m['hand_shoulder_cv'])} | "
                         f"{decimals(m['babbling'], 2)} | {decimals(m['babbling_no_ball'], 2)} | "
                         f"{decimals(m['fitness'], 4)} | "

@@ -65,7 +65,8 @@ def _target(parts: tuple[str, ...], node: ast.ImportFrom, is_init: bool) -> list
         here = list(parts if is_init else parts[:-1])
         if is_init:
             here = here[:-1]
-        base = here[: len(here) - (node.level - 1)] + (node.module.split(".") if node.module else [])
+        base = (here[: len(here) - (node.level - 1)]
+                + (node.module.split(".") if node.module else []))
     if node.module is None or node.level and not node.module:
         return [".".join([*base, a.name]) for a in node.names]
     return [".".join(base)]

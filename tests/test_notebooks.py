@@ -1,7 +1,7 @@
-"""The figures of section IV (``dart_reach.analysis.figures``) and the six analysis notebooks, on a tiny
-real run (trained and post-evaluated through the library): every figure function returns a
-figure with its panels, renders with degenerate data, and every notebook runs in a real Jupyter
-kernel of this environment and shows at least one image."""
+"""The figures of section IV (``dart_reach.analysis.figures``) and the six analysis notebooks, on
+a tiny real run (trained and post-evaluated through the library): every figure function returns
+a figure with its panels, renders with degenerate data, and every notebook runs in a real
+Jupyter kernel of this environment and shows at least one image."""
 
 from __future__ import annotations
 

@@ -71,7 +71,8 @@ def test_numpy_blas_kernels_are_pinned_for_bit_identical_results():
                          capture_output=True, text=True, timeout=120)
     assert "Core: Haswell" in out.stdout + out.stderr
     chosen = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
-                            env={**env, "OPENBLAS_VERBOSE": "2", "OPENBLAS_CORETYPE": "Sandybridge"},
+                            env={**env, "OPENBLAS_VERBOSE": "2",
+                                 "OPENBLAS_CORETYPE": "Sandybridge"},
                             timeout=120)
     assert "Core: Sandybridge" in chosen.stdout + chosen.stderr
 

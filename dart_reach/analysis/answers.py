@@ -160,7 +160,8 @@ def answers(by_budget: pl.DataFrame, phenomena: Sequence[Phenomenon] = PHENOMENA
     """One row per phenomenon and budget (phenomena in order, then ``budgets.budgets``):
     budget (its label, ``budgets.labels``), phenomenon, section, claims (how many of its
     claims the frame has), the count of each verdict, answer (``ANSWERS``) and why.
-    ``by_budget``: the frame of ``budgets.findings_by_budget``; only the paper's claims of its robots count."""
+    ``by_budget``: the frame of ``budgets.findings_by_budget``; only the paper's claims of its
+    robots count."""
     head = findings.reading(by_budget)
     named = budgets.labels(budgets.budgets(by_budget))
     blocks = [(b, budgets.of_budget(head, b)) for b in named]

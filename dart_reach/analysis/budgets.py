@@ -20,8 +20,8 @@ verdict, and the intervals as the budget grows.
 
 Every function but :func:`budget_of`, :func:`budget_groups`, :func:`pooled` and
 :func:`findings_by_budget` (which read run directories) is pure: it takes the
-findings-by-budget frame, so a notebook or a script (docs/results/replication.md) gets the same tables
-as the report.
+findings-by-budget frame, so a notebook or a script (docs/results/replication.md) gets the
+same tables as the report.
 """
 
 from __future__ import annotations

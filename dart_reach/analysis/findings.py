@@ -485,11 +485,11 @@ def reading(found: pl.DataFrame, who: str = ROBOTS) -> pl.DataFrame:
 
 def summary(found: pl.DataFrame, who: str = ROBOTS) -> dict[str, int]:
     """How many of ``who``'s claims (``reading``; default the paper's of its robots, the
-    headline) got each verdict (``COUNTED``: "not run" is the claims without data, those
-    their measure cannot test, ``UNTESTABLE``, are counted apart as ``CANNOT``), and how many decided ones survive Holm's adjustment
-    (``reproduced (Holm)``, ``contradicted (Holm)``; claims without a p, the band and
-    every-sector rules, count as surviving only raw; Holm's family is the headline, so the
-    other readings have none)."""
+    headline) got each verdict (``COUNTED``: "not run" is the claims without data, those their
+    measure cannot test, ``UNTESTABLE``, are counted apart as ``CANNOT``), and how many decided
+    ones survive Holm's adjustment (``reproduced (Holm)``, ``contradicted (Holm)``; claims
+    without a p, the band and every-sector rules, count as surviving only raw; Holm's family is
+    the headline, so the other readings have none)."""
     rows = reading(found, who)
     counts = dict(rows.group_by("verdict").len().iter_rows())
     out = {v: int(counts.get(v, 0)) for v in VERDICTS}

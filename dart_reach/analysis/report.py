@@ -378,10 +378,11 @@ def _check_outside(out: Path, run_dirs: Sequence[Path], option: str) -> None:
 def build(run_dirs: Sequence, out=None, findings_out=None) -> Path:
     """Write the report of ``run_dirs`` to ``out`` (default ``<first run's name>-report.html``
     in the current directory) and return its path. The runs are only read, and ``out`` may not
-    lie inside one of them (nothing is ever written into a run the report reads): the trials that Figs. 6 and 8 draw and that have
-    no recording are recorded again in ``recordings_dir`` beside ``out``. An unfinished run is
-    judged on its post-evaluated snapshots (``unfinished``), where it stands said at the top.
-    Runs without a post-evaluation get provenance and training only, their claims "not run".
+    lie inside one of them (nothing is ever written into a run the report reads): the trials
+    that Figs. 6 and 8 draw and that have no recording are recorded again in ``recordings_dir``
+    beside ``out``. An unfinished run is judged on its post-evaluated snapshots
+    (``unfinished``), where it stands said at the top. Runs without a post-evaluation get
+    provenance and training only, their claims "not run".
     ``findings_out``: also write the findings the report shows, every claim at every budget
     (``budgets.findings_by_budget``'s frame), to this parquet file, a new one."""
     run_dirs = [Path(d) for d in run_dirs]
@@ -470,7 +471,8 @@ def build(run_dirs: Sequence, out=None, findings_out=None) -> Path:
     page = Template(resources.files(__package__).joinpath("templates/report.html")
                     .read_text(encoding="utf-8"))
     text = page.substitute(
-        generator=GENERATOR, title=html.escape("dart_reach report: " + ", ".join(d.name for d in run_dirs)),
+        generator=GENERATOR,
+        title=html.escape("dart_reach report: " + ", ".join(d.name for d in run_dirs)),
         generated=time.strftime("%Y-%m-%d %H:%M:%S %z"), body="\n".join(sections))
     if findings_out is not None:  # first: a failure leaves the previous report as it was
         _check_findings_out(findings_out)  # still new, minutes later

@@ -27,7 +27,8 @@ from .stopping import interrupted, on_stop_signal, stops, unraisable
 
 #: Every command's registration, in the order ``dart-reach --help`` lists them.
 COMMANDS = (watch.register_watch, watch.register_video, world.register_reach,
-            world.register_scenes, world.register_versions, shipped.register_robots, shipped.register_conditions,
+            world.register_scenes, world.register_versions, shipped.register_robots,
+            shipped.register_conditions,
             train.register_train, evaluate.register_evaluate, report.register_report,
             train.register_status, migrate.register_migrate, read.register_read,
             read.register_export,

@@ -72,8 +72,9 @@ def register_bench(subparsers) -> None:
                         "(scene, levers), the robots of --run under their run's (default: the "
                         "version new runs use)")
     p.add_argument("--physics", action="store_true",
-                   help="instead: the physics-step study (docs/results/physics-step.md): a panel of networks "
-                        "post-evaluated at each candidate step and at a quarter of it")
+                   help="instead: the physics-step study (docs/results/physics-step.md): a "
+                        "panel of networks post-evaluated at each candidate step and at a "
+                        "quarter of it")
     p.add_argument("--scaling", type=positive, nargs="*", default=None, metavar="NODES",
                    help="instead: generations on local Ray clusters of NODES one-CPU nodes "
                         "each (default 2 4), the driver's and the workers' measured costs, "
@@ -138,8 +139,8 @@ def register_screen(subparsers) -> None:
     p.add_argument("--robots", type=positive, default=2,
                    help="the best robots of each replication (default 2)")
     p.add_argument("--arm", required=True, metavar="NAME",
-                   help="the name of this lever setting in the table (letters, digits, '-'; required: no "
-                        "default)")
+                   help="the name of this lever setting in the table (letters, digits, '-'; "
+                        "required: no default)")
     p.add_argument("--out", type=path_arg, required=True,
                    help="the screen table (parquet): this arm's rows are added or replaced "
                         "(required: no default)")

@@ -170,8 +170,8 @@ def zero_params() -> NetworkParams:
 # target by ~ k c: the slope of tanh((W c - theta) / 2) at c = 0 is W (1 - t_home^2) / 2 = k, so
 # W = 2 k / (1 - t_home^2). On this robot a target change of 1 turns the camera by 50 deg (yaw) or
 # 31 deg (pitch), i.e. c by ~0.6 or ~0.5 near the centre: a loop gain of 0.6 k per step. k = 1
-# (ORIENT_GAIN) was chosen by measurement (docs/model/controller.md, ``dart-reach validate``): stable
-# (no oscillation at 10 Hz with the joints' speed bound), and it halves the image offset of a
+# (ORIENT_GAIN) was chosen by measurement (docs/model/controller.md, ``dart-reach validate``):
+# stable (no oscillation at 10 Hz with the joints' speed bound), and it halves the image offset of a
 # reflex-only head. With low acuity (a = 3) the drive is c^3: the reflex is weaker near the
 # centre, as a blurrier orienting response would be. ORIENT_HOME_TARGETS are the neck's home
 # targets of ``world.World`` (tested equal). ORIENT_*_SIGN say in which direction a positive
@@ -182,15 +182,15 @@ def zero_params() -> NetworkParams:
 # Grasp reflex: hand motor <- palm touch with GRASP_WEIGHT = 5 and threshold 0: palm touched (+1)
 # -> sigma(5) = 0.993, target 0.987 (fingers closed); untouched (-1) -> target -0.987 (open).
 #
-# What else the three reflex motor neurons receive (docs/model/controller.md): while the reflexes are
-# on, none of the evolved sensory connections (the reflex arcs are the full arrows of Fig. 3:
-# all of their direct input is hand-set; with evolved direct inputs at full range as well, each of
-# the 24 other sensors of a random network would reach them with a weight of up to 5 against the
-# reflex arcs' 2.3-5, and could drown the reflexes: the ``evolved`` lever scales them down).
-# From gross-reaching the internal neurons project to them like to every motor neuron: "the
-# intervention of cortical centers in the mediation of sensory-motor reflexive behavior"
-# (III-D 2). Their thresholds are hand-set; their time constants stay evolved (tau only sets
-# how fast the reflex acts).
+# What else the three reflex motor neurons receive (docs/model/controller.md): while the
+# reflexes are on, none of the evolved sensory connections (the reflex arcs are the full arrows
+# of Fig. 3: all of their direct input is hand-set; with evolved direct inputs at full range as
+# well, each of the 24 other sensors of a random network would reach them with a weight of up to
+# 5 against the reflex arcs' 2.3-5, and could drown the reflexes: the ``evolved`` lever scales
+# them down). From gross-reaching the internal neurons project to them like to every motor
+# neuron: "the intervention of cortical centers in the mediation of sensory-motor reflexive
+# behavior" (III-D 2). Their thresholds are hand-set; their time constants stay evolved (tau
+# only sets how fast the reflex acts).
 
 #: Sign of the neck yaw target change that turns the camera toward a ball at +c_x (right).
 ORIENT_YAW_SIGN = -1.0
@@ -267,7 +267,8 @@ class Network(abc.ABC):
     ``gain_offset``) project to 8 internal and 14 motor neurons; the internal neurons project to
     the motor neurons. Internal and motor neurons are leaky integrators:
 
-        x_i(t) = tau_i x_i(t-1) + (1 - tau_i) s_i(t),   s_i(t) = g_i sigma(sum_j w_ij x_j(t) - theta_i)
+        x_i(t) = tau_i x_i(t-1) + (1 - tau_i) s_i(t),
+        s_i(t) = g_i sigma(sum_j w_ij x_j(t) - theta_i)
 
     with g = ``gain_hidden`` for the internal neurons and 1 for the motor neurons. Within a step:
     sensors (t) -> internal neurons (from the sensors at t) -> motor neurons (from the sensors

@@ -168,11 +168,12 @@ class Trial:
 
     The per-step work is its ``steps`` (``steps.TrialSteps``), chosen at construction by the
     config's numerics (``steps_for``): ``compiled_trial.CompiledSteps`` (the living model,
-    versions 2 and 3) or version 1's frozen ``reference.steps.ReferenceSteps``. Two ways
-    through the same steps: ``run`` keeps every per-step record (post-evaluation,
-    recordings); ``fitness`` keeps only what the fitness needs (the genetic algorithm). Both sense the world and compute the fitness terms
-    with the same step functions, so a trial's fitness is the same to the last bit either way;
-    the Gymnasium environment steps a trial with ``begin``, ``observe`` and ``control``."""
+    versions 2 and 3) or version 1's frozen ``reference.steps.ReferenceSteps``. Two ways through
+    the same steps: ``run`` keeps every per-step record (post-evaluation, recordings);
+    ``fitness`` keeps only what the fitness needs (the genetic algorithm). Both sense the world
+    and compute the fitness terms with the same step functions, so a trial's fitness is the same
+    to the last bit either way; the Gymnasium environment steps a trial with ``begin``,
+    ``observe`` and ``control``."""
 
     def __init__(self, world: World, config: TrialConfig = TrialConfig()):
         self.world, self.config = world, config

@@ -20,18 +20,19 @@ Output, in the run directory::
     evaluation/<phase>/<senses>/rep<R>-rank<I>/trial<K>-sector<S>.rrd   (see ``Record``)
     evaluation/trial.rbl  their layout in the viewer: rerun TRIAL.rrd evaluation/trial.rbl
 
-Random genomes of each phase can be post-evaluated beside the trained robots as the chance
-level of every measure (``baseline``: ``evaluate --baseline N``): they are the rows of
-baseline.parquet, with ``baseline`` true, replication = the random genome's index, rank 0, lifetime_fitness NaN, drawn
-from the run's seed tree (``settings.baseline_genomes``) and decoded with the phase's free
-groups and maturational state. ``load_evaluation`` leaves them out unless asked.
+Random genomes of each phase can be post-evaluated beside the trained robots as the chance level
+of every measure (``baseline``: ``evaluate --baseline N``): they are the rows of
+baseline.parquet, with ``baseline`` true, replication = the random genome's index, rank 0,
+lifetime_fitness NaN, drawn from the run's seed tree (``settings.baseline_genomes``) and decoded
+with the phase's free groups and maturational state. ``load_evaluation`` leaves them out unless
+asked.
 
 Evaluating again adds only what is missing (another sensory condition, more robots); rows and
 recordings already saved are kept, except rows measured by an older version of the measures
 (``measures_version`` below ``MEASURES_VERSION``; ``results.migrate`` gives the rows of a table
-written before version 2 of the measures version 1), which are evaluated and measured again when their robot and condition are asked
-for. The table is saved every few seconds, so an interrupted evaluation keeps the robots it
-finished.
+written before version 2 of the measures version 1), which are evaluated and measured again when
+their robot and condition are asked for. The table is saved every few seconds, so an interrupted
+evaluation keeps the robots it finished.
 """
 
 from __future__ import annotations

@@ -18,11 +18,11 @@ from .watch import display_available
 
 
 class LiveViewer:
-    """Streams trials to a Rerun viewer (``target``: a viewer's gRPC URL, an .rrd path, or
-    None: a viewer spawned here, or a gRPC server where there is no display, its URL
-    printed to stderr once); the stream opens at the first step sent. ``send(world, data, info)`` after each step sends the rows the
-    trial completed since the last call; a new trial (a new ``data``) follows the last one on
-    the timelines."""
+    """Streams trials to a Rerun viewer (``target``: a viewer's gRPC URL, an .rrd path, or None:
+    a viewer spawned here, or a gRPC server where there is no display, its URL printed to stderr
+    once); the stream opens at the first step sent. ``send(world, data, info)`` after each step
+    sends the rows the trial completed since the last call; a new trial (a new ``data``) follows
+    the last one on the timelines."""
 
     def __init__(self, target: str | Path | None = None, name: str = "gymnasium episodes"):
         self.target, self.name = target, name

@@ -4,9 +4,9 @@ it cannot render (no Vulkan driver), the numpy camera (``replay.Replay``) draws 
 alone. The frames are encoded with imageio's ffmpeg plugin (the ``video`` extra:
 ``imageio-ffmpeg`` ships its own ffmpeg binary, so no system ffmpeg is needed).
 
-What it costs (docs/results/benchmarks.md, "Watch and video"): the viewer renders in software (Mesa's lavapipe)
-on a machine without a GPU, so a frame takes a sizeable fraction of a second; the camera
-draws a 1280 x 720 frame in about a tenth of a second.
+What it costs (docs/results/benchmarks.md, "Watch and video"): the viewer renders in software
+(Mesa's lavapipe) on a machine without a GPU, so a frame takes a sizeable fraction of a second;
+the camera draws a 1280 x 720 frame in about a tenth of a second.
 """
 
 from __future__ import annotations

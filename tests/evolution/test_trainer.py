@@ -366,7 +366,8 @@ def test_manifest_records_whether_the_tree_was_dirty(tmp_path):
     (tmp_path / "a.py").write_text("x = 1\n")
     (tmp_path / "new.py").write_text("y = 1\n")  # an untracked file counts too
     untracked = git_state(tmp_path)
-    assert untracked["git_dirty"] is True and untracked["git_diff_sha256"] != clean["git_diff_sha256"]
+    assert untracked["git_dirty"] is True
+    assert untracked["git_diff_sha256"] != clean["git_diff_sha256"]
     # a run's manifest carries the state of the package's own tree
     run = train([scaled(load_condition("standard"), 1)],
                 Settings(replications=1, trials=1, steps=2, seed=0), tmp_path / "run",

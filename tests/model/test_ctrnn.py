@@ -92,7 +92,8 @@ def test_gains():
     w = np.zeros((N_MOTORS, N_SENSORS))
     w[5, 23] = 1.0
     w[6, 24] = 1.0
-    net = ReferenceNetwork(with_(ctrnn.zero_params(), w_sensor_motor=w, gain_offset=np.array([2.5, 0.0])))
+    net = ReferenceNetwork(with_(ctrnn.zero_params(), w_sensor_motor=w,
+                                 gain_offset=np.array([2.5, 0.0])))
     x = np.zeros(N_SENSORS)
     x[23] = x[24] = 0.4
     m = net.step(x)

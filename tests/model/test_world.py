@@ -26,7 +26,7 @@ def servo(world):
     return Servo(world)
 
 
-# ------------------------------------------------------------------ kinematics vs the official model
+# ------------------------------------------------------------- kinematics vs the official model
 def test_forward_kinematics_matches_official_icub_model(world):
     """r_hand and head frames within 1 mm (and 1e-6 in rotation) of the official iCubGazeboV2_5
     URDF, loaded independently by pinocchio, over 150 random configurations within limits."""

@@ -26,11 +26,11 @@ def study(tmp_path_factory):
     """Two scenes, each: pre-reaching alone, 1 generation, 2 replications, trials of 6 steps,
     post-evaluated (2 robots per replication, 2 random genomes; normal senses, ball absent)."""
     root = tmp_path_factory.mktemp("scene-study")
+    check = scaled(load_condition(ROOT / "docs" / "learning-check.toml"), 1)
     for name in ("near", "arm-length-shoulder"):
         settings = Settings(replications=2, trials=1, steps=6, seed=20,
                             world=load_scene(name).world())
-        train([scaled(load_condition(Path(__file__).parents[2] / "docs" / "learning-check.toml"), 1)], settings, root / name,
-              workers=1, progress=False)
+        train([check], settings, root / name, workers=1, progress=False)
         evaluate_run(root / name, senses=("normal", "no-ball"), robots=2, workers=1,
                      progress=False, baseline=2, record="none")
     return root
