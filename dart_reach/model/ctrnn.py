@@ -267,8 +267,7 @@ class Network(abc.ABC):
     ``gain_offset``) project to 8 internal and 14 motor neurons; the internal neurons project to
     the motor neurons. Internal and motor neurons are leaky integrators:
 
-        x_i(t) = tau_i x_i(t-1) + (1 - tau_i) s_i(t),
-        s_i(t) = g_i sigma(sum_j w_ij x_j(t) - theta_i)
+        x_i(t) = tau_i x_i(t-1) + (1 - tau_i) s_i(t),   s_i(t) = g_i sigma(sum_j w_ij x_j(t) - theta_i)
 
     with g = ``gain_hidden`` for the internal neurons and 1 for the motor neurons. Within a step:
     sensors (t) -> internal neurons (from the sensors at t) -> motor neurons (from the sensors

