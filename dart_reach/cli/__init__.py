@@ -23,7 +23,8 @@ import sys
 
 from . import evaluate, migrate, read, report, shipped, studies, train, watch, world
 from .arguments import Help, Parser
-from .stopping import interrupted, on_stop_signal, stops, unraisable
+from .stopping import (STOPPED, ignore_stop_signals, interrupted, on_stop_signal, stops,
+                       unraisable)
 
 #: Every command's registration, in the order ``dart-reach --help`` lists them.
 COMMANDS = (watch.register_watch, watch.register_video, world.register_reach,
@@ -72,10 +73,13 @@ def main(argv=None) -> int:
     from ..pinning import KernelsNotPinned
 
     try:
-        return args.func(args)
+        code = args.func(args)
     except (ValueError, OSError, DirectoryBusy, KernelsNotPinned) as exc:
         print(f"dart-reach: error: {_message(exc)}", file=sys.stderr)
-        return 2
+        code = 2
     except KeyboardInterrupt as exc:
         print("dart-reach: interrupted", file=sys.stderr)
-        return interrupted(exc)
+        code = interrupted(exc)
+    if stops or code in STOPPED:
+        ignore_stop_signals()
+    return code

@@ -43,3 +43,16 @@ def checked(callback):
 def interrupted(exc: KeyboardInterrupt) -> int:
     """The exit code of a command stopped by ``exc``: 143 for SIGTERM, 130 for Ctrl-C."""
     return 143 if isinstance(exc, Terminated) else 130
+
+
+#: The exit codes of a command stopped by a signal (``interrupted``).
+STOPPED = (130, 143)
+
+
+def ignore_stop_signals() -> None:
+    """Ignore Ctrl-C and SIGTERM from now on: for a command that has stopped, saved its work
+    and said how to go on. What is left is the interpreter's shutdown, which takes Python's
+    handler away before it ends; a stop signal landing then would end the process by the
+    signal (its parent sees it killed by SIGINT) instead of with the exit code already chosen."""
+    signal.signal(signal.SIGINT, signal.SIG_IGN)
+    signal.signal(signal.SIGTERM, signal.SIG_IGN)

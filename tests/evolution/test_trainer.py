@@ -192,6 +192,33 @@ def test_ctrl_c_stops_cleanly_and_says_how_to_resume(tmp_path):
     assert manifest["machine"]["cores"] == os.cpu_count()
 
 
+def test_a_stop_signal_after_the_command_stopped_keeps_its_exit_code(tmp_path):
+    """Once a command has stopped and said how to go on, only the interpreter's shutdown is
+    left, which takes Python's handlers away: a Ctrl-C or SIGTERM landing then must not end
+    the process by the signal instead of with 130 (here both come right after ``main``)."""
+    out = tmp_path / "r"
+    code = f"""
+import os, signal, sys, threading, time
+from pathlib import Path
+from dart_reach.cli import main
+out = Path({str(out)!r})
+def stop():
+    while not list(out.glob("phases/*/checkpoint.npz")):
+        time.sleep(0.05)
+    os.kill(os.getpid(), signal.SIGINT)
+threading.Thread(target=stop, daemon=True).start()
+code = main({_train_cmd(out)!r})
+os.kill(os.getpid(), signal.SIGINT)
+os.kill(os.getpid(), signal.SIGTERM)
+time.sleep(0.2)
+sys.exit(code)
+"""
+    r = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
+                       timeout=300)
+    assert r.returncode == 130, r.stderr
+    assert "--resume" in r.stderr and "Traceback" not in r.stderr, r.stderr
+
+
 def test_a_stop_signal_swallowed_by_a_destructor_is_not_lost():
     """Python only prints an exception raised in a destructor (Ctrl-C can land in rerun's
     flush at garbage collection): the CLI raises it again at the next progress report, and
