@@ -53,6 +53,6 @@ def ignore_stop_signals() -> None:
     """Ignore Ctrl-C and SIGTERM from now on: for a command that has stopped, saved its work
     and said how to go on. What is left is the interpreter's shutdown, which takes Python's
     handler away before it ends; a stop signal landing then would end the process by the
-    signal (its parent sees it killed by SIGINT) instead of with the exit code already chosen."""
+    signal (its parent sees it killed by SIGINT) instead of with the exit code chosen."""
     signal.signal(signal.SIGINT, signal.SIG_IGN)
     signal.signal(signal.SIGTERM, signal.SIG_IGN)
