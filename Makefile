@@ -274,6 +274,8 @@ campaign: $(VENV)/.installed
 	$(BIN)/dart-reach train standard --model-version 3 --generations 500 --replications 10 \
 		--seed 2031 --snapshot-every 10 --record-every 0 --yes --out $(CAMPAIGN) \
 		$$(test -f $(CAMPAIGN)/manifest.json && echo --resume)
+# The run's ledger recorded again, of the files here (each checked: dart-reach migrate).
+campaign_ledger = rm -f $(CAMPAIGN)/ledger.json && $(BIN)/dart-reach migrate $(CAMPAIGN)
 # Its compact state, from the checkout that trains it (CAMPAIGN_FROM=its path), to commit:
 # manifest, statistics, checkpoints, finals and snapshots; then its ledger is made again here
 # (dart-reach migrate), since the snapshots' post-evaluation is written here, not there.
@@ -284,10 +286,12 @@ campaign-state: $(VENV)/.installed
 		-path ./generations.parquet -o -name checkpoint.npz -o -name final.npz \
 		-o -path '*/snapshots/*.npz' \) | while read f; do \
 		mkdir -p $(CURDIR)/$(CAMPAIGN)/$$(dirname $$f); cp $$f $(CURDIR)/$(CAMPAIGN)/$$f; done
-	rm -f $(CAMPAIGN)/ledger.json && $(BIN)/dart-reach migrate $(CAMPAIGN)
+	$(campaign_ledger)
 # Its snapshots post-evaluated as they come (best 5, 45 positions, normal and ball absent),
-# on a copy of the compact state (the training holds its directory's lock); the tables come
-# back here with the copy's ledger. SNAPSHOTS=G,G,... evaluates those alone (default: all kept).
+# on a copy of the compact state (the training holds its directory's lock); the development
+# table comes back here. SNAPSHOTS=G,G,... evaluates those alone (default: all kept). Once a
+# phase has finished, `evaluate` also post-evaluates it in the copy (normal senses), and that
+# table stays there (campaign-phases makes it whole): the ledger is recorded again here.
 CAMPAIGN_COPY := $(or $(TMPDIR),/tmp)/dart-reach-campaign-copy
 campaign_copy = rm -rf $(CAMPAIGN_COPY) && mkdir -p $(CAMPAIGN_COPY) && cp -r $(CAMPAIGN)/. $(CAMPAIGN_COPY)/
 # The copy's tables $(1) (names without .parquet; one file, or parts in a folder once large)
@@ -299,8 +303,10 @@ campaign_back = for t in $(1); do rm -rf $(CAMPAIGN)/$$t $(CAMPAIGN)/$$t.parquet
 campaign-snapshots: $(VENV)/.installed
 	$(campaign_copy)
 	$(BIN)/dart-reach evaluate $(CAMPAIGN_COPY) --finished-only --development 5 \
-		--development-sensors normal,no-ball $(if $(SNAPSHOTS),--snapshots $(SNAPSHOTS))
+		--development-sensors normal,no-ball $(if $(SNAPSHOTS),--snapshots $(SNAPSHOTS)) \
+		--record none
 	$(call campaign_back,development)
+	$(campaign_ledger)
 # Its phases post-evaluated once each has finished, for the paper's phase claims (best 5, 45
 # positions, the four senses and ball absent, 10 random genomes per phase; only what is
 # missing is evaluated), as the snapshots are; then babbling before the touch of the final

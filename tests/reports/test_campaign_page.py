@@ -4,6 +4,7 @@ rule that picks version 3's scene."""
 
 from __future__ import annotations
 
+import shutil
 import subprocess
 
 import polars as pl
@@ -203,3 +204,33 @@ def test_a_table_comes_back_from_the_copy_in_the_form_the_copy_holds_it(tmp_path
     assert sorted(str(p.relative_to(here)) for p in here.rglob("*") if p.is_file()) == [
         "development/part-000.parquet", "development/part-001.parquet", "ledger.json"]
     assert (here / "ledger.json").read_text() == "ledger.json"
+
+
+def test_after_a_snapshots_post_evaluation_the_ledger_is_of_the_files_here(pre_finished,
+                                                                          tmp_path, in_process):
+    """``make campaign-snapshots`` once a phase has finished: ``evaluate`` also post-evaluates
+    that phase in the copy (here, a robot more under one sense), whose evaluation table
+    stays there. The copy's ledger names that table as the copy holds it, so brought back
+    alone it damages the run here; ``campaign_ledger`` records the files here again."""
+    here, copy = tmp_path / "here", tmp_path / "copy"
+    shutil.copytree(pre_finished, here)
+    shutil.copytree(here, copy)
+    done = in_process("evaluate", copy, "--finished-only", "--workers", "1", "--sensors",
+                      "no-touch", "--robots", "2", "--development", "1",
+                      "--development-sensors", "normal", "--record", "none")
+    assert done.returncode == 0, done.stderr
+    assert (copy / "evaluation.parquet").read_bytes() != (here / "evaluation.parquet").read_bytes()
+
+    def make(recipe: str) -> None:
+        done = subprocess.run(["make", "-s", "-C", str(campaign.ROOT), "--eval",
+                               f"back: ; {recipe}", "back", f"CAMPAIGN={here}",
+                               f"CAMPAIGN_COPY={copy}"], capture_output=True, text=True)
+        assert done.returncode == 0, done.stderr
+
+    make("$(call campaign_back,development)")
+    with pytest.raises(integrity.DamagedFile, match="evaluation.parquet"):
+        integrity.verify_run(here)
+    make("$(campaign_ledger)")
+    assert integrity.verify_run(here) == len(integrity.ledger(here))
+    assert (here / "evaluation.parquet").read_bytes() == (
+        pre_finished / "evaluation.parquet").read_bytes()
