@@ -185,6 +185,15 @@ def test_a_later_phases_snapshots_are_described_too(pre_finished):
     assert float(row[2]) == pytest.approx(gross["reached"].cast(pl.Float64).mean(), abs=0.005)
 
 
+def run_recipe(recipe: str, here, copy) -> None:
+    """A recipe of the Makefile's campaign targets run for real, on the run ``here`` and its
+    copy ``copy``."""
+    done = subprocess.run(["make", "-s", "-C", str(campaign.ROOT), "--eval",
+                           f"back: ; {recipe}", "back", f"CAMPAIGN={here}",
+                           f"CAMPAIGN_COPY={copy}"], capture_output=True, text=True)
+    assert done.returncode == 0, done.stderr
+
+
 def test_a_table_comes_back_from_the_copy_in_the_form_the_copy_holds_it(tmp_path):
     """The Makefile's copy-back (``campaign_back``) run for real: a table that went into parts
     in the copy (over 4 MB) replaces the single file here, which ``read_table`` would
@@ -196,11 +205,7 @@ def test_a_table_comes_back_from_the_copy_in_the_form_the_copy_holds_it(tmp_path
     (copy / "development").mkdir(parents=True)
     for name in ("development/part-000.parquet", "development/part-001.parquet", "ledger.json"):
         (copy / name).write_text(name)
-    done = subprocess.run(["make", "-s", "-C", str(campaign.ROOT), "--eval",
-                           "back: ; $(call campaign_back,development)", "back",
-                           f"CAMPAIGN={here}", f"CAMPAIGN_COPY={copy}"],
-                          capture_output=True, text=True)
-    assert done.returncode == 0, done.stderr
+    run_recipe("$(call campaign_back,development)", here, copy)
     assert sorted(str(p.relative_to(here)) for p in here.rglob("*") if p.is_file()) == [
         "development/part-000.parquet", "development/part-001.parquet", "ledger.json"]
     assert (here / "ledger.json").read_text() == "ledger.json"
@@ -220,17 +225,10 @@ def test_after_a_snapshots_post_evaluation_the_ledger_is_of_the_files_here(pre_f
                       "--development-sensors", "normal", "--record", "none")
     assert done.returncode == 0, done.stderr
     assert (copy / "evaluation.parquet").read_bytes() != (here / "evaluation.parquet").read_bytes()
-
-    def make(recipe: str) -> None:
-        done = subprocess.run(["make", "-s", "-C", str(campaign.ROOT), "--eval",
-                               f"back: ; {recipe}", "back", f"CAMPAIGN={here}",
-                               f"CAMPAIGN_COPY={copy}"], capture_output=True, text=True)
-        assert done.returncode == 0, done.stderr
-
-    make("$(call campaign_back,development)")
+    run_recipe("$(call campaign_back,development)", here, copy)
     with pytest.raises(integrity.DamagedFile, match="evaluation.parquet"):
         integrity.verify_run(here)
-    make("$(campaign_ledger)")
+    run_recipe("$(campaign_ledger)", here, copy)
     assert integrity.verify_run(here) == len(integrity.ledger(here))
     assert (here / "evaluation.parquet").read_bytes() == (
         pre_finished / "evaluation.parquet").read_bytes()
