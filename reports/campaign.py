@@ -535,7 +535,7 @@ def phase_claims_section(found: pl.DataFrame | None) -> str:
               f"(`make campaign-phases`: best 5 robots of every replication, 45 positions, "
               f"the four senses and the ball absent, 10 random genomes per phase; babbling "
               f"before the touch of the final pre-reachers, claim A1) and, for the "
-              f"development claims, their snapshots alone. "
+              f"development claims, their snapshots alone. Verdicts: "
               + ", ".join(f"{v}: {counts[v]}" for v in findings.COUNTED)
               + f" (not run: a phase they need has not finished); surviving Holm's "
               f"adjustment over the judged: reproduced {counts['reproduced (Holm)']}, "
