@@ -310,10 +310,13 @@ campaign-snapshots: $(VENV)/.installed
 # Its phases post-evaluated once each has finished, for the paper's phase claims (best 5, 45
 # positions, the four senses and ball absent, 10 random genomes per phase; only what is
 # missing is evaluated), as the snapshots are; then babbling before the touch of the final
-# pre-reachers (claim A1, once); then render the page (`python -m reports.campaign`).
+# pre-reachers (claim A1, once); then the page and the summary, which judge a phase's claims
+# once its post-evaluation is here.
 campaign-phases: $(VENV)/.installed
 	$(campaign_copy)
 	$(BIN)/dart-reach evaluate $(CAMPAIGN_COPY) --finished-only --sensors all --robots 5 \
 		--baseline 10 --record none
 	$(call campaign_back,evaluation baseline)
 	$(BIN)/python -m reports.babbling_before_touch . --runs $(CAMPAIGN:recordings/%=%) --workers 2
+	$(BIN)/python -m reports.campaign
+	$(BIN)/python -m reports.results .

@@ -405,8 +405,8 @@ def campaign_section() -> str:
     have = {p: set() if table is None else set(
         table.filter(pl.col("phase") == p)["generation"].unique().to_list())
         for p in PHASE_NAMES}
-    judged = [g for g in CAMPAIGN_JUDGED if g in have["pre"]]
-    between = described_snapshots(table, sorted(have["pre"] - set(judged)))
+    judged = judged_snapshots(table)
+    between = described_snapshots(table, sorted(have["pre"] - {g for g, _, _ in judged}))
     for phase in ("gross", "fine"):  # no criterion is of them: every snapshot described
         between += described_snapshots(table, sorted(have[phase]), phase)
     if not judged:
@@ -423,13 +423,8 @@ def campaign_section() -> str:
               f"| pre-reaching generation | {JUDGEMENT_COLUMNS} |",
               "|---:|---:|---:|---|---|---:|---|---|---|---|---|---|---:|"]
     judgements, stop_line = [], []
-    for g in judged:
-        snap = table.filter((pl.col("phase") == "pre") & (pl.col("generation") == g)
-                            & ~pl.col("baseline"))
-        j = paper_units(snap, campaign_extension(g), babbling_sensitivity=sensitivity)
-        a4 = "met" if j["A4"] else "failed" if j["A4_failed"] else "not decided"
-        per_rep = profiles(snap)
-        lines.append(judgement_row(str(g), j, per_rep, a4))
+    for g, j, per_rep in judged:
+        lines.append(judgement_row(str(g), j, per_rep, a4_word(j)))
         judgements += ["", f"Per replication at generation {g} (means over its best 5 "
                        f"robots' trials; babbling per trial):", "", *profile_table(per_rep)]
         if g == STOP_AT:
@@ -467,6 +462,28 @@ def processors_line(per: pl.DataFrame, sessions: list[dict], left: int) -> str:
             f"{last['median'] * left / 3600 / 2:,.0f} h on 2 cores.")
 
 
+def judged_snapshots(table: pl.DataFrame | None) -> list[tuple[int, dict, pl.DataFrame]]:
+    """The judged generations (``CAMPAIGN_JUDGED``) of pre-reaching that the development
+    ``table`` holds, each with its judgement in the paper's units (``paper_units``: A3 from
+    ``EXTENSION``, A4 read at ``a4_sensitivity``) and its per-replication ``profiles``."""
+    have = set() if table is None else set(
+        table.filter(pl.col("phase") == "pre")["generation"].unique().to_list())
+    generations = [g for g in CAMPAIGN_JUDGED if g in have]
+    sensitivity = a4_sensitivity() if generations else float("nan")
+    out = []
+    for g in generations:
+        snap = table.filter((pl.col("phase") == "pre") & (pl.col("generation") == g)
+                            & ~pl.col("baseline"))
+        out.append((g, paper_units(snap, campaign_extension(g),
+                                   babbling_sensitivity=sensitivity), profiles(snap)))
+    return out
+
+
+def a4_word(j: dict) -> str:
+    """A4 of a judgement (``paper_units``) as the Addendum reads it."""
+    return "met" if j["A4"] else "failed" if j["A4_failed"] else "not decided"
+
+
 def described_snapshots(table: pl.DataFrame | None, generations: list[int],
                         phase: str = "pre") -> list[str]:
     """``phase``'s snapshots at ``generations``, described in the criteria's measures and not
@@ -496,16 +513,27 @@ def described_snapshots(table: pl.DataFrame | None, generations: list[int],
     return lines + [""]
 
 
+def judged_phases(run_dir: Path = CAMPAIGN) -> list:
+    """The phases ``run_dir`` has trained to the end and post-evaluated (``make
+    campaign-phases``), in training order: those whose claims are judged."""
+    if not results.exists(Path(run_dir) / results.EVALUATION):
+        return []
+    evaluated = set(load_evaluation(run_dir)["phase_key"].unique().to_list())
+    run = RunDirectory.open(run_dir)
+    return [p for _, p in run.unique_phases()
+            if run.final_path(p).exists() and p.key in evaluated]
+
+
 def phase_claims(run_dir: Path = CAMPAIGN) -> pl.DataFrame | None:
     """Every claim judged as the report judges it (``budgets``: ``findings`` of the run, its
-    budget's labels in front) on the phases ``run_dir`` has trained to the end: their
-    post-evaluation (``evaluate --finished-only`` writes only finished phases'), the random
-    genomes, and the snapshots of those phases alone (a phase still training has no
-    start-to-end course yet, and the report of an unfinished run would judge its course so
-    far). None before a finished phase is post-evaluated."""
-    run = RunDirectory.open(run_dir)
-    finished = {p.key for _, p in run.unique_phases() if run.final_path(p).exists()}
-    if not finished or not results.exists(Path(run_dir) / results.EVALUATION):
+    budget's labels in front) on the phases ``run_dir`` has trained to the end and
+    post-evaluated (``make campaign-phases``): their post-evaluation, the random genomes, and
+    the snapshots of those phases alone (a phase still training has no start-to-end course
+    yet, and the report of an unfinished run would judge its course so far; a phase just
+    finished counts once its post-evaluation is here, so that the page and the summary
+    change with it). None before a finished phase is post-evaluated."""
+    finished = {p.key for p in judged_phases(run_dir)}
+    if not finished:
         return None
     tables = budgets.pooled([run_dir])
     development = (None if tables.development is None else

@@ -31,10 +31,11 @@ from dart_reach.evolution.rundir import RunDirectory
 from dart_reach.files import write_parquet
 from dart_reach.model.scenes import scene_of
 from dart_reach.postevaluation import checks, results
+from dart_reach.postevaluation.snapshots import load_development
 from dart_reach.studies.scene_study import study_runs
 from dart_reach.studies.scene_study import summary as study_summary
 
-from . import babbling_detector, cost, pre_reaching_course, scene_study, stillness
+from . import babbling_detector, campaign, cost, pre_reaching_course, scene_study, stillness
 from . import calibration as calibration_table
 from .runs import REPLICATIONS, TEN
 from .text import markdown_table, render, training_text
@@ -337,6 +338,48 @@ def replication_values(recordings: Path) -> dict[str, str]:
     return values
 
 
+def campaign_values(recordings: Path) -> dict[str, str]:
+    """The campaign's judgement so far, for the summary (docs/results/campaign.md has it
+    whole): the paper's pre-reacher at the judged generations post-evaluated, described at the
+    last, and the paper's claims of the phases finished and post-evaluated, counted. Neither
+    changes while a phase trains."""
+    run_dir = recordings / campaign.CAMPAIGN.relative_to(campaign.ROOT / "recordings")
+    judged = campaign.judged_snapshots(load_development(run_dir, senses=None)
+                                       if (run_dir / "manifest.json").exists() else None)
+    word = {True: "met", False: "not met"}
+    if judged:
+        g, j, _ = judged[-1]
+        found = [str(g) for g, j, _ in judged if j["paper"]]
+        pre = (f"the paper's pre-reacher, every criterion at once, is found at "
+               f"{', '.join(found) or 'none'} of its judged pre-reaching generations "
+               f"post-evaluated ({', '.join(str(g) for g, _, _ in judged)}); at {g}: reach "
+               f"{formatting.decimals(j['reach'], 2)} (A1 {word[j['A1']]}; the scene is "
+               f"calibrated on it), elbow SD {formatting.decimals(j['elbow_sd'])} against the "
+               f"shoulder's {formatting.decimals(j['shoulder_sd'])} and the trunk's "
+               f"{formatting.decimals(j['trunk_sd'])} (A2 {word[j['A2']]}), the best robot's "
+               f"hand {formatting.decimals(j['hand_shoulder_m'])} m from the shoulder, CV "
+               f"{formatting.decimals(j['hand_shoulder_cv'])} (A3 {word[j['A3']]}), "
+               f"{j['babbling_robots']} of {j['robots']} best robots babbling without the "
+               f"ball (A4 {campaign.a4_word(j)}), {j['still']} of {j['replications']} "
+               f"replications still")
+    else:
+        pre = (f"none of its judged pre-reaching generations "
+               f"({', '.join(map(str, campaign.CAMPAIGN_JUDGED))}) is post-evaluated yet")
+    phases = campaign.judged_phases(run_dir) if (run_dir / "manifest.json").exists() else []
+    if phases:
+        c = findings.summary(campaign.phase_claims(run_dir))
+        names = ", ".join(campaign.PHASE_NAMES.get(p.name, p.name) for p in phases)
+        claims = (f"Of the paper's claims, those its finished and post-evaluated phases "
+                  f"({names}) can judge: " + ", ".join(
+                      f"{v} {c[v]}" for v in findings.VERDICTS if v != verdicts.NOT_RUN)
+                  + f" (after Holm's adjustment reproduced {c['reproduced (Holm)']}, "
+                  f"contradicted {c['contradicted (Holm)']}); {c[verdicts.NOT_RUN]} not run (a "
+                  f"phase they need is not yet), {c[findings.CANNOT]} cannot be tested")
+    else:
+        claims = "No phase has finished and been post-evaluated yet: no phase claim is judged"
+    return {"pre_reacher": pre, "claims": claims}
+
+
 def stillness_values(recordings: Path) -> dict[str, str]:
     """The values of docs/results/templates/stillness.md (``stillness.values``)."""
     return stillness.values(recordings, markdown_table)
@@ -348,7 +391,8 @@ def stillness_values(recordings: Path) -> dict[str, str]:
 DOCS: dict[str, dict[str, Callable[[Path], dict[str, str]]]] = {
     "scene-study.md": {"": scene_study_values},
     "replication.md": {"": replication_values},
-    "summary.md": {"": replication_values, "course.": pre_reaching_course.values},
+    "summary.md": {"": replication_values, "course.": pre_reaching_course.values,
+                   "campaign.": campaign_values},
     "stillness.md": {"": stillness_values},
     "pre-reaching-course.md": {"": pre_reaching_course.values},
     "babbling-detector.md": {"": babbling_detector.values},

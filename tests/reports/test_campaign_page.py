@@ -11,15 +11,17 @@ import polars as pl
 import pytest
 
 from dart_reach import integrity
-from dart_reach.analysis import budgets
+from dart_reach.analysis import budgets, findings
 from dart_reach.analysis.claims import CLAIMS
 from dart_reach.evolution.conditions import load_condition, scaled
+from dart_reach.evolution.rundir import RunDirectory
 from dart_reach.evolution.settings import Settings
 from dart_reach.evolution.trainer import train
 from dart_reach.files import write_parquet
 from dart_reach.model.scenes import load_scene
 from dart_reach.postevaluation.snapshots import load_development
 from reports import babbling_before_touch, campaign
+from reports import results as results_docs
 
 
 def test_the_committed_page_is_its_rendering():
@@ -170,6 +172,35 @@ def test_the_phase_claims_are_judged_on_the_finished_phases_alone(pre_finished):
         paper.filter(pl.col("verdict") != "not run")["claim"].to_list()
     assert f"The paper's {paper.height} claims" in section
     assert "No phase has finished" in campaign.phase_claims_section(None)
+
+
+def test_the_summary_counts_the_claims_of_the_phases_finished_and_post_evaluated(
+        pre_finished, tmp_path):
+    """The summary's sentence on the campaign (``results.campaign_values``) counts the claims
+    the page judges; a phase that has finished but is not post-evaluated yet (a final of
+    gross-reaching here, before ``make campaign-phases``) changes neither, and without a
+    post-evaluation no claim is judged."""
+    recordings = tmp_path / "recordings"
+    run_dir = recordings / campaign.CAMPAIGN.relative_to(campaign.ROOT / "recordings")
+    shutil.copytree(pre_finished, run_dir)
+    values = results_docs.campaign_values(recordings)
+    c = findings.summary(campaign.phase_claims(run_dir))
+    assert (f"phases (pre-reaching) can judge: reproduced {c['reproduced']}, contradicted "
+            f"{c['contradicted']}, inconclusive {c['inconclusive']}") in values["claims"]
+    assert values["pre_reacher"] == ("none of its judged pre-reaching generations (50, 100, "
+                                     "250, 500) is post-evaluated yet")
+    run = RunDirectory.open(run_dir)
+    pre, gross = (p for _, p in run.unique_phases()[:2])
+    shutil.copy(run.final_path(pre), run.final_path(gross))
+    assert [p.name for p in campaign.judged_phases(run_dir)] == ["pre"]
+    columns = ["claim", "verdict", "effect", "verdict_robots"]
+    assert campaign.phase_claims(run_dir).select(columns).equals(
+        campaign.phase_claims(pre_finished).select(columns))
+    assert results_docs.campaign_values(recordings) == values
+    shutil.rmtree(run_dir / "evaluation.parquet", ignore_errors=True)
+    (run_dir / "evaluation.parquet").unlink(missing_ok=True)
+    assert campaign.judged_phases(run_dir) == []
+    assert results_docs.campaign_values(recordings)["claims"].startswith("No phase has")
 
 
 def test_a_later_phases_snapshots_are_described_too(pre_finished):
