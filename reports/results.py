@@ -374,7 +374,8 @@ def campaign_values(recordings: Path) -> dict[str, str]:
                       f"{v} {c[v]}" for v in findings.VERDICTS if v != verdicts.NOT_RUN)
                   + f" (after Holm's adjustment reproduced {c['reproduced (Holm)']}, "
                   f"contradicted {c['contradicted (Holm)']}); {c[verdicts.NOT_RUN]} not run (a "
-                  f"phase they need is not yet), {c[findings.CANNOT]} cannot be tested")
+                  f"phase they need has not finished and been post-evaluated yet), "
+                  f"{c[findings.CANNOT]} cannot be tested")
     else:
         claims = "No phase has finished and been post-evaluated yet: no phase claim is judged"
     return {"pre_reacher": pre, "claims": claims}
