@@ -344,8 +344,9 @@ def campaign_values(recordings: Path) -> dict[str, str]:
     last, and the paper's claims of the phases finished and post-evaluated, counted. Neither
     changes while a phase trains."""
     run_dir = recordings / campaign.CAMPAIGN.relative_to(campaign.ROOT / "recordings")
+    started = (run_dir / "manifest.json").exists()
     judged = campaign.judged_snapshots(load_development(run_dir, senses=None)
-                                       if (run_dir / "manifest.json").exists() else None)
+                                       if started else None)
     word = {True: "met", False: "not met"}
     if judged:
         g, j, _ = judged[-1]
@@ -365,7 +366,7 @@ def campaign_values(recordings: Path) -> dict[str, str]:
     else:
         pre = (f"none of its judged pre-reaching generations "
                f"({', '.join(map(str, campaign.CAMPAIGN_JUDGED))}) is post-evaluated yet")
-    phases = campaign.judged_phases(run_dir) if (run_dir / "manifest.json").exists() else []
+    phases = campaign.judged_phases(run_dir) if started else []
     if phases:
         c = findings.summary(campaign.phase_claims(run_dir))
         names = ", ".join(campaign.PHASE_NAMES.get(p.name, p.name) for p in phases)

@@ -19,6 +19,7 @@ from dart_reach.evolution.settings import Settings
 from dart_reach.evolution.trainer import train
 from dart_reach.files import write_parquet
 from dart_reach.model.scenes import load_scene
+from dart_reach.postevaluation import results
 from dart_reach.postevaluation.snapshots import load_development
 from reports import babbling_before_touch, campaign
 from reports import results as results_docs
@@ -176,8 +177,8 @@ def test_the_phase_claims_are_judged_on_the_finished_phases_alone(pre_finished):
 
 def test_the_summary_counts_the_claims_of_the_phases_finished_and_post_evaluated(
         pre_finished, tmp_path):
-    """The summary's sentence on the campaign (``results.campaign_values``) counts the claims
-    the page judges; a phase that has finished but is not post-evaluated yet (a final of
+    """The summary's sentence on the campaign (``reports.results.campaign_values``) counts the
+    claims the page judges; a phase that has finished but is not post-evaluated yet (a final of
     gross-reaching here, before ``make campaign-phases``) changes neither, and without a
     post-evaluation no claim is judged."""
     recordings = tmp_path / "recordings"
@@ -197,8 +198,8 @@ def test_the_summary_counts_the_claims_of_the_phases_finished_and_post_evaluated
     assert campaign.phase_claims(run_dir).select(columns).equals(
         campaign.phase_claims(pre_finished).select(columns))
     assert results_docs.campaign_values(recordings) == values
-    shutil.rmtree(run_dir / "evaluation.parquet", ignore_errors=True)
-    (run_dir / "evaluation.parquet").unlink(missing_ok=True)
+    for stored in results.stored_files(run_dir / results.EVALUATION):
+        stored.unlink()
     assert campaign.judged_phases(run_dir) == []
     assert results_docs.campaign_values(recordings)["claims"].startswith("No phase has")
 
