@@ -366,7 +366,7 @@ def campaign_values(recordings: Path) -> dict[str, str]:
     else:
         pre = (f"none of its judged pre-reaching generations "
                f"({', '.join(map(str, campaign.CAMPAIGN_JUDGED))}) is post-evaluated yet")
-    phases = campaign.judged_phases(run_dir) if started else []
+    phases = campaign.judged_phases(run_dir)  # none without a post-evaluation
     if phases:
         c = findings.summary(campaign.phase_claims(run_dir))
         names = ", ".join(campaign.PHASE_NAMES.get(p.name, p.name) for p in phases)
