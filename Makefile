@@ -288,11 +288,15 @@ campaign-state: $(VENV)/.installed
 		mkdir -p $(CURDIR)/$(CAMPAIGN)/$$(dirname $$f); cp $$f $(CURDIR)/$(CAMPAIGN)/$$f; done
 	$(campaign_ledger)
 # Its snapshots post-evaluated as they come (best 5, 45 positions, normal and ball absent),
-# on a copy of the compact state (the training holds its directory's lock); the development
-# table comes back here. SNAPSHOTS=G,G,... evaluates those alone (default: all kept). Once a
-# phase has finished, `evaluate` also post-evaluates it in the copy (normal senses), and that
-# table stays there (campaign-phases makes it whole): the ledger is recorded again here.
+# on a copy of the compact state (the training holds its directory's lock); the tables come
+# back here. SNAPSHOTS=G,G,... evaluates those alone (default: all kept). A phase that has
+# finished is post-evaluated first, as campaign-phases does it, and kept (only what is
+# missing is evaluated: nothing while no phase is waiting).
 CAMPAIGN_COPY := $(or $(TMPDIR),/tmp)/dart-reach-campaign-copy
+# The phases' post-evaluation (best 5, 45 positions, the four senses and ball absent, 10 random
+# genomes per phase) and the tables the targets below bring back.
+CAMPAIGN_PHASES := --sensors all --robots 5 --baseline 10
+CAMPAIGN_TABLES := evaluation baseline development
 campaign_copy = rm -rf $(CAMPAIGN_COPY) && mkdir -p $(CAMPAIGN_COPY) && cp -r $(CAMPAIGN)/. $(CAMPAIGN_COPY)/
 # The copy's tables $(1) (names without .parquet; one file, or parts in a folder once large)
 # brought back here in place of these, with its ledger.
@@ -302,11 +306,10 @@ campaign_back = for t in $(1); do rm -rf $(CAMPAIGN)/$$t $(CAMPAIGN)/$$t.parquet
 	cp $(CAMPAIGN_COPY)/ledger.json $(CAMPAIGN)/
 campaign-snapshots: $(VENV)/.installed
 	$(campaign_copy)
-	$(BIN)/dart-reach evaluate $(CAMPAIGN_COPY) --finished-only --development 5 \
-		--development-sensors normal,no-ball $(if $(SNAPSHOTS),--snapshots $(SNAPSHOTS)) \
-		--record none
-	$(call campaign_back,development)
-	$(campaign_ledger)
+	$(BIN)/dart-reach evaluate $(CAMPAIGN_COPY) --finished-only $(CAMPAIGN_PHASES) \
+		--development 5 --development-sensors normal,no-ball \
+		$(if $(SNAPSHOTS),--snapshots $(SNAPSHOTS)) --record none
+	$(call campaign_back,$(CAMPAIGN_TABLES))
 # Its phases post-evaluated once each has finished, for the paper's phase claims (best 5, 45
 # positions, the four senses and ball absent, 10 random genomes per phase; only what is
 # missing is evaluated), as the snapshots are; then babbling before the touch of the final
@@ -314,9 +317,8 @@ campaign-snapshots: $(VENV)/.installed
 # once its post-evaluation is here.
 campaign-phases: $(VENV)/.installed
 	$(campaign_copy)
-	$(BIN)/dart-reach evaluate $(CAMPAIGN_COPY) --finished-only --sensors all --robots 5 \
-		--baseline 10 --record none
-	$(call campaign_back,evaluation baseline)
+	$(BIN)/dart-reach evaluate $(CAMPAIGN_COPY) --finished-only $(CAMPAIGN_PHASES) --record none
+	$(call campaign_back,$(CAMPAIGN_TABLES))
 	$(BIN)/python -m reports.babbling_before_touch . --runs $(CAMPAIGN:recordings/%=%) --workers 2
 	$(BIN)/python -m reports.campaign
 	$(BIN)/python -m reports.results .

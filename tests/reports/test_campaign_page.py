@@ -243,12 +243,12 @@ def test_a_table_comes_back_from_the_copy_in_the_form_the_copy_holds_it(tmp_path
     assert (here / "ledger.json").read_text() == "ledger.json"
 
 
-def test_after_a_snapshots_post_evaluation_the_ledger_is_of_the_files_here(pre_finished,
-                                                                          tmp_path, in_process):
+def test_a_phase_post_evaluated_beside_the_snapshots_is_kept(pre_finished, tmp_path,
+                                                            in_process):
     """``make campaign-snapshots`` once a phase has finished: ``evaluate`` also post-evaluates
-    that phase in the copy (here, a robot more under one sense), whose evaluation table
-    stays there. The copy's ledger names that table as the copy holds it, so brought back
-    alone it damages the run here; ``campaign_ledger`` records the files here again."""
+    that phase in the copy (here, a robot more under one sense). The tables come back with
+    the copy's ledger (``CAMPAIGN_TABLES``), so that work is kept and the run here is whole;
+    brought back without the evaluation table, the ledger would name a table not here."""
     here, copy = tmp_path / "here", tmp_path / "copy"
     shutil.copytree(pre_finished, here)
     shutil.copytree(here, copy)
@@ -256,11 +256,11 @@ def test_after_a_snapshots_post_evaluation_the_ledger_is_of_the_files_here(pre_f
                       "no-touch", "--robots", "2", "--development", "1",
                       "--development-sensors", "normal", "--record", "none")
     assert done.returncode == 0, done.stderr
-    assert (copy / "evaluation.parquet").read_bytes() != (here / "evaluation.parquet").read_bytes()
+    evaluated = (copy / "evaluation.parquet").read_bytes()
+    assert evaluated != (here / "evaluation.parquet").read_bytes()
     run_recipe("$(call campaign_back,development)", here, copy)
     with pytest.raises(integrity.DamagedFile, match="evaluation.parquet"):
         integrity.verify_run(here)
-    run_recipe("$(campaign_ledger)", here, copy)
+    run_recipe("$(call campaign_back,$(CAMPAIGN_TABLES))", here, copy)
     assert integrity.verify_run(here) == len(integrity.ledger(here))
-    assert (here / "evaluation.parquet").read_bytes() == (
-        pre_finished / "evaluation.parquet").read_bytes()
+    assert (here / "evaluation.parquet").read_bytes() == evaluated
