@@ -310,9 +310,8 @@ campaign-snapshots: $(VENV)/.installed
 		--development 5 --development-sensors normal,no-ball \
 		$(if $(SNAPSHOTS),--snapshots $(SNAPSHOTS)) --record none
 	$(call campaign_back,$(CAMPAIGN_TABLES))
-# Its phases post-evaluated once each has finished, for the paper's phase claims (best 5, 45
-# positions, the four senses and ball absent, 10 random genomes per phase; only what is
-# missing is evaluated), as the snapshots are; then babbling before the touch of the final
+# Its phases post-evaluated once each has finished, for the paper's phase claims
+# (CAMPAIGN_PHASES; only what is missing is evaluated); then babbling before the touch of the final
 # pre-reachers (claim A1, once); then the page and the summary, which judge a phase's claims
 # once its post-evaluation is here.
 campaign-phases: $(VENV)/.installed
